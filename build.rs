@@ -1,0 +1,148 @@
+//! Builds the `swarf-kernels` crate to PTX with the pinned nightly (../shared/GPU.md "Building PTX") and embeds
+//! it. Installs the nightly through rustup when it is missing, saying so. Where PTX cannot be built the host
+//! still builds, without PTX, and the CUDA backend reports the reason at run time; `SWARF_REQUIRE_PTX=1` (set by
+//! CI) turns that into a build error. `SWARF_NO_PTX=1` skips the PTX build (CPU-only development).
+
+use std::env;
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+const NIGHTLY: &str = "nightly-2026-05-20";
+/// Embedded targets: sm_80 runs on Ampere and newer (JIT-compiled for Hopper); sm_90 is Hopper-native.
+const TARGETS: &[&str] = &["sm_80", "sm_90"];
+
+fn main() {
+    println!("cargo:rerun-if-changed=kernels/src");
+    println!("cargo:rerun-if-changed=kernels/Cargo.toml");
+    println!("cargo:rerun-if-env-changed=SWARF_REQUIRE_PTX");
+    println!("cargo:rerun-if-env-changed=SWARF_NO_PTX");
+
+    let out = PathBuf::from(env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
+    let require = env::var("SWARF_REQUIRE_PTX").is_ok_and(|v| v == "1");
+    let result = if env::var("SWARF_NO_PTX").is_ok_and(|v| v == "1") {
+        Err("the build set SWARF_NO_PTX=1".to_string())
+    } else {
+        build_all(&out)
+    };
+    let code = match result {
+        Ok(files) => {
+            let entries: Vec<String> = files
+                .iter()
+                .map(|(t, p)| format!("    ({t:?}, include_str!({:?})),", p.display().to_string()))
+                .collect();
+            format!(
+                "/// PTX embedded at build time, by target.\npub const PTX: &[(&str, &str)] = &[\n{}\n];\n\
+                 /// Why no PTX is embedded, if none is.\npub const PTX_MISSING: Option<&str> = None;\n",
+                entries.join("\n")
+            )
+        }
+        Err(why) => {
+            if require {
+                panic!("SWARF_REQUIRE_PTX=1 but the PTX build failed: {why}");
+            }
+            println!("cargo:warning=swarf is built without GPU kernels: {}", first_line(&why));
+            format!(
+                "/// PTX embedded at build time, by target.\npub const PTX: &[(&str, &str)] = &[];\n\
+                 /// Why no PTX is embedded, if none is.\npub const PTX_MISSING: Option<&str> = Some({why:?});\n"
+            )
+        }
+    };
+    fs::write(out.join("ptx_embed.rs"), code).expect("write ptx_embed.rs");
+}
+
+fn first_line(s: &str) -> &str {
+    s.lines().next().unwrap_or(s)
+}
+
+fn build_all(out: &Path) -> Result<Vec<(String, PathBuf)>, String> {
+    ensure_nightly()?;
+    let manifest = PathBuf::from(env::var("CARGO_MANIFEST_DIR").map_err(|e| e.to_string())?);
+    // target/<profile>/build/swarf-*/out -> target/ptx, shared by debug and release builds.
+    let target_root = out.ancestors().nth(4).map(|p| p.join("ptx")).unwrap_or_else(|| manifest.join("target/ptx"));
+    let mut files = Vec::new();
+    for t in TARGETS {
+        let dir = target_root.join(t);
+        let ptx = build_one(&manifest, &dir, t)?;
+        let dst = out.join(format!("swarf_{t}.ptx"));
+        fs::copy(&ptx, &dst).map_err(|e| format!("copy {}: {e}", ptx.display()))?;
+        files.push((t.to_string(), dst));
+    }
+    Ok(files)
+}
+
+/// A command with the outer build's environment removed, so that the child cargo uses the nightly and its own
+/// settings (../shared/GPU.md: every CARGO*, RUSTC*, DEP_* variable and RUSTUP_TOOLCHAIN).
+fn clean_command(program: &str) -> Command {
+    let mut c = Command::new(program);
+    for (k, _) in env::vars_os() {
+        let k = k.to_string_lossy().to_string();
+        if k.starts_with("CARGO")
+            || k.starts_with("RUSTC")
+            || k.starts_with("DEP_")
+            || k == "RUSTUP_TOOLCHAIN"
+            || k == "RUSTFLAGS"
+            || k == "RUSTDOCFLAGS"
+        {
+            c.env_remove(&k);
+        }
+    }
+    c
+}
+
+fn ensure_nightly() -> Result<(), String> {
+    let probe = clean_command("rustup").args(["run", NIGHTLY, "rustc", "--version"]).output();
+    match probe {
+        Err(e) => return Err(format!("rustup not found ({e}); install rustup to build the GPU kernels")),
+        Ok(o) if o.status.success() => {}
+        Ok(_) => {
+            println!("cargo:warning=installing the Rust toolchain {NIGHTLY} (rust-src) for the GPU kernels");
+            let st = clean_command("rustup")
+                .args(["toolchain", "install", NIGHTLY, "--profile", "minimal", "--component", "rust-src"])
+                .status()
+                .map_err(|e| format!("rustup toolchain install failed to start: {e}"))?;
+            if !st.success() {
+                return Err(format!("`rustup toolchain install {NIGHTLY}` failed ({st})"));
+            }
+        }
+    }
+    // The toolchain may exist without rust-src (needed by -Zbuild-std); adding it is idempotent.
+    let st = clean_command("rustup")
+        .args(["component", "add", "rust-src", "--toolchain", NIGHTLY])
+        .output()
+        .map_err(|e| format!("rustup component add failed to start: {e}"))?;
+    if !st.status.success() {
+        return Err(format!(
+            "`rustup component add rust-src --toolchain {NIGHTLY}` failed: {}",
+            String::from_utf8_lossy(&st.stderr)
+        ));
+    }
+    Ok(())
+}
+
+fn build_one(manifest: &Path, target_dir: &Path, sm: &str) -> Result<PathBuf, String> {
+    let o = clean_command("rustup")
+        .current_dir(manifest)
+        .env("RUSTFLAGS", "-Zcross-crate-inline-threshold=always -C panic=abort")
+        .args(["run", NIGHTLY, "cargo", "rustc", "--release", "--locked", "-p", "swarf-kernels"])
+        .args(["--target", "nvptx64-nvidia-cuda", "-Zbuild-std=core", "--target-dir"])
+        .arg(target_dir)
+        .args(["--", "--emit=asm", "-C"])
+        .arg(format!("target-cpu={sm}"))
+        .output()
+        .map_err(|e| format!("could not start the nightly cargo: {e}"))?;
+    if !o.status.success() {
+        return Err(format!("PTX build for {sm} failed:\n{}", String::from_utf8_lossy(&o.stderr)));
+    }
+    let deps = target_dir.join("nvptx64-nvidia-cuda/release/deps");
+    let newest = fs::read_dir(&deps)
+        .map_err(|e| format!("{}: {e}", deps.display()))?
+        .filter_map(|e| e.ok())
+        .filter(|e| {
+            let n = e.file_name().to_string_lossy().to_string();
+            n.starts_with("swarf_kernels-") && n.ends_with(".s")
+        })
+        .max_by_key(|e| e.metadata().and_then(|m| m.modified()).ok())
+        .ok_or_else(|| format!("no swarf_kernels-*.s under {}", deps.display()))?;
+    Ok(newest.path())
+}

@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# Builds the release binaries with the PTX embedded (swarf, the GPU test binary, the PTX test, the criterion
+# bench), strips them and packs them into gpu-pack/ (git-ignored) with ci/gpu-run.sh, so that one device call
+# runs everything on a GPU machine with no Rust toolchain:
+#   ci/gpu-pack.sh && <device run, carry gpu-pack>: bash gpu-pack/gpu-run.sh
+set -euo pipefail
+cd "$(dirname "$0")/.."
+export SWARF_REQUIRE_PTX=1
+pack=gpu-pack
+rm -rf "$pack" && mkdir -p "$pack"
+
+cargo build --release --bin swarf
+cp target/release/swarf "$pack/swarf"
+
+# Test and bench executables, located through cargo's JSON messages.
+exe() { python3 -c 'import json,sys
+for l in sys.stdin:
+    m = json.loads(l)
+    if m.get("reason") == "compiler-artifact" and m.get("executable") and m["target"]["name"] == sys.argv[1]:
+        print(m["executable"])' "$1"; }
+for t in gpu ptx; do
+    f=$(cargo test --release --no-run --test "$t" --message-format=json 2>/dev/null | exe "$t" | tail -1)
+    cp "$f" "$pack/test-$t"
+done
+f=$(cargo bench --no-run --bench neighbours --message-format=json 2>/dev/null | exe neighbours | tail -1)
+cp "$f" "$pack/bench-neighbours"
+
+strip "$pack"/swarf "$pack"/test-* "$pack"/bench-*
+cp ci/gpu-run.sh "$pack/gpu-run.sh"
+git rev-parse --short HEAD > "$pack/COMMIT" 2>/dev/null || echo unknown > "$pack/COMMIT"
+du -sh "$pack"

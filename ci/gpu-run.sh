@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
+# GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
+# Arguments select parts: info tests bench criterion (default: all).
+set -uo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+out=${OUT:-$PWD/gpu-logs}
+mkdir -p "$out"
+parts=${*:-info tests bench criterion}
+export SWARF_REQUIRE_GPU=1
+status=0
+summary=()
+run() { # name, command...
+    local name=$1; shift
+    local t0=$(date +%s)
+    "$@" > "$out/$name.log" 2>&1
+    local rc=$?
+    local dt=$(( $(date +%s) - t0 ))
+    summary+=("$(printf '%-12s %s (%ss)' "$name" "$([ $rc = 0 ] && echo ok || echo "FAILED rc=$rc")" "$dt")")
+    [ $rc = 0 ] || status=1
+    tail -n 40 "$out/$name.log"
+}
+echo "commit $(cat "$here/COMMIT")"
+nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.max.sm --format=csv,noheader 2>/dev/null | tee "$out/nvidia-smi.log"
+for p in $parts; do
+    case $p in
+        info) run info "$here/swarf" --backend gpu info ;;
+        tests) run test-gpu "$here/test-gpu" --test-threads=1
+               run test-ptx "$here/test-ptx" ;;
+        bench) run bench "$here/swarf" --backend gpu bench neighbours --sizes 1e6,4e6,16e6 --dims 2,3 --precision both ;;
+        criterion) run criterion "$here/bench-neighbours" --bench --noplot ;;
+    esac
+done
+echo "== summary =="
+printf '%s\n' "${summary[@]}" | tee "$out/summary.log"
+exit $status

@@ -1,0 +1,225 @@
+//! Backends: where kernels run. The solver is written once against [`Backend`]; the CPU backend calls the
+//! kernel crate's functions in rayon loops, the CUDA backend launches the same functions compiled to PTX.
+//! Each method of the trait is one kernel (or one block-cooperative algorithm) and has the same meaning on both.
+
+pub mod cpu;
+pub mod cuda;
+
+use crate::Result;
+use crate::kernels::neighbour::GridParams;
+use crate::kernels::sph::CubicSpline;
+use crate::kernels::{Dim, Real};
+use bytemuck::Pod;
+
+pub use cpu::CpuBackend;
+pub use cuda::CudaBackend;
+
+/// A typed array in the backend's memory.
+pub trait Buffer<T>: Send + Sync {
+    fn len(&self) -> usize;
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// Plain data that may live in a backend buffer.
+pub trait Element: Pod + Send + Sync {}
+impl<T: Pod + Send + Sync> Element for T {}
+
+/// What a backend runs on, for `swarf info` and every report.
+#[derive(Clone, Debug, Default)]
+pub struct DeviceInfo {
+    /// "cpu" or "gpu".
+    pub backend: &'static str,
+    pub name: String,
+    /// Compute capability (GPU only).
+    pub compute_capability: Option<(i32, i32)>,
+    pub memory_bytes: usize,
+    /// CUDA driver API version, e.g. 13000 (GPU only).
+    pub driver_version: Option<i32>,
+    /// Multiprocessors (GPU) or worker threads (CPU).
+    pub units: usize,
+    /// The PTX target loaded (GPU only).
+    pub ptx_target: Option<&'static str>,
+}
+
+pub trait Backend: Sized + Send + Sync {
+    type Buf<T: Element>: Buffer<T>;
+
+    fn info(&self) -> &DeviceInfo;
+
+    /// A zero-filled buffer of `n` elements.
+    fn alloc<T: Element>(&self, n: usize, what: &'static str) -> Result<Self::Buf<T>>;
+    /// A buffer holding a copy of `data`.
+    fn upload<T: Element>(&self, data: &[T], what: &'static str) -> Result<Self::Buf<T>>;
+    /// Overwrites the first `data.len()` elements of `buf`.
+    fn write<T: Element>(&self, buf: &mut Self::Buf<T>, data: &[T]) -> Result<()>;
+    /// A host copy of the whole buffer (waits for pending work).
+    fn read<T: Element>(&self, buf: &Self::Buf<T>) -> Result<Vec<T>>;
+    /// Zeroes the first `n` elements.
+    fn fill_zero<T: Element>(&self, buf: &mut Self::Buf<T>, n: usize) -> Result<()>;
+    /// Waits until all submitted work is done.
+    fn synchronize(&self) -> Result<()>;
+    /// Wall time of `f` in milliseconds as the device sees it (CUDA events on the GPU).
+    fn time_ms(&self, f: &mut dyn FnMut() -> Result<()>) -> Result<f64>;
+
+    /// keys[i] = cell key of pos[i] (`GridParams::key`), for i < n.
+    fn hash<R: Real, D: Dim>(
+        &self,
+        n: usize,
+        pos: &Self::Buf<D::Vec<R>>,
+        grid: &Self::Buf<GridParams>,
+        keys: &mut Self::Buf<u32>,
+    ) -> Result<()>;
+    /// counts[keys[i]] += 1 and slots[i] = the particle's arrival order in its bucket.
+    fn count_cells(
+        &self,
+        n: usize,
+        keys: &Self::Buf<u32>,
+        counts: &mut Self::Buf<u32>,
+        slots: &mut Self::Buf<u32>,
+    ) -> Result<()>;
+    /// In-place exclusive prefix sum of data[..n]; `levels` is the workspace from [`scan_levels`].
+    fn exclusive_scan(&self, n: usize, data: &mut Self::Buf<u32>, levels: &mut [Self::Buf<u32>]) -> Result<()>;
+    /// perm[starts[keys[i]] + slots[i]] = i.
+    fn scatter(
+        &self,
+        n: usize,
+        keys: &Self::Buf<u32>,
+        slots: &Self::Buf<u32>,
+        starts: &Self::Buf<u32>,
+        perm: &mut Self::Buf<u32>,
+    ) -> Result<()>;
+    /// Sorts each bucket's slice perm[starts[c] .. starts[c+1]] ascending, c < n_buckets.
+    fn sort_cells(&self, n_buckets: usize, starts: &Self::Buf<u32>, perm: &mut Self::Buf<u32>) -> Result<()>;
+    /// dst[i] = src[perm[i]] for i < n.
+    fn gather<T: Element>(
+        &self,
+        n: usize,
+        perm: &Self::Buf<u32>,
+        src: &Self::Buf<T>,
+        dst: &mut Self::Buf<T>,
+    ) -> Result<()>;
+    /// Neighbour lists (j ≠ i, |x_ij|² < support2) of sorted particles in CSR form: counts[i] always, and the
+    /// indices at list[offsets[i]..] when `offsets` is given (the exclusive scan of a counting pass).
+    #[allow(clippy::too_many_arguments)]
+    fn neighbour_list<R: Real, D: Dim>(
+        &self,
+        n: usize,
+        pos: &Self::Buf<D::Vec<R>>,
+        grid: &Self::Buf<GridParams>,
+        starts: &Self::Buf<u32>,
+        support2: R,
+        offsets: Option<&Self::Buf<u32>>,
+        counts: &mut Self::Buf<u32>,
+        list: &mut Self::Buf<u32>,
+    ) -> Result<()>;
+    /// ρ_i = Σ_j m_j W(|x_ij|) over sorted particles (`sph::density::density_sum`).
+    #[allow(clippy::too_many_arguments)]
+    fn density<R: Real, D: Dim>(
+        &self,
+        n: usize,
+        pos: &Self::Buf<D::Vec<R>>,
+        mass: &Self::Buf<R>,
+        grid: &Self::Buf<GridParams>,
+        starts: &Self::Buf<u32>,
+        kernel: &Self::Buf<CubicSpline<R>>,
+        rho: &mut Self::Buf<R>,
+    ) -> Result<()>;
+}
+
+/// Elements per tile of the GPU scan (kernels/src/ptx/scan.rs).
+pub const SCAN_TILE: usize = 1024;
+
+/// Workspace of the multi-level scan: one buffer of tile sums per level, down to a single tile.
+pub fn scan_levels<B: Backend>(b: &B, n: usize) -> Result<Vec<B::Buf<u32>>> {
+    let mut levels = Vec::new();
+    let mut len = n;
+    loop {
+        let tiles = len.div_ceil(SCAN_TILE).max(1);
+        levels.push(b.alloc::<u32>(tiles, "scan workspace")?);
+        if tiles == 1 {
+            return Ok(levels);
+        }
+        len = tiles;
+    }
+}
+
+/// Which backend to use.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum BackendChoice {
+    /// The GPU when a CUDA driver and device are present, the CPU otherwise.
+    Auto,
+    Cpu,
+    Gpu,
+}
+
+/// A backend chosen at run time.
+pub enum AnyBackend {
+    Cpu(CpuBackend),
+    Cuda(Box<CudaBackend>),
+}
+
+impl AnyBackend {
+    /// Chooses the backend; returns it and a one-line statement of the choice.
+    pub fn select(choice: BackendChoice) -> Result<(AnyBackend, String)> {
+        match choice {
+            BackendChoice::Cpu => {
+                let b = CpuBackend::new();
+                let line = format!("backend: cpu ({}, {} threads), as requested", b.info().name, b.info().units);
+                Ok((AnyBackend::Cpu(b), line))
+            }
+            BackendChoice::Gpu => {
+                let b = CudaBackend::new(0)?;
+                let line = gpu_line(b.info());
+                Ok((AnyBackend::Cuda(Box::new(b)), line))
+            }
+            BackendChoice::Auto => match CudaBackend::new(0) {
+                Ok(b) => {
+                    let line = gpu_line(b.info());
+                    Ok((AnyBackend::Cuda(Box::new(b)), line))
+                }
+                Err(e) => {
+                    let b = CpuBackend::new();
+                    let line = format!(
+                        "backend: cpu ({}, {} threads); no GPU: {}",
+                        b.info().name,
+                        b.info().units,
+                        first_line(&e.to_string())
+                    );
+                    Ok((AnyBackend::Cpu(b), line))
+                }
+            },
+        }
+    }
+
+    pub fn info(&self) -> &DeviceInfo {
+        match self {
+            AnyBackend::Cpu(b) => b.info(),
+            AnyBackend::Cuda(b) => b.info(),
+        }
+    }
+}
+
+fn gpu_line(i: &DeviceInfo) -> String {
+    let (ma, mi) = i.compute_capability.unwrap_or((0, 0));
+    format!("backend: gpu ({}, compute capability {ma}.{mi}, PTX {})", i.name, i.ptx_target.unwrap_or("?"))
+}
+
+fn first_line(s: &str) -> &str {
+    s.lines().next().unwrap_or(s)
+}
+
+/// Runs `$body` with `$b` bound to the concrete backend inside an [`AnyBackend`].
+#[macro_export]
+macro_rules! with_backend {
+    ($any:expr, $b:ident => $body:expr) => {
+        match $any {
+            $crate::backend::AnyBackend::Cpu($b) => $body,
+            $crate::backend::AnyBackend::Cuda($b) => {
+                let $b = &**$b;
+                $body
+            }
+        }
+    };
+}

@@ -1,0 +1,169 @@
+//! `swarf bench`: standard workloads timed on the device (CUDA events on the GPU, wall clock on the CPU).
+//! Workload `neighbours`: the cell-list build (hash, counting sort, cell starts) and the reorder of the particle
+//! state, in steady state (particles sorted at the previous step, then moved by a small jitter, so the
+//! permutation is near the identity as in a running simulation), plus one density pass over the neighbours with
+//! cell h (±2 stencil) and cell 2h (±1 stencil) to choose between the two layouts.
+
+use crate::Result;
+use crate::backend::Backend;
+use crate::grid::grid_for_support;
+use crate::kernels::sph::CubicSpline;
+use crate::kernels::{Dim, Real, Vector};
+use crate::neighbour::CellList;
+use crate::rng::SplitMix64;
+use crate::state::{HostParticles, Particles};
+
+/// Median times in milliseconds of one neighbour-search configuration.
+#[derive(Clone, Debug)]
+pub struct NeighbourTimes {
+    pub dim: usize,
+    pub precision: &'static str,
+    pub n: usize,
+    pub hash: f64,
+    /// Count, scan, scatter and per-cell sort: the part comparable to an argsort of the keys.
+    pub sort: f64,
+    /// Gather of 20 f32 arrays through the permutation (the reference workload of ../shared/GPU.md).
+    pub gather20: f64,
+    /// Reorder of the whole particle state (`HostParticles::bytes_per_particle` bytes per particle).
+    pub reorder_state: f64,
+    pub state_bytes: usize,
+    /// Hash + sort + reorder of the state, launched back to back.
+    pub build_total: f64,
+    /// Density pass, cell h with a ±2 stencil, and its cell-list build.
+    pub density_h: f64,
+    pub build_h: f64,
+    /// Density pass, cell 2h with a ±1 stencil, and its cell-list build.
+    pub density_2h: f64,
+    pub build_2h: f64,
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(|a, b| a.total_cmp(b));
+    v[v.len() / 2]
+}
+
+/// n particles on a jittered lattice of spacing 1 (shuffled), h = 1.7.
+pub fn jittered_lattice<R: Real, D: Dim>(n: usize, jitter: f64, seed: u64) -> Vec<D::Vec<R>> {
+    let side = (n as f64).powf(1.0 / D::D as f64).ceil() as usize;
+    let mut rng = SplitMix64::new(seed);
+    let mut pos: Vec<D::Vec<R>> = (0..n)
+        .map(|i| {
+            let idx = [i % side, (i / side) % side, i / (side * side)];
+            let c: [R; 3] = std::array::from_fn(|k| R::from_f64(idx[k] as f64 + jitter * (rng.uniform() - 0.5)));
+            D::Vec::<R>::new(c)
+        })
+        .collect();
+    rng.shuffle(&mut pos);
+    pos
+}
+
+pub fn neighbours<B: Backend, R: Real, D: Dim>(b: &B, n: usize, repeats: usize) -> Result<NeighbourTimes> {
+    let h = 1.7;
+    let pos0 = jittered_lattice::<R, D>(n, 0.2, 7);
+    let side = (n as f64).powf(1.0 / D::D as f64).ceil();
+    let lo = [-1.0; 3];
+    let hi = [side + 1.0; 3];
+    let mut p = Particles::<B, R, D>::upload(b, &HostParticles::at_rest(pos0, R::ONE, R::ONE))?;
+    let grid_h = grid_for_support(lo, hi, D::D, 2.0 * h, 2)?;
+    let grid_2h = grid_for_support(lo, hi, D::D, 2.0 * h, 1)?;
+    let mut cl = CellList::new(b, grid_h, n)?;
+    // First sort of the shuffled input, then a jitter relative to the sorted order.
+    cl.build::<R, D>(b, &p.pos.cur)?;
+    p.reorder(b, &cl.perm)?;
+    let sorted = p.pos.read(b)?;
+    let mut rng = SplitMix64::new(11);
+    let moved: Vec<D::Vec<R>> = sorted
+        .iter()
+        .map(|v| D::Vec::<R>::new(std::array::from_fn(|k| v.get(k) + R::from_f64(0.05 * (rng.uniform() - 0.5)))))
+        .collect();
+    let mut arrays: Vec<B::Buf<f32>> = (0..20).map(|_| b.alloc::<f32>(n, "bench arrays")).collect::<Result<_>>()?;
+    let mut arrays_out: Vec<B::Buf<f32>> = (0..20).map(|_| b.alloc::<f32>(n, "bench arrays")).collect::<Result<_>>()?;
+
+    let (mut t_hash, mut t_sort, mut t_g20, mut t_state, mut t_total) = (vec![], vec![], vec![], vec![], vec![]);
+    for _ in 0..repeats.max(1) {
+        b.write(&mut p.pos.cur, &moved)?;
+        t_total.push(b.time_ms(&mut || {
+            cl.build::<R, D>(b, &p.pos.cur)?;
+            p.reorder(b, &cl.perm)
+        })?);
+        b.write(&mut p.pos.cur, &moved)?;
+        t_hash.push(b.time_ms(&mut || b.hash::<R, D>(n, &p.pos.cur, &cl.grid_buf, &mut cl.keys))?);
+        // The full build repeats the hash; its share is subtracted below.
+        let full = b.time_ms(&mut || cl.build::<R, D>(b, &p.pos.cur))?;
+        t_sort.push((full - t_hash.last().copied().unwrap_or(0.0)).max(0.0));
+        t_g20.push(b.time_ms(&mut || {
+            for (s, d) in arrays.iter().zip(arrays_out.iter_mut()) {
+                b.gather(n, &cl.perm, s, d)?;
+            }
+            Ok(())
+        })?);
+        t_state.push(b.time_ms(&mut || p.reorder(b, &cl.perm))?);
+    }
+    arrays.clear();
+
+    // Density with both layouts, each on particles sorted for its own grid.
+    let mass = p.mass.read(b)?;
+    let kernel = b.upload(&[CubicSpline::<R>::new(h, D::D)], "kernel")?;
+    let mut rho = b.alloc::<R>(n, "density")?;
+    let mut out = Vec::new();
+    for grid in [grid_h, grid_2h] {
+        let mut cl = CellList::new(b, grid, n)?;
+        let mut pos = b.upload(&moved, "positions")?;
+        let mut pos_s = b.alloc(n, "positions")?;
+        let m = b.upload(&mass, "mass")?;
+        let mut m_s = b.alloc(n, "mass")?;
+        let (mut tb, mut td) = (vec![], vec![]);
+        for _ in 0..repeats.max(1) {
+            b.write(&mut pos, &moved)?;
+            tb.push(b.time_ms(&mut || {
+                cl.build::<R, D>(b, &pos)?;
+                b.gather(n, &cl.perm, &pos, &mut pos_s)?;
+                b.gather(n, &cl.perm, &m, &mut m_s)
+            })?);
+            td.push(
+                b.time_ms(&mut || b.density::<R, D>(n, &pos_s, &m_s, &cl.grid_buf, &cl.starts, &kernel, &mut rho))?,
+            );
+        }
+        out.push((median(tb), median(td)));
+    }
+    Ok(NeighbourTimes {
+        dim: D::D,
+        precision: R::NAME,
+        n,
+        hash: median(t_hash),
+        sort: median(t_sort),
+        gather20: median(t_g20),
+        reorder_state: median(t_state),
+        state_bytes: HostParticles::<R, D>::bytes_per_particle(),
+        build_total: median(t_total),
+        build_h: out[0].0,
+        density_h: out[0].1,
+        build_2h: out[1].0,
+        density_2h: out[1].1,
+    })
+}
+
+pub fn header() -> String {
+    "| dim | prec | N | hash ms | sort ms | gather 20×f32 ms | reorder state ms (B/particle) | build+reorder ms | \
+     cell h: build / density ms | cell 2h: build / density ms |\n|---|---|---|---|---|---|---|---|---|---|"
+        .to_string()
+}
+
+pub fn row(t: &NeighbourTimes) -> String {
+    format!(
+        "| {}D | {} | {} | {:.3} | {:.3} | {:.3} | {:.3} ({}) | {:.3} | {:.3} / {:.3} | {:.3} / {:.3} |",
+        t.dim,
+        t.precision,
+        t.n,
+        t.hash,
+        t.sort,
+        t.gather20,
+        t.reorder_state,
+        t.state_bytes,
+        t.build_total,
+        t.build_h,
+        t.density_h,
+        t.build_2h,
+        t.density_2h
+    )
+}

@@ -1,0 +1,30 @@
+//! Typed errors with the context a user needs to act on them.
+
+use thiserror::Error;
+
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+#[derive(Debug, Error)]
+pub enum Error {
+    /// The GPU backend was requested (or probed) but cannot be used; the text says why.
+    #[error("GPU backend unavailable: {0}")]
+    GpuUnavailable(String),
+    /// A CUDA driver call failed.
+    #[error("CUDA error in {op}: {source}")]
+    Cuda {
+        op: &'static str,
+        #[source]
+        source: cudarc::driver::DriverError,
+    },
+    /// Device memory could not be allocated.
+    #[error("GPU out of memory allocating {what}: {bytes} bytes requested ({free} of {total} bytes free)")]
+    OutOfMemory { what: &'static str, bytes: usize, free: usize, total: usize },
+    /// A grid that cannot be built (empty box, too many cells, bad cell size).
+    #[error("invalid neighbour grid: {0}")]
+    Grid(String),
+    /// Buffers of inconsistent lengths were passed to an operation.
+    #[error("{op}: buffer length {got}, expected {expected}")]
+    Length { op: &'static str, expected: usize, got: usize },
+    #[error("{0}")]
+    Io(#[from] std::io::Error),
+}

@@ -1,0 +1,82 @@
+//! Building the hash grid on the host from a bounding box (the theses' "locked" grid: a fixed box that contains
+//! the domain, roethlin-solver.md §6.4). Particles that leave it are clamped into the boundary cells, which keeps
+//! the search exact (kernels::neighbour::grid).
+
+use crate::kernels::neighbour::GridParams;
+use crate::kernels::{Real, Vector};
+use crate::{Error, Result};
+
+/// Largest cell count: keys are u32 and the prefix array holds n_cells + 2 entries.
+pub const MAX_CELLS: u64 = (u32::MAX - 2) as u64;
+
+/// A grid over [lo, hi] (the first `dim` components) with the given cell size and stencil half-width.
+pub fn grid_with_cell(lo: [f64; 3], hi: [f64; 3], dim: usize, cell: f64, stencil: u32) -> Result<GridParams> {
+    if !(dim == 2 || dim == 3) {
+        return Err(Error::Grid(format!("dimension must be 2 or 3, got {dim}")));
+    }
+    if !(cell.is_finite() && cell > 0.0) {
+        return Err(Error::Grid(format!("cell size must be positive and finite, got {cell}")));
+    }
+    if !(stencil == 1 || stencil == 2) {
+        return Err(Error::Grid(format!("stencil must be 1 (cell 2h) or 2 (cell h), got {stencil}")));
+    }
+    let mut dims = [1u32; 3];
+    let mut total: u64 = 1;
+    for k in 0..dim {
+        let (a, b) = (lo[k], hi[k]);
+        if !(a.is_finite() && b.is_finite() && b >= a) {
+            return Err(Error::Grid(format!("bounding box axis {k} is [{a}, {b}]")));
+        }
+        let n = ((b - a) / cell).floor() as u64 + 1;
+        total = total.saturating_mul(n);
+        if n > u32::MAX as u64 || total > MAX_CELLS {
+            return Err(Error::Grid(format!(
+                "{total} cells of size {cell:e} over the box exceed the limit of {MAX_CELLS}; enlarge h or shrink the box"
+            )));
+        }
+        dims[k] = n as u32;
+    }
+    Ok(GridParams {
+        origin: [lo[0], lo[1], if dim == 3 { lo[2] } else { 0.0 }],
+        cell_size: cell,
+        inv_cell: 1.0 / cell,
+        dims,
+        n_cells: total as u32,
+        stencil,
+        dim: dim as u32,
+    })
+}
+
+/// A grid for pairs within `support_radius` (2h for the cubic spline): cell = support/stencil, slightly enlarged
+/// (`GridParams::cell_for`).
+pub fn grid_for_support(
+    lo: [f64; 3],
+    hi: [f64; 3],
+    dim: usize,
+    support_radius: f64,
+    stencil: u32,
+) -> Result<GridParams> {
+    if !(support_radius.is_finite() && support_radius > 0.0) {
+        return Err(Error::Grid(format!("support radius must be positive and finite, got {support_radius}")));
+    }
+    grid_with_cell(lo, hi, dim, GridParams::cell_for(support_radius, stencil.max(1)), stencil)
+}
+
+/// Bounding box of the finite positions (zero box if there are none).
+pub fn bounding_box<R: Real, V: Vector<R>>(pos: &[V]) -> ([f64; 3], [f64; 3]) {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in pos {
+        let c: [f64; 3] = std::array::from_fn(|k| p.get(k).to_f64());
+        if c.iter().all(|x| x.is_finite()) {
+            for k in 0..3 {
+                lo[k] = lo[k].min(c[k]);
+                hi[k] = hi[k].max(c[k]);
+            }
+        }
+    }
+    if lo[0] > hi[0] {
+        return ([0.0; 3], [0.0; 3]);
+    }
+    (lo, hi)
+}

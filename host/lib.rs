@@ -1,0 +1,17 @@
+//! swarf: a GPU meshless (SPH) simulator for metal cutting.
+//!
+//! The host crate orchestrates: it owns device memory, launches kernels on a [`backend::Backend`] (the CPU, or
+//! an NVIDIA GPU through CUDA) and never re-implements physics, which lives once in `swarf_kernels`.
+
+pub mod backend;
+pub mod bench;
+pub mod error;
+pub mod grid;
+pub mod info;
+pub mod neighbour;
+pub mod ptx;
+pub mod rng;
+pub mod state;
+
+pub use error::{Error, Result};
+pub use swarf_kernels as kernels;

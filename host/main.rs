@@ -1,0 +1,128 @@
+//! The `swarf` command line.
+
+use clap::{Parser, Subcommand, ValueEnum};
+use swarf::backend::{AnyBackend, Backend, BackendChoice};
+use swarf::kernels::{Dim, Dim2, Dim3, Real};
+use swarf::{Result, bench, with_backend};
+
+#[derive(Parser)]
+#[command(name = "swarf", version, about = "GPU meshless simulator for metal cutting")]
+struct Cli {
+    /// Where to run: the GPU if a CUDA driver and device are present (auto), or force one.
+    #[arg(long, value_enum, default_value = "auto", global = true)]
+    backend: BackendChoice,
+    #[command(subcommand)]
+    cmd: Cmd,
+}
+
+#[derive(Subcommand)]
+enum Cmd {
+    /// Version, backend, device, driver, embedded PTX targets and precisions.
+    Info,
+    /// Time standard workloads on the chosen backend.
+    Bench(BenchArgs),
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum Workload {
+    /// Cell-list build and state reorder, with the cell-h/cell-2h density comparison.
+    Neighbours,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum PrecisionArg {
+    F32,
+    F64,
+    Both,
+}
+
+#[derive(clap::Args)]
+struct BenchArgs {
+    #[arg(value_enum, default_value = "neighbours")]
+    workload: Workload,
+    /// Particle counts, comma separated (1e6 and 1000000 both work).
+    #[arg(long, value_delimiter = ',', default_value = "1e6,4e6,16e6")]
+    sizes: Vec<String>,
+    /// Dimensions, comma separated.
+    #[arg(long, value_delimiter = ',', default_value = "2,3")]
+    dims: Vec<usize>,
+    #[arg(long, value_enum, default_value = "both")]
+    precision: PrecisionArg,
+    /// Timed repetitions per configuration (the median is reported).
+    #[arg(long, default_value_t = 10)]
+    repeats: usize,
+}
+
+fn parse_count(s: &str) -> std::result::Result<usize, String> {
+    s.trim()
+        .parse::<f64>()
+        .ok()
+        .filter(|v| v.is_finite() && *v >= 1.0 && *v <= u32::MAX as f64)
+        .map(|v| v as usize)
+        .ok_or_else(|| format!("--sizes: '{s}' is not a particle count (expected e.g. 1e6 or 1000000)"))
+}
+
+fn run_bench<B: Backend>(b: &B, a: &BenchArgs, sizes: &[usize]) -> Result<()> {
+    println!("{}", bench::header());
+    for &d in &a.dims {
+        for &n in sizes {
+            let precs: &[&str] = match a.precision {
+                PrecisionArg::F32 => &["f32"],
+                PrecisionArg::F64 => &["f64"],
+                PrecisionArg::Both => &["f32", "f64"],
+            };
+            for &p in precs {
+                let t = match (d, p) {
+                    (2, "f32") => one::<B, f32, Dim2>(b, n, a.repeats)?,
+                    (2, _) => one::<B, f64, Dim2>(b, n, a.repeats)?,
+                    (_, "f32") => one::<B, f32, Dim3>(b, n, a.repeats)?,
+                    _ => one::<B, f64, Dim3>(b, n, a.repeats)?,
+                };
+                println!("{}", bench::row(&t));
+            }
+        }
+    }
+    Ok(())
+}
+
+fn one<B: Backend, R: Real, D: Dim>(b: &B, n: usize, repeats: usize) -> Result<bench::NeighbourTimes> {
+    bench::neighbours::<B, R, D>(b, n, repeats)
+}
+
+fn main() {
+    let cli = Cli::parse();
+    let code = match run(cli) {
+        Ok(()) => 0,
+        Err(e) => {
+            eprintln!("error: {e}");
+            1
+        }
+    };
+    std::process::exit(code);
+}
+
+fn run(cli: Cli) -> Result<()> {
+    match cli.cmd {
+        Cmd::Info => {
+            print!("{}", swarf::info::report(cli.backend)?);
+            Ok(())
+        }
+        Cmd::Bench(a) => {
+            let sizes = a.sizes.iter().map(|s| parse_count(s)).collect::<std::result::Result<Vec<_>, _>>();
+            let sizes = match sizes {
+                Ok(s) => s,
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    std::process::exit(2);
+                }
+            };
+            if let Some(d) = a.dims.iter().find(|d| !(**d == 2 || **d == 3)) {
+                eprintln!("error: --dims: {d} is not a dimension (expected 2 or 3)");
+                std::process::exit(2);
+            }
+            let (any, line) = AnyBackend::select(cli.backend)?;
+            eprintln!("{line}");
+            with_backend!(&any, b => run_bench(b, &a, &sizes))
+        }
+    }
+}

@@ -1,0 +1,59 @@
+//! The cell list: hash, counting sort by cell, cell starts, on any backend. The permutation it produces is the
+//! stable sort of the particles by cell key, identical on every backend (docs/neighbour-search.md).
+
+use crate::Result;
+use crate::backend::{Backend, scan_levels};
+use crate::kernels::neighbour::GridParams;
+use crate::kernels::{Dim, Real};
+
+pub struct CellList<B: Backend> {
+    pub grid: GridParams,
+    pub grid_buf: B::Buf<GridParams>,
+    /// Cell key of each particle, in the order of the positions hashed.
+    pub keys: B::Buf<u32>,
+    slots: B::Buf<u32>,
+    /// Prefix array: bucket c holds sorted particles starts[c] .. starts[c + 1]; buckets are the n_cells cells
+    /// and the void bucket (non-finite positions), so it has n_cells + 2 entries.
+    pub starts: B::Buf<u32>,
+    /// perm[i] = the old index of the particle that sorts to position i.
+    pub perm: B::Buf<u32>,
+    scan: Vec<B::Buf<u32>>,
+    n: usize,
+}
+
+impl<B: Backend> CellList<B> {
+    pub fn new(b: &B, grid: GridParams, n: usize) -> Result<Self> {
+        let buckets = grid.n_cells as usize + 2;
+        Ok(CellList {
+            grid,
+            grid_buf: b.upload(&[grid], "grid")?,
+            keys: b.alloc(n, "cell keys")?,
+            slots: b.alloc(n, "cell slots")?,
+            starts: b.alloc(buckets, "cell starts")?,
+            perm: b.alloc(n, "permutation")?,
+            scan: scan_levels(b, buckets)?,
+            n,
+        })
+    }
+
+    pub fn len(&self) -> usize {
+        self.n
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.n == 0
+    }
+
+    /// Hashes `pos`, sorts by cell and fills `starts` and `perm`. The caller then reorders every particle field
+    /// through `perm` (`state::Particles::reorder`).
+    pub fn build<R: Real, D: Dim>(&mut self, b: &B, pos: &B::Buf<D::Vec<R>>) -> Result<()> {
+        let n = self.n;
+        let n_buckets = self.grid.n_cells as usize + 1;
+        b.hash::<R, D>(n, pos, &self.grid_buf, &mut self.keys)?;
+        b.fill_zero(&mut self.starts, n_buckets + 1)?;
+        b.count_cells(n, &self.keys, &mut self.starts, &mut self.slots)?;
+        b.exclusive_scan(n_buckets + 1, &mut self.starts, &mut self.scan)?;
+        b.scatter(n, &self.keys, &self.slots, &self.starts, &mut self.perm)?;
+        b.sort_cells(n_buckets, &self.starts, &mut self.perm)
+    }
+}

@@ -1,0 +1,82 @@
+//! The hash grid. Its arithmetic is in f64 whatever the run's precision (positions widen exactly), so that a
+//! particle's cell is the same on the host and the GPU and in f32 and f64 runs of the same positions.
+
+use crate::real::{Real, floor_f64};
+use crate::vector::Vector;
+use bytemuck::{Pod, Zeroable};
+
+/// Grid geometry, passed to GPU kernels through a small device buffer.
+///
+/// Cells are numbered x fastest: key = (iz·ny + iy)·nx + ix (roethlin-solver.md §6.3, thesis form).
+/// Key `n_cells` is the "void" bucket that collects particles with a non-finite position: they sort to the end
+/// and belong to no cell, so they never appear as neighbours.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GridParams {
+    pub origin: [f64; 3],
+    /// Edge length of a cell; at least (support radius)/stencil, see `GridParams::cell_for`.
+    pub cell_size: f64,
+    pub inv_cell: f64,
+    /// Cells along x, y, z (z = 1 in 2D).
+    pub dims: [u32; 3],
+    pub n_cells: u32,
+    /// Cells searched on each side of a particle's own cell: 2 for cell = h, 1 for cell = 2h.
+    pub stencil: u32,
+    pub dim: u32,
+}
+
+/// Relative enlargement of the cell over (support radius)/stencil. The pair test r² < (2h)² is evaluated in the
+/// run's precision (f32 or f64) and the cell coordinate in f64; the margin covers both roundings, so that every
+/// pair the test accepts lies within the stencil (proof in docs/neighbour-search.md).
+pub const CELL_MARGIN: f64 = 1.0 / 65536.0;
+
+impl GridParams {
+    /// The cell size for a support radius and stencil half-width.
+    #[inline]
+    pub fn cell_for(support_radius: f64, stencil: u32) -> f64 {
+        support_radius / stencil as f64 * (1.0 + CELL_MARGIN)
+    }
+
+    /// Cell coordinate along axis `k`, clamped into the grid. Clamping keeps the search exact: it never increases
+    /// the difference of two coordinates, so two particles within the stencil stay within it (docs).
+    #[inline(always)]
+    pub fn coord(&self, x: f64, k: usize) -> u32 {
+        // SAFETY: k < 3 at every call site (loops over the dimension).
+        let (o, n) = unsafe { (*self.origin.get_unchecked(k), *self.dims.get_unchecked(k)) };
+        let c = floor_f64((x - o) * self.inv_cell);
+        if c <= 0.0 {
+            0
+        } else if c >= n as f64 {
+            n - 1
+        } else {
+            c as u32
+        }
+    }
+
+    /// The cell key of a position; `n_cells` (the void bucket) if any component is non-finite.
+    #[inline(always)]
+    pub fn key<R: Real, V: Vector<R>>(&self, p: &V) -> u32 {
+        let c = self.coords(p);
+        if c[0] == u32::MAX {
+            return self.n_cells;
+        }
+        (c[2] * self.dims[1] + c[1]) * self.dims[0] + c[0]
+    }
+
+    /// Cell coordinates of a position; `[u32::MAX; 3]` if a component is non-finite.
+    #[inline(always)]
+    pub fn coords<R: Real, V: Vector<R>>(&self, p: &V) -> [u32; 3] {
+        let mut c = [0u32; 3];
+        let mut k = 0;
+        while k < V::DIM {
+            let x = p.get(k);
+            if !x.is_finite() {
+                return [u32::MAX; 3];
+            }
+            // SAFETY: k < DIM <= 3.
+            unsafe { *c.get_unchecked_mut(k) = self.coord(x.to_f64(), k) };
+            k += 1;
+        }
+        c
+    }
+}

@@ -1,0 +1,144 @@
+//! Cell-list construction on the GPU: hash, count (integer atomics), scan (ptx/scan.rs), scatter, per-cell sort,
+//! gather. The atomics only decide the order in which a cell's slice is filled; `sort_cells` then restores the
+//! unique stable order, so the permutation is deterministic and equal to the CPU twin's.
+
+use super::global_index;
+use super::intrinsics::atomic_add_u32;
+use crate::neighbour::{GridParams, sort::sort_cell};
+use crate::real::Real;
+use crate::vector::{V2f32, V2f64, V3f32, V3f64, Vector};
+use core::num::NonZeroU32;
+
+#[inline(always)]
+unsafe fn hash<R: Real, V: Vector<R>>(n: u32, pos: *const V, grid: *const GridParams, keys: *mut u32) {
+    let i = global_index();
+    if i < n {
+        let g = unsafe { &*grid };
+        unsafe { *keys.add(i as usize) = g.key::<R, V>(&*pos.add(i as usize)) };
+    }
+}
+
+#[inline(always)]
+unsafe fn neighbour_list<R: Real, V: Vector<R>>(
+    n: u32,
+    pos: *const V,
+    grid: *const GridParams,
+    starts: *const u32,
+    support2: R,
+    offsets: *const u32,
+    counts: *mut u32,
+    list: *mut u32,
+) {
+    let i = global_index();
+    if i >= n {
+        return;
+    }
+    unsafe {
+        let c = crate::neighbour::search::neighbour_row::<R, V>(&*grid, starts, pos, i, support2, offsets, list);
+        *counts.add(i as usize) = c;
+    }
+}
+
+macro_rules! per_vector {
+    ($hash:ident, $list:ident, $r:ty, $v:ty) => {
+        /// keys[i] = cell key of pos[i] (`GridParams::key`).
+        #[unsafe(no_mangle)]
+        pub unsafe extern "ptx-kernel" fn $hash(n: u32, pos: *const $v, grid: *const GridParams, keys: *mut u32) {
+            unsafe { hash::<$r, $v>(n, pos, grid, keys) }
+        }
+        /// Neighbours j ≠ i with |x_i − x_j|² < support2, in gather order, written to list[offsets[i]..]
+        /// (CSR); with `offsets` null only counted.
+        #[unsafe(no_mangle)]
+        pub unsafe extern "ptx-kernel" fn $list(
+            n: u32,
+            pos: *const $v,
+            grid: *const GridParams,
+            starts: *const u32,
+            support2: $r,
+            offsets: *const u32,
+            counts: *mut u32,
+            list: *mut u32,
+        ) {
+            unsafe { neighbour_list::<$r, $v>(n, pos, grid, starts, support2, offsets, counts, list) }
+        }
+    };
+}
+
+per_vector!(swarf_hash_2d_f32, swarf_neighbour_list_2d_f32, f32, V2f32);
+per_vector!(swarf_hash_2d_f64, swarf_neighbour_list_2d_f64, f64, V2f64);
+per_vector!(swarf_hash_3d_f32, swarf_neighbour_list_3d_f32, f32, V3f32);
+per_vector!(swarf_hash_3d_f64, swarf_neighbour_list_3d_f64, f64, V3f64);
+
+/// counts[keys[i]] += 1; slots[i] = the particle's arrival order in its bucket (arbitrary, fixed by sort_cells).
+#[unsafe(no_mangle)]
+pub unsafe extern "ptx-kernel" fn swarf_count_cells(n: u32, keys: *const u32, counts: *mut u32, slots: *mut u32) {
+    let i = global_index();
+    if i < n {
+        unsafe {
+            let k = *keys.add(i as usize);
+            *slots.add(i as usize) = atomic_add_u32(counts.add(k as usize), 1);
+        }
+    }
+}
+
+/// perm[starts[keys[i]] + slots[i]] = i.
+#[unsafe(no_mangle)]
+pub unsafe extern "ptx-kernel" fn swarf_scatter(
+    n: u32,
+    keys: *const u32,
+    slots: *const u32,
+    starts: *const u32,
+    perm: *mut u32,
+) {
+    let i = global_index();
+    if i < n {
+        unsafe {
+            let k = *keys.add(i as usize);
+            let dst = *starts.add(k as usize) + *slots.add(i as usize);
+            *perm.add(dst as usize) = i;
+        }
+    }
+}
+
+/// Sorts each bucket's slice of `perm` ascending (one thread per bucket), making the permutation the stable one.
+#[unsafe(no_mangle)]
+pub unsafe extern "ptx-kernel" fn swarf_sort_cells(n_buckets: u32, starts: *const u32, perm: *mut u32) {
+    let c = global_index();
+    if c < n_buckets {
+        unsafe {
+            let a = *starts.add(c as usize);
+            let b = *starts.add(c as usize + 1);
+            if b > a + 1 {
+                sort_cell(perm, a, b);
+            }
+        }
+    }
+}
+
+macro_rules! gather {
+    ($name:ident, $t:ty) => {
+        /// dst[i] = src[perm[i]] for elements of `k` units of this kernel's unit size (one thread per unit).
+        #[unsafe(no_mangle)]
+        pub unsafe extern "ptx-kernel" fn $name(n: u32, k: u32, perm: *const u32, src: *const $t, dst: *mut $t) {
+            let Some(kk) = NonZeroU32::new(k) else { return };
+            let t = global_index();
+            let i = t / kk;
+            if i < n {
+                let w = t - i * k;
+                unsafe {
+                    let s = *perm.add(i as usize) as usize * k as usize + w as usize;
+                    *dst.add(t as usize) = *src.add(s);
+                }
+            }
+        }
+    };
+}
+
+/// 16-byte unit for vector loads and stores.
+#[repr(C, align(16))]
+#[derive(Clone, Copy)]
+pub struct B16([u32; 4]);
+
+gather!(swarf_gather_b4, u32);
+gather!(swarf_gather_b8, u64);
+gather!(swarf_gather_b16, B16);

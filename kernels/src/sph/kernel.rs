@@ -1,0 +1,72 @@
+//! The cubic-spline kernel of the theses (roethlin-solver.md §3.1, (4.31)), support radius 2h:
+//!
+//! W(q) = n_c (1 − 1.5 q² + 0.75 q³) for 0 ≤ q < 1,  n_c · 0.25 (2 − q)³ for 1 ≤ q < 2,  0 beyond; q = r/h.
+//! dW/dr = (n_c/h)(−3q + 2.25q²) for q < 1,  (n_c/h)(−0.75 (2 − q)²) for 1 ≤ q < 2.
+//!
+//! n_c = 10/(7π h²) in 2D, 1/(π h³) in 3D ([C2D]/[C3D]). The old 2D code computed 0.25(2 − q)⁶ for q > 1
+//! (erratum 24); this is the correct cube.
+
+use crate::real::Real;
+use bytemuck::{Pod, Zeroable};
+
+/// Kernel constants for one smoothing length, precomputed on the host.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CubicSpline<R: Real> {
+    pub h: R,
+    pub inv_h: R,
+    /// Normalisation n_c.
+    pub norm: R,
+    /// Squared support radius (2h)².
+    pub support2: R,
+}
+
+// SAFETY: four fields of one float type: no padding, every bit pattern valid.
+unsafe impl<R: Real> Zeroable for CubicSpline<R> {}
+unsafe impl<R: Real> Pod for CubicSpline<R> {}
+
+impl<R: Real> CubicSpline<R> {
+    pub fn new(h: f64, dim: usize) -> Self {
+        let pi = core::f64::consts::PI;
+        let norm = if dim == 3 { 1.0 / (pi * h * h * h) } else { 10.0 / (7.0 * pi * h * h) };
+        CubicSpline {
+            h: R::from_f64(h),
+            inv_h: R::from_f64(1.0 / h),
+            norm: R::from_f64(norm),
+            support2: R::from_f64(4.0 * h * h),
+        }
+    }
+
+    /// W(r).
+    #[inline(always)]
+    pub fn w(&self, r: R) -> R {
+        let q = r * self.inv_h;
+        let one = R::ONE;
+        let two = R::from_f64(2.0);
+        if q < one {
+            self.norm * (one - R::from_f64(1.5) * q * q + R::from_f64(0.75) * q * q * q)
+        } else if q < two {
+            let t = two - q;
+            self.norm * R::from_f64(0.25) * t * t * t
+        } else {
+            R::ZERO
+        }
+    }
+
+    /// dW/dr(r); the gradient with respect to x_i is dW/dr · x_ij / r.
+    #[inline(always)]
+    pub fn dw_dr(&self, r: R) -> R {
+        let q = r * self.inv_h;
+        let one = R::ONE;
+        let two = R::from_f64(2.0);
+        let c = self.norm * self.inv_h;
+        if q < one {
+            c * (R::from_f64(-3.0) * q + R::from_f64(2.25) * q * q)
+        } else if q < two {
+            let t = two - q;
+            c * R::from_f64(-0.75) * t * t
+        } else {
+            R::ZERO
+        }
+    }
+}

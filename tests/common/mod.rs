@@ -1,0 +1,139 @@
+//! Particle sets and the O(N²) reference shared by the neighbour-search tests (CPU and GPU).
+#![allow(dead_code)]
+
+use rayon::prelude::*;
+use swarf::backend::Backend;
+use swarf::kernels::neighbour::GridParams;
+use swarf::kernels::{Dim, Real, Vector};
+use swarf::neighbour::CellList;
+use swarf::rng::SplitMix64;
+use swarf::state::{HostParticles, Particles};
+
+/// Uniform random in the unit box; spacing ≈ N^(-1/d).
+pub fn uniform<R: Real, D: Dim>(n: usize, seed: u64) -> Vec<D::Vec<R>> {
+    let mut rng = SplitMix64::new(seed);
+    (0..n).map(|_| D::Vec::<R>::new(std::array::from_fn(|_| R::from_f64(rng.uniform())))).collect()
+}
+
+/// 30 Gaussian clusters of very different widths plus a 10 % uniform background: dense cells with hundreds of
+/// particles next to empty ones.
+pub fn clustered<R: Real, D: Dim>(n: usize, seed: u64) -> Vec<D::Vec<R>> {
+    let mut rng = SplitMix64::new(seed);
+    let centres: Vec<([f64; 3], f64)> =
+        (0..30).map(|k| (std::array::from_fn(|_| 0.2 + 0.6 * rng.uniform()), 0.004 * (1.0 + k as f64))).collect();
+    (0..n)
+        .map(|_| {
+            if rng.uniform() < 0.1 {
+                D::Vec::<R>::new(std::array::from_fn(|_| R::from_f64(rng.uniform())))
+            } else {
+                let (c, s) = centres[(rng.next_u64() % 30) as usize];
+                D::Vec::<R>::new(std::array::from_fn(|k| R::from_f64(c[k] + s * rng.normal())))
+            }
+        })
+        .collect()
+}
+
+/// A lattice of spacing `dx` from the origin, shuffled.
+pub fn lattice<R: Real, D: Dim>(per_side: usize, dx: f64, seed: u64) -> Vec<D::Vec<R>> {
+    let n = per_side.pow(D::D as u32);
+    let mut v: Vec<D::Vec<R>> = (0..n)
+        .map(|i| {
+            let idx = [i % per_side, (i / per_side) % per_side, i / (per_side * per_side)];
+            D::Vec::<R>::new(std::array::from_fn(|k| R::from_f64(idx[k] as f64 * dx)))
+        })
+        .collect();
+    SplitMix64::new(seed).shuffle(&mut v);
+    v
+}
+
+/// Sorted neighbour lists (j ≠ i with |x_ij|² < support2, evaluated exactly as the kernels do) by O(N²) search.
+pub fn brute_force<R: Real, V: Vector<R>>(pos: &[V], support2: R) -> Vec<Vec<u32>> {
+    let finite: Vec<bool> = pos.iter().map(|p| (0..V::DIM).all(|k| p.get(k).is_finite())).collect();
+    (0..pos.len())
+        .into_par_iter()
+        .map(|i| {
+            if !finite[i] {
+                return Vec::new();
+            }
+            let pi = pos[i];
+            (0..pos.len()).filter(|&j| j != i && finite[j] && pi.dist2(&pos[j]) < support2).map(|j| j as u32).collect()
+        })
+        .collect()
+}
+
+/// Neighbour lists from the cell list on backend `b`, mapped back to the input indices and sorted. Also
+/// returns the sorted state, the permutation and the cell starts for further checks.
+pub struct Searched<R: Real, D: Dim> {
+    pub lists: Vec<Vec<u32>>,
+    pub sorted: HostParticles<R, D>,
+    pub perm: Vec<u32>,
+    pub starts: Vec<u32>,
+    pub keys: Vec<u32>,
+    /// Neighbour lists in sorted indices, in gather order, as the kernel wrote them (CSR).
+    pub raw_counts: Vec<u32>,
+    pub raw_list: Vec<u32>,
+}
+
+/// CSR neighbour lists on backend `b`: a counting pass, a scan, a filling pass.
+pub fn csr_lists<B: Backend, R: Real, D: Dim>(
+    b: &B,
+    n: usize,
+    pos: &B::Buf<D::Vec<R>>,
+    cl: &CellList<B>,
+    support2: R,
+) -> (Vec<u32>, Vec<u32>, Vec<u32>) {
+    let mut counts = b.alloc::<u32>(n, "counts").expect("alloc");
+    let mut empty = b.alloc::<u32>(0, "list").expect("alloc");
+    b.neighbour_list::<R, D>(n, pos, &cl.grid_buf, &cl.starts, support2, None, &mut counts, &mut empty)
+        .expect("count pass");
+    let c = b.read(&counts).expect("read");
+    let mut off = vec![0u32; n + 1];
+    for i in 0..n {
+        off[i + 1] = off[i] + c[i];
+    }
+    let offsets = b.upload(&off, "offsets").expect("upload");
+    let mut list = b.alloc::<u32>(off[n] as usize, "list").expect("alloc");
+    b.neighbour_list::<R, D>(n, pos, &cl.grid_buf, &cl.starts, support2, Some(&offsets), &mut counts, &mut list)
+        .expect("fill pass");
+    let c2 = b.read(&counts).expect("read");
+    assert_eq!(c, c2, "the counting and filling passes disagree");
+    (c2, off, b.read(&list).expect("read"))
+}
+
+pub fn search<B: Backend, R: Real, D: Dim>(b: &B, pos: &[D::Vec<R>], grid: GridParams, support2: R) -> Searched<R, D> {
+    let n = pos.len();
+    let host = HostParticles::<R, D>::at_rest(pos.to_vec(), R::ONE, R::ONE);
+    let mut p = Particles::<B, R, D>::upload(b, &host).expect("upload");
+    let mut cl = CellList::new(b, grid, n).expect("cell list");
+    cl.build::<R, D>(b, &p.pos.cur).expect("build");
+    let keys = b.read(&cl.keys).expect("keys");
+    p.reorder(b, &cl.perm).expect("reorder");
+    let (raw_counts, offsets, raw_list) = csr_lists::<B, R, D>(b, n, &p.pos.cur, &cl, support2);
+    let sorted = p.download(b).expect("download");
+    let mut lists = vec![Vec::new(); n];
+    for i in 0..n {
+        let row = &raw_list[offsets[i] as usize..offsets[i + 1] as usize];
+        let mut l: Vec<u32> = row.iter().map(|&j| sorted.id[j as usize]).collect();
+        l.sort_unstable();
+        lists[sorted.id[i] as usize] = l;
+    }
+    Searched {
+        lists,
+        sorted,
+        perm: b.read(&cl.perm).expect("perm"),
+        starts: b.read(&cl.starts).expect("starts"),
+        keys,
+        raw_counts,
+        raw_list,
+    }
+}
+
+/// Asserts two sets of neighbour lists are equal, naming the first difference.
+pub fn assert_same_pairs(a: &[Vec<u32>], b: &[Vec<u32>], what: &str) {
+    assert_eq!(a.len(), b.len(), "{what}: particle counts differ");
+    let total: usize = a.iter().map(|l| l.len()).sum();
+    for i in 0..a.len() {
+        assert_eq!(a[i], b[i], "{what}: neighbours of particle {i} differ");
+    }
+    assert!(total > 0 || a.is_empty(), "{what}: no pairs at all, the test is vacuous");
+}

@@ -1,0 +1,211 @@
+//! GPU against its CPU twin (DESIGN.md "One physics, two backends"; roethlin-solver.md AT-51..AT-53).
+//! Each test opens the CUDA backend; where none is available it says why and passes, unless
+//! `SWARF_REQUIRE_GPU=1` (set by ci/gpu-run.sh on the GPU machine), where it fails.
+
+mod common;
+
+use common::*;
+use swarf::backend::{Backend, CpuBackend, CudaBackend};
+use swarf::grid::{bounding_box, grid_for_support};
+use swarf::kernels::sph::CubicSpline;
+use swarf::kernels::{Dim, Dim2, Dim3, Real};
+use swarf::neighbour::CellList;
+use swarf::rng::SplitMix64;
+use swarf::state::{HostParticles, Particles};
+
+fn gpu() -> Option<CudaBackend> {
+    match CudaBackend::new(0) {
+        Ok(b) => Some(b),
+        Err(e) => {
+            if std::env::var("SWARF_REQUIRE_GPU").is_ok_and(|v| v == "1") {
+                panic!("SWARF_REQUIRE_GPU=1 but {e}");
+            }
+            eprintln!("skipped (no GPU): {e}");
+            None
+        }
+    }
+}
+
+/// Cell keys, cell starts, permutation, sorted state and neighbour lists equal the CPU's exactly; the density
+/// sum (same gather order, no FMA contraction) equals it bitwise.
+fn compare<R: Real, D: Dim>(g: &CudaBackend, pos: &[D::Vec<R>], h: f64, stencil: u32, what: &str) {
+    let c = CpuBackend::new();
+    let support = 2.0 * h;
+    let support2 = R::from_f64(support * support);
+    let (lo, hi) = bounding_box::<R, D::Vec<R>>(pos);
+    let grid = grid_for_support(lo, hi, D::D, support, stencil).expect("grid");
+    let a = search::<_, R, D>(&c, pos, grid, support2);
+    let b = search::<_, R, D>(g, pos, grid, support2);
+    assert_eq!(a.keys, b.keys, "{what}: cell keys differ");
+    assert_eq!(a.starts, b.starts, "{what}: cell starts differ");
+    assert_eq!(a.perm, b.perm, "{what}: permutations differ");
+    assert!(a.sorted.bitwise_eq(&b.sorted), "{what}: sorted states differ");
+    assert_eq!(a.raw_counts, b.raw_counts, "{what}: neighbour counts differ");
+    assert_eq!(a.raw_list, b.raw_list, "{what}: neighbour lists (gather order) differ");
+    assert!(a.raw_list.len() > pos.len(), "{what}: too few pairs for a meaningful test");
+
+    let n = pos.len();
+    let kernel = [CubicSpline::<R>::new(h, D::D)];
+    let run = |bk: &dyn DensityRunner<R, D>| bk.density(&a.sorted, grid, &kernel);
+    let rc = run(&(&c as &CpuBackend));
+    let rg = run(&g);
+    let same = rc.iter().zip(&rg).filter(|(x, y)| x.to_f64().to_bits() == y.to_f64().to_bits()).count();
+    assert_eq!(same, n, "{what}: density differs from the CPU in {} of {n} particles", n - same);
+}
+
+trait DensityRunner<R: Real, D: Dim> {
+    fn density(
+        &self,
+        sorted: &HostParticles<R, D>,
+        grid: swarf::kernels::neighbour::GridParams,
+        k: &[CubicSpline<R>],
+    ) -> Vec<R>;
+}
+
+impl<R: Real, D: Dim, B: Backend> DensityRunner<R, D> for &B {
+    fn density(
+        &self,
+        sorted: &HostParticles<R, D>,
+        grid: swarf::kernels::neighbour::GridParams,
+        k: &[CubicSpline<R>],
+    ) -> Vec<R> {
+        let b = *self;
+        let n = sorted.len();
+        let p = Particles::<B, R, D>::upload(b, sorted).expect("upload");
+        let mut cl = CellList::new(b, grid, n).expect("cell list");
+        cl.build::<R, D>(b, &p.pos.cur).expect("build");
+        let kb = b.upload(k, "kernel").expect("upload");
+        let mut rho = b.alloc::<R>(n, "rho").expect("alloc");
+        // Already sorted: the permutation is the identity, so pos and mass are used as they are.
+        b.density::<R, D>(n, &p.pos.cur, &p.mass.cur, &cl.grid_buf, &cl.starts, &kb, &mut rho).expect("density");
+        b.read(&rho).expect("read")
+    }
+}
+
+fn h_for(n: usize, d: usize) -> f64 {
+    1.7 * (n as f64).powf(-1.0 / d as f64)
+}
+
+#[test]
+fn neighbour_search_equals_cpu_2d() {
+    let Some(g) = gpu() else { return };
+    let n = 200_000;
+    for stencil in [2, 1] {
+        compare::<f64, Dim2>(&g, &uniform::<f64, Dim2>(n, 1), h_for(n, 2), stencil, "uniform 2D f64");
+        compare::<f32, Dim2>(&g, &uniform::<f32, Dim2>(n, 2), h_for(n, 2), stencil, "uniform 2D f32");
+        compare::<f64, Dim2>(&g, &clustered::<f64, Dim2>(n, 3), h_for(n, 2), stencil, "clustered 2D f64");
+        compare::<f32, Dim2>(&g, &lattice::<f32, Dim2>(400, 1.0 / 128.0, 4), 1.7 / 128.0, stencil, "lattice 2D f32");
+    }
+}
+
+#[test]
+fn neighbour_search_equals_cpu_3d() {
+    let Some(g) = gpu() else { return };
+    let n = 200_000;
+    for stencil in [2, 1] {
+        compare::<f64, Dim3>(&g, &uniform::<f64, Dim3>(n, 5), h_for(n, 3), stencil, "uniform 3D f64");
+        compare::<f32, Dim3>(&g, &uniform::<f32, Dim3>(n, 6), h_for(n, 3), stencil, "uniform 3D f32");
+        compare::<f64, Dim3>(&g, &clustered::<f64, Dim3>(n, 7), h_for(n, 3), stencil, "clustered 3D f64");
+        compare::<f64, Dim3>(&g, &lattice::<f64, Dim3>(58, 1.0 / 64.0, 8), 1.7 / 64.0, stencil, "lattice 3D f64");
+    }
+}
+
+/// Non-finite positions and particles outside the grid box, on both backends.
+#[test]
+fn degenerate_positions_equal_cpu() {
+    let Some(g) = gpu() else { return };
+    let n = 50_000;
+    let mut pos = uniform::<f64, Dim2>(n, 9);
+    pos[10].0[0] = f64::NAN;
+    pos[20].0[1] = f64::INFINITY;
+    for p in pos.iter_mut().take(3000).skip(100) {
+        p.0[0] += 3.0; // far outside the box below
+    }
+    let c = CpuBackend::new();
+    let h = h_for(n, 2);
+    let grid = grid_for_support([0.0; 3], [1.0, 1.0, 0.0], 2, 2.0 * h, 2).unwrap();
+    let a = search::<_, f64, Dim2>(&c, &pos, grid, 4.0 * h * h);
+    let b = search::<_, f64, Dim2>(&g, &pos, grid, 4.0 * h * h);
+    assert_eq!(a.perm, b.perm);
+    assert_eq!(a.starts, b.starts);
+    assert_eq!(a.lists, b.lists);
+}
+
+/// The GPU scan against its CPU twin, over sizes around the tile and level boundaries.
+#[test]
+fn scan_equals_cpu() {
+    let Some(g) = gpu() else { return };
+    let mut rng = SplitMix64::new(17);
+    for n in [1usize, 2, 31, 32, 33, 1023, 1024, 1025, 4096, 1_048_575, 1_048_576, 1_048_577, 5_000_011] {
+        let v: Vec<u32> = (0..n).map(|_| (rng.next_u64() % 1000) as u32).collect();
+        let mut expect = v.clone();
+        swarf::backend::cpu::exclusive_scan(&mut expect);
+        let mut buf = g.upload(&v, "scan").unwrap();
+        let mut levels = swarf::backend::scan_levels(&g, n).unwrap();
+        g.exclusive_scan(n, &mut buf, &mut levels).unwrap();
+        assert_eq!(g.read(&buf).unwrap(), expect, "scan of {n} elements");
+    }
+}
+
+/// Gathers of every element size class used by the state (4, 8, 16, 24, 32, 48 bytes) equal the CPU's.
+#[test]
+fn reorder_equals_cpu_for_every_field_type() {
+    let Some(g) = gpu() else { return };
+    fn one<R: Real, D: Dim>(g: &CudaBackend) {
+        let n = 100_003;
+        let c = CpuBackend::new();
+        let mut h = HostParticles::<R, D>::at_rest(uniform::<R, D>(n, 21), R::ONE, R::ONE);
+        let mut rng = SplitMix64::new(5);
+        for i in 0..n {
+            h.rho[i] = R::from_f64(rng.uniform());
+            h.mass[i] = R::from_f64(rng.uniform());
+            h.flags[i] = rng.next_u64() as u32;
+            let s: &mut [R] = bytemuck::cast_slice_mut(std::slice::from_mut(&mut h.stress[i]));
+            for x in s.iter_mut() {
+                *x = R::from_f64(rng.normal());
+            }
+        }
+        let mut perm: Vec<u32> = (0..n as u32).collect();
+        rng.shuffle(&mut perm);
+        let on = |be: &dyn ReorderRunner<R, D>| be.run(&h, &perm);
+        let a = on(&(&c as &CpuBackend));
+        let b = on(&g);
+        assert!(a.bitwise_eq(&b), "{}D {}: reordered states differ", D::D, R::NAME);
+    }
+    one::<f32, Dim2>(&g);
+    one::<f64, Dim2>(&g);
+    one::<f32, Dim3>(&g);
+    one::<f64, Dim3>(&g);
+}
+
+trait ReorderRunner<R: Real, D: Dim> {
+    fn run(&self, h: &HostParticles<R, D>, perm: &[u32]) -> HostParticles<R, D>;
+}
+
+impl<R: Real, D: Dim, B: Backend> ReorderRunner<R, D> for &B {
+    fn run(&self, h: &HostParticles<R, D>, perm: &[u32]) -> HostParticles<R, D> {
+        let b = *self;
+        let mut p = Particles::<B, R, D>::upload(b, h).unwrap();
+        let pb = b.upload(perm, "perm").unwrap();
+        p.reorder(b, &pb).unwrap();
+        p.download(b).unwrap()
+    }
+}
+
+/// Two GPU builds of the same heavily clustered input give the same permutation, despite the atomics (AT-53).
+#[test]
+fn gpu_build_is_deterministic() {
+    let Some(g) = gpu() else { return };
+    let n = 1_000_000;
+    let pos = clustered::<f32, Dim3>(n, 23);
+    let (lo, hi) = bounding_box::<f32, _>(&pos);
+    let grid = grid_for_support(lo, hi, 3, 2.0 * h_for(n, 3), 2).unwrap();
+    let p = g.upload(&pos, "pos").unwrap();
+    let mut runs = Vec::new();
+    for _ in 0..3 {
+        let mut cl = CellList::new(&g, grid, n).unwrap();
+        cl.build::<f32, Dim3>(&g, &p).unwrap();
+        runs.push((g.read(&cl.perm).unwrap(), g.read(&cl.starts).unwrap()));
+    }
+    assert!(runs[0] == runs[1] && runs[1] == runs[2], "GPU cell-list builds differ between runs");
+}

@@ -1,0 +1,244 @@
+//! Neighbour search on the CPU backend against an O(N²) brute force (roethlin-solver.md AT-50, AT-51): the set
+//! of pairs within the support radius must be identical, for 10⁵ particles uniform, clustered and on a lattice
+//! with particles exactly on cell faces, in 2D and 3D, with both grid layouts (cell h / ±2, cell 2h / ±1).
+
+mod common;
+
+use common::*;
+use swarf::backend::CpuBackend;
+use swarf::grid::{bounding_box, grid_for_support, grid_with_cell};
+use swarf::kernels::neighbour::GridParams;
+use swarf::kernels::{Dim, Dim2, Dim3, Real, Vector};
+
+const N: usize = 100_000;
+
+/// Smoothing length for a mean spacing dx (h = 1.7 dx as in the theses' benchmarks).
+fn h_for(n: usize, d: usize) -> f64 {
+    1.7 * (n as f64).powf(-1.0 / d as f64)
+}
+
+fn check_against_brute_force<R: Real, D: Dim>(pos: &[D::Vec<R>], h: f64, what: &str) {
+    let b = CpuBackend::new();
+    let support = 2.0 * h;
+    let support2 = R::from_f64(support * support);
+    let reference = brute_force::<R, D::Vec<R>>(pos, support2);
+    let (lo, hi) = bounding_box::<R, D::Vec<R>>(pos);
+    for stencil in [2, 1] {
+        let grid = grid_for_support(lo, hi, D::D, support, stencil).expect("grid");
+        let s = search::<_, R, D>(&b, pos, grid, support2);
+        assert_same_pairs(&s.lists, &reference, &format!("{what}, stencil ±{stencil}"));
+    }
+}
+
+#[test]
+fn uniform_2d_matches_brute_force() {
+    check_against_brute_force::<f64, Dim2>(&uniform::<f64, Dim2>(N, 1), h_for(N, 2), "uniform 2D f64");
+}
+
+#[test]
+fn uniform_2d_f32_matches_brute_force() {
+    check_against_brute_force::<f32, Dim2>(&uniform::<f32, Dim2>(N, 2), h_for(N, 2), "uniform 2D f32");
+}
+
+#[test]
+fn uniform_3d_matches_brute_force() {
+    check_against_brute_force::<f64, Dim3>(&uniform::<f64, Dim3>(N, 3), h_for(N, 3), "uniform 3D f64");
+}
+
+#[test]
+fn clustered_2d_matches_brute_force() {
+    check_against_brute_force::<f64, Dim2>(&clustered::<f64, Dim2>(N, 4), h_for(N, 2), "clustered 2D");
+}
+
+#[test]
+fn clustered_3d_matches_brute_force() {
+    check_against_brute_force::<f32, Dim3>(&clustered::<f32, Dim3>(N, 5), h_for(N, 3), "clustered 3D f32");
+}
+
+/// Lattice of spacing cell/2 from the grid origin: every other particle lies exactly on a cell face, and the
+/// support radius is just below 4 spacings so that lattice distances straddle it. Cell size and spacing are
+/// powers of two, so the positions and faces are exact in binary.
+fn lattice_on_faces<D: Dim>(per_side: usize) {
+    let b = CpuBackend::new();
+    let cell = 1.0 / 64.0;
+    let dx = cell / 2.0;
+    let pos = lattice::<f64, D>(per_side, dx, 6);
+    for stencil in [2u32, 1] {
+        // Largest support the grid admits: cell·stencil/(1 + margin), slightly below 4dx (stencil 2) or 2dx.
+        let support = cell * stencil as f64 / (1.0 + swarf::kernels::neighbour::grid::CELL_MARGIN);
+        let support2 = support * support;
+        let reference = brute_force::<f64, D::Vec<f64>>(&pos, support2);
+        let hi = [(per_side - 1) as f64 * dx; 3];
+        let grid = grid_with_cell([0.0; 3], hi, D::D, cell, stencil).expect("grid");
+        // Faces: x = k·cell exactly for even lattice indices.
+        let on_face = pos.iter().filter(|p| (p.get(0) / cell).fract() == 0.0).count();
+        assert!(on_face * 3 > pos.len(), "the lattice must put many particles exactly on faces");
+        let s = search::<_, f64, D>(&b, &pos, grid, support2);
+        assert_same_pairs(&s.lists, &reference, &format!("lattice on faces {}D ±{stencil}", D::D));
+    }
+}
+
+#[test]
+fn lattice_on_cell_faces_2d_matches_brute_force() {
+    lattice_on_faces::<Dim2>(317); // 100 489 particles
+}
+
+#[test]
+fn lattice_on_cell_faces_3d_matches_brute_force() {
+    lattice_on_faces::<Dim3>(47); // 103 823 particles
+}
+
+/// The sorted state is a permutation of the input: every field of sorted particle i equals the input's at
+/// id[i]; the permutation is the stable sort by key; starts partition [0, N) and each particle is in its cell.
+#[test]
+fn sorted_state_is_a_stable_permutation() {
+    let b = CpuBackend::new();
+    let n = 20_000;
+    let pos = clustered::<f64, Dim3>(n, 9);
+    let mut host = swarf::state::HostParticles::<f64, Dim3>::at_rest(pos.clone(), 1.0, 1.0);
+    for (i, v) in host.vel.iter_mut().enumerate() {
+        *v = <Dim3 as Dim>::Vec::<f64>::new([i as f64, -(i as f64), 0.5 * i as f64]);
+    }
+    for (i, m) in host.mass.iter_mut().enumerate() {
+        *m = 1.0 + i as f64;
+    }
+    for (i, r) in host.rho.iter_mut().enumerate() {
+        *r = 2.0 * i as f64;
+    }
+    for (i, s) in host.stress.iter_mut().enumerate() {
+        s.0 = std::array::from_fn(|k| (i * 6 + k) as f64);
+    }
+    for (i, f) in host.flags.iter_mut().enumerate() {
+        *f = (i as u32).wrapping_mul(2654435761);
+    }
+    let (lo, hi) = bounding_box::<f64, _>(&pos);
+    let grid = grid_for_support(lo, hi, 3, 0.02, 2).unwrap();
+    let mut p = swarf::state::Particles::<_, f64, Dim3>::upload(&b, &host).unwrap();
+    let mut cl = swarf::neighbour::CellList::new(&b, grid, n).unwrap();
+    cl.build::<f64, Dim3>(&b, &p.pos.cur).unwrap();
+    p.reorder(&b, &cl.perm).unwrap();
+    let sorted = p.download(&b).unwrap();
+    // Permutation of the ids.
+    let mut ids = sorted.id.clone();
+    ids.sort_unstable();
+    assert!(ids.iter().enumerate().all(|(i, &v)| v as usize == i), "ids are not a permutation");
+    // Every field moved with its particle.
+    for i in 0..n {
+        let o = sorted.id[i] as usize;
+        assert_eq!(sorted.pos[i], host.pos[o]);
+        assert_eq!(sorted.vel[i], host.vel[o]);
+        assert_eq!(sorted.mass[i], host.mass[o]);
+        assert_eq!(sorted.rho[i], host.rho[o]);
+        assert_eq!(sorted.stress[i], host.stress[o]);
+        assert_eq!(sorted.flags[i], host.flags[o]);
+    }
+    // Stable sort by key.
+    let keys = cl.keys.clone();
+    let mut expect: Vec<u32> = (0..n as u32).collect();
+    expect.sort_by_key(|&i| keys[i as usize]);
+    assert_eq!(cl.perm, expect, "the permutation is not the stable sort by cell key");
+    // Cell ranges.
+    let starts = &cl.starts;
+    assert_eq!(starts.len(), grid.n_cells as usize + 2);
+    assert_eq!(starts[0], 0);
+    assert_eq!(*starts.last().unwrap() as usize, n);
+    assert!(starts.windows(2).all(|w| w[0] <= w[1]));
+    for i in 0..n {
+        let k = grid.key::<f64, _>(&sorted.pos[i]) as usize;
+        assert!(starts[k] as usize <= i && i < starts[k + 1] as usize, "particle {i} outside its cell {k}");
+    }
+}
+
+/// Particles outside the grid's box are clamped into the boundary cells; clamping never increases the cell
+/// distance of two particles, so the search stays exact. Here the box covers only the middle third.
+#[test]
+fn particles_outside_the_box_are_clamped_and_still_found() {
+    let b = CpuBackend::new();
+    let n = 30_000;
+    let pos = uniform::<f64, Dim2>(n, 12);
+    let h = h_for(n, 2);
+    let support2 = 4.0 * h * h;
+    let reference = brute_force::<f64, _>(&pos, support2);
+    let grid = grid_for_support([0.33, 0.33, 0.0], [0.66, 0.66, 0.0], 2, 2.0 * h, 2).unwrap();
+    let s = search::<_, f64, Dim2>(&b, &pos, grid, support2);
+    assert_same_pairs(&s.lists, &reference, "box covering the middle third");
+}
+
+/// A box far larger than the particles: most cells are empty (start = end) and the search is still exact.
+#[test]
+fn empty_cells_are_skipped() {
+    let b = CpuBackend::new();
+    let n = 20_000;
+    let pos = clustered::<f64, Dim2>(n, 13);
+    let h = h_for(n, 2);
+    let support2 = 4.0 * h * h;
+    let reference = brute_force::<f64, _>(&pos, support2);
+    let grid = grid_for_support([-3.0, -3.0, 0.0], [4.0, 4.0, 0.0], 2, 2.0 * h, 2).unwrap();
+    let s = search::<_, f64, Dim2>(&b, &pos, grid, support2);
+    let empty = s.starts.windows(2).filter(|w| w[0] == w[1]).count();
+    assert!(empty as f64 > 0.9 * grid.n_cells as f64, "most cells must be empty in this test");
+    assert_same_pairs(&s.lists, &reference, "mostly empty grid");
+}
+
+/// Non-finite positions go to the void bucket after all cells: they are nobody's neighbour and have none.
+#[test]
+fn non_finite_positions_are_excluded() {
+    let b = CpuBackend::new();
+    let n = 10_000;
+    let mut pos = uniform::<f64, Dim3>(n, 14);
+    let bad = [3usize, 77, 4000, 9999];
+    pos[3].0[0] = f64::NAN;
+    pos[77].0[1] = f64::INFINITY;
+    pos[4000].0[2] = f64::NEG_INFINITY;
+    pos[9999].0 = [f64::NAN; 4];
+    let h = h_for(n, 3);
+    let support2 = 4.0 * h * h;
+    let reference = brute_force::<f64, _>(&pos, support2);
+    let grid = grid_for_support([0.0; 3], [1.0; 3], 3, 2.0 * h, 2).unwrap();
+    let s = search::<_, f64, Dim3>(&b, &pos, grid, support2);
+    assert_same_pairs(&s.lists, &reference, "with non-finite positions");
+    let nc = grid.n_cells as usize;
+    assert_eq!((s.starts[nc + 1] - s.starts[nc]) as usize, bad.len(), "void bucket size");
+    let tail: Vec<u32> = s.sorted.id[n - bad.len()..].to_vec();
+    assert_eq!(tail, bad.map(|i| i as u32).to_vec(), "non-finite particles sort to the end, in input order");
+    for &i in &bad {
+        assert_eq!(s.keys[i], grid.n_cells);
+    }
+}
+
+#[test]
+fn grid_construction_refuses_bad_input() {
+    let lo = [0.0; 3];
+    let hi = [1.0; 3];
+    for (res, what) in [
+        (grid_for_support(lo, hi, 2, 0.0, 2), "zero support"),
+        (grid_for_support(lo, hi, 2, f64::NAN, 2), "NaN support"),
+        (grid_for_support(lo, hi, 4, 0.1, 2), "dimension 4"),
+        (grid_for_support(lo, hi, 2, 0.1, 3), "stencil 3"),
+        (grid_for_support(lo, [1.0, -1.0, 0.0], 2, 0.1, 2), "inverted box"),
+        (grid_for_support(lo, [1e6; 3], 3, 1e-3, 2), "too many cells"),
+    ] {
+        assert!(matches!(res, Err(swarf::Error::Grid(_))), "{what} must be refused, got {res:?}");
+    }
+    let g: GridParams = grid_for_support(lo, hi, 2, 0.1, 2).unwrap();
+    assert!(g.cell_size >= 0.05, "cell must be at least support/stencil");
+}
+
+/// CPU twin of the GPU scan against a naive sum, including wrap-around (the GPU test compares the two).
+#[test]
+fn exclusive_scan_twin() {
+    let mut rng = swarf::rng::SplitMix64::new(3);
+    for n in [0usize, 1, 2, 1023, 1024, 1025, 100_000] {
+        let v: Vec<u32> = (0..n).map(|_| (rng.next_u64() % 7) as u32).collect();
+        let mut s = v.clone();
+        swarf::backend::cpu::exclusive_scan(&mut s);
+        let mut acc = 0u32;
+        for i in 0..n {
+            assert_eq!(s[i], acc);
+            acc += v[i];
+        }
+    }
+    let mut w = vec![u32::MAX, 2, 5];
+    swarf::backend::cpu::exclusive_scan(&mut w);
+    assert_eq!(w, vec![0, u32::MAX, 1]);
+}

@@ -1,0 +1,34 @@
+//! The embedded PTX must load on a driver: no unresolved `.extern` symbol (a panic path or an un-inlined call
+//! into another crate leaves one, ../shared/GPU.md "Rules for kernel code") and every entry point the CUDA
+//! backend loads must be present, for every embedded target.
+
+use swarf::backend::cuda::KERNEL_NAMES;
+
+#[test]
+fn ptx_is_embedded_for_every_target() {
+    assert!(
+        !swarf::ptx::PTX.is_empty(),
+        "no PTX embedded: {}",
+        swarf::ptx::PTX_MISSING.unwrap_or("(no reason recorded)")
+    );
+    let targets = swarf::ptx::targets();
+    assert!(targets.contains(&"sm_80"), "the portable sm_80 target must be embedded, got {targets:?}");
+}
+
+#[test]
+fn ptx_has_no_extern_and_every_entry() {
+    for (target, ptx) in swarf::ptx::PTX {
+        assert!(ptx.contains(&format!(".target {target}")), "{target}: wrong .target line");
+        if let Some(line) = ptx.lines().find(|l| l.contains(".extern")) {
+            panic!("{target}: PTX has an unresolved symbol: {line}");
+        }
+        let entries: Vec<&str> = ptx
+            .lines()
+            .filter_map(|l| l.trim().strip_prefix(".visible .entry "))
+            .map(|l| l.trim_end_matches('(').trim())
+            .collect();
+        for name in KERNEL_NAMES {
+            assert!(entries.contains(name), "{target}: entry point {name} missing (have {entries:?})");
+        }
+    }
+}
