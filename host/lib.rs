@@ -9,8 +9,10 @@ pub mod error;
 pub mod grid;
 pub mod info;
 pub mod neighbour;
+pub mod output;
 pub mod ptx;
 pub mod rng;
+pub mod scene;
 pub mod state;
 
 pub use error::{Error, Result};

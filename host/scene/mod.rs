@@ -1,0 +1,1 @@
+//! Scene files (TOML): schema, loading, `--set` overrides, validation, and the particle sets they describe.
