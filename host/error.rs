@@ -25,6 +25,15 @@ pub enum Error {
     /// Buffers of inconsistent lengths were passed to an operation.
     #[error("{op}: buffer length {got}, expected {expected}")]
     Length { op: &'static str, expected: usize, got: usize },
+    /// A scene that cannot be run (the message names the file and key).
+    #[error("{0}")]
+    Scene(String),
+    /// An output file could not be written (the message names the path).
+    #[error("output: {0}")]
+    Output(String),
+    /// The run produced a non-finite value; the last good frame was written before it.
+    #[error("non-finite {field} at particle {id}, t = {time:e} s, step {step}; the last good frame is kept")]
+    NonFinite { id: u32, field: &'static str, time: f64, step: u64 },
     #[error("{0}")]
     Io(#[from] std::io::Error),
 }

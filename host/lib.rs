@@ -12,7 +12,9 @@ pub mod neighbour;
 pub mod output;
 pub mod ptx;
 pub mod rng;
+pub mod run;
 pub mod scene;
+pub mod solver;
 pub mod state;
 
 pub use error::{Error, Result};

@@ -19,8 +19,34 @@ struct Cli {
 enum Cmd {
     /// Version, backend, device, driver, embedded PTX targets and precisions.
     Info,
+    /// Run a scene: particle frames (VTU + PVD) and energies (CSV) in the output folder.
+    Run(RunArgs),
     /// Time standard workloads on the chosen backend.
     Bench(BenchArgs),
+}
+
+#[derive(clap::Args)]
+struct RunArgs {
+    /// The scene file (TOML), e.g. cases/rings.toml.
+    scene: std::path::PathBuf,
+    /// Floating-point precision of the particle state (default: the scene's, else f64).
+    #[arg(long, value_enum)]
+    precision: Option<PrecisionChoice>,
+    /// Override a scene key, e.g. --set time.end=1e-4 --set body.0.velocity=[200.0,0.0] (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<String>,
+    /// Output folder (default runs/<scene name>).
+    #[arg(long)]
+    out: Option<std::path::PathBuf>,
+    /// Print nothing but errors.
+    #[arg(long)]
+    quiet: bool,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum PrecisionChoice {
+    F32,
+    F64,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -105,6 +131,36 @@ fn run(cli: Cli) -> Result<()> {
     match cli.cmd {
         Cmd::Info => {
             print!("{}", swarf::info::report(cli.backend)?);
+            Ok(())
+        }
+        Cmd::Run(a) => {
+            let scene = swarf::scene::Scene::load(&a.scene, &a.set).map_err(|e| swarf::Error::Scene(e.to_string()))?;
+            let (any, line) = AnyBackend::select(cli.backend)?;
+            if !a.quiet {
+                eprintln!("{line}");
+            }
+            let opts = swarf::run::RunOptions {
+                out_dir: a.out.unwrap_or_else(|| std::path::PathBuf::from("runs").join(&scene.name)),
+                precision: a.precision.map(|p| match p {
+                    PrecisionChoice::F32 => swarf::scene::Precision::F32,
+                    PrecisionChoice::F64 => swarf::scene::Precision::F64,
+                }),
+                frames: true,
+                quiet: a.quiet,
+            };
+            let r = swarf::run::run(&any, &scene, &opts)?;
+            if !a.quiet {
+                eprintln!(
+                    "done: {} particles, {} steps, {:.2} s wall ({:.3e} particle-steps/s), {} {}, output in {}",
+                    r.particles,
+                    r.steps,
+                    r.wall_s,
+                    r.particles as f64 * r.steps as f64 / r.wall_s.max(1e-9),
+                    r.backend,
+                    r.precision,
+                    opts.out_dir.display()
+                );
+            }
             Ok(())
         }
         Cmd::Bench(a) => {

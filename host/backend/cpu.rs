@@ -2,10 +2,12 @@
 //! the counting sort runs sequentially, which makes its arrival order the index order, so its permutation is
 //! the stable one by construction (the GPU restores the same order with `sort_cells`).
 
-use super::{Backend, Buffer, DeviceInfo, Element};
+use super::{Backend, Buffer, DeviceInfo, Element, FieldsMut, FieldsRef, SphInputs};
 use crate::kernels::neighbour::search::neighbour_row;
 use crate::kernels::neighbour::{GridParams, sort::sort_cell};
-use crate::kernels::sph::{CubicSpline, density::density_sum};
+use crate::kernels::sph::integrate::{advance_sym, advance_vec};
+use crate::kernels::sph::interact::{Arrays, prepare, rates};
+use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers, TensorOps, density::density_sum};
 use crate::kernels::{Dim, Real};
 use crate::{Error, Result};
 use rayon::prelude::*;
@@ -75,7 +77,19 @@ impl SendPtr {
     fn get(self) -> *mut u32 {
         self.0
     }
+    fn from_opt(p: Option<*mut u32>) -> Self {
+        SendPtr(p.unwrap_or(std::ptr::null_mut()))
+    }
+    fn is_null(self) -> bool {
+        self.0.is_null()
+    }
 }
+
+/// The kernel crate's array views, shared by parallel tasks that only read through them.
+struct SendArrays<R: Real, D: Dim>(Arrays<R, D>);
+// SAFETY: read-only views of buffers that outlive the parallel loop.
+unsafe impl<R: Real, D: Dim> Send for SendArrays<R, D> {}
+unsafe impl<R: Real, D: Dim> Sync for SendArrays<R, D> {}
 
 fn check(op: &'static str, expected: usize, got: usize) -> Result<()> {
     if got < expected { Err(Error::Length { op, expected, got }) } else { Ok(()) }
@@ -263,6 +277,209 @@ impl Backend for CpuBackend {
             // SAFETY: lengths checked above; pos/mass are the sorted particles of this cell list.
             *r = unsafe { density_sum::<R, D::Vec<R>>(&g, starts.as_ptr(), &k, pos.as_ptr(), mass.as_ptr(), i as u32) };
         });
+        Ok(())
+    }
+
+    fn sph_prepare<R: Real, D: TensorOps<R>>(
+        &self,
+        n: usize,
+        stab: Stabilisers,
+        params: &Vec<SphParams<R>>,
+        rho: &Vec<R>,
+        stress: &Vec<D::Sym<R>>,
+        sig: &mut Vec<D::Sym<R>>,
+        art: Option<&mut Vec<D::Sym<R>>>,
+        sound: Option<&mut Vec<R>>,
+    ) -> Result<()> {
+        check("sph_prepare rho", n, rho.len())?;
+        check("sph_prepare stress", n, stress.len())?;
+        check("sph_prepare sig", n, sig.len())?;
+        let p = params[0];
+        if let Some(a) = &art {
+            check("sph_prepare art", n, a.len())?;
+        }
+        if let Some(c) = &sound {
+            check("sph_prepare sound", n, c.len())?;
+        }
+        if (stab.stress && art.is_none()) || (stab.viscosity && sound.is_none()) {
+            return Err(Error::Length { op: "sph_prepare (stabiliser buffer missing)", expected: n, got: 0 });
+        }
+        let art = SendPtr::from_opt(art.map(|a| a.as_mut_ptr() as *mut u32));
+        let sound = SendPtr::from_opt(sound.map(|c| c.as_mut_ptr() as *mut u32));
+        macro_rules! go {
+            ($av:literal, $as:literal) => {
+                sig[..n].par_iter_mut().enumerate().for_each(|(i, sg)| {
+                    let q = prepare::<R, D, $av, $as>(&p, rho[i], &stress[i]);
+                    *sg = q.sig;
+                    // SAFETY: the buffers exist when their stabiliser is on and hold n elements (checked by the
+                    // solver, which allocates them); each index is written by one task.
+                    unsafe {
+                        if $as {
+                            *(art.get() as *mut D::Sym<R>).add(i) = q.art;
+                        }
+                        if $av {
+                            *(sound.get() as *mut R).add(i) = q.c;
+                        }
+                    }
+                })
+            };
+        }
+        match (stab.viscosity && !sound.is_null(), stab.stress && !art.is_null()) {
+            (false, false) => go!(false, false),
+            (false, true) => go!(false, true),
+            (true, false) => go!(true, false),
+            (true, true) => go!(true, true),
+        }
+        Ok(())
+    }
+
+    fn sph_rates<R: Real, D: TensorOps<R>>(
+        &self,
+        n: usize,
+        stab: Stabilisers,
+        params: &Vec<SphParams<R>>,
+        grid: &Vec<GridParams>,
+        starts: &Vec<u32>,
+        input: &SphInputs<'_, Self, R, D>,
+        out: FieldsMut<'_, Self, R, D>,
+    ) -> Result<()> {
+        for (what, len) in [
+            ("pos", input.pos.len()),
+            ("vel", input.vel.len()),
+            ("rho", input.rho.len()),
+            ("mass", input.mass.len()),
+            ("stress", input.stress.len()),
+            ("sig", input.sig.len()),
+            ("flags", input.flags.len()),
+            ("pos_t", out.pos.len()),
+            ("vel_t", out.vel.len()),
+            ("rho_t", out.rho.len()),
+            ("stress_t", out.stress.len()),
+        ] {
+            check(what, n, len)?;
+        }
+        check("sph_rates starts", grid[0].n_cells as usize + 2, starts.len())?;
+        if stab.stress {
+            check("sph_rates art", n, input.art.map_or(0, |a| a.len()))?;
+        }
+        if stab.viscosity {
+            check("sph_rates sound", n, input.sound.map_or(0, |a| a.len()))?;
+        }
+        let (p, g) = (params[0], grid[0]);
+        let a = SendArrays(Arrays::<R, D> {
+            pos: input.pos.as_ptr(),
+            vel: input.vel.as_ptr(),
+            rho: input.rho.as_ptr(),
+            mass: input.mass.as_ptr(),
+            stress: input.stress.as_ptr(),
+            sig: input.sig.as_ptr(),
+            art: input.art.map_or(std::ptr::null(), |v| v.as_ptr()),
+            sound: input.sound.map_or(std::ptr::null(), |v| v.as_ptr()),
+            flags: input.flags.as_ptr(),
+            bc_vel: input.bc_vel.as_ptr(),
+        });
+        let st = SendPtr(starts.as_ptr() as *mut u32);
+        let (vel_t, rho_t, stress_t) = (
+            SendPtr(out.vel.as_mut_ptr() as *mut u32),
+            SendPtr(out.rho.as_mut_ptr() as *mut u32),
+            SendPtr(out.stress.as_mut_ptr() as *mut u32),
+        );
+        macro_rules! go {
+            ($av:literal, $as:literal, $xs:literal) => {
+                out.pos[..n].par_iter_mut().enumerate().for_each(|(i, pt)| {
+                    let a = &a;
+                    // SAFETY: every array was checked to hold n sorted particles, starts belongs to the grid, and
+                    // each index i is written by one task only.
+                    unsafe {
+                        let o = rates::<R, D, $av, $as, $xs>(&p, &g, st.get(), &a.0, i as u32);
+                        *pt = o.pos_t;
+                        *(vel_t.get() as *mut D::Vec<R>).add(i) = o.vel_t;
+                        *(rho_t.get() as *mut R).add(i) = o.rho_t;
+                        *(stress_t.get() as *mut D::Sym<R>).add(i) = o.stress_t;
+                    }
+                })
+            };
+        }
+        match (stab.viscosity, stab.stress, stab.xsph) {
+            (false, false, false) => go!(false, false, false),
+            (false, false, true) => go!(false, false, true),
+            (false, true, false) => go!(false, true, false),
+            (false, true, true) => go!(false, true, true),
+            (true, false, false) => go!(true, false, false),
+            (true, false, true) => go!(true, false, true),
+            (true, true, false) => go!(true, true, false),
+            (true, true, true) => go!(true, true, true),
+        }
+        Ok(())
+    }
+
+    fn sph_predict<R: Real, D: Dim>(
+        &self,
+        n: usize,
+        c: R,
+        y: FieldsMut<'_, Self, R, D>,
+        y0: FieldsMut<'_, Self, R, D>,
+        r: FieldsRef<'_, Self, R, D>,
+    ) -> Result<()> {
+        check("sph_predict", n, y.pos.len().min(y0.pos.len()).min(r.pos.len()))?;
+        let step = |x: &mut D::Vec<R>, x0: &mut D::Vec<R>, xt: &D::Vec<R>| {
+            *x0 = *x;
+            *x = advance_vec(x0, c, xt);
+        };
+        y.pos[..n]
+            .par_iter_mut()
+            .zip(y0.pos[..n].par_iter_mut())
+            .zip(r.pos[..n].par_iter())
+            .for_each(|((x, x0), xt)| step(x, x0, xt));
+        y.vel[..n]
+            .par_iter_mut()
+            .zip(y0.vel[..n].par_iter_mut())
+            .zip(r.vel[..n].par_iter())
+            .for_each(|((x, x0), xt)| step(x, x0, xt));
+        y.rho[..n].par_iter_mut().zip(y0.rho[..n].par_iter_mut()).zip(r.rho[..n].par_iter()).for_each(
+            |((x, x0), xt)| {
+                *x0 = *x;
+                *x = *x0 + c * *xt;
+            },
+        );
+        y.stress[..n].par_iter_mut().zip(y0.stress[..n].par_iter_mut()).zip(r.stress[..n].par_iter()).for_each(
+            |((x, x0), xt)| {
+                *x0 = *x;
+                *x = advance_sym(x0, c, xt);
+            },
+        );
+        Ok(())
+    }
+
+    fn sph_correct<R: Real, D: Dim>(
+        &self,
+        n: usize,
+        c: R,
+        y: FieldsMut<'_, Self, R, D>,
+        y0: FieldsRef<'_, Self, R, D>,
+        r: FieldsRef<'_, Self, R, D>,
+    ) -> Result<()> {
+        check("sph_correct", n, y.pos.len().min(y0.pos.len()).min(r.pos.len()))?;
+        y.pos[..n]
+            .par_iter_mut()
+            .zip(y0.pos[..n].par_iter())
+            .zip(r.pos[..n].par_iter())
+            .for_each(|((x, x0), xt)| *x = advance_vec(x0, c, xt));
+        y.vel[..n]
+            .par_iter_mut()
+            .zip(y0.vel[..n].par_iter())
+            .zip(r.vel[..n].par_iter())
+            .for_each(|((x, x0), xt)| *x = advance_vec(x0, c, xt));
+        y.rho[..n]
+            .par_iter_mut()
+            .zip(y0.rho[..n].par_iter())
+            .zip(r.rho[..n].par_iter())
+            .for_each(|((x, x0), xt)| *x = *x0 + c * *xt);
+        y.stress[..n]
+            .par_iter_mut()
+            .zip(y0.stress[..n].par_iter())
+            .zip(r.stress[..n].par_iter())
+            .for_each(|((x, x0), xt)| *x = advance_sym(x0, c, xt));
         Ok(())
     }
 }

@@ -2,9 +2,9 @@
 //! binary builds and runs without any CUDA installation and uses the GPU where a driver and device exist.
 //! One stream, no event tracking: every launch is ordered after the previous one.
 
-use super::{Backend, Buffer, DeviceInfo, Element, SCAN_TILE};
+use super::{Backend, Buffer, DeviceInfo, Element, FieldsMut, FieldsRef, SCAN_TILE, SphInputs};
 use crate::kernels::neighbour::GridParams;
-use crate::kernels::sph::CubicSpline;
+use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers, TensorOps};
 use crate::kernels::{Dim, Real};
 use crate::{Error, Result};
 use cudarc::driver::sys::{CUdevice_attribute, CUevent_flags, CUresult};
@@ -13,29 +13,50 @@ use std::ffi::c_void;
 use std::marker::PhantomData;
 use std::sync::Arc;
 
+/// The (dimension, precision) suffixes of generic entry points, in `variant` order.
+const VARIANTS: [&str; 4] = ["2d_f32", "2d_f64", "3d_f32", "3d_f64"];
+
 /// Every PTX entry point the backend loads; the PTX test checks that each is present.
-pub const KERNEL_NAMES: &[&str] = &[
-    "swarf_hash_2d_f32",
-    "swarf_hash_2d_f64",
-    "swarf_hash_3d_f32",
-    "swarf_hash_3d_f64",
-    "swarf_neighbour_list_2d_f32",
-    "swarf_neighbour_list_2d_f64",
-    "swarf_neighbour_list_3d_f32",
-    "swarf_neighbour_list_3d_f64",
-    "swarf_density_2d_f32",
-    "swarf_density_2d_f64",
-    "swarf_density_3d_f32",
-    "swarf_density_3d_f64",
-    "swarf_count_cells",
-    "swarf_scan_reduce",
-    "swarf_scan_apply",
-    "swarf_scatter",
-    "swarf_sort_cells",
-    "swarf_gather_b4",
-    "swarf_gather_b8",
-    "swarf_gather_b16",
-];
+pub fn kernel_names() -> Vec<String> {
+    let mut v: Vec<String> = [
+        "swarf_count_cells",
+        "swarf_scan_reduce",
+        "swarf_scan_apply",
+        "swarf_scatter",
+        "swarf_sort_cells",
+        "swarf_gather_b4",
+        "swarf_gather_b8",
+        "swarf_gather_b16",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    for var in VARIANTS {
+        for base in ["swarf_hash", "swarf_neighbour_list", "swarf_density", "swarf_sph_predict", "swarf_sph_correct"] {
+            v.push(format!("{base}_{var}"));
+        }
+        for c in 0..4 {
+            v.push(format!("swarf_sph_prepare_{var}_{}", prepare_suffix(c)));
+        }
+        for c in 0..8 {
+            v.push(format!("swarf_sph_rates_{var}_{}", rates_suffix(c)));
+        }
+    }
+    v
+}
+
+/// Suffix of the pre-pass entry for stabiliser combination c = 2·AV + AS.
+fn prepare_suffix(c: usize) -> String {
+    format!("v{}s{}", (c >> 1) & 1, c & 1)
+}
+
+/// Suffix of the interaction entry for combination c = 4·AV + 2·AS + XSPH.
+fn rates_suffix(c: usize) -> String {
+    format!("v{}s{}x{}", (c >> 2) & 1, (c >> 1) & 1, c & 1)
+}
+
+/// Most arguments of any entry point.
+const MAX_ARGS: usize = 24;
 
 /// Threads per block of the per-particle kernels.
 const BLOCK: u32 = 256;
@@ -78,6 +99,10 @@ fn real_arg<R: Real>(x: R) -> Arg {
 }
 
 struct Kernels {
+    sph_prepare: Vec<Variants>,
+    sph_rates: Vec<Variants>,
+    sph_predict: Variants,
+    sph_correct: Variants,
     hash: Variants,
     neighbour_list: Variants,
     density: Variants,
@@ -132,18 +157,23 @@ impl CudaBackend {
         })?;
         let module = ctx.load_module(cudarc::nvrtc::Ptx::from_src(ptx)).map_err(cuda("loading the PTX module"))?;
         let f = |name: &str| module.load_function(name).map_err(cuda("loading a kernel"));
-        let v = |base: &str| -> Result<Variants> {
+        let v = |base: &str, suffix: &str| -> Result<Variants> {
+            let sfx = if suffix.is_empty() { String::new() } else { format!("_{suffix}") };
             Ok(Variants([
-                f(&format!("{base}_2d_f32"))?,
-                f(&format!("{base}_2d_f64"))?,
-                f(&format!("{base}_3d_f32"))?,
-                f(&format!("{base}_3d_f64"))?,
+                f(&format!("{base}_2d_f32{sfx}"))?,
+                f(&format!("{base}_2d_f64{sfx}"))?,
+                f(&format!("{base}_3d_f32{sfx}"))?,
+                f(&format!("{base}_3d_f64{sfx}"))?,
             ]))
         };
         let k = Kernels {
-            hash: v("swarf_hash")?,
-            neighbour_list: v("swarf_neighbour_list")?,
-            density: v("swarf_density")?,
+            sph_prepare: (0..4).map(|c| v("swarf_sph_prepare", &prepare_suffix(c))).collect::<Result<_>>()?,
+            sph_rates: (0..8).map(|c| v("swarf_sph_rates", &rates_suffix(c))).collect::<Result<_>>()?,
+            sph_predict: v("swarf_sph_predict", "")?,
+            sph_correct: v("swarf_sph_correct", "")?,
+            hash: v("swarf_hash", "")?,
+            neighbour_list: v("swarf_neighbour_list", "")?,
+            density: v("swarf_density", "")?,
             count_cells: f("swarf_count_cells")?,
             scan_reduce: f("swarf_scan_reduce")?,
             scan_apply: f("swarf_scan_apply")?,
@@ -187,14 +217,14 @@ impl CudaBackend {
             return Ok(());
         }
         let blocks = threads.div_ceil(block as usize);
-        if blocks > i32::MAX as usize || args.len() > 12 {
+        if blocks > i32::MAX as usize || args.len() > MAX_ARGS {
             return Err(Error::Length {
                 op: "kernel launch (grid too large)",
                 expected: i32::MAX as usize,
                 got: blocks,
             });
         }
-        let mut store = [0u64; 12];
+        let mut store = [0u64; MAX_ARGS];
         for (s, a) in store.iter_mut().zip(args) {
             *s = match *a {
                 Arg::U32(v) => v as u64,
@@ -203,7 +233,7 @@ impl CudaBackend {
                 Arg::F64(v) => v.to_bits(),
             };
         }
-        let mut params = [std::ptr::null_mut::<c_void>(); 12];
+        let mut params = [std::ptr::null_mut::<c_void>(); MAX_ARGS];
         for (p, s) in params.iter_mut().zip(store.iter_mut()) {
             // Little-endian: a 4-byte parameter reads the low half of its 8-byte slot.
             *p = s as *mut u64 as *mut c_void;
@@ -449,5 +479,127 @@ impl Backend for CudaBackend {
             Arg::U64(self.ptr_mut(rho)),
         ];
         self.launch(&self.k.density.0[variant::<R, D>()], n, BLOCK, &args)
+    }
+
+    fn sph_prepare<R: Real, D: TensorOps<R>>(
+        &self,
+        n: usize,
+        stab: Stabilisers,
+        params: &CudaBuf<SphParams<R>>,
+        rho: &CudaBuf<R>,
+        stress: &CudaBuf<D::Sym<R>>,
+        sig: &mut CudaBuf<D::Sym<R>>,
+        art: Option<&mut CudaBuf<D::Sym<R>>>,
+        sound: Option<&mut CudaBuf<R>>,
+    ) -> Result<()> {
+        let art = if stab.stress { art.map(|a| self.ptr_mut(a)).unwrap_or(0) } else { 0 };
+        let sound = if stab.viscosity { sound.map(|c| self.ptr_mut(c)).unwrap_or(0) } else { 0 };
+        if (stab.stress && art == 0) || (stab.viscosity && sound == 0) {
+            return Err(Error::Length { op: "sph_prepare (stabiliser buffer missing)", expected: n, got: 0 });
+        }
+        let c = (stab.viscosity as usize) << 1 | stab.stress as usize;
+        let args = [
+            Arg::U32(n as u32),
+            Arg::U64(self.ptr(params)),
+            Arg::U64(self.ptr(rho)),
+            Arg::U64(self.ptr(stress)),
+            Arg::U64(self.ptr_mut(sig)),
+            Arg::U64(art),
+            Arg::U64(sound),
+        ];
+        self.launch(&self.k.sph_prepare[c].0[variant::<R, D>()], n, BLOCK, &args)
+    }
+
+    fn sph_rates<R: Real, D: TensorOps<R>>(
+        &self,
+        n: usize,
+        stab: Stabilisers,
+        params: &CudaBuf<SphParams<R>>,
+        grid: &CudaBuf<GridParams>,
+        starts: &CudaBuf<u32>,
+        i: &SphInputs<'_, Self, R, D>,
+        out: FieldsMut<'_, Self, R, D>,
+    ) -> Result<()> {
+        let art = if stab.stress { i.art.map(|a| self.ptr(a)).unwrap_or(0) } else { 0 };
+        let sound = if stab.viscosity { i.sound.map(|c| self.ptr(c)).unwrap_or(0) } else { 0 };
+        if (stab.stress && art == 0) || (stab.viscosity && sound == 0) {
+            return Err(Error::Length { op: "sph_rates (stabiliser buffer missing)", expected: n, got: 0 });
+        }
+        let c = (stab.viscosity as usize) << 2 | (stab.stress as usize) << 1 | stab.xsph as usize;
+        let args = [
+            Arg::U32(n as u32),
+            Arg::U64(self.ptr(params)),
+            Arg::U64(self.ptr(grid)),
+            Arg::U64(self.ptr(starts)),
+            Arg::U64(self.ptr(i.pos)),
+            Arg::U64(self.ptr(i.vel)),
+            Arg::U64(self.ptr(i.rho)),
+            Arg::U64(self.ptr(i.mass)),
+            Arg::U64(self.ptr(i.stress)),
+            Arg::U64(self.ptr(i.sig)),
+            Arg::U64(art),
+            Arg::U64(sound),
+            Arg::U64(self.ptr(i.flags)),
+            Arg::U64(self.ptr(i.bc_vel)),
+            Arg::U64(self.ptr_mut(out.pos)),
+            Arg::U64(self.ptr_mut(out.vel)),
+            Arg::U64(self.ptr_mut(out.rho)),
+            Arg::U64(self.ptr_mut(out.stress)),
+        ];
+        self.launch(&self.k.sph_rates[c].0[variant::<R, D>()], n, BLOCK, &args)
+    }
+
+    fn sph_predict<R: Real, D: Dim>(
+        &self,
+        n: usize,
+        c: R,
+        y: FieldsMut<'_, Self, R, D>,
+        y0: FieldsMut<'_, Self, R, D>,
+        r: FieldsRef<'_, Self, R, D>,
+    ) -> Result<()> {
+        let args = [
+            Arg::U32(n as u32),
+            real_arg(c),
+            Arg::U64(self.ptr_mut(y.pos)),
+            Arg::U64(self.ptr_mut(y.vel)),
+            Arg::U64(self.ptr_mut(y.rho)),
+            Arg::U64(self.ptr_mut(y.stress)),
+            Arg::U64(self.ptr_mut(y0.pos)),
+            Arg::U64(self.ptr_mut(y0.vel)),
+            Arg::U64(self.ptr_mut(y0.rho)),
+            Arg::U64(self.ptr_mut(y0.stress)),
+            Arg::U64(self.ptr(r.pos)),
+            Arg::U64(self.ptr(r.vel)),
+            Arg::U64(self.ptr(r.rho)),
+            Arg::U64(self.ptr(r.stress)),
+        ];
+        self.launch(&self.k.sph_predict.0[variant::<R, D>()], n, BLOCK, &args)
+    }
+
+    fn sph_correct<R: Real, D: Dim>(
+        &self,
+        n: usize,
+        c: R,
+        y: FieldsMut<'_, Self, R, D>,
+        y0: FieldsRef<'_, Self, R, D>,
+        r: FieldsRef<'_, Self, R, D>,
+    ) -> Result<()> {
+        let args = [
+            Arg::U32(n as u32),
+            real_arg(c),
+            Arg::U64(self.ptr_mut(y.pos)),
+            Arg::U64(self.ptr_mut(y.vel)),
+            Arg::U64(self.ptr_mut(y.rho)),
+            Arg::U64(self.ptr_mut(y.stress)),
+            Arg::U64(self.ptr(y0.pos)),
+            Arg::U64(self.ptr(y0.vel)),
+            Arg::U64(self.ptr(y0.rho)),
+            Arg::U64(self.ptr(y0.stress)),
+            Arg::U64(self.ptr(r.pos)),
+            Arg::U64(self.ptr(r.vel)),
+            Arg::U64(self.ptr(r.rho)),
+            Arg::U64(self.ptr(r.stress)),
+        ];
+        self.launch(&self.k.sph_correct.0[variant::<R, D>()], n, BLOCK, &args)
     }
 }

@@ -7,7 +7,7 @@ pub mod cuda;
 
 use crate::Result;
 use crate::kernels::neighbour::GridParams;
-use crate::kernels::sph::CubicSpline;
+use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers, TensorOps};
 use crate::kernels::{Dim, Real};
 use bytemuck::Pod;
 
@@ -126,6 +126,86 @@ pub trait Backend: Sized + Send + Sync {
         kernel: &Self::Buf<CubicSpline<R>>,
         rho: &mut Self::Buf<R>,
     ) -> Result<()>;
+
+    /// SPH pre-pass (`sph::interact::prepare`): sig = σ/ρ², art = artificial stress (if on), sound = √(K/ρ)
+    /// (if the viscosity is on).
+    #[allow(clippy::too_many_arguments)]
+    fn sph_prepare<R: Real, D: TensorOps<R>>(
+        &self,
+        n: usize,
+        stab: Stabilisers,
+        params: &Self::Buf<SphParams<R>>,
+        rho: &Self::Buf<R>,
+        stress: &Self::Buf<D::Sym<R>>,
+        sig: &mut Self::Buf<D::Sym<R>>,
+        art: Option<&mut Self::Buf<D::Sym<R>>>,
+        sound: Option<&mut Self::Buf<R>>,
+    ) -> Result<()>;
+    /// SPH pair interaction (`sph::interact::rates`): the rates of every sorted particle.
+    #[allow(clippy::too_many_arguments)]
+    fn sph_rates<R: Real, D: TensorOps<R>>(
+        &self,
+        n: usize,
+        stab: Stabilisers,
+        params: &Self::Buf<SphParams<R>>,
+        grid: &Self::Buf<GridParams>,
+        starts: &Self::Buf<u32>,
+        input: &SphInputs<'_, Self, R, D>,
+        out: FieldsMut<'_, Self, R, D>,
+    ) -> Result<()>;
+    /// Predictor: y0 ← y, then y ← y0 + c ẏ.
+    fn sph_predict<R: Real, D: Dim>(
+        &self,
+        n: usize,
+        c: R,
+        y: FieldsMut<'_, Self, R, D>,
+        y0: FieldsMut<'_, Self, R, D>,
+        rates: FieldsRef<'_, Self, R, D>,
+    ) -> Result<()>;
+    /// Corrector: y ← y0 + c ẏ.
+    fn sph_correct<R: Real, D: Dim>(
+        &self,
+        n: usize,
+        c: R,
+        y: FieldsMut<'_, Self, R, D>,
+        y0: FieldsRef<'_, Self, R, D>,
+        rates: FieldsRef<'_, Self, R, D>,
+    ) -> Result<()>;
+}
+
+/// The integrated fields x, v, ρ, S of the SPH solver (their values, start-of-step copies or rates), borrowed
+/// mutably.
+pub struct FieldsMut<'a, B: Backend, R: Real, D: Dim> {
+    pub pos: &'a mut B::Buf<D::Vec<R>>,
+    pub vel: &'a mut B::Buf<D::Vec<R>>,
+    pub rho: &'a mut B::Buf<R>,
+    pub stress: &'a mut B::Buf<D::Sym<R>>,
+}
+
+/// The same, borrowed read-only.
+pub struct FieldsRef<'a, B: Backend, R: Real, D: Dim> {
+    pub pos: &'a B::Buf<D::Vec<R>>,
+    pub vel: &'a B::Buf<D::Vec<R>>,
+    pub rho: &'a B::Buf<R>,
+    pub stress: &'a B::Buf<D::Sym<R>>,
+}
+
+/// Read-only inputs of the SPH pair interaction, all in sorted order.
+pub struct SphInputs<'a, B: Backend, R: Real, D: Dim> {
+    pub pos: &'a B::Buf<D::Vec<R>>,
+    pub vel: &'a B::Buf<D::Vec<R>>,
+    pub rho: &'a B::Buf<R>,
+    pub mass: &'a B::Buf<R>,
+    pub stress: &'a B::Buf<D::Sym<R>>,
+    /// σ/ρ² from the pre-pass.
+    pub sig: &'a B::Buf<D::Sym<R>>,
+    /// Artificial stress (present iff the artificial stress is on).
+    pub art: Option<&'a B::Buf<D::Sym<R>>>,
+    /// Sound speeds (present iff the viscosity is on).
+    pub sound: Option<&'a B::Buf<R>>,
+    pub flags: &'a B::Buf<u32>,
+    /// Prescribed velocities, indexed by the flags' velocity index.
+    pub bc_vel: &'a B::Buf<D::Vec<R>>,
 }
 
 /// Elements per tile of the GPU scan (kernels/src/ptx/scan.rs).

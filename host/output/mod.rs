@@ -1,1 +1,25 @@
 //! Output: binary VTU frames with a PVD index, CSV time series, all written atomically.
+//!
+//! Nothing is ever half-written. Every file goes to a temporary file in the destination's directory
+//! (`.<name>.tmp-<pid>`), is flushed and fsync'ed, then renamed over the destination (see [`atomic`]). A reader
+//! — ParaView on a running job, a script plotting the force history, a restart after a crash — sees the previous
+//! complete version or the new complete version. Indexes (.pvd, .csv) are rewritten whole after every record for
+//! the same reason: they are valid after every frame.
+//!
+//! I/O errors are returned, never swallowed or unwrapped, and name the file they concern; invalid input (array
+//! lengths, row lengths, names) is refused with [`std::io::ErrorKind::InvalidInput`] before any file is created.
+//!
+//! - [`vtu`]: particle frames as binary VTK XML unstructured grids (vertex cells, raw appended data).
+//! - [`pvd`]: the ParaView collection listing the frames with their times.
+//! - [`csv`]: per-step time series.
+
+pub mod atomic;
+pub mod csv;
+pub mod pvd;
+mod text;
+pub mod vtu;
+
+pub use atomic::{write_atomic, write_atomic_with};
+pub use csv::TimeSeries;
+pub use pvd::Collection;
+pub use vtu::{Array, Frame, OwnedValues, ReadFrame, Values};

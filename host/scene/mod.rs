@@ -1,1 +1,479 @@
 //! Scene files (TOML): schema, loading, `--set` overrides, validation, and the particle sets they describe.
+//!
+//! A scene is a TOML file in SI units (m, s, kg, Pa). [`Scene::load`] reads it, applies `--set key=value`
+//! overrides (a dotted path into the document, e.g. `time.end=1e-4` or `body.1.velocity=[-200.0, 0.0]`),
+//! checks every key and value, and returns a [`Scene`]; nothing is generated before the whole scene is valid.
+//! [`Scene::generate`] then fills the bodies with lattices of particles ([`ParticleSet`]).
+//!
+//! The fields of [`Scene`] and the types below document each key: its unit, its default and its allowed range.
+//! Unknown keys anywhere are an error, and so is a parameter of a shape other than the body's. Errors
+//! ([`SceneError`]) name the file and line (or the `--set` argument), the key and what was expected, e.g.
+//!
+//! ```text
+//! cases/rings.toml:12: material.poisson_ratio = 0.5: expected a value in (-1, 0.5)
+//! --set time.end=-1: time.end: expected a positive time in seconds
+//! ```
+//!
+//! A minimal scene:
+//!
+//! ```toml
+//! name = "disk"
+//! dim = 2
+//! [discretisation]
+//! dx = 0.1
+//! [material]
+//! density = 1.0
+//! youngs_modulus = 1.0e7
+//! poisson_ratio = 0.4
+//! [[body]]
+//! shape = "disk"
+//! center = [0.0, 0.0]
+//! radius = 1.0
+//! [time]
+//! end = 1e-3
+//! ```
+
+mod doc;
+mod error;
+mod generate;
+mod read;
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use serde::Serialize;
+
+pub use error::{Location, SceneError};
+pub use generate::{Bc, ParticleSet};
+
+/// A validated scene. Vectors and points are stored with three components; in 2D the third is 0.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Scene {
+    /// Where the scene came from (the file path, or the origin given to [`Scene::from_str`]); used in messages.
+    /// Not a key of the file.
+    pub origin: String,
+    /// `name` (required): the name of the scene, used in output names and reports.
+    pub name: String,
+    /// `dim` (required): 2 (plane strain, per unit depth) or 3.
+    pub dim: usize,
+    /// `precision` (optional, default `"f64"`): `"f32"` or `"f64"`, the floating-point type of the particle state.
+    pub precision: Precision,
+    /// `[discretisation]` (required).
+    pub discretisation: Discretisation,
+    /// `[material]` (required): an inline linear-elastic material.
+    pub material: Material,
+    /// `[[body]]` (one or more): the bodies, each a shape filled with a lattice of particles.
+    pub bodies: Vec<Body>,
+    /// `[[boundary]]` (zero or more): boundary conditions; where regions overlap, the last entry wins.
+    pub boundaries: Vec<Boundary>,
+    /// `[stabilisation]` (optional): each stabiliser is on when its table is present (and not `enabled = false`).
+    pub stabilisation: Stabilisation,
+    /// `[time]` (required).
+    pub time: Time,
+    /// `[output]` (optional).
+    pub output: Output,
+}
+
+/// Floating-point precision of the particle state (`precision`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Precision {
+    F32,
+    F64,
+}
+
+impl Precision {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Precision::F32 => "f32",
+            Precision::F64 => "f64",
+        }
+    }
+}
+
+/// `[discretisation]`.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Discretisation {
+    /// `dx` (required; unit m), > 0: the lattice spacing of every body.
+    pub dx: f64,
+    /// `h_over_dx` (optional, default 1.7), in [1, 3]: the smoothing length h in units of dx.
+    pub h_over_dx: f64,
+}
+
+/// `[material]`: linear elasticity (for now the only material; a library by name comes later).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Material {
+    /// `density` (required; unit kg/m^3), > 0: the reference density ρ0.
+    pub density: f64,
+    /// `youngs_modulus` (required; unit Pa), > 0: E.
+    pub youngs_modulus: f64,
+    /// `poisson_ratio` (required; dimensionless), in (-1, 0.5): ν.
+    pub poisson_ratio: f64,
+}
+
+impl Material {
+    /// Bulk modulus K = E / (3 (1 − 2ν)) (Pa).
+    pub fn bulk_modulus(&self) -> f64 {
+        self.youngs_modulus / (3.0 * (1.0 - 2.0 * self.poisson_ratio))
+    }
+
+    /// Shear modulus G = E / (2 (1 + ν)) (Pa).
+    pub fn shear_modulus(&self) -> f64 {
+        self.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio))
+    }
+
+    /// Bulk sound speed c0 = √(K/ρ0) (m/s), the speed of the equation of state p = c0² (ρ − ρ0).
+    pub fn sound_speed(&self) -> f64 {
+        (self.bulk_modulus() / self.density).sqrt()
+    }
+}
+
+/// How a body's lattice sits in its bounding box (`lattice`): the box is [min, max] for a rectangle or box,
+/// [c − R, c + R] per axis for disk, ring and spherical shell (R the outer radius), and [c − R, c + R]² ×
+/// [c_z, c_z + height] for a cylinder. On each axis of extent L there are floor(L/dx + 1e-9) intervals.
+///
+/// For the round shapes the points are placed relative to the centre and kept by their distance from it, computed
+/// in f64 as √(Δx² + Δy² (+ Δz²)). When 2R/dx is an integer m (to 1e-9) the offsets from the centre are
+/// (k − m/2)·dx (nodes) or (k + ½ − m/2)·dx (cells), i.e. the same lattice computed so that it is exactly
+/// symmetric: every body of a given shape gets the same particles wherever its centre lies, and a point exactly
+/// on a radius is kept or dropped alike on all sides. Otherwise the offsets are −R + k·dx or −R + (k + ½)·dx.
+/// This reproduces the theses' counts: a ring r_i = 0.03, r_o = 0.04 m with dx = 0.08/79 has 2116 particles, the
+/// unit disk with dx = 2/19 has 276.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Lattice {
+    /// Points at corner + k·dx, k = 0 ..= floor(extent/dx + 1e-9) on each axis (the theses' lattices).
+    Nodes,
+    /// Cell centres corner + (k + ½)·dx, k = 0 .. floor(extent/dx + 1e-9) (exclusive).
+    Cells,
+}
+
+impl Lattice {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Lattice::Nodes => "nodes",
+            Lattice::Cells => "cells",
+        }
+    }
+}
+
+/// A `[[body]]` entry.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Body {
+    /// `name` (optional, default `"body<index>"`, e.g. `body0`): unique among the bodies.
+    pub name: String,
+    /// `shape` (required) and its parameters, given as keys of the body table (see [`Shape`]).
+    #[serde(flatten)]
+    pub shape: Shape,
+    /// `velocity` (optional, default zeros; unit m/s), `dim` components: the initial translation velocity.
+    pub velocity: [f64; 3],
+    /// `angular_velocity` (optional, default 0; unit rad/s): an initial rigid rotation about the z axis through the
+    /// body's centre ([`Shape::centre`]): v += ω (−(y − cy), x − cx, 0).
+    pub angular_velocity: f64,
+    /// `lattice` (optional): `"nodes"` or `"cells"`; default `"cells"` for rectangle and box, `"nodes"` otherwise.
+    pub lattice: Lattice,
+}
+
+/// The `shape` of a body and its parameters (keys of the body table; those of other shapes are an error).
+/// Points are in metres. A lattice point ([`Lattice`]) is kept when it lies in the shape as stated per variant;
+/// rectangles and boxes keep every point of their lattice.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(tag = "shape", rename_all = "snake_case")]
+pub enum Shape {
+    /// `shape = "rectangle"` (dim 2): `min = [x, y]`, `max = [x, y]` (max > min on both axes).
+    Rectangle { min: [f64; 2], max: [f64; 2] },
+    /// `shape = "box"` (dim 3): `min = [x, y, z]`, `max = [x, y, z]` (max > min on every axis).
+    Box { min: [f64; 3], max: [f64; 3] },
+    /// `shape = "disk"` (dim 2): `center = [x, y]`, `radius` > 0. Keeps r < radius.
+    Disk { center: [f64; 2], radius: f64 },
+    /// `shape = "ring"` (dim 2): `center = [x, y]`, `inner_radius` ≥ 0, `outer_radius` > inner_radius.
+    /// Keeps inner_radius ≤ r < outer_radius.
+    Ring { center: [f64; 2], inner_radius: f64, outer_radius: f64 },
+    /// `shape = "spherical_shell"` (dim 3): `center = [x, y, z]`, `inner_radius` ≥ 0 (0: a solid sphere),
+    /// `outer_radius` > inner_radius. Keeps inner_radius ≤ r < outer_radius.
+    SphericalShell { center: [f64; 3], inner_radius: f64, outer_radius: f64 },
+    /// `shape = "cylinder"` (dim 3), axis along z: `center = [x, y, z]` (the centre of the base), `radius` > 0,
+    /// `height` > 0, `inner_radius` (optional, default 0: solid; > 0: a tube) < radius. Keeps
+    /// inner_radius ≤ ρ < radius in the xy-plane and c_z ≤ z ≤ c_z + height.
+    Cylinder { center: [f64; 3], radius: f64, height: f64, inner_radius: f64 },
+}
+
+impl Shape {
+    /// The `shape` string.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Shape::Rectangle { .. } => "rectangle",
+            Shape::Box { .. } => "box",
+            Shape::Disk { .. } => "disk",
+            Shape::Ring { .. } => "ring",
+            Shape::SphericalShell { .. } => "spherical_shell",
+            Shape::Cylinder { .. } => "cylinder",
+        }
+    }
+
+    /// The centre of rotation for `angular_velocity`: the centre of a rectangle or box, the `center` of the
+    /// other shapes (for a cylinder, the centre of its base). z is 0 in 2D.
+    pub fn centre(&self) -> [f64; 3] {
+        match *self {
+            Shape::Rectangle { min, max } => [0.5 * (min[0] + max[0]), 0.5 * (min[1] + max[1]), 0.0],
+            Shape::Box { min, max } => std::array::from_fn(|k| 0.5 * (min[k] + max[k])),
+            Shape::Disk { center, .. } | Shape::Ring { center, .. } => [center[0], center[1], 0.0],
+            Shape::SphericalShell { center, .. } | Shape::Cylinder { center, .. } => center,
+        }
+    }
+
+    /// The lattice used when the body gives none.
+    pub fn default_lattice(&self) -> Lattice {
+        match self {
+            Shape::Rectangle { .. } | Shape::Box { .. } => Lattice::Cells,
+            _ => Lattice::Nodes,
+        }
+    }
+}
+
+/// A `[[boundary]]` entry: a condition on every particle in an axis-aligned region.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Boundary {
+    /// `kind` (required): `"fixed"` (v = 0 for ever) or `"velocity"` (v prescribed for ever, with `velocity`).
+    #[serde(flatten)]
+    pub kind: BoundaryKind,
+    /// `min` (required; unit m), `dim` components: the region is min ≤ x ≤ max (inclusive) on every axis.
+    pub min: [f64; 3],
+    /// `max` (required; unit m), `dim` components, ≥ min on every axis.
+    pub max: [f64; 3],
+    /// `body` (optional): restrict to the particles of the body with this name. Stored as the index into
+    /// [`Scene::bodies`].
+    pub body: Option<usize>,
+}
+
+/// The kind of a boundary condition.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "lowercase")]
+pub enum BoundaryKind {
+    /// `kind = "fixed"`: v = 0 for ever (`velocity` is not allowed).
+    Fixed,
+    /// `kind = "velocity"`: `velocity` (required; unit m/s), `dim` components, prescribed for ever and used as the
+    /// initial velocity too.
+    Velocity { velocity: [f64; 3] },
+}
+
+impl BoundaryKind {
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            BoundaryKind::Fixed => "fixed",
+            BoundaryKind::Velocity { .. } => "velocity",
+        }
+    }
+}
+
+/// `[stabilisation]`: `None` = off. A table that is present is on unless it says `enabled = false`.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Stabilisation {
+    /// `artificial_viscosity = { alpha, beta, eta, enabled }`: Monaghan's artificial viscosity.
+    pub artificial_viscosity: Option<ArtificialViscosity>,
+    /// `artificial_stress = { epsilon, exponent, enabled }`: Monaghan–Gray artificial stress against the tensile
+    /// instability.
+    pub artificial_stress: Option<ArtificialStress>,
+    /// `xsph = { epsilon, enabled }`: XSPH velocity smoothing of the particle motion.
+    pub xsph: Option<Xsph>,
+}
+
+/// `[stabilisation.artificial_viscosity]`.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ArtificialViscosity {
+    /// `alpha` (optional, default 1; dimensionless), ≥ 0: the linear (bulk) coefficient.
+    pub alpha: f64,
+    /// `beta` (optional, default 1; dimensionless), ≥ 0: the quadratic (von Neumann–Richtmyer) coefficient.
+    pub beta: f64,
+    /// `eta` (optional, default 0.1; dimensionless), > 0: the singularity guard, η² h² added to r² in μ_ij.
+    pub eta: f64,
+}
+
+/// `[stabilisation.artificial_stress]`.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ArtificialStress {
+    /// `epsilon` (optional, default 0.3; dimensionless), ≥ 0: the fraction of positive principal stress opposed.
+    pub epsilon: f64,
+    /// `exponent` (optional, default 4), integer ≥ 1: n in f_ij^n = (W(r_ij)/W(Δx))^n.
+    pub exponent: u32,
+}
+
+/// `[stabilisation.xsph]`.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Xsph {
+    /// `epsilon` (optional, default 0.5; dimensionless), in [0, 1]: the weight of the neighbour-averaged velocity.
+    pub epsilon: f64,
+}
+
+/// `[time]`.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Time {
+    /// `end` (required; unit s), > 0: the simulated time at which the run stops.
+    pub end: f64,
+    /// `cfl` (optional, default 0.5), in (0, 1]: dt = cfl · h / (c0 + |v|max) when no fixed `dt` is given.
+    pub cfl: f64,
+    /// `dt` (optional; unit s), > 0: a fixed time step (the solver refuses it if above the CFL limit).
+    pub dt: Option<f64>,
+}
+
+/// `[output]`.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Output {
+    /// `every` (optional, default `time.end / 50`; unit s), > 0: simulated time between frames.
+    pub every: f64,
+}
+
+impl Scene {
+    /// Reads the scene file at `path`, applies the `--set key=value` `overrides` in order, and validates it.
+    pub fn load(path: impl AsRef<Path>, overrides: &[String]) -> Result<Scene, SceneError> {
+        let path = path.as_ref();
+        let file = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read { file: file.clone(), source })?;
+        Scene::from_str(&text, &file, overrides)
+    }
+
+    /// Parses a scene from `text`; `origin` stands for the file name in messages.
+    pub fn from_str(text: &str, origin: &str, overrides: &[String]) -> Result<Scene, SceneError> {
+        let mut doc = doc::Doc::parse(text, origin)?;
+        for arg in overrides {
+            doc.apply(arg)?;
+        }
+        read::scene(&doc)
+    }
+
+    /// The smoothing length h = h_over_dx · dx (m).
+    pub fn h(&self) -> f64 {
+        self.discretisation.h_over_dx * self.discretisation.dx
+    }
+
+    /// The mass of every particle, ρ0 · dx^dim (kg) (per unit depth in 2D).
+    pub fn particle_mass(&self) -> f64 {
+        self.material.density * self.particle_volume()
+    }
+
+    /// The volume of every particle, dx^dim (m^dim) (per unit depth in 2D).
+    pub fn particle_volume(&self) -> f64 {
+        self.discretisation.dx.powi(self.dim as i32)
+    }
+
+    /// Fills the bodies with particles and applies the boundary conditions; see [`ParticleSet`].
+    pub fn generate(&self) -> Result<ParticleSet, SceneError> {
+        generate::generate(self)
+    }
+
+    /// A few lines describing the scene, for `swarf run` and `swarf check`.
+    pub fn summary(&self) -> String {
+        let d = self.dim;
+        let m = &self.material;
+        let dx = self.discretisation.dx;
+        let mut s = String::new();
+        let _ = writeln!(s, "scene          {} ({})", self.name, self.origin);
+        let _ = writeln!(
+            s,
+            "dimension      {d}{}, precision {}",
+            if d == 2 { " (plane strain)" } else { "" },
+            self.precision.as_str()
+        );
+        let _ = writeln!(
+            s,
+            "lattice        dx = {} m, h = {}·dx = {} m",
+            num(dx),
+            num(self.discretisation.h_over_dx),
+            num(self.h())
+        );
+        let _ = writeln!(
+            s,
+            "material       elastic: rho = {} kg/m^3, E = {} Pa, nu = {}, c0 = sqrt(K/rho) = {} m/s",
+            num(m.density),
+            num(m.youngs_modulus),
+            num(m.poisson_ratio),
+            num(m.sound_speed())
+        );
+        for (i, b) in self.bodies.iter().enumerate() {
+            let label = if i == 0 { "bodies" } else { "" };
+            let shape = match &b.shape {
+                Shape::Rectangle { min, max } => format!("rectangle {} .. {}", pt(min), pt(max)),
+                Shape::Box { min, max } => format!("box {} .. {}", pt(min), pt(max)),
+                Shape::Disk { center, radius } => format!("disk r = {} at {}", num(*radius), pt(center)),
+                Shape::Ring { center, inner_radius, outer_radius } => {
+                    format!("ring r = {} .. {} at {}", num(*inner_radius), num(*outer_radius), pt(center))
+                }
+                Shape::SphericalShell { center, inner_radius, outer_radius } => {
+                    format!("spherical shell r = {} .. {} at {}", num(*inner_radius), num(*outer_radius), pt(center))
+                }
+                Shape::Cylinder { center, radius, height, inner_radius } => format!(
+                    "cylinder r = {} .. {}, height {} on {}",
+                    num(*inner_radius),
+                    num(*radius),
+                    num(*height),
+                    pt(center)
+                ),
+            };
+            let mut line = format!("{label:<15}{}: {shape} m, {}", b.name, b.lattice.as_str());
+            if b.velocity.iter().any(|&v| v != 0.0) {
+                let _ = write!(line, ", v = {} m/s", pt(&b.velocity[..d]));
+            }
+            if b.angular_velocity != 0.0 {
+                let _ = write!(line, ", omega = {} rad/s", num(b.angular_velocity));
+            }
+            let _ = writeln!(s, "{line}");
+        }
+        for (i, bc) in self.boundaries.iter().enumerate() {
+            let label = if i == 0 { "boundaries" } else { "" };
+            let mut line = format!("{label:<15}{}: {} .. {} m", bc.kind.as_str(), pt(&bc.min[..d]), pt(&bc.max[..d]));
+            if let BoundaryKind::Velocity { velocity } = &bc.kind {
+                let _ = write!(line, ", v = {} m/s", pt(&velocity[..d]));
+            }
+            if let Some(body) = bc.body {
+                let _ = write!(line, ", body {}", self.bodies[body].name);
+            }
+            let _ = writeln!(s, "{line}");
+        }
+        let st = &self.stabilisation;
+        let mut on = Vec::new();
+        if let Some(av) = &st.artificial_viscosity {
+            on.push(format!("AV (alpha {}, beta {}, eta {})", num(av.alpha), num(av.beta), num(av.eta)));
+        }
+        if let Some(a) = &st.artificial_stress {
+            on.push(format!("AS (epsilon {}, n {})", num(a.epsilon), a.exponent));
+        }
+        if let Some(x) = &st.xsph {
+            on.push(format!("XSPH (epsilon {})", num(x.epsilon)));
+        }
+        let _ = writeln!(s, "stabilisation  {}", if on.is_empty() { "none".to_string() } else { on.join(", ") });
+        let step = match self.time.dt {
+            Some(dt) => format!("fixed dt = {} s", num(dt)),
+            None => format!("cfl {}", num(self.time.cfl)),
+        };
+        let _ = writeln!(
+            s,
+            "time           end {} s, {step}, output every {} s",
+            num(self.time.end),
+            num(self.output.every)
+        );
+        s
+    }
+}
+
+/// A number with at most 6 significant digits, for summaries.
+fn num(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let a = x.abs();
+    if (1e-3..1e6).contains(&a) {
+        let digits = (5 - a.log10().floor() as i32).max(0) as usize;
+        let s = format!("{x:.digits$}");
+        if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.').to_string() } else { s }
+    } else {
+        let s = format!("{x:.5e}");
+        let (mantissa, exponent) = s.split_once('e').unwrap_or((&s, "0"));
+        let mantissa =
+            if mantissa.contains('.') { mantissa.trim_end_matches('0').trim_end_matches('.') } else { mantissa };
+        format!("{mantissa}e{exponent}")
+    }
+}
+
+fn pt(p: &[f64]) -> String {
+    format!("({})", p.iter().map(|&x| num(x)).collect::<Vec<_>>().join(", "))
+}

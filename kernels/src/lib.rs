@@ -4,6 +4,8 @@
 //! refuses (../shared/GPU.md, "Rules for kernel code"), so indexing is bounds-checked explicitly by the callers
 //! and done with unchecked accessors.
 #![no_std]
+// Index loops over fixed-size arrays mirror the tensor index notation of the equations they implement.
+#![allow(clippy::needless_range_loop)]
 #![cfg_attr(target_arch = "nvptx64", feature(abi_ptx, stdarch_nvptx, core_float_math, asm_experimental_arch))]
 
 pub mod neighbour;

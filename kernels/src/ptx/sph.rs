@@ -48,3 +48,200 @@ density_entry!(swarf_density_2d_f32, f32, V2f32);
 density_entry!(swarf_density_2d_f64, f64, V2f64);
 density_entry!(swarf_density_3d_f32, f32, V3f32);
 density_entry!(swarf_density_3d_f64, f64, V3f64);
+
+use crate::sph::integrate::{advance_sym, advance_vec};
+use crate::sph::interact::{Arrays, prepare, rates};
+use crate::sph::params::SphParams;
+use crate::vector::{Dim, Dim2, Dim3};
+
+type Vec_<R, D> = <D as Dim>::Vec<R>;
+type Sym_<R, D> = <D as Dim>::Sym<R>;
+
+/// Pre-pass: sig = σ/ρ², art = artificial stress (AS), sound = √(K/ρ) (AV).
+macro_rules! prepare_entry {
+    ($name:ident, $r:ty, $d:ty, $av:literal, $as:literal) => {
+        #[unsafe(no_mangle)]
+        pub unsafe extern "ptx-kernel" fn $name(
+            n: u32,
+            params: *const SphParams<$r>,
+            rho: *const $r,
+            stress: *const Sym_<$r, $d>,
+            sig: *mut Sym_<$r, $d>,
+            art: *mut Sym_<$r, $d>,
+            sound: *mut $r,
+        ) {
+            let i = global_index() as usize;
+            if i < n as usize {
+                unsafe {
+                    let q = prepare::<$r, $d, $av, $as>(&*params, *rho.add(i), &*stress.add(i));
+                    *sig.add(i) = q.sig;
+                    if $as {
+                        *art.add(i) = q.art;
+                    }
+                    if $av {
+                        *sound.add(i) = q.c;
+                    }
+                }
+            }
+        }
+    };
+}
+
+/// The pair interaction: rates of every sorted particle (sph::interact::rates).
+macro_rules! rates_entry {
+    ($name:ident, $r:ty, $d:ty, $av:literal, $as:literal, $xs:literal) => {
+        #[unsafe(no_mangle)]
+        pub unsafe extern "ptx-kernel" fn $name(
+            n: u32,
+            params: *const SphParams<$r>,
+            grid: *const GridParams,
+            starts: *const u32,
+            pos: *const Vec_<$r, $d>,
+            vel: *const Vec_<$r, $d>,
+            rho: *const $r,
+            mass: *const $r,
+            stress: *const Sym_<$r, $d>,
+            sig: *const Sym_<$r, $d>,
+            art: *const Sym_<$r, $d>,
+            sound: *const $r,
+            flags: *const u32,
+            bc_vel: *const Vec_<$r, $d>,
+            pos_t: *mut Vec_<$r, $d>,
+            vel_t: *mut Vec_<$r, $d>,
+            rho_t: *mut $r,
+            stress_t: *mut Sym_<$r, $d>,
+        ) {
+            let i = global_index();
+            if i < n {
+                let a = Arrays::<$r, $d> { pos, vel, rho, mass, stress, sig, art, sound, flags, bc_vel };
+                unsafe {
+                    let o = rates::<$r, $d, $av, $as, $xs>(&*params, &*grid, starts, &a, i);
+                    let iu = i as usize;
+                    *pos_t.add(iu) = o.pos_t;
+                    *vel_t.add(iu) = o.vel_t;
+                    *rho_t.add(iu) = o.rho_t;
+                    *stress_t.add(iu) = o.stress_t;
+                }
+            }
+        }
+    };
+}
+
+/// Predictor (y0 ← y; y ← y0 + c ẏ) and corrector (y ← y0 + c ẏ) over x, v, ρ, S.
+macro_rules! step_entries {
+    ($predict:ident, $correct:ident, $r:ty, $d:ty) => {
+        #[unsafe(no_mangle)]
+        pub unsafe extern "ptx-kernel" fn $predict(
+            n: u32,
+            c: $r,
+            pos: *mut Vec_<$r, $d>,
+            vel: *mut Vec_<$r, $d>,
+            rho: *mut $r,
+            stress: *mut Sym_<$r, $d>,
+            pos0: *mut Vec_<$r, $d>,
+            vel0: *mut Vec_<$r, $d>,
+            rho0: *mut $r,
+            stress0: *mut Sym_<$r, $d>,
+            pos_t: *const Vec_<$r, $d>,
+            vel_t: *const Vec_<$r, $d>,
+            rho_t: *const $r,
+            stress_t: *const Sym_<$r, $d>,
+        ) {
+            let i = global_index() as usize;
+            if i < n as usize {
+                unsafe {
+                    let (x, v, r, s) = (*pos.add(i), *vel.add(i), *rho.add(i), *stress.add(i));
+                    *pos0.add(i) = x;
+                    *vel0.add(i) = v;
+                    *rho0.add(i) = r;
+                    *stress0.add(i) = s;
+                    *pos.add(i) = advance_vec(&x, c, &*pos_t.add(i));
+                    *vel.add(i) = advance_vec(&v, c, &*vel_t.add(i));
+                    *rho.add(i) = r + c * *rho_t.add(i);
+                    *stress.add(i) = advance_sym(&s, c, &*stress_t.add(i));
+                }
+            }
+        }
+
+        #[unsafe(no_mangle)]
+        pub unsafe extern "ptx-kernel" fn $correct(
+            n: u32,
+            c: $r,
+            pos: *mut Vec_<$r, $d>,
+            vel: *mut Vec_<$r, $d>,
+            rho: *mut $r,
+            stress: *mut Sym_<$r, $d>,
+            pos0: *const Vec_<$r, $d>,
+            vel0: *const Vec_<$r, $d>,
+            rho0: *const $r,
+            stress0: *const Sym_<$r, $d>,
+            pos_t: *const Vec_<$r, $d>,
+            vel_t: *const Vec_<$r, $d>,
+            rho_t: *const $r,
+            stress_t: *const Sym_<$r, $d>,
+        ) {
+            let i = global_index() as usize;
+            if i < n as usize {
+                unsafe {
+                    *pos.add(i) = advance_vec(&*pos0.add(i), c, &*pos_t.add(i));
+                    *vel.add(i) = advance_vec(&*vel0.add(i), c, &*vel_t.add(i));
+                    *rho.add(i) = *rho0.add(i) + c * *rho_t.add(i);
+                    *stress.add(i) = advance_sym(&*stress0.add(i), c, &*stress_t.add(i));
+                }
+            }
+        }
+    };
+}
+
+prepare_entry!(swarf_sph_prepare_2d_f32_v0s0, f32, Dim2, false, false);
+prepare_entry!(swarf_sph_prepare_2d_f32_v0s1, f32, Dim2, false, true);
+prepare_entry!(swarf_sph_prepare_2d_f32_v1s0, f32, Dim2, true, false);
+prepare_entry!(swarf_sph_prepare_2d_f32_v1s1, f32, Dim2, true, true);
+rates_entry!(swarf_sph_rates_2d_f32_v0s0x0, f32, Dim2, false, false, false);
+rates_entry!(swarf_sph_rates_2d_f32_v0s0x1, f32, Dim2, false, false, true);
+rates_entry!(swarf_sph_rates_2d_f32_v0s1x0, f32, Dim2, false, true, false);
+rates_entry!(swarf_sph_rates_2d_f32_v0s1x1, f32, Dim2, false, true, true);
+rates_entry!(swarf_sph_rates_2d_f32_v1s0x0, f32, Dim2, true, false, false);
+rates_entry!(swarf_sph_rates_2d_f32_v1s0x1, f32, Dim2, true, false, true);
+rates_entry!(swarf_sph_rates_2d_f32_v1s1x0, f32, Dim2, true, true, false);
+rates_entry!(swarf_sph_rates_2d_f32_v1s1x1, f32, Dim2, true, true, true);
+step_entries!(swarf_sph_predict_2d_f32, swarf_sph_correct_2d_f32, f32, Dim2);
+prepare_entry!(swarf_sph_prepare_2d_f64_v0s0, f64, Dim2, false, false);
+prepare_entry!(swarf_sph_prepare_2d_f64_v0s1, f64, Dim2, false, true);
+prepare_entry!(swarf_sph_prepare_2d_f64_v1s0, f64, Dim2, true, false);
+prepare_entry!(swarf_sph_prepare_2d_f64_v1s1, f64, Dim2, true, true);
+rates_entry!(swarf_sph_rates_2d_f64_v0s0x0, f64, Dim2, false, false, false);
+rates_entry!(swarf_sph_rates_2d_f64_v0s0x1, f64, Dim2, false, false, true);
+rates_entry!(swarf_sph_rates_2d_f64_v0s1x0, f64, Dim2, false, true, false);
+rates_entry!(swarf_sph_rates_2d_f64_v0s1x1, f64, Dim2, false, true, true);
+rates_entry!(swarf_sph_rates_2d_f64_v1s0x0, f64, Dim2, true, false, false);
+rates_entry!(swarf_sph_rates_2d_f64_v1s0x1, f64, Dim2, true, false, true);
+rates_entry!(swarf_sph_rates_2d_f64_v1s1x0, f64, Dim2, true, true, false);
+rates_entry!(swarf_sph_rates_2d_f64_v1s1x1, f64, Dim2, true, true, true);
+step_entries!(swarf_sph_predict_2d_f64, swarf_sph_correct_2d_f64, f64, Dim2);
+prepare_entry!(swarf_sph_prepare_3d_f32_v0s0, f32, Dim3, false, false);
+prepare_entry!(swarf_sph_prepare_3d_f32_v0s1, f32, Dim3, false, true);
+prepare_entry!(swarf_sph_prepare_3d_f32_v1s0, f32, Dim3, true, false);
+prepare_entry!(swarf_sph_prepare_3d_f32_v1s1, f32, Dim3, true, true);
+rates_entry!(swarf_sph_rates_3d_f32_v0s0x0, f32, Dim3, false, false, false);
+rates_entry!(swarf_sph_rates_3d_f32_v0s0x1, f32, Dim3, false, false, true);
+rates_entry!(swarf_sph_rates_3d_f32_v0s1x0, f32, Dim3, false, true, false);
+rates_entry!(swarf_sph_rates_3d_f32_v0s1x1, f32, Dim3, false, true, true);
+rates_entry!(swarf_sph_rates_3d_f32_v1s0x0, f32, Dim3, true, false, false);
+rates_entry!(swarf_sph_rates_3d_f32_v1s0x1, f32, Dim3, true, false, true);
+rates_entry!(swarf_sph_rates_3d_f32_v1s1x0, f32, Dim3, true, true, false);
+rates_entry!(swarf_sph_rates_3d_f32_v1s1x1, f32, Dim3, true, true, true);
+step_entries!(swarf_sph_predict_3d_f32, swarf_sph_correct_3d_f32, f32, Dim3);
+prepare_entry!(swarf_sph_prepare_3d_f64_v0s0, f64, Dim3, false, false);
+prepare_entry!(swarf_sph_prepare_3d_f64_v0s1, f64, Dim3, false, true);
+prepare_entry!(swarf_sph_prepare_3d_f64_v1s0, f64, Dim3, true, false);
+prepare_entry!(swarf_sph_prepare_3d_f64_v1s1, f64, Dim3, true, true);
+rates_entry!(swarf_sph_rates_3d_f64_v0s0x0, f64, Dim3, false, false, false);
+rates_entry!(swarf_sph_rates_3d_f64_v0s0x1, f64, Dim3, false, false, true);
+rates_entry!(swarf_sph_rates_3d_f64_v0s1x0, f64, Dim3, false, true, false);
+rates_entry!(swarf_sph_rates_3d_f64_v0s1x1, f64, Dim3, false, true, true);
+rates_entry!(swarf_sph_rates_3d_f64_v1s0x0, f64, Dim3, true, false, false);
+rates_entry!(swarf_sph_rates_3d_f64_v1s0x1, f64, Dim3, true, false, true);
+rates_entry!(swarf_sph_rates_3d_f64_v1s1x0, f64, Dim3, true, true, false);
+rates_entry!(swarf_sph_rates_3d_f64_v1s1x1, f64, Dim3, true, true, true);
+step_entries!(swarf_sph_predict_3d_f64, swarf_sph_correct_3d_f64, f64, Dim3);

@@ -1,6 +1,14 @@
-//! Smoothed-particle hydrodynamics for solids (roethlin-solver.md §3–§5).
+//! Smoothed-particle hydrodynamics for solids: updated-Lagrangian "Algorithm 1" (roethlin-solver.md §3–§5).
 
 pub mod density;
+pub mod eigen;
+pub mod energy;
+pub mod integrate;
+pub mod interact;
 pub mod kernel;
+pub mod params;
+pub mod tensor;
 
 pub use kernel::CubicSpline;
+pub use params::{SphParams, Stabilisers};
+pub use tensor::TensorOps;

@@ -1,0 +1,306 @@
+//! `swarf run`: a scene from file to output folder. Builds the particles, chooses Δt, steps the solver and writes,
+//! every output interval, a binary VTU frame (indexed by `particles.pvd`) and a row of `energy.csv`. A
+//! non-finite value stops the run with its particle, field, time and step, after the last good frame.
+
+use crate::backend::{AnyBackend, Backend};
+use crate::grid::grid_for_support;
+use crate::kernels::sph::params::flags;
+use crate::kernels::sph::{SphParams, TensorOps};
+use crate::kernels::{Dim2, Dim3, Real, Vector};
+use crate::output::{Array, Collection, Frame, TimeSeries, Values, vtu};
+use crate::scene::{Bc, Precision, Scene};
+use crate::solver::Solver;
+use crate::solver::diagnostics::{Diagnostics, compute};
+use crate::solver::params::{Elastic, StabiliserSettings, cfl_time_step, sph_params};
+use crate::state::HostParticles;
+use crate::{Error, Result, with_backend};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// What `swarf run` was asked to do besides the scene.
+#[derive(Clone, Debug)]
+pub struct RunOptions {
+    pub out_dir: PathBuf,
+    /// Overrides the scene's precision.
+    pub precision: Option<Precision>,
+    /// Write frames (VTU + PVD); the energy CSV is always written.
+    pub frames: bool,
+    pub quiet: bool,
+}
+
+/// The outcome of a run.
+#[derive(Clone, Debug)]
+pub struct RunReport {
+    pub particles: usize,
+    pub steps: u64,
+    pub dt: f64,
+    pub wall_s: f64,
+    pub precision: &'static str,
+    pub backend: String,
+    /// Diagnostics at every output step, the first at t = 0.
+    pub history: Vec<Diagnostics>,
+}
+
+/// Runs `scene` on the chosen backend.
+pub fn run(any: &AnyBackend, scene: &Scene, opts: &RunOptions) -> Result<RunReport> {
+    let precision = opts.precision.unwrap_or(scene.precision);
+    with_backend!(any, b => match (scene.dim, precision) {
+        (2, Precision::F32) => run_typed::<_, f32, Dim2>(b, scene, opts),
+        (2, Precision::F64) => run_typed::<_, f64, Dim2>(b, scene, opts),
+        (_, Precision::F32) => run_typed::<_, f32, Dim3>(b, scene, opts),
+        (_, Precision::F64) => run_typed::<_, f64, Dim3>(b, scene, opts),
+    })
+}
+
+/// The solver inputs a scene describes.
+pub struct Setup<R: Real, D: TensorOps<R>> {
+    pub particles: HostParticles<R, D>,
+    pub params: SphParams<R>,
+    pub stabilisers: StabiliserSettings,
+    pub bc_velocities: Vec<D::Vec<R>>,
+    pub grid: crate::kernels::neighbour::GridParams,
+    pub dt: f64,
+    pub c0: f64,
+    pub h: f64,
+}
+
+/// Builds the particles, parameters, grid and time step of `scene`.
+pub fn setup<R: Real, D: TensorOps<R>>(scene: &Scene) -> Result<Setup<R, D>> {
+    let set = scene.generate().map_err(|e| Error::Scene(e.to_string()))?;
+    let n = set.len();
+    let mut table: Vec<[f64; 3]> = Vec::new();
+    let mut fl = Vec::with_capacity(n);
+    for i in 0..n {
+        let (kind, idx) = match set.bc[i] {
+            Bc::Free => (flags::FREE, 0),
+            Bc::Fixed => (flags::FIXED, 0),
+            Bc::Velocity(v) => {
+                let k = match table.iter().position(|t| *t == v) {
+                    Some(k) => k,
+                    None => {
+                        table.push(v);
+                        table.len() - 1
+                    }
+                };
+                if k > flags::VEL_INDEX_MASK as usize {
+                    return Err(Error::Scene(format!(
+                        "{}: more than {} distinct prescribed velocities",
+                        scene.origin,
+                        flags::VEL_INDEX_MASK + 1
+                    )));
+                }
+                (flags::VELOCITY, k as u32)
+            }
+        };
+        fl.push(kind | idx << flags::VEL_INDEX_SHIFT | set.body[i] << flags::BODY_SHIFT);
+    }
+    let conv = |c: &[f64; 3]| D::Vec::<R>::new(std::array::from_fn(|k| R::from_f64(c[k])));
+    let m = &scene.material;
+    let particles = HostParticles::<R, D> {
+        id: (0..n as u32).collect(),
+        flags: fl,
+        pos: set.pos.iter().map(conv).collect(),
+        vel: set.vel.iter().map(conv).collect(),
+        mass: vec![R::from_f64(set.mass); n],
+        rho: vec![R::from_f64(m.density); n],
+        stress: vec![Default::default(); n],
+    };
+    let st = &scene.stabilisation;
+    let stabilisers = StabiliserSettings {
+        viscosity: st.artificial_viscosity.as_ref().map(|a| (a.alpha, a.beta, a.eta)),
+        stress: st.artificial_stress.as_ref().map(|a| (a.epsilon, a.exponent)),
+        xsph: st.xsph.as_ref().map(|x| x.epsilon),
+    };
+    let elastic = Elastic { density: m.density, youngs_modulus: m.youngs_modulus, poisson_ratio: m.poisson_ratio };
+    let dx = scene.discretisation.dx;
+    let h = scene.h();
+    let params = sph_params::<R>(&elastic, dx, h, scene.dim, &stabilisers);
+    // A fixed ("locked") grid over the initial bodies with room to move; particles leaving it are clamped into
+    // its boundary cells, which keeps the search exact (docs/neighbour-search.md).
+    let (lo, hi) = crate::grid::bounding_box::<f64, _>(
+        &set.pos.iter().map(|p| crate::kernels::vector::V3f64([p[0], p[1], p[2], 0.0])).collect::<Vec<_>>(),
+    );
+    let mut glo = [0.0; 3];
+    let mut ghi = [0.0; 3];
+    for k in 0..scene.dim {
+        let margin = 0.25 * (hi[k] - lo[k]) + 4.0 * h;
+        glo[k] = lo[k] - margin;
+        ghi[k] = hi[k] + margin;
+    }
+    let grid = grid_for_support(glo, ghi, scene.dim, 2.0 * h, 2)?;
+    let vmax0 = set.vel.iter().map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()).fold(0.0, f64::max);
+    let c0 = elastic.sound_speed();
+    let limit = cfl_time_step(scene.time.cfl, h, c0, vmax0);
+    let dt = match scene.time.dt {
+        Some(dt) if dt > limit => {
+            return Err(Error::Scene(format!(
+                "{}: time.dt = {dt:e} s is above the stability limit {limit:e} s (cfl {} · h {h:e} m / (c0 {c0:.1} m/s + |v|max {vmax0:.1} m/s))",
+                scene.origin, scene.time.cfl
+            )));
+        }
+        Some(dt) => dt,
+        None => limit,
+    };
+    Ok(Setup { particles, params, stabilisers, bc_velocities: table.iter().map(conv).collect(), grid, dt, c0, h })
+}
+
+fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(b: &B, scene: &Scene, opts: &RunOptions) -> Result<RunReport> {
+    let s = setup::<R, D>(scene)?;
+    let n = s.particles.len();
+    std::fs::create_dir_all(&opts.out_dir).map_err(|e| io_err(&opts.out_dir, e))?;
+    let mut solver =
+        Solver::<B, R, D>::new(b, &s.particles, s.params, s.stabilisers.switches(), s.grid, &s.bc_velocities)?;
+    let mut csv = TimeSeries::new(
+        opts.out_dir.join("energy.csv"),
+        &[
+            "time",
+            "step",
+            "kinetic",
+            "elastic",
+            "total",
+            "momentum_x",
+            "momentum_y",
+            "momentum_z",
+            "angular_x",
+            "angular_y",
+            "angular_z",
+            "vmax",
+        ],
+    );
+    let mut pvd = Collection::new(opts.out_dir.join("particles.pvd"));
+    let mut history = Vec::new();
+    let t0 = Instant::now();
+    let end = scene.time.end;
+    let every = scene.output.every;
+    let mut dt = s.dt;
+    let mut frame = 0usize;
+    let mut next_out = 0.0;
+    if !opts.quiet {
+        eprintln!(
+            "{}: {n} particles, {}D {}, h = {:.4e} m, c0 = {:.1} m/s, dt = {:.4e} s, about {} steps",
+            scene.name,
+            scene.dim,
+            R::NAME,
+            s.h,
+            s.c0,
+            dt,
+            (end / dt).ceil()
+        );
+    }
+    loop {
+        if solver.time >= next_out - 1e-9 * dt || solver.time >= end - 1e-9 * dt {
+            let host = solver.download(b)?;
+            let d = compute(&host, &solver.host_params, solver.time, solver.steps);
+            if let Some((id, field)) = d.non_finite {
+                return Err(Error::NonFinite { id, field, time: solver.time, step: solver.steps });
+            }
+            csv.push(&[
+                d.time,
+                d.step as f64,
+                d.kinetic,
+                d.elastic,
+                d.total(),
+                d.momentum[0],
+                d.momentum[1],
+                d.momentum[2],
+                d.angular[0],
+                d.angular[1],
+                d.angular[2],
+                d.vmax,
+            ])
+            .map_err(|e| io_err(csv.path(), e))?;
+            csv.write().map_err(|e| io_err(csv.path(), e))?;
+            if opts.frames {
+                let name = format!("frame_{frame:05}.vtu");
+                write_frame(&opts.out_dir.join(&name), &host, &solver.host_params, solver.time, solver.steps)?;
+                pvd.push(solver.time, name).map_err(|e| io_err(pvd.path(), e))?;
+                pvd.write().map_err(|e| io_err(pvd.path(), e))?;
+            }
+            frame += 1;
+            next_out = frame as f64 * every;
+            // Re-check the CFL condition with the current largest speed.
+            if scene.time.dt.is_none() {
+                let limit = cfl_time_step(scene.time.cfl, s.h, s.c0, d.vmax);
+                if limit < dt {
+                    dt = limit;
+                }
+            }
+            if !opts.quiet {
+                let el = t0.elapsed().as_secs_f64();
+                eprintln!(
+                    "t = {:.4e} s  step {}  E_kin {:.4e}  E_el {:.4e}  {:.0} steps/s",
+                    d.time,
+                    d.step,
+                    d.kinetic,
+                    d.elastic,
+                    d.step as f64 / el.max(1e-9)
+                );
+            }
+            history.push(d);
+            if solver.time >= end - 1e-9 * dt {
+                break;
+            }
+        }
+        let h = dt.min(end - solver.time).min(next_out - solver.time).max(1e-12 * dt);
+        solver.step(b, h)?;
+    }
+    b.synchronize()?;
+    Ok(RunReport {
+        particles: n,
+        steps: solver.steps,
+        dt: s.dt,
+        wall_s: t0.elapsed().as_secs_f64(),
+        precision: R::NAME,
+        backend: b.info().backend.to_string(),
+        history,
+    })
+}
+
+fn io_err(path: &Path, e: std::io::Error) -> Error {
+    Error::Output(format!("{}: {e}", path.display()))
+}
+
+/// One VTU frame: positions, id, body, boundary kind, velocity, density, pressure, stress (VTK order xx, yy, zz,
+/// xy, yz, xz) and von Mises stress.
+fn write_frame<R: Real, D: TensorOps<R>>(
+    path: &Path,
+    p: &HostParticles<R, D>,
+    params: &SphParams<R>,
+    time: f64,
+    step: u64,
+) -> Result<()> {
+    let n = p.len();
+    let pts: Vec<f64> = p.pos.iter().flat_map(|x| (0..3).map(|k| x.get(k).to_f64())).collect();
+    let vel: Vec<f64> = p.vel.iter().flat_map(|x| (0..3).map(|k| x.get(k).to_f64())).collect();
+    let rho: Vec<f64> = p.rho.iter().map(|r| r.to_f64()).collect();
+    let pressure: Vec<f64> =
+        p.rho.iter().map(|r| crate::kernels::sph::interact::pressure(params, *r).to_f64()).collect();
+    let mut stress = Vec::with_capacity(6 * n);
+    let mut vm = Vec::with_capacity(n);
+    for s in &p.stress {
+        let c: &[R] = bytemuck::cast_slice(std::slice::from_ref(s));
+        let c: Vec<f64> = c.iter().map(|x| x.to_f64()).collect();
+        // Stored 2D (xx, xy, yy, zz), 3D (xx, xy, xz, yy, yz, zz) → VTK (xx, yy, zz, xy, yz, xz).
+        let v = if D::D == 2 { [c[0], c[2], c[3], c[1], 0.0, 0.0] } else { [c[0], c[3], c[5], c[1], c[4], c[2]] };
+        stress.extend_from_slice(&v);
+        vm.push(crate::kernels::sph::energy::von_mises::<R, D>(s).to_f64());
+    }
+    let body: Vec<u32> = p.flags.iter().map(|f| f >> flags::BODY_SHIFT).collect();
+    let bc: Vec<u32> = p.flags.iter().map(|f| f & flags::KIND_MASK).collect();
+    let frame = Frame {
+        time,
+        points: Values::F64(&pts),
+        point_data: vec![
+            Array { name: "id", components: 1, values: Values::U32(&p.id) },
+            Array { name: "body", components: 1, values: Values::U32(&body) },
+            Array { name: "boundary", components: 1, values: Values::U32(&bc) },
+            Array { name: "velocity", components: 3, values: Values::F64(&vel) },
+            Array { name: "density", components: 1, values: Values::F64(&rho) },
+            Array { name: "pressure", components: 1, values: Values::F64(&pressure) },
+            Array { name: "stress", components: 6, values: Values::F64(&stress) },
+            Array { name: "von_mises", components: 1, values: Values::F64(&vm) },
+        ],
+        field_data: vec![("STEP", step as f64)],
+    };
+    vtu::write(path, &frame).map_err(|e| io_err(path, e))
+}

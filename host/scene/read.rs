@@ -1,0 +1,477 @@
+//! From the document tree to a validated [`Scene`]: every key is typed, range-checked and located; unknown keys
+//! are refused table by table.
+
+use super::doc::{Doc, Entry, Node, Val, show};
+use super::error::SceneError;
+use super::*;
+
+type Result<T> = std::result::Result<T, SceneError>;
+
+/// Most lattice points a scene may ask for (bounding-box lattices of all bodies together).
+const MAX_POINTS: f64 = 2147483647.0;
+
+const ROOT_KEYS: &[&str] =
+    &["name", "dim", "precision", "discretisation", "material", "body", "boundary", "stabilisation", "time", "output"];
+const BODY_KEYS: &[&str] = &["name", "shape", "velocity", "angular_velocity", "lattice"];
+const SHAPES: &[(&str, &[&str])] = &[
+    ("rectangle", &["min", "max"]),
+    ("box", &["min", "max"]),
+    ("disk", &["center", "radius"]),
+    ("ring", &["center", "inner_radius", "outer_radius"]),
+    ("spherical_shell", &["center", "inner_radius", "outer_radius"]),
+    ("cylinder", &["center", "radius", "height", "inner_radius"]),
+];
+
+/// A table of the document under its dotted path.
+#[derive(Clone, Copy)]
+struct Tab<'a> {
+    doc: &'a Doc,
+    path: &'a str,
+    node: &'a Node,
+    entries: &'a [Entry],
+}
+
+impl<'a> Tab<'a> {
+    fn key(&self, k: &str) -> String {
+        if self.path.is_empty() { k.to_string() } else { format!("{}.{k}", self.path) }
+    }
+
+    fn get(&self, k: &str) -> Option<&'a Node> {
+        self.entries.iter().find(|e| e.key == k).map(|e| &e.node)
+    }
+
+    /// An `Invalid` error for key `k`; `node` is its value (`None` when missing: located at the table).
+    fn invalid(&self, k: &str, node: Option<&Node>, expected: impl Into<String>) -> SceneError {
+        SceneError::Invalid {
+            at: self.doc.loc(node.map_or(self.node.at, |n| n.at)),
+            key: self.key(k),
+            value: node.map(show),
+            expected: expected.into(),
+        }
+    }
+
+    /// Refuses keys not in `allowed`; a key listed in `elsewhere` gets `context` in the message.
+    fn check_keys(&self, allowed: &[&str], elsewhere: &[&str], context: &str) -> Result<()> {
+        for e in self.entries {
+            if !allowed.contains(&e.key.as_str()) {
+                return Err(SceneError::UnknownKey {
+                    at: self.doc.loc(e.node.at),
+                    key: self.key(&e.key),
+                    context: if elsewhere.contains(&e.key.as_str()) { context.to_string() } else { String::new() },
+                    expected: allowed.iter().map(|s| s.to_string()).collect(),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    fn required<T>(&self, k: &str, expected: &str, value: Option<T>) -> Result<T> {
+        value.ok_or_else(|| self.invalid(k, None, expected))
+    }
+
+    /// A finite number (TOML float or integer) satisfying `ok`.
+    fn number(&self, k: &str, expected: &str, ok: impl Fn(f64) -> bool) -> Result<Option<f64>> {
+        let Some(node) = self.get(k) else { return Ok(None) };
+        match as_number(node) {
+            Some(x) if x.is_finite() && ok(x) => Ok(Some(x)),
+            _ => Err(self.invalid(k, Some(node), expected)),
+        }
+    }
+
+    fn integer(&self, k: &str, expected: &str, ok: impl Fn(i64) -> bool) -> Result<Option<i64>> {
+        let Some(node) = self.get(k) else { return Ok(None) };
+        match &node.val {
+            Val::Leaf(toml::Value::Integer(i)) if ok(*i) => Ok(Some(*i)),
+            _ => Err(self.invalid(k, Some(node), expected)),
+        }
+    }
+
+    fn string(&self, k: &str, expected: &str, ok: impl Fn(&str) -> bool) -> Result<Option<&'a str>> {
+        let Some(node) = self.get(k) else { return Ok(None) };
+        match &node.val {
+            Val::Leaf(toml::Value::String(s)) if ok(s) => Ok(Some(s.as_str())),
+            _ => Err(self.invalid(k, Some(node), expected)),
+        }
+    }
+
+    fn boolean(&self, k: &str, expected: &str) -> Result<Option<bool>> {
+        let Some(node) = self.get(k) else { return Ok(None) };
+        match &node.val {
+            Val::Leaf(toml::Value::Boolean(b)) => Ok(Some(*b)),
+            _ => Err(self.invalid(k, Some(node), expected)),
+        }
+    }
+
+    /// An array of exactly `n` finite numbers, padded with zeros to three.
+    fn vector(&self, k: &str, n: usize, expected: &str) -> Result<Option<[f64; 3]>> {
+        let Some(node) = self.get(k) else { return Ok(None) };
+        let bad = || self.invalid(k, Some(node), expected);
+        let Val::Array(items) = &node.val else { return Err(bad()) };
+        if items.len() != n {
+            return Err(bad());
+        }
+        let mut v = [0.0; 3];
+        for (slot, item) in v.iter_mut().zip(items) {
+            *slot = as_number(item).filter(|x| x.is_finite()).ok_or_else(bad)?;
+        }
+        Ok(Some(v))
+    }
+
+    /// A sub-table (a `[header]` or an inline table); `path` must be this table's key of `k`.
+    fn table(&self, k: &str, path: &'a str, expected: &str) -> Result<Option<Tab<'a>>> {
+        let Some(node) = self.get(k) else { return Ok(None) };
+        match &node.val {
+            Val::Table(entries) => Ok(Some(Tab { doc: self.doc, path, node, entries })),
+            _ => Err(self.invalid(k, Some(node), expected)),
+        }
+    }
+
+    /// The elements of an array of tables (`[[k]]`), empty when absent.
+    fn tables(&self, k: &str, expected: &str) -> Result<Vec<(&'a Node, &'a [Entry])>> {
+        let Some(node) = self.get(k) else { return Ok(Vec::new()) };
+        let Val::Array(items) = &node.val else { return Err(self.invalid(k, Some(node), expected)) };
+        items
+            .iter()
+            .map(|item| match &item.val {
+                Val::Table(entries) => Ok((item, entries.as_slice())),
+                _ => Err(self.invalid(k, Some(node), expected)),
+            })
+            .collect()
+    }
+}
+
+fn as_number(node: &Node) -> Option<f64> {
+    match &node.val {
+        Val::Leaf(toml::Value::Float(x)) => Some(*x),
+        Val::Leaf(toml::Value::Integer(i)) => Some(*i as f64),
+        _ => None,
+    }
+}
+
+fn positive(x: f64) -> bool {
+    x > 0.0
+}
+
+fn non_negative(x: f64) -> bool {
+    x >= 0.0
+}
+
+fn any(_: f64) -> bool {
+    true
+}
+
+/// `"a point [x, y] in m"` and the like.
+fn point_text(what: &str, dim: usize, unit: &str) -> String {
+    let names = ["x", "y", "z"];
+    format!("{what} [{}] in {unit}", names[..dim].join(", "))
+}
+
+pub(super) fn scene(doc: &Doc) -> Result<Scene> {
+    let Val::Table(entries) = &doc.root.val else { unreachable!("a TOML document is a table") };
+    let root = Tab { doc, path: "", node: &doc.root, entries };
+    root.check_keys(ROOT_KEYS, &[], "")?;
+
+    let name_expected = "a non-empty string naming the scene";
+    let name = root.required("name", name_expected, root.string("name", name_expected, |s| !s.trim().is_empty())?)?;
+    let dim_expected = "2 (plane strain) or 3";
+    let dim = root.required("dim", dim_expected, root.integer("dim", dim_expected, |d| d == 2 || d == 3)?)? as usize;
+    let precision = match root.string("precision", "\"f32\" or \"f64\"", |s| s == "f32" || s == "f64")? {
+        Some("f32") => Precision::F32,
+        _ => Precision::F64,
+    };
+
+    // [discretisation]
+    let disc_expected = "a table [discretisation] with dx (and h_over_dx)";
+    let disc =
+        root.required("discretisation", disc_expected, root.table("discretisation", "discretisation", disc_expected)?)?;
+    disc.check_keys(&["dx", "h_over_dx"], &[], "")?;
+    let dx_expected = "a positive lattice spacing in m";
+    let dx = disc.required("dx", dx_expected, disc.number("dx", dx_expected, positive)?)?;
+    let h_over_dx = disc.number("h_over_dx", "a ratio h/dx in [1, 3]", |x| (1.0..=3.0).contains(&x))?.unwrap_or(1.7);
+
+    // [material]
+    let mat_expected = "a table [material] with density, youngs_modulus and poisson_ratio";
+    let mat = root.required("material", mat_expected, root.table("material", "material", mat_expected)?)?;
+    mat.check_keys(&["density", "youngs_modulus", "poisson_ratio"], &[], "")?;
+    let e = "a positive density in kg/m^3";
+    let density = mat.required("density", e, mat.number("density", e, positive)?)?;
+    let e = "a positive Young's modulus in Pa";
+    let youngs_modulus = mat.required("youngs_modulus", e, mat.number("youngs_modulus", e, positive)?)?;
+    let e = "a value in (-1, 0.5)";
+    let poisson_ratio = mat.required("poisson_ratio", e, mat.number("poisson_ratio", e, |x| x > -1.0 && x < 0.5)?)?;
+    let material = Material { density, youngs_modulus, poisson_ratio };
+
+    // [[body]]
+    let body_expected = "one or more [[body]] tables";
+    let body_tables = root.tables("body", body_expected)?;
+    if body_tables.is_empty() {
+        return Err(root.invalid("body", root.get("body"), body_expected));
+    }
+    let body_paths: Vec<String> = (0..body_tables.len()).map(|i| format!("body.{i}")).collect();
+    let mut bodies: Vec<Body> = Vec::new();
+    let mut lattice_points = 0.0;
+    for (i, &(node, entries)) in body_tables.iter().enumerate() {
+        let t = Tab { doc, path: &body_paths[i], node, entries };
+        let (body, points) = body(&t, i, dim, dx, &bodies)?;
+        lattice_points += points;
+        bodies.push(body);
+    }
+    if lattice_points > MAX_POINTS {
+        return Err(disc.invalid(
+            "dx",
+            disc.get("dx"),
+            format!(
+                "a lattice spacing giving at most 2^31 - 1 lattice points (this one gives {lattice_points:.3e}; \
+                 dx is too small for these bodies)"
+            ),
+        ));
+    }
+
+    // [[boundary]]
+    let boundary_tables = root.tables("boundary", "[[boundary]] tables")?;
+    let boundary_paths: Vec<String> = (0..boundary_tables.len()).map(|i| format!("boundary.{i}")).collect();
+    let mut boundaries = Vec::new();
+    for (i, &(node, entries)) in boundary_tables.iter().enumerate() {
+        let t = Tab { doc, path: &boundary_paths[i], node, entries };
+        boundaries.push(boundary(&t, dim, &bodies)?);
+    }
+
+    // [stabilisation]
+    let mut stabilisation = Stabilisation::default();
+    let stab_expected = "a table [stabilisation] with artificial_viscosity, artificial_stress and/or xsph";
+    if let Some(st) = root.table("stabilisation", "stabilisation", stab_expected)? {
+        st.check_keys(&["artificial_viscosity", "artificial_stress", "xsph"], &[], "")?;
+        let e = "a table { alpha, beta, eta, enabled }";
+        if let Some(t) = st.table("artificial_viscosity", "stabilisation.artificial_viscosity", e)? {
+            t.check_keys(&["alpha", "beta", "eta", "enabled"], &[], "")?;
+            let av = ArtificialViscosity {
+                alpha: t.number("alpha", "a non-negative coefficient", non_negative)?.unwrap_or(1.0),
+                beta: t.number("beta", "a non-negative coefficient", non_negative)?.unwrap_or(1.0),
+                eta: t.number("eta", "a positive coefficient", positive)?.unwrap_or(0.1),
+            };
+            if t.boolean("enabled", "true or false")?.unwrap_or(true) {
+                stabilisation.artificial_viscosity = Some(av);
+            }
+        }
+        let e = "a table { epsilon, exponent, enabled }";
+        if let Some(t) = st.table("artificial_stress", "stabilisation.artificial_stress", e)? {
+            t.check_keys(&["epsilon", "exponent", "enabled"], &[], "")?;
+            let exponent = t.integer("exponent", "an integer >= 1 (at most 64)", |n| (1..=64).contains(&n))?;
+            let a = ArtificialStress {
+                epsilon: t.number("epsilon", "a non-negative coefficient", non_negative)?.unwrap_or(0.3),
+                exponent: exponent.unwrap_or(4) as u32,
+            };
+            if t.boolean("enabled", "true or false")?.unwrap_or(true) {
+                stabilisation.artificial_stress = Some(a);
+            }
+        }
+        if let Some(t) = st.table("xsph", "stabilisation.xsph", "a table { epsilon, enabled }")? {
+            t.check_keys(&["epsilon", "enabled"], &[], "")?;
+            let x = Xsph {
+                epsilon: t.number("epsilon", "a value in [0, 1]", |x| (0.0..=1.0).contains(&x))?.unwrap_or(0.5),
+            };
+            if t.boolean("enabled", "true or false")?.unwrap_or(true) {
+                stabilisation.xsph = Some(x);
+            }
+        }
+    }
+
+    // [time]
+    let time_expected = "a table [time] with end (and cfl, dt)";
+    let t = root.required("time", time_expected, root.table("time", "time", time_expected)?)?;
+    t.check_keys(&["end", "cfl", "dt"], &[], "")?;
+    let e = "a positive time in seconds";
+    let end = t.required("end", e, t.number("end", e, positive)?)?;
+    let cfl = t.number("cfl", "a CFL number in (0, 1]", |x| x > 0.0 && x <= 1.0)?.unwrap_or(0.5);
+    let dt = t.number("dt", "a positive time step in seconds", positive)?;
+    let time = Time { end, cfl, dt };
+
+    // [output]
+    let mut output = Output { every: end / 50.0 };
+    if let Some(o) = root.table("output", "output", "a table [output] with every")? {
+        o.check_keys(&["every"], &[], "")?;
+        if let Some(every) = o.number("every", "a positive time in seconds", positive)? {
+            output.every = every;
+        }
+    }
+
+    Ok(Scene {
+        origin: doc.file.clone(),
+        name: name.to_string(),
+        dim,
+        precision,
+        discretisation: Discretisation { dx, h_over_dx },
+        material,
+        bodies,
+        boundaries,
+        stabilisation,
+        time,
+        output,
+    })
+}
+
+/// Number of lattice points on an axis of length `extent`.
+pub(super) fn points_on_axis(extent: f64, dx: f64, lattice: Lattice) -> usize {
+    let n = (extent / dx + 1e-9).floor();
+    let n = if n.is_finite() && n > 0.0 { n as usize } else { 0 };
+    match lattice {
+        Lattice::Nodes => n + 1,
+        Lattice::Cells => n,
+    }
+}
+
+/// One `[[body]]`; also returns the number of points of its bounding-box lattice.
+fn body(t: &Tab<'_>, index: usize, dim: usize, dx: f64, earlier: &[Body]) -> Result<(Body, f64)> {
+    let names: Vec<&str> = SHAPES.iter().map(|s| s.0).collect();
+    let shape_expected = format!(
+        "one of {}",
+        names.iter().filter(|n| dim_of(n) == dim).map(|n| format!("\"{n}\"")).collect::<Vec<_>>().join(", ")
+    );
+    // Unknown keys first, against every shape's parameters when the shape itself is unknown.
+    let all: Vec<&str> = SHAPES.iter().flat_map(|s| s.1.iter().copied()).collect();
+    let kind = match t.get("shape") {
+        Some(Node { val: Val::Leaf(toml::Value::String(s)), .. }) if names.contains(&s.as_str()) => Some(s.as_str()),
+        _ => None,
+    };
+    match kind {
+        Some(kind) => {
+            let own = SHAPES.iter().find(|s| s.0 == kind).map_or(&[][..], |s| s.1);
+            let allowed: Vec<&str> = BODY_KEYS.iter().chain(own).copied().collect();
+            t.check_keys(&allowed, &all, &format!(" for shape '{kind}'"))?;
+        }
+        None => {
+            let mut allowed: Vec<&str> = BODY_KEYS.to_vec();
+            for k in &all {
+                if !allowed.contains(k) {
+                    allowed.push(k);
+                }
+            }
+            t.check_keys(&allowed, &[], "")?;
+        }
+    }
+    let name_expected = "a non-empty string, unique among the bodies";
+    let name = match t.string("name", name_expected, |s| !s.trim().is_empty())? {
+        Some(n) => n.to_string(),
+        None => format!("body{index}"),
+    };
+    if earlier.iter().any(|b| b.name == name) {
+        return Err(t.invalid("name", t.get("name"), format!("{name_expected} ('{name}' is taken)")));
+    }
+    let kind = t.required("shape", &shape_expected, t.string("shape", &shape_expected, |s| names.contains(&s))?)?;
+    if dim_of(kind) != dim {
+        return Err(t.invalid("shape", t.get("shape"), format!("{shape_expected} (dim = {dim})")));
+    }
+
+    let radius_text = "a positive radius in m";
+    let inner_text = |outer: &str| format!("a radius in m, >= 0 and < {outer}");
+    let center = |t: &Tab<'_>| {
+        let e = point_text("a point", dim, "m");
+        t.required("center", &e, t.vector("center", dim, &e)?)
+    };
+    let (shape, extents) = match kind {
+        "rectangle" | "box" => {
+            let e = point_text("a point", dim, "m");
+            let min = t.required("min", &e, t.vector("min", dim, &e)?)?;
+            let e_max = format!("{} greater than min on every axis", point_text("a point", dim, "m"));
+            let max = t.required("max", &e_max, t.vector("max", dim, &e_max)?)?;
+            if (0..dim).any(|k| max[k] <= min[k]) {
+                return Err(t.invalid("max", t.get("max"), e_max));
+            }
+            let extents = std::array::from_fn(|k| if k < dim { max[k] - min[k] } else { 0.0 });
+            let shape = if dim == 2 {
+                Shape::Rectangle { min: [min[0], min[1]], max: [max[0], max[1]] }
+            } else {
+                Shape::Box { min, max }
+            };
+            (shape, extents)
+        }
+        "disk" => {
+            let c = center(t)?;
+            let radius = t.required("radius", radius_text, t.number("radius", radius_text, positive)?)?;
+            (Shape::Disk { center: [c[0], c[1]], radius }, [2.0 * radius, 2.0 * radius, 0.0])
+        }
+        "ring" | "spherical_shell" => {
+            let c = center(t)?;
+            let outer = t.required("outer_radius", radius_text, t.number("outer_radius", radius_text, positive)?)?;
+            let e = inner_text("outer_radius");
+            let inner = t.required("inner_radius", &e, t.number("inner_radius", &e, non_negative)?)?;
+            if inner >= outer {
+                return Err(t.invalid("inner_radius", t.get("inner_radius"), e));
+            }
+            let d = 2.0 * outer;
+            if dim == 2 {
+                (Shape::Ring { center: [c[0], c[1]], inner_radius: inner, outer_radius: outer }, [d, d, 0.0])
+            } else {
+                (Shape::SphericalShell { center: c, inner_radius: inner, outer_radius: outer }, [d, d, d])
+            }
+        }
+        "cylinder" => {
+            let c = center(t)?;
+            let radius = t.required("radius", radius_text, t.number("radius", radius_text, positive)?)?;
+            let e = "a positive height in m";
+            let height = t.required("height", e, t.number("height", e, positive)?)?;
+            let e = inner_text("radius");
+            let inner = t.number("inner_radius", &e, non_negative)?.unwrap_or(0.0);
+            if inner >= radius {
+                return Err(t.invalid("inner_radius", t.get("inner_radius"), e));
+            }
+            (Shape::Cylinder { center: c, radius, height, inner_radius: inner }, [2.0 * radius, 2.0 * radius, height])
+        }
+        _ => unreachable!("shape checked above"),
+    };
+
+    let e = point_text("a velocity", dim, "m/s");
+    let velocity = t.vector("velocity", dim, &e)?.unwrap_or([0.0; 3]);
+    let angular_velocity = t.number("angular_velocity", "an angular velocity in rad/s", any)?.unwrap_or(0.0);
+    let lattice = match t.string("lattice", "\"nodes\" or \"cells\"", |s| s == "nodes" || s == "cells")? {
+        Some("nodes") => Lattice::Nodes,
+        Some(_) => Lattice::Cells,
+        None => shape.default_lattice(),
+    };
+    let points = (0..dim).map(|k| points_on_axis(extents[k], dx, lattice) as f64).product();
+    Ok((Body { name, shape, velocity, angular_velocity, lattice }, points))
+}
+
+fn dim_of(shape: &str) -> usize {
+    match shape {
+        "rectangle" | "disk" | "ring" => 2,
+        _ => 3,
+    }
+}
+
+fn boundary(t: &Tab<'_>, dim: usize, bodies: &[Body]) -> Result<Boundary> {
+    t.check_keys(&["kind", "min", "max", "velocity", "body"], &[], "")?;
+    let kind_expected = "\"fixed\" or \"velocity\"";
+    let kind =
+        t.required("kind", kind_expected, t.string("kind", kind_expected, |s| s == "fixed" || s == "velocity")?)?;
+    let e = point_text("a point", dim, "m");
+    let min = t.required("min", &e, t.vector("min", dim, &e)?)?;
+    let e_max = format!("{} >= min on every axis", point_text("a point", dim, "m"));
+    let max = t.required("max", &e_max, t.vector("max", dim, &e_max)?)?;
+    if (0..dim).any(|k| max[k] < min[k]) {
+        return Err(t.invalid("max", t.get("max"), e_max));
+    }
+    let kind = if kind == "fixed" {
+        if let Some(v) = t.get("velocity") {
+            return Err(t.invalid(
+                "velocity",
+                Some(v),
+                "no velocity for kind = \"fixed\" (remove it, or use kind = \"velocity\")",
+            ));
+        }
+        BoundaryKind::Fixed
+    } else {
+        let e = format!("{} for kind = \"velocity\"", point_text("a velocity", dim, "m/s"));
+        BoundaryKind::Velocity { velocity: t.required("velocity", &e, t.vector("velocity", dim, &e)?)? }
+    };
+    let names = bodies.iter().map(|b| format!("'{}'", b.name)).collect::<Vec<_>>().join(", ");
+    let body_expected = format!("the name of a body (one of: {names})");
+    let body = match t.string("body", &body_expected, |_| true)? {
+        Some(name) => match bodies.iter().position(|b| b.name == name) {
+            Some(i) => Some(i),
+            None => return Err(t.invalid("body", t.get("body"), body_expected)),
+        },
+        None => None,
+    };
+    Ok(Boundary { kind, min, max, body })
+}

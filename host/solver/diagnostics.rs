@@ -1,0 +1,70 @@
+//! Diagnostics of a particle state: energies, momenta and the first non-finite value, summed in f64 in particle
+//! order (deterministic) from the per-particle functions of `kernels::sph::energy`.
+
+use crate::kernels::sph::energy::{elastic, kinetic};
+use crate::kernels::sph::{SphParams, TensorOps};
+use crate::kernels::{Real, Vector};
+use crate::state::HostParticles;
+
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Diagnostics {
+    pub time: f64,
+    pub step: u64,
+    pub kinetic: f64,
+    pub elastic: f64,
+    /// Linear momentum Σ m v (per unit depth in 2D).
+    pub momentum: [f64; 3],
+    /// Angular momentum Σ m x × v about the origin (2D: z component only).
+    pub angular: [f64; 3],
+    /// Σ m |v|, the scale for relative momentum errors.
+    pub momentum_scale: f64,
+    /// Largest speed.
+    pub vmax: f64,
+    /// First non-finite value: (particle id, field).
+    pub non_finite: Option<(u32, &'static str)>,
+}
+
+impl Diagnostics {
+    pub fn total(&self) -> f64 {
+        self.kinetic + self.elastic
+    }
+}
+
+pub fn compute<R: Real, D: TensorOps<R>>(
+    p: &HostParticles<R, D>,
+    params: &SphParams<R>,
+    time: f64,
+    step: u64,
+) -> Diagnostics {
+    let mut d = Diagnostics { time, step, ..Default::default() };
+    for i in 0..p.len() {
+        let (x, v, m, rho) = (&p.pos[i], &p.vel[i], p.mass[i], p.rho[i]);
+        let vals: [(&'static str, bool); 4] = [
+            ("position", (0..D::D).all(|k| x.get(k).is_finite())),
+            ("velocity", (0..D::D).all(|k| v.get(k).is_finite())),
+            ("density", rho.is_finite()),
+            ("stress", bytemuck::cast_slice::<_, R>(std::slice::from_ref(&p.stress[i])).iter().all(|s| s.is_finite())),
+        ];
+        if let Some((field, _)) = vals.iter().find(|(_, ok)| !ok) {
+            if d.non_finite.is_none() {
+                d.non_finite = Some((p.id[i], field));
+            }
+            continue;
+        }
+        d.kinetic += kinetic(m, v).to_f64();
+        d.elastic += elastic::<R, D>(params, m, rho, &p.stress[i]).to_f64();
+        let mf = m.to_f64();
+        let xv: [f64; 3] = std::array::from_fn(|k| x.get(k).to_f64());
+        let vv: [f64; 3] = std::array::from_fn(|k| v.get(k).to_f64());
+        let speed = (vv[0] * vv[0] + vv[1] * vv[1] + vv[2] * vv[2]).sqrt();
+        for (m, v) in d.momentum.iter_mut().zip(vv) {
+            *m += mf * v;
+        }
+        d.angular[0] += mf * (xv[1] * vv[2] - xv[2] * vv[1]);
+        d.angular[1] += mf * (xv[2] * vv[0] - xv[0] * vv[2]);
+        d.angular[2] += mf * (xv[0] * vv[1] - xv[1] * vv[0]);
+        d.momentum_scale += mf * speed;
+        d.vmax = d.vmax.max(speed);
+    }
+    d
+}

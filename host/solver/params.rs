@@ -1,0 +1,74 @@
+//! Deriving the kernel constants of a run from the material, the resolution and the stabiliser settings.
+
+use crate::kernels::Real;
+use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers};
+
+/// Elastic material constants [SI].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Elastic {
+    pub density: f64,
+    pub youngs_modulus: f64,
+    pub poisson_ratio: f64,
+}
+
+impl Elastic {
+    /// Bulk modulus K = E/(3(1 − 2ν)).
+    pub fn bulk(&self) -> f64 {
+        self.youngs_modulus / (3.0 * (1.0 - 2.0 * self.poisson_ratio))
+    }
+    /// Shear modulus G = E/(2(1 + ν)).
+    pub fn shear(&self) -> f64 {
+        self.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio))
+    }
+    /// Bulk sound speed c0 = √(K/ρ0) (roethlin-solver.md §2.3; AT-21).
+    pub fn sound_speed(&self) -> f64 {
+        (self.bulk() / self.density).sqrt()
+    }
+}
+
+/// Stabiliser constants (roethlin-solver.md §4.1 defaults); `Default` is all off.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StabiliserSettings {
+    pub viscosity: Option<(f64, f64, f64)>,
+    pub stress: Option<(f64, u32)>,
+    pub xsph: Option<f64>,
+}
+
+impl StabiliserSettings {
+    /// All three on with the theses' constants: α = β = 1, η = 0.1; ε_s = 0.3, n = 4; ε_X = 0.5.
+    pub fn theses() -> Self {
+        StabiliserSettings { viscosity: Some((1.0, 1.0, 0.1)), stress: Some((0.3, 4)), xsph: Some(0.5) }
+    }
+
+    pub fn switches(&self) -> Stabilisers {
+        Stabilisers { viscosity: self.viscosity.is_some(), stress: self.stress.is_some(), xsph: self.xsph.is_some() }
+    }
+}
+
+/// The parameter block for material `m`, lattice spacing `dx`, smoothing length `h` and dimension `dim`.
+pub fn sph_params<R: Real>(m: &Elastic, dx: f64, h: f64, dim: usize, s: &StabiliserSettings) -> SphParams<R> {
+    let kernel = CubicSpline::<f64>::new(h, dim);
+    let (alpha, beta, eta) = s.viscosity.unwrap_or((0.0, 0.0, 0.1));
+    let (eps, exponent) = s.stress.unwrap_or((0.0, 4));
+    SphParams {
+        kernel: CubicSpline::new(h, dim),
+        rho0: R::from_f64(m.density),
+        c0sq: R::from_f64(m.bulk() / m.density),
+        bulk: R::from_f64(m.bulk()),
+        shear: R::from_f64(m.shear()),
+        av_alpha: R::from_f64(alpha),
+        av_beta: R::from_f64(beta),
+        av_eta2h2: R::from_f64(eta * eta * h * h),
+        as_eps: R::from_f64(eps),
+        as_inv_w_dx: R::from_f64(1.0 / kernel.w(dx)),
+        xsph_eps: R::from_f64(s.xsph.unwrap_or(0.0)),
+        min_r2: R::from_f64((1e-6 * h) * (1e-6 * h)),
+        as_exponent: exponent,
+        _pad: 0,
+    }
+}
+
+/// Stable time step Δt = CFL · h / (c0 + |v|max) (roethlin-solver.md (7.1), erratum 13).
+pub fn cfl_time_step(cfl: f64, h: f64, c0: f64, vmax: f64) -> f64 {
+    cfl * h / (c0 + vmax)
+}

@@ -1,0 +1,33 @@
+//! Energies and momenta of a particle, for the diagnostics of every output step.
+//!
+//! Kinetic ½ m v². Stored elastic energy of the linear hypoelastic model per particle, V (S:S/(4G) + p²/(2K)),
+//! with V = m/ρ: the deviatoric part S:S/(4G) and the volumetric part ½ K ε_v² with ε_v = p/K, exact for the
+//! small elastic strains the model assumes (roethlin-solver.md §2.3).
+
+use super::interact::pressure;
+use super::params::SphParams;
+use super::tensor::TensorOps;
+use crate::real::Real;
+use crate::vector::Vector;
+
+#[inline(always)]
+pub fn kinetic<R: Real, V: Vector<R>>(m: R, v: &V) -> R {
+    let mut s = R::ZERO;
+    for k in 0..V::DIM {
+        s += v.get(k) * v.get(k);
+    }
+    R::from_f64(0.5) * m * s
+}
+
+#[inline(always)]
+pub fn elastic<R: Real, D: TensorOps<R>>(p: &SphParams<R>, m: R, rho: R, s: &D::Sym<R>) -> R {
+    let pr = pressure(p, rho);
+    let vol = m / rho;
+    vol * (D::double_dot(s) / (R::from_f64(4.0) * p.shear) + pr * pr / (R::from_f64(2.0) * p.bulk))
+}
+
+/// Von Mises equivalent stress √(3/2 S:S).
+#[inline(always)]
+pub fn von_mises<R: Real, D: TensorOps<R>>(s: &D::Sym<R>) -> R {
+    (R::from_f64(1.5) * D::double_dot(s)).sqrt()
+}

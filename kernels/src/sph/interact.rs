@@ -1,0 +1,191 @@
+//! The per-particle pre-pass and the pair interaction of "Algorithm 1" (roethlin-solver.md §4.1, §5.2 steps
+//! 4–10; klippel-constitutive.md §1.2), with the errata of §11 applied: continuity −ρ tr L (1), m_j (2), the
+//! viscosity acting as a pressure −Π_ij I (3), μ_ij with r² + η²h² (4), XSPH with m_j/ρ̄_ij (5), the EOS
+//! p = c0²(ρ − ρ0) (7), the correct cubic spline (24) and a cutoff relative to h (31).
+//!
+//! For sorted particle i, over neighbours j (j ≠ i, r < 2h), with V_j = m_j/ρ_j and ∇W_ij = W'(r) x_ij/r:
+//!   L_i   = Σ_j V_j (v_j − v_i) ⊗ ∇W_ij
+//!   v̇_i   = Σ_j m_j [σ_i/ρ_i² + σ_j/ρ_j² + f_ij^n (R_i + R_j) − Π_ij I] · ∇W_ij,   f_ij = W(r)/W(Δx)
+//!   ẋ_i   = v_i + ε_X Σ_j (m_j/ρ̄_ij)(v_j − v_i) W_ij
+//!   ρ̇_i   = −ρ_i tr L_i
+//!   Ṡ_i   = 2G (D_i − ⅓ tr D_i I) + W_i S_i − S_i W_i
+//! with Π_ij = (−α c̄ μ + β μ²)/ρ̄ for v_ij·x_ij < 0 (else 0), μ = h v_ij·x_ij/(r² + η²h²).
+//! Every pair term is evaluated in the same order on CPU and GPU (the cell-list gather order).
+
+use super::params::{SphParams, flags};
+use super::tensor::TensorOps;
+use crate::neighbour::{GridParams, for_each_neighbour};
+use crate::real::Real;
+use crate::vector::{Dim, Vector};
+
+/// Per-particle quantities the pair loop reads for every neighbour.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Prepared<R: Real, D: TensorOps<R>> {
+    /// σ/ρ² (σ = S − p I).
+    pub sig: D::Sym<R>,
+    /// Artificial stress R (zero when off).
+    pub art: D::Sym<R>,
+    /// Sound speed √(K/ρ) (for the viscosity).
+    pub c: R,
+}
+
+/// EOS p = c0² (ρ − ρ0), pressure positive in compression (roethlin-solver.md §2.3, erratum 7).
+#[inline(always)]
+pub fn pressure<R: Real>(p: &SphParams<R>, rho: R) -> R {
+    p.c0sq * (rho - p.rho0)
+}
+
+/// The pre-pass of one particle: EOS, σ/ρ², artificial stress and sound speed.
+#[inline(always)]
+pub fn prepare<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool>(
+    p: &SphParams<R>,
+    rho: R,
+    s: &D::Sym<R>,
+) -> Prepared<R, D> {
+    let pr = pressure(p, rho);
+    Prepared {
+        sig: D::stress_over_rho2(s, pr, rho),
+        art: if AS { D::artificial_stress(s, pr, rho, p.as_eps) } else { Default::default() },
+        c: if AV { (p.bulk / rho).sqrt() } else { R::ZERO },
+    }
+}
+
+/// Time derivatives of one particle.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Rates<R: Real, D: Dim> {
+    pub pos_t: D::Vec<R>,
+    pub vel_t: D::Vec<R>,
+    pub rho_t: R,
+    pub stress_t: D::Sym<R>,
+}
+
+/// Read-only views of the sorted particle arrays (raw pointers: the same code runs on CPU and GPU).
+#[derive(Clone, Copy)]
+pub struct Arrays<R: Real, D: Dim> {
+    pub pos: *const D::Vec<R>,
+    pub vel: *const D::Vec<R>,
+    pub rho: *const R,
+    pub mass: *const R,
+    pub stress: *const D::Sym<R>,
+    pub sig: *const D::Sym<R>,
+    /// Null unless the artificial stress is on.
+    pub art: *const D::Sym<R>,
+    /// Null unless the viscosity is on.
+    pub sound: *const R,
+    pub flags: *const u32,
+    /// Prescribed velocities, indexed by the flags' velocity index.
+    pub bc_vel: *const D::Vec<R>,
+}
+
+#[inline(always)]
+fn sub<R: Real, V: Vector<R>>(a: &V, b: &V) -> V {
+    V::new([a.get(0) - b.get(0), a.get(1) - b.get(1), a.get(2) - b.get(2)])
+}
+
+#[inline(always)]
+fn axpy<R: Real, V: Vector<R>>(acc: &mut V, w: R, x: &V) {
+    *acc = V::new([acc.get(0) + w * x.get(0), acc.get(1) + w * x.get(1), acc.get(2) + w * x.get(2)]);
+}
+
+#[inline(always)]
+fn dot<R: Real, V: Vector<R>>(a: &V, b: &V) -> R {
+    let mut s = a.get(0) * b.get(0) + a.get(1) * b.get(1);
+    if V::DIM == 3 {
+        s += a.get(2) * b.get(2);
+    }
+    s
+}
+
+/// The rates of sorted particle i. Boundary conditions are imposed here: a fixed particle gets ẋ = v̇ = 0, a
+/// prescribed-velocity particle ẋ = v_bc and v̇ = 0 (its velocity was set to v_bc at the start).
+///
+/// # Safety
+/// All arrays hold the sorted particles of the cell list `starts`/`grid`; `i` is in range; `art` and `sound`
+/// are valid when AS and AV are on.
+#[inline(always)]
+pub unsafe fn rates<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool>(
+    p: &SphParams<R>,
+    grid: &GridParams,
+    starts: *const u32,
+    a: &Arrays<R, D>,
+    i: u32,
+) -> Rates<R, D> {
+    let iu = i as usize;
+    let (xi, vi, rhoi) = unsafe { (*a.pos.add(iu), *a.vel.add(iu), *a.rho.add(iu)) };
+    let sigi = unsafe { *a.sig.add(iu) };
+    let arti = if AS { unsafe { *a.art.add(iu) } } else { Default::default() };
+    let ci = if AV { unsafe { *a.sound.add(iu) } } else { R::ZERO };
+    let k = &p.kernel;
+    let half = R::from_f64(0.5);
+    let mut l = D::Grad::default();
+    let mut acc = D::Vec::<R>::default();
+    let mut xsph = D::Vec::<R>::default();
+    unsafe {
+        for_each_neighbour::<R, D::Vec<R>, _>(grid, starts, &xi, |j| {
+            let ju = j as usize;
+            let xj = *a.pos.add(ju);
+            let xij = sub(&xi, &xj);
+            let r2 = dot(&xij, &xij);
+            if j == i || r2 >= k.support2 || r2 < p.min_r2 {
+                return;
+            }
+            let r = r2.sqrt();
+            let gw = {
+                let f = k.dw_dr(r) / r;
+                D::Vec::<R>::new([f * xij.get(0), f * xij.get(1), f * xij.get(2)])
+            };
+            let (vj, rhoj, mj) = (*a.vel.add(ju), *a.rho.add(ju), *a.mass.add(ju));
+            let dv = sub(&vj, &vi);
+            D::outer_add(&mut l, mj / rhoj, &dv, &gw);
+            let w = if AS || XSPH { k.w(r) } else { R::ZERO };
+            let fan = if AS {
+                let f = w * p.as_inv_w_dx;
+                let mut fnn = R::ONE;
+                let mut e = 0;
+                while e < p.as_exponent {
+                    fnn *= f;
+                    e += 1;
+                }
+                fnn
+            } else {
+                R::ZERO
+            };
+            let artj = if AS { *a.art.add(ju) } else { Default::default() };
+            let rho_bar = half * (rhoi + rhoj);
+            let pi = if AV {
+                let vx = -dot(&dv, &xij); // v_ij · x_ij with v_ij = v_i − v_j
+                if vx < R::ZERO {
+                    let mu = k.h * vx / (r2 + p.av_eta2h2);
+                    let c_bar = half * (ci + *a.sound.add(ju));
+                    (-p.av_alpha * c_bar * mu + p.av_beta * mu * mu) / rho_bar
+                } else {
+                    R::ZERO
+                }
+            } else {
+                R::ZERO
+            };
+            let f = D::pair_force(&sigi, &*a.sig.add(ju), fan, &arti, &artj, pi, &gw);
+            axpy(&mut acc, mj, &f);
+            if XSPH {
+                axpy(&mut xsph, mj / rho_bar * w, &dv);
+            }
+        })
+    };
+    let fl = unsafe { *a.flags.add(iu) };
+    let kind = fl & flags::KIND_MASK;
+    let si = unsafe { *a.stress.add(iu) };
+    let mut out =
+        Rates::<R, D> { pos_t: vi, vel_t: acc, rho_t: -rhoi * D::trace(&l), stress_t: D::jaumann(&l, &si, p.shear) };
+    if XSPH {
+        axpy(&mut out.pos_t, p.xsph_eps, &xsph);
+    }
+    if kind == flags::FIXED {
+        out.pos_t = Default::default();
+        out.vel_t = Default::default();
+    } else if kind == flags::VELOCITY {
+        let idx = ((fl >> flags::VEL_INDEX_SHIFT) & flags::VEL_INDEX_MASK) as usize;
+        out.pos_t = unsafe { *a.bc_vel.add(idx) };
+        out.vel_t = Default::default();
+    }
+    out
+}

@@ -1,0 +1,60 @@
+//! Constants of one SPH run, precomputed on the host and read by the kernels through one small buffer.
+
+use super::kernel::CubicSpline;
+use crate::real::Real;
+use bytemuck::{Pod, Zeroable};
+
+/// Material and stabiliser constants (roethlin-solver.md §4.1, §3.6; defaults α = β = 1, η = 0.1, ε_s = 0.3,
+/// n = 4, ε_X = 0.5). Which stabilisers run is chosen by the entry point (const generics), not read from here.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SphParams<R: Real> {
+    pub kernel: CubicSpline<R>,
+    /// Reference density ρ0 [kg/m³].
+    pub rho0: R,
+    /// c0² = K/ρ0 [m²/s²]; the EOS is p = c0² (ρ − ρ0).
+    pub c0sq: R,
+    /// Bulk modulus K = ρ0 c0² [Pa], for the particle sound speed c_i = √(K/ρ_i) of the viscosity.
+    pub bulk: R,
+    /// Shear modulus G [Pa].
+    pub shear: R,
+    /// Monaghan viscosity α, β and η² h² (the regulariser of μ_ij).
+    pub av_alpha: R,
+    pub av_beta: R,
+    pub av_eta2h2: R,
+    /// Artificial stress ε_s and 1/W(Δx) (f_ij = W(r)/W(Δx)); the exponent n is `as_exponent`.
+    pub as_eps: R,
+    pub as_inv_w_dx: R,
+    /// XSPH ε_X.
+    pub xsph_eps: R,
+    /// Pairs closer than this (squared) are skipped: coincident particles have no gradient direction
+    /// (erratum 31: relative to h, (1e-6 h)², not an absolute 1e-8).
+    pub min_r2: R,
+    pub as_exponent: u32,
+    pub _pad: u32,
+}
+
+// SAFETY: repr(C), fields of one float type followed by two u32; R is 4 or 8 bytes, so with 15 floats and two
+// u32 there is no padding for f32 (68 bytes) and none for f64 (128 bytes).
+unsafe impl<R: Real> Zeroable for SphParams<R> {}
+unsafe impl<R: Real> Pod for SphParams<R> {}
+
+/// Stabiliser switches of a run (the interaction entry point is chosen from them).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Stabilisers {
+    pub viscosity: bool,
+    pub stress: bool,
+    pub xsph: bool,
+}
+
+/// Particle flags: bits 0..8 the boundary-condition kind, 8..16 the index into the prescribed-velocity table,
+/// 16..32 the body index (for output and per-body diagnostics).
+pub mod flags {
+    pub const BODY_SHIFT: u32 = 16;
+    pub const FREE: u32 = 0;
+    pub const FIXED: u32 = 1;
+    pub const VELOCITY: u32 = 2;
+    pub const KIND_MASK: u32 = 0xff;
+    pub const VEL_INDEX_SHIFT: u32 = 8;
+    pub const VEL_INDEX_MASK: u32 = 0xff;
+}
