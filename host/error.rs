@@ -34,6 +34,11 @@ pub enum Error {
     /// The run produced a non-finite value; the last good frame was written before it.
     #[error("non-finite {field} at particle {id}, t = {time:e} s, step {step}; the last good frame is kept")]
     NonFinite { id: u32, field: &'static str, time: f64, step: u64 },
+    /// The largest speed grew so much that the stable time step collapsed: a numerical blow-up.
+    #[error(
+        "unstable: |v|max = {vmax:.3e} m/s needs dt = {dt:.3e} s, below 1 % of the initial {dt0:.3e} s (t = {time:e} s, step {step}); the last good frame is kept"
+    )]
+    Unstable { vmax: f64, dt: f64, dt0: f64, time: f64, step: u64 },
     #[error("{0}")]
     Io(#[from] std::io::Error),
 }

@@ -8,6 +8,7 @@ pub mod bench;
 pub mod error;
 pub mod grid;
 pub mod info;
+pub mod material;
 pub mod neighbour;
 pub mod output;
 pub mod ptx;

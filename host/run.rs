@@ -17,6 +17,9 @@ use crate::{Error, Result, with_backend};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+/// The run stops as unstable when the CFL step falls below this fraction of the initial one.
+pub const MIN_DT_FRACTION: f64 = 0.01;
+
 /// What `swarf run` was asked to do besides the scene.
 #[derive(Clone, Debug)]
 pub struct RunOptions {
@@ -223,6 +226,16 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(b: &B, scene: &Scene, opts: &
                 let limit = cfl_time_step(scene.time.cfl, s.h, s.c0, d.vmax);
                 if limit < dt {
                     dt = limit;
+                }
+                // A speed that has grown by orders of magnitude is a blow-up, not physics: stop instead of crawling.
+                if dt < MIN_DT_FRACTION * s.dt {
+                    return Err(Error::Unstable {
+                        vmax: d.vmax,
+                        dt,
+                        dt0: s.dt,
+                        time: solver.time,
+                        step: solver.steps,
+                    });
                 }
             }
             if !opts.quiet {

@@ -1,0 +1,1 @@
+//! The material library (cases/materials/): loading, listing and evaluating named parameter sets.
