@@ -10,7 +10,7 @@ pack=gpu-pack
 rm -rf "$pack" && mkdir -p "$pack"
 
 cargo build --release --bin swarf
-cp target/release/swarf "$pack/swarf"
+cp "${CARGO_TARGET_DIR:-target}/release/swarf" "$pack/swarf"
 
 # Test and bench executables, located through cargo's JSON messages.
 exe() { python3 -c 'import json,sys

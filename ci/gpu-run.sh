@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
-# Arguments select parts: info tests bench criterion (default: all).
+# Arguments select parts: info tests bench rings ptx criterion (default: all). Run from the repository root
+# (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 out=${OUT:-$PWD/gpu-logs}
 mkdir -p "$out"
-parts=${*:-info tests bench criterion}
+parts=${*:-info tests bench rings ptx criterion}
 export SWARF_REQUIRE_GPU=1
 status=0
 summary=()
@@ -28,6 +29,13 @@ for p in $parts; do
         tests) run test-gpu "$here/test-gpu" --test-threads=1
                run test-ptx "$here/test-ptx" ;;
         bench) run bench "$here/swarf" --backend gpu bench neighbours --sizes 1e6,4e6,16e6 --dims 2,3 --precision both ;;
+        rings) run rings-gpu "$here/swarf" --backend gpu bench rings --precision both
+               run rings-cpu "$here/swarf" --backend cpu bench rings --precision both --steps 20 ;;
+        ptx) # sm_80 PTX (JIT-compiled for the device) against the sm_90 build, same workloads
+             for t in sm_80 sm_90; do
+                 SWARF_PTX_TARGET=$t run "neighbours-$t" "$here/swarf" --backend gpu bench neighbours --sizes 16e6 --dims 2,3
+                 SWARF_PTX_TARGET=$t run "rings-$t" "$here/swarf" --backend gpu bench rings --nbox 400,800 --steps 2000
+             done ;;
         criterion) run criterion "$here/bench-neighbours" --bench --noplot ;;
     esac
 done

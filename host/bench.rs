@@ -167,3 +167,86 @@ pub fn row(t: &NeighbourTimes) -> String {
         t.density_2h
     )
 }
+
+/// One size of the rings scaling benchmark (roethlin-solver.md §8.2, Tab 6.5/6.6).
+#[derive(Clone, Debug)]
+pub struct RingsTimes {
+    pub nbox: usize,
+    pub n: usize,
+    pub precision: &'static str,
+    /// Steps to the thesis' end time 2.5 r_o/170 m/s with our Δt.
+    pub steps_total: u64,
+    pub steps_run: u64,
+    pub ms_per_step: f64,
+    /// Measured wall time of the whole run when it was run to the end, else ms/step × steps_total.
+    pub whole_run_s: f64,
+    pub measured_whole: bool,
+}
+
+/// Rubber rings with nbox lattice points per ring side (N = 4232 at nbox = 80): `steps` steps, or the whole run
+/// when `steps` is None. Timed from the first step (after setup and upload) to the end of the last.
+pub fn rings<B: Backend, R: Real, D: crate::kernels::sph::TensorOps<R>>(
+    b: &B,
+    scene_path: &std::path::Path,
+    nbox: usize,
+    steps: Option<u64>,
+) -> Result<RingsTimes> {
+    let dx = 0.08 / (nbox as f64 - 1.0);
+    let scene = crate::scene::Scene::load(scene_path, &[format!("discretisation.dx={dx:e}")])
+        .map_err(|e| crate::Error::Scene(e.to_string()))?;
+    let s = crate::run::setup::<R, D>(&scene)?;
+    let mut sv = crate::solver::Solver::<B, R, D>::new(
+        b,
+        &s.particles,
+        s.params,
+        s.stabilisers.switches(),
+        s.grid,
+        &s.bc_velocities,
+    )?;
+    let steps_total = (scene.time.end / s.dt).ceil() as u64;
+    let run = steps.unwrap_or(steps_total).min(steps_total).max(1);
+    // One warm-up step (module JIT, first allocations of the driver) outside the timing.
+    sv.step(b, s.dt)?;
+    b.synchronize()?;
+    let t = std::time::Instant::now();
+    for _ in 1..run {
+        sv.step(b, s.dt)?;
+    }
+    b.synchronize()?;
+    let wall = t.elapsed().as_secs_f64();
+    let ms = wall * 1e3 / (run - 1).max(1) as f64;
+    let measured = run == steps_total;
+    Ok(RingsTimes {
+        nbox,
+        n: s.particles.len(),
+        precision: R::NAME,
+        steps_total,
+        steps_run: run,
+        ms_per_step: ms,
+        whole_run_s: if measured {
+            wall * run as f64 / (run - 1).max(1) as f64
+        } else {
+            ms * 1e-3 * steps_total as f64
+        },
+        measured_whole: measured,
+    })
+}
+
+pub fn rings_header() -> String {
+    "| nbox | N | prec | steps (to 2.5 r_o/170 m/s) | ms/step | particle-steps/s | whole run s |\n|---|---|---|---|---|---|---|"
+        .to_string()
+}
+
+pub fn rings_row(t: &RingsTimes) -> String {
+    format!(
+        "| {} | {} | {} | {} | {:.4} | {:.3e} | {:.2}{} |",
+        t.nbox,
+        t.n,
+        t.precision,
+        t.steps_total,
+        t.ms_per_step,
+        t.n as f64 / (t.ms_per_step * 1e-3),
+        t.whole_run_s,
+        if t.measured_whole { "" } else { " (from ms/step)" }
+    )
+}

@@ -3,6 +3,7 @@
 //! The host crate orchestrates: it owns device memory, launches kernels on a [`backend::Backend`] (the CPU, or
 //! an NVIDIA GPU through CUDA) and never re-implements physics, which lives once in `swarf_kernels`.
 
+pub mod analysis;
 pub mod backend;
 pub mod bench;
 pub mod error;

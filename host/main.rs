@@ -53,6 +53,8 @@ enum PrecisionChoice {
 enum Workload {
     /// Cell-list build and state reorder, with the cell-h/cell-2h density comparison.
     Neighbours,
+    /// Röthlin's rubber-rings scaling series (2D, N = 4232 … 438 496), the thesis' P100 benchmark.
+    Rings,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -77,6 +79,15 @@ struct BenchArgs {
     /// Timed repetitions per configuration (the median is reported).
     #[arg(long, default_value_t = 10)]
     repeats: usize,
+    /// rings: lattice points per ring side, comma separated (N = 4232 at 80; the thesis series is 80, 160 … 800).
+    #[arg(long, value_delimiter = ',', default_value = "80,160,240,320,400,480,560,640,720,800")]
+    nbox: Vec<usize>,
+    /// rings: steps per size (default: the whole run to the thesis' end time).
+    #[arg(long)]
+    steps: Option<u64>,
+    /// rings: the scene file to scale.
+    #[arg(long, default_value = "cases/rings.toml")]
+    scene: std::path::PathBuf,
 }
 
 fn parse_count(s: &str) -> std::result::Result<usize, String> {
@@ -89,14 +100,28 @@ fn parse_count(s: &str) -> std::result::Result<usize, String> {
 }
 
 fn run_bench<B: Backend>(b: &B, a: &BenchArgs, sizes: &[usize]) -> Result<()> {
+    let precs: &[&str] = match a.precision {
+        PrecisionArg::F32 => &["f32"],
+        PrecisionArg::F64 => &["f64"],
+        PrecisionArg::Both => &["f64", "f32"],
+    };
+    if a.workload == Workload::Rings {
+        println!("{}", bench::rings_header());
+        for &p in precs {
+            for &k in &a.nbox {
+                let t = if p == "f32" {
+                    bench::rings::<B, f32, Dim2>(b, &a.scene, k, a.steps)?
+                } else {
+                    bench::rings::<B, f64, Dim2>(b, &a.scene, k, a.steps)?
+                };
+                println!("{}", bench::rings_row(&t));
+            }
+        }
+        return Ok(());
+    }
     println!("{}", bench::header());
     for &d in &a.dims {
         for &n in sizes {
-            let precs: &[&str] = match a.precision {
-                PrecisionArg::F32 => &["f32"],
-                PrecisionArg::F64 => &["f64"],
-                PrecisionArg::Both => &["f32", "f64"],
-            };
             for &p in precs {
                 let t = match (d, p) {
                     (2, "f32") => one::<B, f32, Dim2>(b, n, a.repeats)?,

@@ -44,14 +44,36 @@ pub struct RunReport {
     pub history: Vec<Diagnostics>,
 }
 
+/// The state at an output step, widened to f64, for observers (tests, analyses).
+pub struct Snapshot<'a> {
+    pub diagnostics: &'a Diagnostics,
+    pub id: &'a [u32],
+    pub pos: Vec<[f64; 3]>,
+    pub vel: Vec<[f64; 3]>,
+    /// Body index of each particle.
+    pub body: Vec<u32>,
+}
+
 /// Runs `scene` on the chosen backend.
 pub fn run(any: &AnyBackend, scene: &Scene, opts: &RunOptions) -> Result<RunReport> {
+    run_observed(any, scene, opts, None)
+}
+
+/// Runs `scene`, calling `observer` at every output step (after the frame is written); the observer returns
+/// `false` to stop the run there.
+pub fn run_observed(
+    any: &AnyBackend,
+    scene: &Scene,
+    opts: &RunOptions,
+    observer: Option<&mut dyn FnMut(&Snapshot) -> bool>,
+) -> Result<RunReport> {
     let precision = opts.precision.unwrap_or(scene.precision);
+    let obs = observer;
     with_backend!(any, b => match (scene.dim, precision) {
-        (2, Precision::F32) => run_typed::<_, f32, Dim2>(b, scene, opts),
-        (2, Precision::F64) => run_typed::<_, f64, Dim2>(b, scene, opts),
-        (_, Precision::F32) => run_typed::<_, f32, Dim3>(b, scene, opts),
-        (_, Precision::F64) => run_typed::<_, f64, Dim3>(b, scene, opts),
+        (2, Precision::F32) => run_typed::<_, f32, Dim2>(b, scene, opts, obs),
+        (2, Precision::F64) => run_typed::<_, f64, Dim2>(b, scene, opts, obs),
+        (_, Precision::F32) => run_typed::<_, f32, Dim3>(b, scene, opts, obs),
+        (_, Precision::F64) => run_typed::<_, f64, Dim3>(b, scene, opts, obs),
     })
 }
 
@@ -147,7 +169,12 @@ pub fn setup<R: Real, D: TensorOps<R>>(scene: &Scene) -> Result<Setup<R, D>> {
     Ok(Setup { particles, params, stabilisers, bc_velocities: table.iter().map(conv).collect(), grid, dt, c0, h })
 }
 
-fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(b: &B, scene: &Scene, opts: &RunOptions) -> Result<RunReport> {
+fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
+    b: &B,
+    scene: &Scene,
+    opts: &RunOptions,
+    mut observer: Option<&mut dyn FnMut(&Snapshot) -> bool>,
+) -> Result<RunReport> {
     let s = setup::<R, D>(scene)?;
     let n = s.particles.len();
     std::fs::create_dir_all(&opts.out_dir).map_err(|e| io_err(&opts.out_dir, e))?;
@@ -229,13 +256,7 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(b: &B, scene: &Scene, opts: &
                 }
                 // A speed that has grown by orders of magnitude is a blow-up, not physics: stop instead of crawling.
                 if dt < MIN_DT_FRACTION * s.dt {
-                    return Err(Error::Unstable {
-                        vmax: d.vmax,
-                        dt,
-                        dt0: s.dt,
-                        time: solver.time,
-                        step: solver.steps,
-                    });
+                    return Err(Error::Unstable { vmax: d.vmax, dt, dt0: s.dt, time: solver.time, step: solver.steps });
                 }
             }
             if !opts.quiet {
@@ -249,8 +270,18 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(b: &B, scene: &Scene, opts: &
                     d.step as f64 / el.max(1e-9)
                 );
             }
+            let keep_going = match observer.as_deref_mut() {
+                Some(f) => f(&Snapshot {
+                    diagnostics: &d,
+                    id: &host.id,
+                    pos: crate::analysis::positions_f64::<R, _>(&host.pos),
+                    vel: crate::analysis::positions_f64::<R, _>(&host.vel),
+                    body: host.flags.iter().map(|f| f >> flags::BODY_SHIFT).collect(),
+                }),
+                None => true,
+            };
             history.push(d);
-            if solver.time >= end - 1e-9 * dt {
+            if !keep_going || solver.time >= end - 1e-9 * dt {
                 break;
             }
         }

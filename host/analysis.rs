@@ -1,0 +1,78 @@
+//! Analyses of particle states used by tests and reports.
+
+use crate::backend::{Backend, CpuBackend};
+use crate::grid::{bounding_box, grid_for_support};
+use crate::kernels::vector::V3f64;
+use crate::kernels::{Dim3, Real};
+use crate::neighbour::CellList;
+use crate::{Error, Result};
+
+/// Number of connected components of each group (body) of particles, where two particles of the same group are
+/// connected when closer than `radius`. Numerical fracture shows as a body splitting into several components
+/// (roethlin-solver.md AT-68/AT-69). Positions are 3-vectors (z = 0 in 2D); the search reuses the cell list.
+pub fn components_per_group(pos: &[[f64; 3]], group: &[u32], radius: f64) -> Result<Vec<usize>> {
+    if pos.len() != group.len() {
+        return Err(Error::Length { op: "components_per_group", expected: pos.len(), got: group.len() });
+    }
+    let n = pos.len();
+    let groups = group.iter().copied().max().map_or(0, |g| g as usize + 1);
+    if n == 0 {
+        return Ok(vec![0; groups]);
+    }
+    let b = CpuBackend::new();
+    let p: Vec<V3f64> = pos.iter().map(|x| V3f64([x[0], x[1], x[2], 0.0])).collect();
+    let (lo, hi) = bounding_box::<f64, V3f64>(&p);
+    let grid = grid_for_support(lo, hi, 3, radius, 2)?;
+    let mut cl = CellList::new(&b, grid, n)?;
+    cl.build::<f64, Dim3>(&b, &p)?;
+    let sorted: Vec<V3f64> = cl.perm.iter().map(|&i| p[i as usize]).collect();
+    let mut counts = vec![0u32; n];
+    let mut none = Vec::new();
+    let r2 = radius * radius;
+    b.neighbour_list::<f64, Dim3>(n, &sorted, &cl.grid_buf, &cl.starts, r2, None, &mut counts, &mut none)?;
+    let mut off = vec![0u32; n + 1];
+    for i in 0..n {
+        off[i + 1] = off[i] + counts[i];
+    }
+    let mut list = vec![0u32; off[n] as usize];
+    b.neighbour_list::<f64, Dim3>(n, &sorted, &cl.grid_buf, &cl.starts, r2, Some(&off), &mut counts, &mut list)?;
+    // Union–find over original indices.
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn find(p: &mut [usize], mut a: usize) -> usize {
+        while p[a] != a {
+            p[a] = p[p[a]];
+            a = p[a];
+        }
+        a
+    }
+    for s in 0..n {
+        let i = cl.perm[s] as usize;
+        for &t in &list[off[s] as usize..off[s + 1] as usize] {
+            let j = cl.perm[t as usize] as usize;
+            if group[i] == group[j] {
+                let (a, c) = (find(&mut parent, i), find(&mut parent, j));
+                if a != c {
+                    parent[a] = c;
+                }
+            }
+        }
+    }
+    let mut roots = vec![Vec::new(); groups];
+    for i in 0..n {
+        let r = find(&mut parent, i);
+        roots[group[i] as usize].push(r);
+    }
+    Ok(roots
+        .into_iter()
+        .map(|mut r| {
+            r.sort_unstable();
+            r.dedup();
+            r.len()
+        })
+        .collect())
+}
+
+/// Widens a run's positions to f64 3-vectors.
+pub fn positions_f64<R: Real, V: crate::kernels::Vector<R>>(pos: &[V]) -> Vec<[f64; 3]> {
+    pos.iter().map(|p| std::array::from_fn(|k| p.get(k).to_f64())).collect()
+}
