@@ -12,6 +12,7 @@ pub mod info;
 pub mod material;
 pub mod neighbour;
 pub mod output;
+pub mod plot;
 pub mod ptx;
 pub mod rng;
 pub mod run;

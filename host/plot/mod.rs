@@ -1,0 +1,1 @@
+//! PNG plots of a run's time series (energies, momenta; later forces and temperatures).
