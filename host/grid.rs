@@ -17,8 +17,10 @@ pub fn grid_with_cell(lo: [f64; 3], hi: [f64; 3], dim: usize, cell: f64, stencil
     if !(cell.is_finite() && cell > 0.0) {
         return Err(Error::Grid(format!("cell size must be positive and finite, got {cell}")));
     }
-    if !(stencil == 1 || stencil == 2) {
-        return Err(Error::Grid(format!("stencil must be 1 (cell 2h) or 2 (cell h), got {stencil}")));
+    if !(1..=3).contains(&stencil) {
+        return Err(Error::Grid(format!(
+            "stencil must be 1 (cell 2h), 2 (cell h) or 3 (cell h, PSE conduction to 3h), got {stencil}"
+        )));
     }
     let mut dims = [1u32; 3];
     let mut total: u64 = 1;

@@ -214,7 +214,7 @@ fn grid_construction_refuses_bad_input() {
         (grid_for_support(lo, hi, 2, 0.0, 2), "zero support"),
         (grid_for_support(lo, hi, 2, f64::NAN, 2), "NaN support"),
         (grid_for_support(lo, hi, 4, 0.1, 2), "dimension 4"),
-        (grid_for_support(lo, hi, 2, 0.1, 3), "stencil 3"),
+        (grid_for_support(lo, hi, 2, 0.1, 4), "stencil 4"),
         (grid_for_support(lo, [1.0, -1.0, 0.0], 2, 0.1, 2), "inverted box"),
         (grid_for_support(lo, [1e6; 3], 3, 1e-3, 2), "too many cells"),
     ] {

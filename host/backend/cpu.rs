@@ -2,9 +2,10 @@
 //! the counting sort runs sequentially, which makes its arrival order the index order, so its permutation is
 //! the stable one by construction (the GPU restores the same order with `sort_cells`).
 
-use super::{Backend, Buffer, DeviceInfo, Element, FieldsMut, FieldsRef, SphInputs};
+use super::{Backend, Buffer, DeviceInfo, Element, FieldsMut, FieldsRef, HeatInputs, SphInputs};
 use crate::kernels::neighbour::search::neighbour_row;
 use crate::kernels::neighbour::{GridParams, sort::sort_cell};
+use crate::kernels::sph::heat::{HeatArrays, HeatParams, heat_rate};
 use crate::kernels::sph::integrate::{advance_sym, advance_vec};
 use crate::kernels::sph::interact::{Arrays, prepare, rates};
 use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers, TensorOps, density::density_sum};
@@ -84,6 +85,12 @@ impl SendPtr {
         self.0.is_null()
     }
 }
+
+/// The conduction pass's array views, shared by parallel tasks that only read through them.
+struct SendHeat<R: Real, V: crate::kernels::Vector<R>>(HeatArrays<R, V>);
+// SAFETY: read-only views of buffers that outlive the parallel loop.
+unsafe impl<R: Real, V: crate::kernels::Vector<R>> Send for SendHeat<R, V> {}
+unsafe impl<R: Real, V: crate::kernels::Vector<R>> Sync for SendHeat<R, V> {}
 
 /// The kernel crate's array views, shared by parallel tasks that only read through them.
 struct SendArrays<R: Real, D: Dim>(Arrays<R, D>);
@@ -480,6 +487,74 @@ impl Backend for CpuBackend {
             .zip(y0.stress[..n].par_iter())
             .zip(r.stress[..n].par_iter())
             .for_each(|((x, x0), xt)| *x = advance_sym(x0, c, xt));
+        Ok(())
+    }
+
+    fn heat_rates<R: Real, D: Dim>(
+        &self,
+        n: usize,
+        pse: bool,
+        hp: &Vec<HeatParams>,
+        params: &Vec<SphParams<R>>,
+        grid: &Vec<GridParams>,
+        starts: &Vec<u32>,
+        input: &HeatInputs<'_, Self, R, D>,
+        temp_t: &mut Vec<f64>,
+    ) -> Result<()> {
+        for (what, len) in [
+            ("pos", input.pos.len()),
+            ("rho", input.rho.len()),
+            ("mass", input.mass.len()),
+            ("temp", input.temp.len()),
+            ("flags", input.flags.len()),
+            ("temp_t", temp_t.len()),
+        ] {
+            check(what, n, len)?;
+        }
+        check("heat_rates starts", grid[0].n_cells as usize + 2, starts.len())?;
+        let bodies =
+            input.flags[..n].iter().map(|f| (f >> crate::kernels::sph::params::flags::BODY_SHIFT) as usize + 1).max();
+        check("heat_rates materials", bodies.unwrap_or(0), input.materials.len())?;
+        let (h, k, g) = (hp[0], params[0].kernel, grid[0]);
+        let a = SendHeat(HeatArrays::<R, D::Vec<R>> {
+            pos: input.pos.as_ptr(),
+            rho: input.rho.as_ptr(),
+            mass: input.mass.as_ptr(),
+            temp: input.temp.as_ptr(),
+            flags: input.flags.as_ptr(),
+            materials: input.materials.as_ptr(),
+        });
+        let st = SendPtr(starts.as_ptr() as *mut u32);
+        temp_t[..n].par_iter_mut().enumerate().for_each(|(i, t)| {
+            let a = &a;
+            // SAFETY: lengths checked above; every body index has a material.
+            *t = unsafe {
+                if pse {
+                    heat_rate::<R, D::Vec<R>, true>(&h, &k, &g, st.get(), &a.0, i as u32)
+                } else {
+                    heat_rate::<R, D::Vec<R>, false>(&h, &k, &g, st.get(), &a.0, i as u32)
+                }
+            };
+        });
+        Ok(())
+    }
+
+    fn scalar_predict(&self, n: usize, c: f64, y: &mut Vec<f64>, y0: &mut Vec<f64>, yt: &Vec<f64>) -> Result<()> {
+        check("scalar_predict", n, y.len().min(y0.len()).min(yt.len()))?;
+        y[..n].par_iter_mut().zip(y0[..n].par_iter_mut()).zip(yt[..n].par_iter()).for_each(|((v, v0), t)| {
+            *v0 = *v;
+            *v = *v0 + c * *t;
+        });
+        Ok(())
+    }
+
+    fn scalar_correct(&self, n: usize, c: f64, y: &mut Vec<f64>, y0: &Vec<f64>, yt: &Vec<f64>) -> Result<()> {
+        check("scalar_correct", n, y.len().min(y0.len()).min(yt.len()))?;
+        y[..n]
+            .par_iter_mut()
+            .zip(y0[..n].par_iter())
+            .zip(yt[..n].par_iter())
+            .for_each(|((v, v0), t)| *v = *v0 + c * *t);
         Ok(())
     }
 }

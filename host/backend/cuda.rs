@@ -2,8 +2,9 @@
 //! binary builds and runs without any CUDA installation and uses the GPU where a driver and device exist.
 //! One stream, no event tracking: every launch is ordered after the previous one.
 
-use super::{Backend, Buffer, DeviceInfo, Element, FieldsMut, FieldsRef, SCAN_TILE, SphInputs};
+use super::{Backend, Buffer, DeviceInfo, Element, FieldsMut, FieldsRef, HeatInputs, SCAN_TILE, SphInputs};
 use crate::kernels::neighbour::GridParams;
+use crate::kernels::sph::heat::HeatParams;
 use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers, TensorOps};
 use crate::kernels::{Dim, Real};
 use crate::{Error, Result};
@@ -27,12 +28,22 @@ pub fn kernel_names() -> Vec<String> {
         "swarf_gather_b4",
         "swarf_gather_b8",
         "swarf_gather_b16",
+        "swarf_scalar_predict",
+        "swarf_scalar_correct",
     ]
     .iter()
     .map(|s| s.to_string())
     .collect();
     for var in VARIANTS {
-        for base in ["swarf_hash", "swarf_neighbour_list", "swarf_density", "swarf_sph_predict", "swarf_sph_correct"] {
+        for base in [
+            "swarf_hash",
+            "swarf_neighbour_list",
+            "swarf_density",
+            "swarf_sph_predict",
+            "swarf_sph_correct",
+            "swarf_heat_brookshaw",
+            "swarf_heat_pse",
+        ] {
             v.push(format!("{base}_{var}"));
         }
         for c in 0..4 {
@@ -99,6 +110,10 @@ fn real_arg<R: Real>(x: R) -> Arg {
 }
 
 struct Kernels {
+    heat_brookshaw: Variants,
+    heat_pse: Variants,
+    scalar_predict: CudaFunction,
+    scalar_correct: CudaFunction,
     sph_prepare: Vec<Variants>,
     sph_rates: Vec<Variants>,
     sph_predict: Variants,
@@ -167,6 +182,10 @@ impl CudaBackend {
             ]))
         };
         let k = Kernels {
+            heat_brookshaw: v("swarf_heat_brookshaw", "")?,
+            heat_pse: v("swarf_heat_pse", "")?,
+            scalar_predict: f("swarf_scalar_predict")?,
+            scalar_correct: f("swarf_scalar_correct")?,
             sph_prepare: (0..4).map(|c| v("swarf_sph_prepare", &prepare_suffix(c))).collect::<Result<_>>()?,
             sph_rates: (0..8).map(|c| v("swarf_sph_rates", &rates_suffix(c))).collect::<Result<_>>()?,
             sph_predict: v("swarf_sph_predict", "")?,
@@ -601,5 +620,70 @@ impl Backend for CudaBackend {
             Arg::U64(self.ptr(r.stress)),
         ];
         self.launch(&self.k.sph_correct.0[variant::<R, D>()], n, BLOCK, &args)
+    }
+
+    fn heat_rates<R: Real, D: Dim>(
+        &self,
+        n: usize,
+        pse: bool,
+        hp: &CudaBuf<HeatParams>,
+        params: &CudaBuf<SphParams<R>>,
+        grid: &CudaBuf<GridParams>,
+        starts: &CudaBuf<u32>,
+        i: &HeatInputs<'_, Self, R, D>,
+        temp_t: &mut CudaBuf<f64>,
+    ) -> Result<()> {
+        let args = [
+            Arg::U32(n as u32),
+            Arg::U64(self.ptr(hp)),
+            Arg::U64(self.ptr(params)),
+            Arg::U64(self.ptr(grid)),
+            Arg::U64(self.ptr(starts)),
+            Arg::U64(self.ptr(i.pos)),
+            Arg::U64(self.ptr(i.rho)),
+            Arg::U64(self.ptr(i.mass)),
+            Arg::U64(self.ptr(i.temp)),
+            Arg::U64(self.ptr(i.flags)),
+            Arg::U64(self.ptr(i.materials)),
+            Arg::U64(self.ptr_mut(temp_t)),
+        ];
+        let f = if pse { &self.k.heat_pse } else { &self.k.heat_brookshaw };
+        self.launch(&f.0[variant::<R, D>()], n, BLOCK, &args)
+    }
+
+    fn scalar_predict(
+        &self,
+        n: usize,
+        c: f64,
+        y: &mut CudaBuf<f64>,
+        y0: &mut CudaBuf<f64>,
+        yt: &CudaBuf<f64>,
+    ) -> Result<()> {
+        let args = [
+            Arg::U32(n as u32),
+            Arg::F64(c),
+            Arg::U64(self.ptr_mut(y)),
+            Arg::U64(self.ptr_mut(y0)),
+            Arg::U64(self.ptr(yt)),
+        ];
+        self.launch(&self.k.scalar_predict, n, BLOCK, &args)
+    }
+
+    fn scalar_correct(
+        &self,
+        n: usize,
+        c: f64,
+        y: &mut CudaBuf<f64>,
+        y0: &CudaBuf<f64>,
+        yt: &CudaBuf<f64>,
+    ) -> Result<()> {
+        let args = [
+            Arg::U32(n as u32),
+            Arg::F64(c),
+            Arg::U64(self.ptr_mut(y)),
+            Arg::U64(self.ptr(y0)),
+            Arg::U64(self.ptr(yt)),
+        ];
+        self.launch(&self.k.scalar_correct, n, BLOCK, &args)
     }
 }

@@ -7,6 +7,7 @@ pub mod cuda;
 
 use crate::Result;
 use crate::kernels::neighbour::GridParams;
+use crate::kernels::sph::heat::{HeatParams, ThermalMaterial};
 use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers, TensorOps};
 use crate::kernels::{Dim, Real};
 use bytemuck::Pod;
@@ -162,6 +163,38 @@ pub trait Backend: Sized + Send + Sync {
         y0: FieldsMut<'_, Self, R, D>,
         rates: FieldsRef<'_, Self, R, D>,
     ) -> Result<()>;
+    /// Conduction rates Ṫ (`sph::heat::heat_rate`), Brookshaw or (`pse`) PSE; `grid` has stencil 2 for
+    /// Brookshaw and 3 for PSE.
+    #[allow(clippy::too_many_arguments)]
+    fn heat_rates<R: Real, D: Dim>(
+        &self,
+        n: usize,
+        pse: bool,
+        hp: &Self::Buf<HeatParams>,
+        params: &Self::Buf<SphParams<R>>,
+        grid: &Self::Buf<GridParams>,
+        starts: &Self::Buf<u32>,
+        input: &HeatInputs<'_, Self, R, D>,
+        temp_t: &mut Self::Buf<f64>,
+    ) -> Result<()>;
+    /// Predictor of an f64 scalar field: y0 ← y, y ← y0 + c ẏ.
+    fn scalar_predict(
+        &self,
+        n: usize,
+        c: f64,
+        y: &mut Self::Buf<f64>,
+        y0: &mut Self::Buf<f64>,
+        yt: &Self::Buf<f64>,
+    ) -> Result<()>;
+    /// Corrector of an f64 scalar field: y ← y0 + c ẏ.
+    fn scalar_correct(
+        &self,
+        n: usize,
+        c: f64,
+        y: &mut Self::Buf<f64>,
+        y0: &Self::Buf<f64>,
+        yt: &Self::Buf<f64>,
+    ) -> Result<()>;
     /// Corrector: y ← y0 + c ẏ.
     fn sph_correct<R: Real, D: Dim>(
         &self,
@@ -206,6 +239,16 @@ pub struct SphInputs<'a, B: Backend, R: Real, D: Dim> {
     pub flags: &'a B::Buf<u32>,
     /// Prescribed velocities, indexed by the flags' velocity index.
     pub bc_vel: &'a B::Buf<D::Vec<R>>,
+}
+
+/// Read-only inputs of the conduction pass, all in sorted order.
+pub struct HeatInputs<'a, B: Backend, R: Real, D: Dim> {
+    pub pos: &'a B::Buf<D::Vec<R>>,
+    pub rho: &'a B::Buf<R>,
+    pub mass: &'a B::Buf<R>,
+    pub temp: &'a B::Buf<f64>,
+    pub flags: &'a B::Buf<u32>,
+    pub materials: &'a B::Buf<ThermalMaterial>,
 }
 
 /// Elements per tile of the GPU scan (kernels/src/ptx/scan.rs).

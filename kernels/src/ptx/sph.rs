@@ -245,3 +245,66 @@ rates_entry!(swarf_sph_rates_3d_f64_v1s0x1, f64, Dim3, true, false, true);
 rates_entry!(swarf_sph_rates_3d_f64_v1s1x0, f64, Dim3, true, true, false);
 rates_entry!(swarf_sph_rates_3d_f64_v1s1x1, f64, Dim3, true, true, true);
 step_entries!(swarf_sph_predict_3d_f64, swarf_sph_correct_3d_f64, f64, Dim3);
+
+use crate::sph::heat::{HeatArrays, HeatParams, ThermalMaterial, heat_rate};
+
+/// Conduction: temp_t[i] = Ṫ_i (sph::heat::heat_rate), Brookshaw or PSE.
+macro_rules! heat_entry {
+    ($name:ident, $r:ty, $d:ty, $pse:literal) => {
+        #[unsafe(no_mangle)]
+        pub unsafe extern "ptx-kernel" fn $name(
+            n: u32,
+            hp: *const HeatParams,
+            params: *const SphParams<$r>,
+            grid: *const GridParams,
+            starts: *const u32,
+            pos: *const Vec_<$r, $d>,
+            rho: *const $r,
+            mass: *const $r,
+            temp: *const f64,
+            flags: *const u32,
+            materials: *const ThermalMaterial,
+            temp_t: *mut f64,
+        ) {
+            let i = global_index();
+            if i < n {
+                let a = HeatArrays::<$r, Vec_<$r, $d>> { pos, rho, mass, temp, flags, materials };
+                unsafe {
+                    *temp_t.add(i as usize) =
+                        heat_rate::<$r, Vec_<$r, $d>, $pse>(&*hp, &(*params).kernel, &*grid, starts, &a, i);
+                }
+            }
+        }
+    };
+}
+
+heat_entry!(swarf_heat_brookshaw_2d_f32, f32, Dim2, false);
+heat_entry!(swarf_heat_brookshaw_2d_f64, f64, Dim2, false);
+heat_entry!(swarf_heat_brookshaw_3d_f32, f32, Dim3, false);
+heat_entry!(swarf_heat_brookshaw_3d_f64, f64, Dim3, false);
+heat_entry!(swarf_heat_pse_2d_f32, f32, Dim2, true);
+heat_entry!(swarf_heat_pse_2d_f64, f64, Dim2, true);
+heat_entry!(swarf_heat_pse_3d_f32, f32, Dim3, true);
+heat_entry!(swarf_heat_pse_3d_f64, f64, Dim3, true);
+
+/// Predictor for an f64 scalar field: y0 ← y; y ← y0 + c ẏ.
+#[unsafe(no_mangle)]
+pub unsafe extern "ptx-kernel" fn swarf_scalar_predict(n: u32, c: f64, y: *mut f64, y0: *mut f64, yt: *const f64) {
+    let i = global_index() as usize;
+    if i < n as usize {
+        unsafe {
+            let v = *y.add(i);
+            *y0.add(i) = v;
+            *y.add(i) = v + c * *yt.add(i);
+        }
+    }
+}
+
+/// Corrector for an f64 scalar field: y ← y0 + c ẏ.
+#[unsafe(no_mangle)]
+pub unsafe extern "ptx-kernel" fn swarf_scalar_correct(n: u32, c: f64, y: *mut f64, y0: *const f64, yt: *const f64) {
+    let i = global_index() as usize;
+    if i < n as usize {
+        unsafe { *y.add(i) = *y0.add(i) + c * *yt.add(i) };
+    }
+}

@@ -3,6 +3,7 @@
 pub mod density;
 pub mod eigen;
 pub mod energy;
+pub mod heat;
 pub mod integrate;
 pub mod interact;
 pub mod kernel;

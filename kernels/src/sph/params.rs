@@ -47,14 +47,16 @@ pub struct Stabilisers {
     pub xsph: bool,
 }
 
-/// Particle flags: bits 0..8 the boundary-condition kind, 8..16 the index into the prescribed-velocity table,
-/// 16..32 the body index (for output and per-body diagnostics).
+/// Particle flags: bits 0..7 the mechanical boundary-condition kind, bit 7 a fixed temperature, 8..16 the index
+/// into the prescribed-velocity table, 16..32 the body index (materials, output, per-body diagnostics).
 pub mod flags {
     pub const BODY_SHIFT: u32 = 16;
+    /// Held at its initial temperature (no conduction, no heating).
+    pub const FIXED_TEMPERATURE: u32 = 0x80;
     pub const FREE: u32 = 0;
     pub const FIXED: u32 = 1;
     pub const VELOCITY: u32 = 2;
-    pub const KIND_MASK: u32 = 0xff;
+    pub const KIND_MASK: u32 = 0x7f;
     pub const VEL_INDEX_SHIFT: u32 = 8;
     pub const VEL_INDEX_MASK: u32 = 0xff;
 }

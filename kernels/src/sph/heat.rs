@@ -1,0 +1,113 @@
+//! Heat conduction (roethlin-solver.md §2.5, §3.4; klippel-constitutive.md §1.2):
+//! ρ_i c_i Ṫ_i = Σ_j V_j k_ij · L_ij(T), with V_j = m_j/ρ_j and the conductivity of a pair k_ij = 2 k_i k_j/(k_i + k_j)
+//! (the harmonic mean: heat leaving i equals heat entering j between different materials; for one material
+//! it is k and the sum is α ∇²T of the theses).
+//!
+//! Brookshaw (4.70): L_ij = 2 (T_i − T_j) W'(r)/r. Since W' < 0, every pair moves heat from the hotter to the
+//! colder particle (H12), on any particle arrangement.
+//! PSE (4.74): L_ij = (T_j − T_i) K(r), K = 4/(π h⁴) e^(−r²/h²) in 2D and 4/(π^(3/2) h⁵) e^(−r²/h²) in 3D (second
+//! moment 2 per axis, so Σ V_j (f_j − f_i) K → ∇²f). The Gaussian needs neighbours to 3h: with the theses' 2h
+//! stencil the Laplacian of x² + y² comes out 13 % low (AT-11, erratum 26); the PSE pass uses a ±3 cell stencil.
+//!
+//! Temperatures are f64 in every precision (with the plastic state: the constitutive layer is f64).
+
+use super::kernel::CubicSpline;
+use crate::neighbour::{GridParams, for_each_neighbour};
+use crate::real::Real;
+use crate::vector::Vector;
+use bytemuck::{Pod, Zeroable};
+
+/// Thermal constants of one material (indexed by the particle's body).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct ThermalMaterial {
+    /// Conductivity k [W/(m K)].
+    pub conductivity: f64,
+    /// Specific heat c_p [J/(kg K)].
+    pub specific_heat: f64,
+}
+
+/// Kernel constants of the conduction pass.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct HeatParams {
+    /// Normalisation of the PSE Gaussian (dimension dependent).
+    pub pse_norm: f64,
+    /// 1/h².
+    pub inv_h2: f64,
+    /// Squared cutoff of the PSE sum ((3h)²).
+    pub pse_cut2: f64,
+    /// Pairs closer than this (squared) are skipped (as in the momentum pass).
+    pub min_r2: f64,
+}
+
+impl HeatParams {
+    pub fn new(h: f64, dim: usize) -> Self {
+        let pi = core::f64::consts::PI;
+        let norm = if dim == 3 { 4.0 / (pi * libm::sqrt(pi) * h * h * h * h * h) } else { 4.0 / (pi * h * h * h * h) };
+        HeatParams { pse_norm: norm, inv_h2: 1.0 / (h * h), pse_cut2: 9.0 * h * h, min_r2: (1e-6 * h) * (1e-6 * h) }
+    }
+}
+
+/// Read-only inputs of the conduction pass, sorted order.
+#[derive(Clone, Copy)]
+pub struct HeatArrays<R: Real, V: Vector<R>> {
+    pub pos: *const V,
+    pub rho: *const R,
+    pub mass: *const R,
+    pub temp: *const f64,
+    pub flags: *const u32,
+    /// Thermal materials, indexed by the body index in the flags.
+    pub materials: *const ThermalMaterial,
+}
+
+/// Ṫ_i from conduction. `PSE` selects the Gaussian kernel (else Brookshaw); `grid` must have stencil 2 for
+/// Brookshaw and 3 for PSE. Particles flagged with a fixed temperature get Ṫ = 0.
+///
+/// # Safety
+/// Arrays hold the sorted particles of `starts`; `i` is in range; every body index has a material.
+#[inline(always)]
+pub unsafe fn heat_rate<R: Real, V: Vector<R>, const PSE: bool>(
+    hp: &HeatParams,
+    k: &CubicSpline<R>,
+    grid: &GridParams,
+    starts: *const u32,
+    a: &HeatArrays<R, V>,
+    i: u32,
+) -> f64 {
+    use super::params::flags;
+    let iu = i as usize;
+    let fl = unsafe { *a.flags.add(iu) };
+    if fl & flags::FIXED_TEMPERATURE != 0 {
+        return 0.0;
+    }
+    let mi = unsafe { *a.materials.add((fl >> flags::BODY_SHIFT) as usize) };
+    let (xi, ti) = unsafe { (*a.pos.add(iu), *a.temp.add(iu)) };
+    let cut2 = if PSE { R::from_f64(hp.pse_cut2) } else { k.support2 };
+    let min_r2 = R::from_f64(hp.min_r2);
+    let mut sum = 0.0f64;
+    unsafe {
+        for_each_neighbour::<R, V, _>(grid, starts, &xi, |j| {
+            let ju = j as usize;
+            let r2 = xi.dist2(&*a.pos.add(ju));
+            if j == i || r2 >= cut2 || r2 < min_r2 {
+                return;
+            }
+            let fj = *a.flags.add(ju);
+            let mj = *a.materials.add((fj >> flags::BODY_SHIFT) as usize);
+            let kij = 2.0 * mi.conductivity * mj.conductivity / (mi.conductivity + mj.conductivity);
+            let vj = (*a.mass.add(ju) / *a.rho.add(ju)).to_f64();
+            let tj = *a.temp.add(ju);
+            if PSE {
+                let r2f = r2.to_f64();
+                sum += vj * kij * (tj - ti) * hp.pse_norm * libm::exp(-r2f * hp.inv_h2);
+            } else {
+                let r = r2.sqrt();
+                let f = (k.dw_dr(r) / r).to_f64();
+                sum += vj * kij * 2.0 * (ti - tj) * f;
+            }
+        })
+    };
+    let rho_i = unsafe { *a.rho.add(iu) }.to_f64();
+    sum / (rho_i * mi.specific_heat)
+}
