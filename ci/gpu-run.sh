@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
-# Arguments select parts: info tests bench rings ptx criterion (default: all). Run from the repository root
+# Arguments select parts: info tests bench rings ptx plasticity runs criterion (default: all but ptx). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 out=${OUT:-$PWD/gpu-logs}
 mkdir -p "$out"
-parts=${*:-info tests bench rings ptx criterion}
+parts=${*:-info tests bench rings plasticity runs criterion}
 export SWARF_REQUIRE_GPU=1
 status=0
 summary=()
@@ -26,7 +26,7 @@ nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.max.sm --format=c
 for p in $parts; do
     case $p in
         info) run info "$here/swarf" --backend gpu info ;;
-        tests) run test-gpu "$here/test-gpu" --test-threads=1
+        tests) run test-gpu "$here/test-gpu" --test-threads=1 --nocapture
                run test-ptx "$here/test-ptx" ;;
         bench) run bench "$here/swarf" --backend gpu bench neighbours --sizes 1e6,4e6,16e6 --dims 2,3 --precision both ;;
         rings) run rings-gpu "$here/swarf" --backend gpu bench rings --precision both
@@ -36,6 +36,18 @@ for p in $parts; do
                  SWARF_PTX_TARGET=$t run "neighbours-$t" "$here/swarf" --backend gpu bench neighbours --sizes 16e6 --dims 2,3
                  SWARF_PTX_TARGET=$t run "rings-$t" "$here/swarf" --backend gpu bench rings --nbox 400,800 --steps 2000
              done ;;
+        plasticity) run plasticity "$here/swarf" --backend gpu bench plasticity --repeats 5 ;;
+        runs) # the issue-4 scenes on the GPU: wall time and summary (final shape) of each
+              runs_log() {
+                  for sc in impact taylor-bar; do
+                      for p in f64 f32; do
+                          "$here/swarf" --backend gpu run "cases/$sc.toml" --precision $p --out "/tmp/swarf-runs/$sc-$p" || return 1
+                          cat "/tmp/swarf-runs/$sc-$p/summary.json"
+                          tail -n 2 "/tmp/swarf-runs/$sc-$p/energy.csv"
+                      done
+                  done
+              }
+              run runs runs_log ;;
         criterion) run criterion "$here/bench-neighbours" --bench --noplot ;;
     esac
 done

@@ -195,14 +195,7 @@ pub fn rings<B: Backend, R: Real, D: crate::kernels::sph::TensorOps<R>>(
     let scene = crate::scene::Scene::load(scene_path, &[format!("discretisation.dx={dx:e}")])
         .map_err(|e| crate::Error::Scene(e.to_string()))?;
     let s = crate::run::setup::<R, D>(&scene)?;
-    let mut sv = crate::solver::Solver::<B, R, D>::new(
-        b,
-        &s.particles,
-        s.params,
-        s.stabilisers.switches(),
-        s.grid,
-        &s.bc_velocities,
-    )?;
+    let mut sv = crate::solver::Solver::<B, R, D>::new(b, &s)?;
     let steps_total = (scene.time.end / s.dt).ceil() as u64;
     let run = steps.unwrap_or(steps_total).min(steps_total).max(1);
     // One warm-up step (module JIT, first allocations of the driver) outside the timing.
@@ -249,4 +242,78 @@ pub fn rings_row(t: &RingsTimes) -> String {
         t.whole_run_s,
         if t.measured_whole { "" } else { " (from ms/step)" }
     )
+}
+
+/// Random plastic trial states for the return-map checks and benchmark: deviatoric 3D stresses up to ~3 σ_y,
+/// plastic strains in [0, 2], rates in [0, 1e5] /s, temperatures 300…1300 K. Deterministic from `seed`.
+pub fn trial_states(
+    n: usize,
+    sigma: f64,
+    seed: u64,
+) -> (Vec<crate::kernels::vector::S3f64>, Vec<f64>, Vec<f64>, Vec<f64>) {
+    let mut rng = SplitMix64::new(seed);
+    let mut s = Vec::with_capacity(n);
+    for _ in 0..n {
+        let mut c: [f64; 6] = std::array::from_fn(|_| rng.normal() * sigma);
+        let tr = (c[0] + c[3] + c[5]) / 3.0;
+        c[0] -= tr;
+        c[3] -= tr;
+        c[5] -= tr;
+        s.push(crate::kernels::vector::S3f64(c));
+    }
+    let eps = (0..n).map(|_| 2.0 * rng.uniform()).collect();
+    let rate = (0..n).map(|_| 1e5 * rng.uniform()).collect();
+    let temp = (0..n).map(|_| 300.0 + 1000.0 * rng.uniform()).collect();
+    (s, eps, rate, temp)
+}
+
+/// Return maps per second of the plastic pass for each material of the library that has a flow-stress model
+/// (3D f64 state, `n` particles, median of `repeats`).
+pub fn plasticity<B: Backend>(
+    b: &B,
+    lib: &crate::material::Library,
+    n: usize,
+    repeats: usize,
+) -> Result<Vec<(String, f64)>> {
+    use crate::backend::PlasticInputs;
+    use crate::kernels::Dim3;
+    use crate::kernels::sph::plastic::PlasticConsts;
+    let mut out = Vec::new();
+    for m in lib.iter() {
+        let (Some(model), Some(el)) = (m.flow_stress, m.elastic) else { continue };
+        let shear = el.youngs_modulus / (2.0 * (1.0 + el.poisson_ratio));
+        let (s, eps, rate, temp) = trial_states(n, 1e9, 5);
+        let mut sb = b.upload(&s, "stress")?;
+        let rho = b.upload(&vec![el.density; n], "rho")?;
+        let mut eb = b.upload(&eps, "eps")?;
+        let mut rb = b.upload(&rate, "rate")?;
+        let mut tb = b.upload(&temp, "temp")?;
+        let fl = b.upload(&vec![0u32; n], "flags")?;
+        let mb = b.upload(model.param_bytes(), "model")?;
+        let c = PlasticConsts { shear, dt: 1e-8, taylor_quinney: 0.0, _pad: 0.0 };
+        let mut times = Vec::new();
+        for _ in 0..repeats.max(1) {
+            b.write(&mut sb, &s)?;
+            b.write(&mut eb, &eps)?;
+            times.push(b.time_ms(&mut || {
+                b.plastic_step::<f64, Dim3>(
+                    n,
+                    &model,
+                    &mb,
+                    c,
+                    PlasticInputs {
+                        stress: &mut sb,
+                        rho: &rho,
+                        eps: &mut eb,
+                        rate: &mut rb,
+                        temp: &mut tb,
+                        flags: &fl,
+                        materials: None,
+                    },
+                )
+            })?);
+        }
+        out.push((format!("{} ({})", m.name, model.name()), n as f64 / (median(times) * 1e-3)));
+    }
+    Ok(out)
 }

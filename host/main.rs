@@ -23,6 +23,11 @@ enum Cmd {
     Run(RunArgs),
     /// Time standard workloads on the chosen backend.
     Bench(BenchArgs),
+    /// Draw the PNG plots of a run folder (energies, momenta; forces and temperatures where recorded).
+    Plot {
+        /// The run folder (holds energy.csv).
+        run: std::path::PathBuf,
+    },
 }
 
 #[derive(clap::Args)]
@@ -55,6 +60,8 @@ enum Workload {
     Neighbours,
     /// Röthlin's rubber-rings scaling series (2D, N = 4232 … 438 496), the thesis' P100 benchmark.
     Rings,
+    /// Return maps per second of the plastic pass, per flow-stress model of the library (10⁶ random states).
+    Plasticity,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -105,6 +112,15 @@ fn run_bench<B: Backend>(b: &B, a: &BenchArgs, sizes: &[usize]) -> Result<()> {
         PrecisionArg::F64 => &["f64"],
         PrecisionArg::Both => &["f64", "f32"],
     };
+    if a.workload == Workload::Plasticity {
+        let lib =
+            swarf::material::Library::load_dir("cases/materials").map_err(|e| swarf::Error::Scene(e.to_string()))?;
+        println!("| material (model) | return maps/s |\n|---|---|");
+        for (name, rate) in bench::plasticity(b, &lib, 1_000_000, a.repeats)? {
+            println!("| {name} | {rate:.3e} |");
+        }
+        return Ok(());
+    }
     if a.workload == Workload::Rings {
         println!("{}", bench::rings_header());
         for &p in precs {
@@ -185,6 +201,16 @@ fn run(cli: Cli) -> Result<()> {
                     r.precision,
                     opts.out_dir.display()
                 );
+            }
+            Ok(())
+        }
+        Cmd::Plot { run } => {
+            let drawn = swarf::plot::plot_run(&run).map_err(|e| swarf::Error::Output(e.to_string()))?;
+            for d in drawn {
+                println!("wrote {}", d.path.display());
+                if let Some(w) = d.warning() {
+                    eprintln!("warning: {w}");
+                }
             }
             Ok(())
         }

@@ -4,14 +4,16 @@
 
 use crate::backend::{AnyBackend, Backend};
 use crate::grid::grid_for_support;
+use crate::kernels::sph::heat::{HeatParams, ThermalMaterial};
 use crate::kernels::sph::params::flags;
 use crate::kernels::sph::{SphParams, TensorOps};
 use crate::kernels::{Dim2, Dim3, Real, Vector};
 use crate::output::{Array, Collection, Frame, TimeSeries, Values, vtu};
-use crate::scene::{Bc, Precision, Scene};
+use crate::scene::{Bc, Conduction, Precision, Scene};
 use crate::solver::Solver;
 use crate::solver::diagnostics::{Diagnostics, compute};
 use crate::solver::params::{Elastic, StabiliserSettings, cfl_time_step, sph_params};
+use crate::solver::{PlasticSetup, ThermalSetup};
 use crate::state::HostParticles;
 use crate::{Error, Result, with_backend};
 use std::path::{Path, PathBuf};
@@ -52,6 +54,9 @@ pub struct Snapshot<'a> {
     pub vel: Vec<[f64; 3]>,
     /// Body index of each particle.
     pub body: Vec<u32>,
+    /// Temperature and equivalent plastic strain, where modelled.
+    pub temperature: Option<&'a [f64]>,
+    pub plastic_strain: Option<&'a [f64]>,
 }
 
 /// Runs `scene` on the chosen backend.
@@ -77,17 +82,7 @@ pub fn run_observed(
     })
 }
 
-/// The solver inputs a scene describes.
-pub struct Setup<R: Real, D: TensorOps<R>> {
-    pub particles: HostParticles<R, D>,
-    pub params: SphParams<R>,
-    pub stabilisers: StabiliserSettings,
-    pub bc_velocities: Vec<D::Vec<R>>,
-    pub grid: crate::kernels::neighbour::GridParams,
-    pub dt: f64,
-    pub c0: f64,
-    pub h: f64,
-}
+pub use crate::solver::Setup;
 
 /// Builds the particles, parameters, grid and time step of `scene`.
 pub fn setup<R: Real, D: TensorOps<R>>(scene: &Scene) -> Result<Setup<R, D>> {
@@ -117,7 +112,8 @@ pub fn setup<R: Real, D: TensorOps<R>>(scene: &Scene) -> Result<Setup<R, D>> {
                 (flags::VELOCITY, k as u32)
             }
         };
-        fl.push(kind | idx << flags::VEL_INDEX_SHIFT | set.body[i] << flags::BODY_SHIFT);
+        let thermal_fix = if set.fixed_temperature[i] { flags::FIXED_TEMPERATURE } else { 0 };
+        fl.push(kind | thermal_fix | idx << flags::VEL_INDEX_SHIFT | set.body[i] << flags::BODY_SHIFT);
     }
     let conv = |c: &[f64; 3]| D::Vec::<R>::new(std::array::from_fn(|k| R::from_f64(c[k])));
     let m = &scene.material;
@@ -166,7 +162,50 @@ pub fn setup<R: Real, D: TensorOps<R>>(scene: &Scene) -> Result<Setup<R, D>> {
         Some(dt) => dt,
         None => limit,
     };
-    Ok(Setup { particles, params, stabilisers, bc_velocities: table.iter().map(conv).collect(), grid, dt, c0, h })
+    // Heat and plasticity, from [physics] and the library material (scene validation already checked that the
+    // data they need exist).
+    let ph = &scene.physics;
+    let lib = m.library.as_ref();
+    let th = lib.and_then(|l| l.thermal);
+    let needs_heat = ph.conduction != Conduction::Off || ph.plastic_heating;
+    let thermal = if needs_heat {
+        let mat = ThermalMaterial {
+            conductivity: th.and_then(|t| t.conductivity).unwrap_or(0.0),
+            specific_heat: th.and_then(|t| t.specific_heat).unwrap_or(1.0),
+        };
+        Some(ThermalSetup {
+            materials: vec![mat; scene.bodies.len()],
+            conduction: match ph.conduction {
+                Conduction::Off => None,
+                Conduction::Brookshaw => Some(false),
+                Conduction::Pse => Some(true),
+            },
+            heat: HeatParams::new(h, scene.dim),
+        })
+    } else {
+        None
+    };
+    let plastic = match (ph.plasticity, lib.and_then(|l| l.flow_stress)) {
+        (true, Some(model)) => {
+            Some(PlasticSetup { model, taylor_quinney: if ph.plastic_heating { ph.taylor_quinney } else { 0.0 } })
+        }
+        _ => None,
+    };
+    let temperature = if thermal.is_some() || plastic.is_some() { Some(set.temperature.clone()) } else { None };
+    Ok(Setup {
+        particles,
+        params,
+        stabilisers,
+        bc_velocities: table.iter().map(conv).collect(),
+        grid,
+        dt,
+        c0,
+        h,
+        shear: elastic.shear(),
+        temperature,
+        thermal,
+        plastic,
+    })
 }
 
 fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
@@ -178,8 +217,7 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
     let s = setup::<R, D>(scene)?;
     let n = s.particles.len();
     std::fs::create_dir_all(&opts.out_dir).map_err(|e| io_err(&opts.out_dir, e))?;
-    let mut solver =
-        Solver::<B, R, D>::new(b, &s.particles, s.params, s.stabilisers.switches(), s.grid, &s.bc_velocities)?;
+    let mut solver = Solver::<B, R, D>::new(b, &s)?;
     let mut csv = TimeSeries::new(
         opts.out_dir.join("energy.csv"),
         &[
@@ -195,6 +233,8 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
             "angular_y",
             "angular_z",
             "vmax",
+            "temperature_max",
+            "plastic_strain_max",
         ],
     );
     let mut pvd = Collection::new(opts.out_dir.join("particles.pvd"));
@@ -220,7 +260,9 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
     loop {
         if solver.time >= next_out - 1e-9 * dt || solver.time >= end - 1e-9 * dt {
             let host = solver.download(b)?;
-            let d = compute(&host, &solver.host_params, solver.time, solver.steps);
+            let (temp, eps, rate) = solver.download_internal(b)?;
+            let mut d = compute(&host, &solver.host_params, solver.time, solver.steps);
+            crate::solver::diagnostics::internal(&mut d, &host.id, temp.as_deref(), eps.as_deref());
             if let Some((id, field)) = d.non_finite {
                 return Err(Error::NonFinite { id, field, time: solver.time, step: solver.steps });
             }
@@ -237,12 +279,22 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
                 d.angular[1],
                 d.angular[2],
                 d.vmax,
+                d.temperature_max,
+                d.plastic_strain_max,
             ])
             .map_err(|e| io_err(csv.path(), e))?;
             csv.write().map_err(|e| io_err(csv.path(), e))?;
             if opts.frames {
                 let name = format!("frame_{frame:05}.vtu");
-                write_frame(&opts.out_dir.join(&name), &host, &solver.host_params, solver.time, solver.steps)?;
+                let internal = Internal { temp: temp.as_deref(), eps: eps.as_deref(), rate: rate.as_deref() };
+                write_frame(
+                    &opts.out_dir.join(&name),
+                    &host,
+                    &internal,
+                    &solver.host_params,
+                    solver.time,
+                    solver.steps,
+                )?;
                 pvd.push(solver.time, name).map_err(|e| io_err(pvd.path(), e))?;
                 pvd.write().map_err(|e| io_err(pvd.path(), e))?;
             }
@@ -277,18 +329,47 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
                     pos: crate::analysis::positions_f64::<R, _>(&host.pos),
                     vel: crate::analysis::positions_f64::<R, _>(&host.vel),
                     body: host.flags.iter().map(|f| f >> flags::BODY_SHIFT).collect(),
+                    temperature: temp.as_deref(),
+                    plastic_strain: eps.as_deref(),
                 }),
                 None => true,
             };
             history.push(d);
             if !keep_going || solver.time >= end - 1e-9 * dt {
+                b.synchronize()?;
+                let pos = crate::analysis::positions_f64::<R, _>(&host.pos);
+                let body: Vec<u32> = host.flags.iter().map(|f| f >> flags::BODY_SHIFT).collect();
+                let wall = t0.elapsed().as_secs_f64();
+                write_summary(
+                    &opts.out_dir,
+                    scene,
+                    b.info(),
+                    R::NAME,
+                    n,
+                    solver.steps,
+                    s.dt,
+                    wall,
+                    &pos,
+                    &body,
+                    &set_centres(scene),
+                )?;
+                if opts.frames {
+                    // The plots are a convenience: a failure is reported, never fatal to a finished run.
+                    match crate::plot::plot_run(&opts.out_dir) {
+                        Ok(drawn) => {
+                            for d in drawn.iter().filter_map(|d| d.warning()) {
+                                eprintln!("warning: {d}");
+                            }
+                        }
+                        Err(e) => eprintln!("warning: plots not drawn: {e}"),
+                    }
+                }
                 break;
             }
         }
         let h = dt.min(end - solver.time).min(next_out - solver.time).max(1e-12 * dt);
         solver.step(b, h)?;
     }
-    b.synchronize()?;
     Ok(RunReport {
         particles: n,
         steps: solver.steps,
@@ -306,9 +387,17 @@ fn io_err(path: &Path, e: std::io::Error) -> Error {
 
 /// One VTU frame: positions, id, body, boundary kind, velocity, density, pressure, stress (VTK order xx, yy, zz,
 /// xy, yz, xz) and von Mises stress.
+/// The f64 internal variables of a frame, where modelled.
+struct Internal<'a> {
+    temp: Option<&'a [f64]>,
+    eps: Option<&'a [f64]>,
+    rate: Option<&'a [f64]>,
+}
+
 fn write_frame<R: Real, D: TensorOps<R>>(
     path: &Path,
     p: &HostParticles<R, D>,
+    internal: &Internal,
     params: &SphParams<R>,
     time: f64,
     step: u64,
@@ -331,20 +420,86 @@ fn write_frame<R: Real, D: TensorOps<R>>(
     }
     let body: Vec<u32> = p.flags.iter().map(|f| f >> flags::BODY_SHIFT).collect();
     let bc: Vec<u32> = p.flags.iter().map(|f| f & flags::KIND_MASK).collect();
-    let frame = Frame {
-        time,
-        points: Values::F64(&pts),
-        point_data: vec![
-            Array { name: "id", components: 1, values: Values::U32(&p.id) },
-            Array { name: "body", components: 1, values: Values::U32(&body) },
-            Array { name: "boundary", components: 1, values: Values::U32(&bc) },
-            Array { name: "velocity", components: 3, values: Values::F64(&vel) },
-            Array { name: "density", components: 1, values: Values::F64(&rho) },
-            Array { name: "pressure", components: 1, values: Values::F64(&pressure) },
-            Array { name: "stress", components: 6, values: Values::F64(&stress) },
-            Array { name: "von_mises", components: 1, values: Values::F64(&vm) },
-        ],
-        field_data: vec![("STEP", step as f64)],
-    };
+    let mut point_data = vec![
+        Array { name: "id", components: 1, values: Values::U32(&p.id) },
+        Array { name: "body", components: 1, values: Values::U32(&body) },
+        Array { name: "boundary", components: 1, values: Values::U32(&bc) },
+        Array { name: "velocity", components: 3, values: Values::F64(&vel) },
+        Array { name: "density", components: 1, values: Values::F64(&rho) },
+        Array { name: "pressure", components: 1, values: Values::F64(&pressure) },
+        Array { name: "stress", components: 6, values: Values::F64(&stress) },
+        Array { name: "von_mises", components: 1, values: Values::F64(&vm) },
+    ];
+    for (name, v) in
+        [("temperature", internal.temp), ("plastic_strain", internal.eps), ("plastic_strain_rate", internal.rate)]
+    {
+        if let Some(v) = v {
+            point_data.push(Array { name, components: 1, values: Values::F64(v) });
+        }
+    }
+    let frame = Frame { time, points: Values::F64(&pts), point_data, field_data: vec![("STEP", step as f64)] };
     vtu::write(path, &frame).map_err(|e| io_err(path, e))
+}
+
+/// Each body's initial centre (the axis for the footprint radius).
+fn set_centres(scene: &Scene) -> Vec<[f64; 3]> {
+    scene.bodies.iter().map(|b| b.shape.centre()).collect()
+}
+
+/// `summary.json` of the run folder: what ran, on what, how long, and each body's final extent (bounding box,
+/// and the largest distance from the body's initial centre axis in the x–y plane: a Taylor bar's footprint
+/// radius).
+#[allow(clippy::too_many_arguments)]
+fn write_summary(
+    dir: &Path,
+    scene: &Scene,
+    info: &crate::backend::DeviceInfo,
+    precision: &str,
+    particles: usize,
+    steps: u64,
+    dt: f64,
+    wall: f64,
+    pos: &[[f64; 3]],
+    body: &[u32],
+    centres: &[[f64; 3]],
+) -> Result<()> {
+    let bodies: Vec<serde_json::Value> = scene
+        .bodies
+        .iter()
+        .enumerate()
+        .map(|(k, bd)| {
+            let mut lo = [f64::INFINITY; 3];
+            let mut hi = [f64::NEG_INFINITY; 3];
+            let mut rmax = 0.0f64;
+            for (p, _) in pos.iter().zip(body).filter(|(_, b)| **b as usize == k) {
+                for a in 0..3 {
+                    lo[a] = lo[a].min(p[a]);
+                    hi[a] = hi[a].max(p[a]);
+                }
+                rmax = rmax.max((p[0] - centres[k][0]).hypot(p[1] - centres[k][1]));
+            }
+            serde_json::json!({
+                "name": bd.name,
+                "min_m": &lo[..scene.dim],
+                "max_m": &hi[..scene.dim],
+                "extent_m": (0..scene.dim).map(|a| hi[a] - lo[a]).collect::<Vec<_>>(),
+                "radius_xy_max_m": rmax,
+            })
+        })
+        .collect();
+    let v = serde_json::json!({
+        "scene": scene.name,
+        "particles": particles,
+        "steps": steps,
+        "dt_s": dt,
+        "end_time_s": scene.time.end,
+        "wall_time_s": wall,
+        "backend": info.backend,
+        "device": info.name,
+        "precision": precision,
+        "bodies": bodies,
+    });
+    let text = serde_json::to_string_pretty(&v).map_err(|e| Error::Output(e.to_string()))?;
+    let path = dir.join("summary.json");
+    crate::output::write_atomic(&path, text.as_bytes()).map_err(|e| io_err(&path, e))
 }

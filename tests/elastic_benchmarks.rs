@@ -28,9 +28,7 @@ fn translating_block_stays_stress_free() {
     let scene = Scene::load("cases/block-translation.toml", &[]).expect("scene");
     let s = setup::<f64, Dim2>(&scene).expect("setup");
     let b = CpuBackend::new();
-    let mut solver =
-        Solver::<_, f64, Dim2>::new(&b, &s.particles, s.params, s.stabilisers.switches(), s.grid, &s.bc_velocities)
-            .expect("solver");
+    let mut solver = Solver::<_, f64, Dim2>::new(&b, &s).expect("solver");
     for _ in 0..10_000 {
         solver.step(&b, s.dt).expect("step");
     }

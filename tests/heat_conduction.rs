@@ -43,8 +43,7 @@ fn sorted_set<D: Dim>(
 fn laplacian<D: Dim>(s: &Set<D>, t: &[f64], pse: bool) -> Vec<f64> {
     let b = CpuBackend::new();
     let n = s.pos.len();
-    let mut params = SphParams::<f64>::default();
-    params.kernel = CubicSpline::new(s.h, D::D);
+    let params = SphParams::<f64> { kernel: CubicSpline::new(s.h, D::D), ..Default::default() };
     let rho = vec![1.0; n];
     let mass = vec![s.vol; n];
     let mats = vec![ThermalMaterial { conductivity: 1.0, specific_heat: 1.0 }];

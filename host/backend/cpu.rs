@@ -2,14 +2,16 @@
 //! the counting sort runs sequentially, which makes its arrival order the index order, so its permutation is
 //! the stable one by construction (the GPU restores the same order with `sort_cells`).
 
-use super::{Backend, Buffer, DeviceInfo, Element, FieldsMut, FieldsRef, HeatInputs, SphInputs};
+use super::{Backend, Buffer, DeviceInfo, Element, FieldsMut, FieldsRef, HeatInputs, PlasticInputs, SphInputs};
 use crate::kernels::neighbour::search::neighbour_row;
 use crate::kernels::neighbour::{GridParams, sort::sort_cell};
 use crate::kernels::sph::heat::{HeatArrays, HeatParams, heat_rate};
 use crate::kernels::sph::integrate::{advance_sym, advance_vec};
 use crate::kernels::sph::interact::{Arrays, prepare, rates};
+use crate::kernels::sph::plastic::{PlasticArrays, PlasticConsts, plastic_particle};
 use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers, TensorOps, density::density_sum};
 use crate::kernels::{Dim, Real};
+use crate::material::FlowModel;
 use crate::{Error, Result};
 use rayon::prelude::*;
 
@@ -85,6 +87,12 @@ impl SendPtr {
         self.0.is_null()
     }
 }
+
+/// The plastic pass's array views: each task writes only its own particle.
+struct SendPlastic<R: Real, S>(PlasticArrays<R, S>);
+// SAFETY: disjoint per-index writes, buffers outlive the loop.
+unsafe impl<R: Real, S> Send for SendPlastic<R, S> {}
+unsafe impl<R: Real, S> Sync for SendPlastic<R, S> {}
 
 /// The conduction pass's array views, shared by parallel tasks that only read through them.
 struct SendHeat<R: Real, V: crate::kernels::Vector<R>>(HeatArrays<R, V>);
@@ -555,6 +563,62 @@ impl Backend for CpuBackend {
             .zip(y0[..n].par_iter())
             .zip(yt[..n].par_iter())
             .for_each(|((v, v0), t)| *v = *v0 + c * *t);
+        Ok(())
+    }
+
+    fn plastic_step<R: Real, D: TensorOps<R>>(
+        &self,
+        n: usize,
+        model: &FlowModel,
+        _model_buf: &Vec<u8>,
+        c: PlasticConsts,
+        a: PlasticInputs<'_, Self, R, D>,
+    ) -> Result<()> {
+        for (what, len) in [
+            ("stress", a.stress.len()),
+            ("rho", a.rho.len()),
+            ("eps", a.eps.len()),
+            ("rate", a.rate.len()),
+            ("temp", a.temp.len()),
+            ("flags", a.flags.len()),
+        ] {
+            check(what, n, len)?;
+        }
+        if c.taylor_quinney > 0.0 {
+            let bodies =
+                a.flags[..n].iter().map(|f| (f >> crate::kernels::sph::params::flags::BODY_SHIFT) as usize + 1).max();
+            check("plastic_step materials", bodies.unwrap_or(0), a.materials.map_or(0, |m| m.len()))?;
+        }
+        let arr = SendPlastic(PlasticArrays::<R, D::Sym<R>> {
+            stress: a.stress.as_mut_ptr(),
+            rho: a.rho.as_ptr(),
+            eps: a.eps.as_mut_ptr(),
+            rate: a.rate.as_mut_ptr(),
+            temp: a.temp.as_mut_ptr(),
+            flags: a.flags.as_ptr(),
+            materials: a.materials.map_or(std::ptr::null(), |m| m.as_ptr()),
+        });
+        macro_rules! go {
+            ($m:expr, $t:ty) => {{
+                let m: &$t = $m;
+                (0..n).into_par_iter().for_each(|i| {
+                    let arr = &arr;
+                    // SAFETY: lengths checked above; each particle i is touched by one task only.
+                    unsafe { plastic_particle::<R, D, $t>(m, &c, &arr.0, i) }
+                })
+            }};
+        }
+        match model {
+            FlowModel::JohnsonCook(m) => go!(m, crate::kernels::material::JohnsonCook),
+            FlowModel::Calamaz2008(m) => go!(m, crate::kernels::material::Calamaz2008),
+            FlowModel::Calamaz2010(m) => go!(m, crate::kernels::material::Calamaz2010),
+            FlowModel::Calamaz2011(m) => go!(m, crate::kernels::material::Calamaz2011),
+            FlowModel::SimaOzel1(m) => go!(m, crate::kernels::material::SimaOzel1),
+            FlowModel::SimaOzel2(m) => go!(m, crate::kernels::material::SimaOzel2),
+            FlowModel::SimaOzel3(m) => go!(m, crate::kernels::material::SimaOzel3),
+            FlowModel::Scgl(m) => go!(m, crate::kernels::material::Scgl),
+            FlowModel::Bilinear(m) => go!(m, crate::kernels::material::Bilinear),
+        }
         Ok(())
     }
 }

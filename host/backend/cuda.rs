@@ -2,11 +2,14 @@
 //! binary builds and runs without any CUDA installation and uses the GPU where a driver and device exist.
 //! One stream, no event tracking: every launch is ordered after the previous one.
 
-use super::{Backend, Buffer, DeviceInfo, Element, FieldsMut, FieldsRef, HeatInputs, SCAN_TILE, SphInputs};
+use super::{
+    Backend, Buffer, DeviceInfo, Element, FieldsMut, FieldsRef, HeatInputs, PlasticInputs, SCAN_TILE, SphInputs,
+};
 use crate::kernels::neighbour::GridParams;
 use crate::kernels::sph::heat::HeatParams;
 use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers, TensorOps};
 use crate::kernels::{Dim, Real};
+use crate::material::FlowModel;
 use crate::{Error, Result};
 use cudarc::driver::sys::{CUdevice_attribute, CUevent_flags, CUresult};
 use cudarc::driver::{CudaContext, CudaFunction, CudaSlice, CudaStream, DevicePtr, DevicePtrMut, DriverError, result};
@@ -49,11 +52,41 @@ pub fn kernel_names() -> Vec<String> {
         for c in 0..4 {
             v.push(format!("swarf_sph_prepare_{var}_{}", prepare_suffix(c)));
         }
+        for m in PLASTIC_MODELS {
+            v.push(format!("swarf_plastic_{m}_{var}"));
+        }
         for c in 0..8 {
             v.push(format!("swarf_sph_rates_{var}_{}", rates_suffix(c)));
         }
     }
     v
+}
+
+/// Flow-stress models in `FlowModel` order, as named in the plastic entry points.
+const PLASTIC_MODELS: [&str; 9] = [
+    "jc",
+    "calamaz_2008",
+    "calamaz_2010",
+    "calamaz_2011",
+    "sima_ozel_1",
+    "sima_ozel_2",
+    "sima_ozel_3",
+    "scgl",
+    "bilinear",
+];
+
+fn model_index(m: &FlowModel) -> usize {
+    match m {
+        FlowModel::JohnsonCook(_) => 0,
+        FlowModel::Calamaz2008(_) => 1,
+        FlowModel::Calamaz2010(_) => 2,
+        FlowModel::Calamaz2011(_) => 3,
+        FlowModel::SimaOzel1(_) => 4,
+        FlowModel::SimaOzel2(_) => 5,
+        FlowModel::SimaOzel3(_) => 6,
+        FlowModel::Scgl(_) => 7,
+        FlowModel::Bilinear(_) => 8,
+    }
 }
 
 /// Suffix of the pre-pass entry for stabiliser combination c = 2·AV + AS.
@@ -110,6 +143,7 @@ fn real_arg<R: Real>(x: R) -> Arg {
 }
 
 struct Kernels {
+    plastic: Vec<Variants>,
     heat_brookshaw: Variants,
     heat_pse: Variants,
     scalar_predict: CudaFunction,
@@ -182,6 +216,7 @@ impl CudaBackend {
             ]))
         };
         let k = Kernels {
+            plastic: PLASTIC_MODELS.iter().map(|m| v(&format!("swarf_plastic_{m}"), "")).collect::<Result<_>>()?,
             heat_brookshaw: v("swarf_heat_brookshaw", "")?,
             heat_pse: v("swarf_heat_pse", "")?,
             scalar_predict: f("swarf_scalar_predict")?,
@@ -685,5 +720,33 @@ impl Backend for CudaBackend {
             Arg::U64(self.ptr(yt)),
         ];
         self.launch(&self.k.scalar_correct, n, BLOCK, &args)
+    }
+
+    fn plastic_step<R: Real, D: TensorOps<R>>(
+        &self,
+        n: usize,
+        model: &FlowModel,
+        model_buf: &CudaBuf<u8>,
+        c: crate::kernels::sph::plastic::PlasticConsts,
+        a: PlasticInputs<'_, Self, R, D>,
+    ) -> Result<()> {
+        if c.taylor_quinney > 0.0 && a.materials.is_none() {
+            return Err(Error::Length { op: "plastic_step (thermal materials missing)", expected: 1, got: 0 });
+        }
+        let args = [
+            Arg::U32(n as u32),
+            Arg::U64(self.ptr(model_buf)),
+            Arg::F64(c.shear),
+            Arg::F64(c.dt),
+            Arg::F64(c.taylor_quinney),
+            Arg::U64(self.ptr_mut(a.stress)),
+            Arg::U64(self.ptr(a.rho)),
+            Arg::U64(self.ptr_mut(a.eps)),
+            Arg::U64(self.ptr_mut(a.rate)),
+            Arg::U64(self.ptr_mut(a.temp)),
+            Arg::U64(self.ptr(a.flags)),
+            Arg::U64(a.materials.map_or(0, |m| self.ptr(m))),
+        ];
+        self.launch(&self.k.plastic[model_index(model)].0[variant::<R, D>()], n, BLOCK, &args)
     }
 }

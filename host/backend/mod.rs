@@ -177,6 +177,16 @@ pub trait Backend: Sized + Send + Sync {
         input: &HeatInputs<'_, Self, R, D>,
         temp_t: &mut Self::Buf<f64>,
     ) -> Result<()>;
+    /// The plastic update of every particle (`sph::plastic::plastic_particle`) with the flow-stress `model`, whose
+    /// parameters `model_buf` holds (its bytes, uploaded once).
+    fn plastic_step<R: Real, D: TensorOps<R>>(
+        &self,
+        n: usize,
+        model: &crate::material::FlowModel,
+        model_buf: &Self::Buf<u8>,
+        consts: crate::kernels::sph::plastic::PlasticConsts,
+        a: PlasticInputs<'_, Self, R, D>,
+    ) -> Result<()>;
     /// Predictor of an f64 scalar field: y0 ← y, y ← y0 + c ẏ.
     fn scalar_predict(
         &self,
@@ -249,6 +259,18 @@ pub struct HeatInputs<'a, B: Backend, R: Real, D: Dim> {
     pub temp: &'a B::Buf<f64>,
     pub flags: &'a B::Buf<u32>,
     pub materials: &'a B::Buf<ThermalMaterial>,
+}
+
+/// Per-particle state of the plastic pass, sorted order.
+pub struct PlasticInputs<'a, B: Backend, R: Real, D: Dim> {
+    pub stress: &'a mut B::Buf<D::Sym<R>>,
+    pub rho: &'a B::Buf<R>,
+    pub eps: &'a mut B::Buf<f64>,
+    pub rate: &'a mut B::Buf<f64>,
+    pub temp: &'a mut B::Buf<f64>,
+    pub flags: &'a B::Buf<u32>,
+    /// Thermal materials by body (needed when t_q > 0).
+    pub materials: Option<&'a B::Buf<ThermalMaterial>>,
 }
 
 /// Elements per tile of the GPU scan (kernels/src/ptx/scan.rs).

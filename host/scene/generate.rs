@@ -30,6 +30,10 @@ pub struct ParticleSet {
     pub body: Vec<u32>,
     /// Boundary condition of each particle: the last `[[boundary]]` whose region (and body) contains it.
     pub bc: Vec<Bc>,
+    /// Initial temperature of each particle (K): `physics.initial_temperature`, or a temperature boundary's.
+    pub temperature: Vec<f64>,
+    /// Held at its temperature by a `kind = "temperature"` boundary.
+    pub fixed_temperature: Vec<bool>,
     /// Mass of every particle, ρ0 · dx^dim (kg) (per unit depth in 2D).
     pub mass: f64,
     /// Volume of every particle, dx^dim (m^dim) (per unit depth in 2D).
@@ -181,6 +185,7 @@ pub(super) fn generate(scene: &Scene) -> Result<ParticleSet, SceneError> {
                     *slot = match boundary.kind {
                         BoundaryKind::Fixed => Bc::Fixed,
                         BoundaryKind::Velocity { velocity } => Bc::Velocity(velocity),
+                        BoundaryKind::Temperature { .. } => *slot,
                     };
                 }
             }
@@ -188,6 +193,21 @@ pub(super) fn generate(scene: &Scene) -> Result<ParticleSet, SceneError> {
                 Bc::Free => {}
                 Bc::Fixed => *v = [0.0; 3],
                 Bc::Velocity(velocity) => *v = velocity,
+            }
+        }
+    }
+    // Temperatures: the initial temperature, or that of the last temperature boundary containing the particle.
+    let mut temperature = vec![scene.physics.initial_temperature; pos.len()];
+    let mut fixed_temperature = vec![false; pos.len()];
+    for (i, p) in pos.iter().enumerate() {
+        for boundary in &scene.boundaries {
+            if let BoundaryKind::Temperature { temperature: t } = boundary.kind {
+                let contains = boundary.body.is_none_or(|only| only == body[i] as usize)
+                    && (0..dim).all(|k| boundary.min[k] <= p[k] && p[k] <= boundary.max[k]);
+                if contains {
+                    fixed_temperature[i] = true;
+                    temperature[i] = t.unwrap_or(scene.physics.initial_temperature);
+                }
             }
         }
     }
@@ -199,7 +219,16 @@ pub(super) fn generate(scene: &Scene) -> Result<ParticleSet, SceneError> {
         });
     }
 
-    Ok(ParticleSet { pos, vel, body, bc, mass: scene.particle_mass(), volume: scene.particle_volume() })
+    Ok(ParticleSet {
+        pos,
+        vel,
+        body,
+        bc,
+        temperature,
+        fixed_temperature,
+        mass: scene.particle_mass(),
+        volume: scene.particle_volume(),
+    })
 }
 
 /// Refuses two bodies with particles closer than 0.5·dx. Only pairs of bodies whose bounding boxes come that

@@ -46,6 +46,15 @@ use serde::Serialize;
 pub use error::{Location, SceneError};
 pub use generate::{Bc, ParticleSet};
 
+/// Where a scene's named materials are looked up: `materials/` beside the scene file, else `cases/materials`.
+pub fn library_dir(origin: &str) -> std::path::PathBuf {
+    let beside = Path::new(origin).parent().map(|d| d.join("materials"));
+    match beside {
+        Some(d) if d.is_dir() => d,
+        _ => Path::new("cases").join("materials"),
+    }
+}
+
 /// A validated scene. Vectors and points are stored with three components; in 2D the third is 0.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Scene {
@@ -72,6 +81,36 @@ pub struct Scene {
     pub time: Time,
     /// `[output]` (optional).
     pub output: Output,
+    /// `[physics]` (optional): plasticity, heat conduction and heating, initial temperature.
+    pub physics: Physics,
+}
+
+/// `[physics]`: what the run models beyond elasticity; everything off by default except what the material
+/// implies (a material with a flow-stress model is plastic unless `plasticity = false`).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Physics {
+    /// `plasticity` (optional, default: true when the material has a flow-stress model): radial return with the
+    /// material's flow-stress model after every step.
+    pub plasticity: bool,
+    /// `conduction` (optional, default `"off"`): `"off"`, `"brookshaw"` or `"pse"` (needs the material's thermal
+    /// conductivity and specific heat).
+    pub conduction: Conduction,
+    /// `plastic_heating` (optional, default true with plasticity when the material has a specific heat): heats
+    /// particles by t_q σ_y Δε̄/(ρ c_p).
+    pub plastic_heating: bool,
+    /// `taylor_quinney` (optional, default the material's, else 0.9) [-], in [0, 1].
+    pub taylor_quinney: f64,
+    /// `initial_temperature` (optional, default the material's reference temperature, else 300) [K], > 0.
+    pub initial_temperature: f64,
+}
+
+/// Heat conduction discretisation (`physics.conduction`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Conduction {
+    Off,
+    Brookshaw,
+    Pse,
 }
 
 /// Floating-point precision of the particle state (`precision`).
@@ -103,7 +142,12 @@ pub struct Discretisation {
 /// `[material]`: linear elasticity (for now the only material; a library by name comes later).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Material {
-    /// `density` (required; unit kg/m^3), > 0: the reference density ρ0.
+    /// `name` (optional): a material of the library (`materials/` beside the scene file, e.g.
+    /// cases/materials/AISI4340-Roethlin.toml); it supplies the elastic constants (unless given here), the
+    /// flow-stress model and the thermal data. Without `name` the material is inline and elastic.
+    #[serde(skip)]
+    pub library: Option<crate::material::Material>,
+    /// `density` (required unless `name` gives it; unit kg/m^3), > 0: the reference density ρ0.
     pub density: f64,
     /// `youngs_modulus` (required; unit Pa), > 0: E.
     pub youngs_modulus: f64,
@@ -255,6 +299,9 @@ pub enum BoundaryKind {
     /// `kind = "velocity"`: `velocity` (required; unit m/s), `dim` components, prescribed for ever and used as the
     /// initial velocity too.
     Velocity { velocity: [f64; 3] },
+    /// `kind = "temperature"`: the particles are held at `temperature` (optional, default the initial temperature)
+    /// [K]; no conduction into them and no heating. Independent of the mechanical conditions.
+    Temperature { temperature: Option<f64> },
 }
 
 impl BoundaryKind {
@@ -262,6 +309,7 @@ impl BoundaryKind {
         match self {
             BoundaryKind::Fixed => "fixed",
             BoundaryKind::Velocity { .. } => "velocity",
+            BoundaryKind::Temperature { .. } => "temperature",
         }
     }
 }

@@ -10,8 +10,19 @@ type Result<T> = std::result::Result<T, SceneError>;
 /// Most lattice points a scene may ask for (bounding-box lattices of all bodies together).
 const MAX_POINTS: f64 = 2147483647.0;
 
-const ROOT_KEYS: &[&str] =
-    &["name", "dim", "precision", "discretisation", "material", "body", "boundary", "stabilisation", "time", "output"];
+const ROOT_KEYS: &[&str] = &[
+    "name",
+    "dim",
+    "precision",
+    "discretisation",
+    "material",
+    "body",
+    "boundary",
+    "stabilisation",
+    "time",
+    "output",
+    "physics",
+];
 const BODY_KEYS: &[&str] = &["name", "shape", "velocity", "angular_velocity", "lattice"];
 const SHAPES: &[(&str, &[&str])] = &[
     ("rectangle", &["min", "max"]),
@@ -190,16 +201,117 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
     let h_over_dx = disc.number("h_over_dx", "a ratio h/dx in [1, 3]", |x| (1.0..=3.0).contains(&x))?.unwrap_or(1.7);
 
     // [material]
-    let mat_expected = "a table [material] with density, youngs_modulus and poisson_ratio";
+    let mat_expected = "a table [material] with a library name and/or density, youngs_modulus and poisson_ratio";
     let mat = root.required("material", mat_expected, root.table("material", "material", mat_expected)?)?;
-    mat.check_keys(&["density", "youngs_modulus", "poisson_ratio"], &[], "")?;
+    mat.check_keys(&["name", "density", "youngs_modulus", "poisson_ratio"], &[], "")?;
+    let library = match mat.string("name", "the name of a material of the library", |s| !s.trim().is_empty())? {
+        Some(name) => {
+            let dir = super::library_dir(&doc.file);
+            let lib = crate::material::Library::load_dir(&dir).map_err(|e| {
+                mat.invalid("name", mat.get("name"), format!("a material of the library {} ({e})", dir.display()))
+            })?;
+            match lib.get(name) {
+                Ok(m) => Some(m.clone()),
+                Err(_) => {
+                    let names = lib.names().collect::<Vec<_>>().join(", ");
+                    return Err(mat.invalid(
+                        "name",
+                        mat.get("name"),
+                        format!("a material of {}: one of {names}", dir.display()),
+                    ));
+                }
+            }
+        }
+        None => None,
+    };
+    let lib_elastic = library.as_ref().and_then(|m| m.elastic);
     let e = "a positive density in kg/m^3";
-    let density = mat.required("density", e, mat.number("density", e, positive)?)?;
+    let density = match mat.number("density", e, positive)? {
+        Some(v) => v,
+        None => match lib_elastic.map(|el| el.density) {
+            Some(v) => v,
+            None => mat.required("density", e, None)?,
+        },
+    };
     let e = "a positive Young's modulus in Pa";
-    let youngs_modulus = mat.required("youngs_modulus", e, mat.number("youngs_modulus", e, positive)?)?;
+    let youngs_modulus = match mat.number("youngs_modulus", e, positive)? {
+        Some(v) => v,
+        None => match lib_elastic.map(|el| el.youngs_modulus) {
+            Some(v) => v,
+            None => mat.required("youngs_modulus", e, None)?,
+        },
+    };
     let e = "a value in (-1, 0.5)";
-    let poisson_ratio = mat.required("poisson_ratio", e, mat.number("poisson_ratio", e, |x| x > -1.0 && x < 0.5)?)?;
-    let material = Material { density, youngs_modulus, poisson_ratio };
+    let poisson_ratio = match mat.number("poisson_ratio", e, |x| x > -1.0 && x < 0.5)? {
+        Some(v) => v,
+        None => match lib_elastic.map(|el| el.poisson_ratio) {
+            Some(v) => v,
+            None => mat.required("poisson_ratio", e, None)?,
+        },
+    };
+    let material = Material { library, density, youngs_modulus, poisson_ratio };
+
+    // [physics]
+    let lib = material.library.as_ref();
+    let thermal = lib.and_then(|m| m.thermal);
+    let has_flow = lib.is_some_and(|m| m.flow_stress.is_some());
+    let mut physics = Physics {
+        plasticity: has_flow,
+        conduction: Conduction::Off,
+        plastic_heating: has_flow && thermal.is_some_and(|t| t.specific_heat.is_some()),
+        taylor_quinney: thermal.and_then(|t| t.taylor_quinney).unwrap_or(0.9),
+        initial_temperature: thermal.and_then(|t| t.reference_temperature).unwrap_or(300.0),
+    };
+    let phys_expected =
+        "a table [physics] with plasticity, conduction, plastic_heating, taylor_quinney, initial_temperature";
+    if let Some(ph) = root.table("physics", "physics", phys_expected)? {
+        ph.check_keys(
+            &["plasticity", "conduction", "plastic_heating", "taylor_quinney", "initial_temperature"],
+            &[],
+            "",
+        )?;
+        if let Some(p) = ph.boolean("plasticity", "true or false")? {
+            if p && !has_flow {
+                return Err(ph.invalid(
+                    "plasticity",
+                    ph.get("plasticity"),
+                    "false: the material has no flow-stress model (name a library material with [flow_stress])",
+                ));
+            }
+            physics.plasticity = p;
+        }
+        let e = "\"off\", \"brookshaw\" or \"pse\"";
+        if let Some(c) = ph.string("conduction", e, |s| matches!(s, "off" | "brookshaw" | "pse"))? {
+            physics.conduction = match c {
+                "brookshaw" => Conduction::Brookshaw,
+                "pse" => Conduction::Pse,
+                _ => Conduction::Off,
+            };
+            let ok = thermal.is_some_and(|t| t.conductivity.is_some() && t.specific_heat.is_some());
+            if physics.conduction != Conduction::Off && !ok {
+                return Err(ph.invalid("conduction", ph.get("conduction"), "\"off\": the material has no conductivity and specific heat (name a library material with [thermal])"));
+            }
+        }
+        if let Some(h) = ph.boolean("plastic_heating", "true or false")? {
+            if h && !(physics.plasticity && thermal.is_some_and(|t| t.specific_heat.is_some())) {
+                return Err(ph.invalid(
+                    "plastic_heating",
+                    ph.get("plastic_heating"),
+                    "false: heating needs plasticity and the material's specific heat",
+                ));
+            }
+            physics.plastic_heating = h;
+        }
+        if let Some(t) = ph.number("taylor_quinney", "a coefficient in [0, 1]", |x| (0.0..=1.0).contains(&x))? {
+            physics.taylor_quinney = t;
+        }
+        if let Some(t) = ph.number("initial_temperature", "a positive temperature in K", positive)? {
+            physics.initial_temperature = t;
+        }
+    }
+    if !physics.plasticity {
+        physics.plastic_heating = false;
+    }
 
     // [[body]]
     let body_expected = "one or more [[body]] tables";
@@ -307,6 +419,7 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
         stabilisation,
         time,
         output,
+        physics,
     })
 }
 
@@ -440,10 +553,18 @@ fn dim_of(shape: &str) -> usize {
 }
 
 fn boundary(t: &Tab<'_>, dim: usize, bodies: &[Body]) -> Result<Boundary> {
-    t.check_keys(&["kind", "min", "max", "velocity", "body"], &[], "")?;
-    let kind_expected = "\"fixed\" or \"velocity\"";
-    let kind =
-        t.required("kind", kind_expected, t.string("kind", kind_expected, |s| s == "fixed" || s == "velocity")?)?;
+    t.check_keys(&["kind", "min", "max", "velocity", "body", "temperature"], &[], "")?;
+    let kind_expected = "\"fixed\", \"velocity\" or \"temperature\"";
+    let kind = t.required(
+        "kind",
+        kind_expected,
+        t.string("kind", kind_expected, |s| s == "fixed" || s == "velocity" || s == "temperature")?,
+    )?;
+    if kind != "temperature"
+        && let Some(v) = t.get("temperature")
+    {
+        return Err(t.invalid("temperature", Some(v), "no temperature unless kind = \"temperature\""));
+    }
     let e = point_text("a point", dim, "m");
     let min = t.required("min", &e, t.vector("min", dim, &e)?)?;
     let e_max = format!("{} >= min on every axis", point_text("a point", dim, "m"));
@@ -460,6 +581,11 @@ fn boundary(t: &Tab<'_>, dim: usize, bodies: &[Body]) -> Result<Boundary> {
             ));
         }
         BoundaryKind::Fixed
+    } else if kind == "temperature" {
+        if let Some(v) = t.get("velocity") {
+            return Err(t.invalid("velocity", Some(v), "no velocity for kind = \"temperature\""));
+        }
+        BoundaryKind::Temperature { temperature: t.number("temperature", "a positive temperature in K", positive)? }
     } else {
         let e = format!("{} for kind = \"velocity\"", point_text("a velocity", dim, "m/s"));
         BoundaryKind::Velocity { velocity: t.required("velocity", &e, t.vector("velocity", dim, &e)?)? }

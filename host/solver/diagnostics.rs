@@ -20,6 +20,10 @@ pub struct Diagnostics {
     pub momentum_scale: f64,
     /// Largest speed.
     pub vmax: f64,
+    /// Largest temperature [K] (NaN when not modelled).
+    pub temperature_max: f64,
+    /// Largest equivalent plastic strain (NaN when not modelled).
+    pub plastic_strain_max: f64,
     /// First non-finite value: (particle id, field).
     pub non_finite: Option<(u32, &'static str)>,
 }
@@ -36,7 +40,8 @@ pub fn compute<R: Real, D: TensorOps<R>>(
     time: f64,
     step: u64,
 ) -> Diagnostics {
-    let mut d = Diagnostics { time, step, ..Default::default() };
+    let mut d =
+        Diagnostics { time, step, temperature_max: f64::NAN, plastic_strain_max: f64::NAN, ..Default::default() };
     for i in 0..p.len() {
         let (x, v, m, rho) = (&p.pos[i], &p.vel[i], p.mass[i], p.rho[i]);
         let vals: [(&'static str, bool); 4] = [
@@ -67,4 +72,24 @@ pub fn compute<R: Real, D: TensorOps<R>>(
         d.vmax = d.vmax.max(speed);
     }
     d
+}
+
+/// Adds the maxima of temperature and plastic strain (where modelled) and reports the first non-finite one.
+pub fn internal(d: &mut Diagnostics, id: &[u32], temp: Option<&[f64]>, eps: Option<&[f64]>) {
+    for (field, values, max) in
+        [("temperature", temp, &mut d.temperature_max), ("plastic strain", eps, &mut d.plastic_strain_max)]
+    {
+        if let Some(v) = values {
+            *max = f64::NEG_INFINITY;
+            for (i, x) in v.iter().enumerate() {
+                if !x.is_finite() {
+                    if d.non_finite.is_none() {
+                        d.non_finite = Some((id[i], field));
+                    }
+                } else if *x > *max {
+                    *max = *x;
+                }
+            }
+        }
+    }
 }

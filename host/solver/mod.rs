@@ -5,7 +5,12 @@
 //! 2. cell list on the predicted positions; reorder y, y0 and the per-particle constants (mass, id, flags);
 //! 3. pre-pass: σ/ρ², artificial stress, sound speed (the last two only when their stabiliser is on);
 //! 4. pair interaction: ẏ at the midpoint, with the boundary conditions imposed on the rates;
-//! 5. corrector: y ← y0 + Δt ẏ.
+//! 5. corrector: y ← y0 + Δt ẏ;
+//! 6. plasticity (if on): radial return of S with ε̄, ε̄̇, T and plastic heating (operator split, §5.2 step 13).
+//!
+//! With heat conduction on, T joins x, v, ρ, S in the predictor–corrector and its rate comes from the conduction
+//! pass after the interaction. Temperature, ε̄ and ε̄̇ are f64 in every precision; they exist only when the scene
+//! models plasticity or heat.
 //!
 //! The rates are not reordered: the predictor consumes them in the order the corrector left, and the interaction
 //! rewrites them. Buffers of a stabiliser that is off are not allocated.
@@ -16,10 +21,67 @@ pub mod params;
 use crate::Result;
 use crate::backend::{Backend, FieldsMut, FieldsRef, SphInputs};
 use crate::kernels::neighbour::GridParams;
+use crate::kernels::sph::heat::{HeatParams, ThermalMaterial};
+use crate::kernels::sph::plastic::PlasticConsts;
 use crate::kernels::sph::{SphParams, Stabilisers, TensorOps};
 use crate::kernels::{Dim, Real};
+use crate::material::FlowModel;
 use crate::neighbour::CellList;
 use crate::state::{Field, HostParticles, Particles};
+
+/// Heat physics of a run.
+#[derive(Clone, Debug)]
+pub struct ThermalSetup {
+    /// Thermal constants by body index.
+    pub materials: Vec<ThermalMaterial>,
+    /// Conduction: None (off), Some(false) Brookshaw, Some(true) PSE.
+    pub conduction: Option<bool>,
+    pub heat: HeatParams,
+}
+
+/// Plasticity of a run.
+#[derive(Clone, Debug)]
+pub struct PlasticSetup {
+    pub model: FlowModel,
+    /// Taylor–Quinney coefficient (0: no plastic heating).
+    pub taylor_quinney: f64,
+}
+
+/// Everything a solver needs, in the run's precision (built from a scene by `run::setup`).
+pub struct Setup<R: Real, D: TensorOps<R>> {
+    pub particles: HostParticles<R, D>,
+    pub params: SphParams<R>,
+    pub stabilisers: params::StabiliserSettings,
+    pub bc_velocities: Vec<D::Vec<R>>,
+    pub grid: GridParams,
+    pub dt: f64,
+    pub c0: f64,
+    pub h: f64,
+    /// Shear modulus G [Pa] (f64 for the return map).
+    pub shear: f64,
+    /// Initial temperature of each particle; present when the run models heat or plasticity.
+    pub temperature: Option<Vec<f64>>,
+    pub thermal: Option<ThermalSetup>,
+    pub plastic: Option<PlasticSetup>,
+}
+
+struct ThermalState<B: Backend> {
+    temp0: Option<Field<B, f64>>,
+    temp_t: Option<B::Buf<f64>>,
+    materials: B::Buf<ThermalMaterial>,
+    heat: B::Buf<HeatParams>,
+    conduction: Option<bool>,
+    /// The cell list's grid with the ±3 stencil PSE needs.
+    grid_pse: B::Buf<GridParams>,
+}
+
+struct PlasticState<B: Backend> {
+    eps: Field<B, f64>,
+    rate: Field<B, f64>,
+    model: FlowModel,
+    model_buf: B::Buf<u8>,
+    taylor_quinney: f64,
+}
 
 /// Start-of-step copies y0 (reordered with the state each step).
 struct Start<B: Backend, R: Real, D: Dim> {
@@ -48,6 +110,11 @@ pub struct Solver<B: Backend, R: Real, D: TensorOps<R>> {
     params: B::Buf<SphParams<R>>,
     pub host_params: SphParams<R>,
     bc_vel: B::Buf<D::Vec<R>>,
+    /// Temperature (present with heat or plasticity).
+    temp: Option<Field<B, f64>>,
+    thermal: Option<ThermalState<B>>,
+    plastic: Option<PlasticState<B>>,
+    shear: f64,
     pub stab: Stabilisers,
     pub n: usize,
     pub time: f64,
@@ -55,21 +122,50 @@ pub struct Solver<B: Backend, R: Real, D: TensorOps<R>> {
 }
 
 impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
-    /// Uploads the particles and allocates what the chosen physics needs. `bc_vel` is the table of prescribed
-    /// velocities that the particles' flags index.
-    pub fn new(
-        b: &B,
-        particles: &HostParticles<R, D>,
-        params: SphParams<R>,
-        stab: Stabilisers,
-        grid: GridParams,
-        bc_vel: &[D::Vec<R>],
-    ) -> Result<Self> {
+    /// Uploads the particles and allocates what the chosen physics needs.
+    pub fn new(b: &B, setup: &Setup<R, D>) -> Result<Self> {
+        let particles = &setup.particles;
         let n = particles.len();
+        let stab = setup.stabilisers.switches();
         let zeros_v = vec![D::Vec::<R>::default(); n];
         let zeros_r = vec![R::ZERO; n];
         let zeros_s = vec![D::Sym::<R>::default(); n];
+        let zeros_f = vec![0.0f64; n];
+        let bc_vel = &setup.bc_velocities;
         let table: Vec<D::Vec<R>> = if bc_vel.is_empty() { vec![Default::default()] } else { bc_vel.to_vec() };
+        let temp = match &setup.temperature {
+            Some(t) => Some(Field::upload(b, t, "temperature")?),
+            None => None,
+        };
+        let thermal = match &setup.thermal {
+            Some(t) => {
+                let mut g = setup.grid;
+                g.stencil = 3;
+                let conducting = t.conduction.is_some();
+                Some(ThermalState {
+                    temp0: if conducting { Some(Field::upload(b, &zeros_f, "temperature")?) } else { None },
+                    temp_t: if conducting { Some(b.alloc(n, "temperature rate")?) } else { None },
+                    materials: b.upload(&t.materials, "thermal materials")?,
+                    heat: b.upload(&[t.heat], "heat parameters")?,
+                    conduction: t.conduction,
+                    grid_pse: b.upload(&[g], "grid")?,
+                })
+            }
+            None => None,
+        };
+        let plastic = match &setup.plastic {
+            Some(p) => Some(PlasticState {
+                eps: Field::upload(b, &zeros_f, "plastic strain")?,
+                rate: Field::upload(b, &zeros_f, "plastic strain rate")?,
+                model_buf: b.upload(p.model.param_bytes(), "flow-stress parameters")?,
+                model: p.model,
+                taylor_quinney: p.taylor_quinney,
+            }),
+            None => None,
+        };
+        if (plastic.is_some() || thermal.is_some()) && temp.is_none() {
+            return Err(crate::Error::Scene("plasticity and heat need a temperature field".into()));
+        }
         Ok(Solver {
             particles: Particles::upload(b, particles)?,
             rates: Rates {
@@ -87,10 +183,14 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             sig: b.alloc(n, "stress over density squared")?,
             art: if stab.stress { Some(b.alloc(n, "artificial stress")?) } else { None },
             sound: if stab.viscosity { Some(b.alloc(n, "sound speed")?) } else { None },
-            cells: CellList::new(b, grid, n)?,
-            params: b.upload(&[params], "SPH parameters")?,
-            host_params: params,
+            cells: CellList::new(b, setup.grid, n)?,
+            params: b.upload(&[setup.params], "SPH parameters")?,
+            host_params: setup.params,
             bc_vel: b.upload(&table, "boundary velocities")?,
+            temp,
+            thermal,
+            plastic,
+            shear: setup.shear,
             stab,
             n,
             time: 0.0,
@@ -111,6 +211,11 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             FieldsMut { pos: &mut s.pos.cur, vel: &mut s.vel.cur, rho: &mut s.rho.cur, stress: &mut s.stress.cur },
             FieldsRef { pos: &r.pos, vel: &r.vel, rho: &r.rho, stress: &r.stress },
         )?;
+        if let (Some(t), Some(th)) = (self.temp.as_mut(), self.thermal.as_mut())
+            && let (Some(t0), Some(tt)) = (th.temp0.as_mut(), th.temp_t.as_ref())
+        {
+            b.scalar_predict(n, 0.5 * dt, &mut t.cur, &mut t0.cur, tt)?;
+        }
         self.cells.build::<R, D>(b, &p.pos.cur)?;
         let perm = &self.cells.perm;
         p.reorder(b, perm)?;
@@ -118,6 +223,16 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         s.vel.reorder(b, n, perm)?;
         s.rho.reorder(b, n, perm)?;
         s.stress.reorder(b, n, perm)?;
+        if let Some(t) = self.temp.as_mut() {
+            t.reorder(b, n, perm)?;
+        }
+        if let Some(t0) = self.thermal.as_mut().and_then(|th| th.temp0.as_mut()) {
+            t0.reorder(b, n, perm)?;
+        }
+        if let Some(pl) = self.plastic.as_mut() {
+            pl.eps.reorder(b, n, perm)?;
+            pl.rate.reorder(b, n, perm)?;
+        }
         b.sph_prepare::<R, D>(
             n,
             self.stab,
@@ -150,6 +265,20 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             &input,
             FieldsMut { pos: &mut r.pos, vel: &mut r.vel, rho: &mut r.rho, stress: &mut r.stress },
         )?;
+        if let (Some(t), Some(th)) = (self.temp.as_ref(), self.thermal.as_mut())
+            && let (Some(pse), Some(tt)) = (th.conduction, th.temp_t.as_mut())
+        {
+            let grid = if pse { &th.grid_pse } else { &self.cells.grid_buf };
+            let hin = crate::backend::HeatInputs::<B, R, D> {
+                pos: &p.pos.cur,
+                rho: &p.rho.cur,
+                mass: &p.mass.cur,
+                temp: &t.cur,
+                flags: &p.flags.cur,
+                materials: &th.materials,
+            };
+            b.heat_rates::<R, D>(n, pse, &th.heat, &self.params, grid, &self.cells.starts, &hin, tt)?;
+        }
         b.sph_correct::<R, D>(
             n,
             R::from_f64(dt),
@@ -157,6 +286,29 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             FieldsRef { pos: &s.pos.cur, vel: &s.vel.cur, rho: &s.rho.cur, stress: &s.stress.cur },
             FieldsRef { pos: &r.pos, vel: &r.vel, rho: &r.rho, stress: &r.stress },
         )?;
+        if let (Some(t), Some(th)) = (self.temp.as_mut(), self.thermal.as_ref())
+            && let (Some(t0), Some(tt)) = (th.temp0.as_ref(), th.temp_t.as_ref())
+        {
+            b.scalar_correct(n, dt, &mut t.cur, &t0.cur, tt)?;
+        }
+        if let (Some(pl), Some(t)) = (self.plastic.as_mut(), self.temp.as_mut()) {
+            let consts = PlasticConsts { shear: self.shear, dt, taylor_quinney: pl.taylor_quinney, _pad: 0.0 };
+            b.plastic_step::<R, D>(
+                n,
+                &pl.model,
+                &pl.model_buf,
+                consts,
+                crate::backend::PlasticInputs {
+                    stress: &mut p.stress.cur,
+                    rho: &p.rho.cur,
+                    eps: &mut pl.eps.cur,
+                    rate: &mut pl.rate.cur,
+                    temp: &mut t.cur,
+                    flags: &p.flags.cur,
+                    materials: self.thermal.as_ref().map(|th| &th.materials),
+                },
+            )?;
+        }
         self.time += dt;
         self.steps += 1;
         Ok(())
@@ -165,6 +317,20 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
     /// A host copy of the particle state (in the current sorted order).
     pub fn download(&self, b: &B) -> Result<HostParticles<R, D>> {
         self.particles.download(b)
+    }
+
+    /// Host copies of the temperature, plastic strain and plastic strain rate (in the state's order), where modelled.
+    #[allow(clippy::type_complexity)]
+    pub fn download_internal(&self, b: &B) -> Result<(Option<Vec<f64>>, Option<Vec<f64>>, Option<Vec<f64>>)> {
+        let t = match &self.temp {
+            Some(t) => Some(t.read(b)?),
+            None => None,
+        };
+        let (e, r) = match &self.plastic {
+            Some(p) => (Some(p.eps.read(b)?), Some(p.rate.read(b)?)),
+            None => (None, None),
+        };
+        Ok((t, e, r))
     }
 
     /// Host copies of the rates of the last step (x, v, ρ, S), in the state's order.

@@ -308,3 +308,73 @@ pub unsafe extern "ptx-kernel" fn swarf_scalar_correct(n: u32, c: f64, y: *mut f
         unsafe { *y.add(i) = *y0.add(i) + c * *yt.add(i) };
     }
 }
+
+use crate::material::{
+    Bilinear, Calamaz2008, Calamaz2010, Calamaz2011, JohnsonCook, Scgl, SimaOzel1, SimaOzel2, SimaOzel3,
+};
+use crate::sph::plastic::{PlasticArrays, PlasticConsts, plastic_particle};
+
+/// The plastic update (radial return + heating) of every particle, one entry per flow-stress model.
+macro_rules! plastic_entry {
+    ($name:ident, $m:ty, $r:ty, $d:ty) => {
+        #[unsafe(no_mangle)]
+        pub unsafe extern "ptx-kernel" fn $name(
+            n: u32,
+            model: *const $m,
+            shear: f64,
+            dt: f64,
+            taylor_quinney: f64,
+            stress: *mut Sym_<$r, $d>,
+            rho: *const $r,
+            eps: *mut f64,
+            rate: *mut f64,
+            temp: *mut f64,
+            flags: *const u32,
+            materials: *const ThermalMaterial,
+        ) {
+            let i = global_index() as usize;
+            if i < n as usize {
+                let a = PlasticArrays::<$r, Sym_<$r, $d>> { stress, rho, eps, rate, temp, flags, materials };
+                let c = PlasticConsts { shear, dt, taylor_quinney, _pad: 0.0 };
+                unsafe { plastic_particle::<$r, $d, $m>(&*model, &c, &a, i) };
+            }
+        }
+    };
+}
+
+plastic_entry!(swarf_plastic_jc_2d_f32, JohnsonCook, f32, Dim2);
+plastic_entry!(swarf_plastic_jc_2d_f64, JohnsonCook, f64, Dim2);
+plastic_entry!(swarf_plastic_jc_3d_f32, JohnsonCook, f32, Dim3);
+plastic_entry!(swarf_plastic_jc_3d_f64, JohnsonCook, f64, Dim3);
+plastic_entry!(swarf_plastic_calamaz_2008_2d_f32, Calamaz2008, f32, Dim2);
+plastic_entry!(swarf_plastic_calamaz_2008_2d_f64, Calamaz2008, f64, Dim2);
+plastic_entry!(swarf_plastic_calamaz_2008_3d_f32, Calamaz2008, f32, Dim3);
+plastic_entry!(swarf_plastic_calamaz_2008_3d_f64, Calamaz2008, f64, Dim3);
+plastic_entry!(swarf_plastic_calamaz_2010_2d_f32, Calamaz2010, f32, Dim2);
+plastic_entry!(swarf_plastic_calamaz_2010_2d_f64, Calamaz2010, f64, Dim2);
+plastic_entry!(swarf_plastic_calamaz_2010_3d_f32, Calamaz2010, f32, Dim3);
+plastic_entry!(swarf_plastic_calamaz_2010_3d_f64, Calamaz2010, f64, Dim3);
+plastic_entry!(swarf_plastic_calamaz_2011_2d_f32, Calamaz2011, f32, Dim2);
+plastic_entry!(swarf_plastic_calamaz_2011_2d_f64, Calamaz2011, f64, Dim2);
+plastic_entry!(swarf_plastic_calamaz_2011_3d_f32, Calamaz2011, f32, Dim3);
+plastic_entry!(swarf_plastic_calamaz_2011_3d_f64, Calamaz2011, f64, Dim3);
+plastic_entry!(swarf_plastic_sima_ozel_1_2d_f32, SimaOzel1, f32, Dim2);
+plastic_entry!(swarf_plastic_sima_ozel_1_2d_f64, SimaOzel1, f64, Dim2);
+plastic_entry!(swarf_plastic_sima_ozel_1_3d_f32, SimaOzel1, f32, Dim3);
+plastic_entry!(swarf_plastic_sima_ozel_1_3d_f64, SimaOzel1, f64, Dim3);
+plastic_entry!(swarf_plastic_sima_ozel_2_2d_f32, SimaOzel2, f32, Dim2);
+plastic_entry!(swarf_plastic_sima_ozel_2_2d_f64, SimaOzel2, f64, Dim2);
+plastic_entry!(swarf_plastic_sima_ozel_2_3d_f32, SimaOzel2, f32, Dim3);
+plastic_entry!(swarf_plastic_sima_ozel_2_3d_f64, SimaOzel2, f64, Dim3);
+plastic_entry!(swarf_plastic_sima_ozel_3_2d_f32, SimaOzel3, f32, Dim2);
+plastic_entry!(swarf_plastic_sima_ozel_3_2d_f64, SimaOzel3, f64, Dim2);
+plastic_entry!(swarf_plastic_sima_ozel_3_3d_f32, SimaOzel3, f32, Dim3);
+plastic_entry!(swarf_plastic_sima_ozel_3_3d_f64, SimaOzel3, f64, Dim3);
+plastic_entry!(swarf_plastic_scgl_2d_f32, Scgl, f32, Dim2);
+plastic_entry!(swarf_plastic_scgl_2d_f64, Scgl, f64, Dim2);
+plastic_entry!(swarf_plastic_scgl_3d_f32, Scgl, f32, Dim3);
+plastic_entry!(swarf_plastic_scgl_3d_f64, Scgl, f64, Dim3);
+plastic_entry!(swarf_plastic_bilinear_2d_f32, Bilinear, f32, Dim2);
+plastic_entry!(swarf_plastic_bilinear_2d_f64, Bilinear, f64, Dim2);
+plastic_entry!(swarf_plastic_bilinear_3d_f32, Bilinear, f32, Dim3);
+plastic_entry!(swarf_plastic_bilinear_3d_f64, Bilinear, f64, Dim3);

@@ -8,6 +8,7 @@ pub mod integrate;
 pub mod interact;
 pub mod kernel;
 pub mod params;
+pub mod plastic;
 pub mod tensor;
 
 pub use kernel::CubicSpline;

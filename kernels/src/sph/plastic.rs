@@ -1,0 +1,134 @@
+//! The plastic update of one particle after the corrector (roethlin-solver.md §5.2 step 13; klippel §2.2): the
+//! radial return of the trial deviatoric stress (always f64, `material::return_map`), the equivalent plastic
+//! strain and its rate, and the plastic heating ΔT = t_q σ_y Δε̄/(ρ c_p) capped at the melt temperature.
+
+use super::heat::ThermalMaterial;
+use super::params::flags;
+use super::tensor::TensorOps;
+use crate::material::{FlowStress, ReturnOptions, ReturnStatus, heated_temperature, plastic_heating, radial_return};
+use crate::real::Real;
+use crate::vector::SymTensor;
+
+/// Constants of the plastic update.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct PlasticConsts {
+    /// Shear modulus G [Pa].
+    pub shear: f64,
+    /// Time step Δt [s] (the plastic strain rate is Δε̄/Δt).
+    pub dt: f64,
+    /// Taylor–Quinney coefficient t_q; 0 switches plastic heating off.
+    pub taylor_quinney: f64,
+    pub _pad: f64,
+}
+
+/// Converts the stored deviatoric stress (2D: xx, xy, yy, zz; 3D: xx, xy, xz, yy, yz, zz) to the 3D layout of the
+/// return map and back.
+#[inline(always)]
+fn to6<R: Real, S: SymTensor<R>>(s: &S) -> [f64; 6] {
+    // SAFETY: SymTensor types are repr(C) arrays of R.
+    let c = unsafe { core::slice::from_raw_parts(s as *const S as *const R, S::COMPONENTS) };
+    if S::COMPONENTS == 4 {
+        [c[0].to_f64(), c[1].to_f64(), 0.0, c[2].to_f64(), 0.0, c[3].to_f64()]
+    } else {
+        let mut o = [0.0; 6];
+        let mut k = 0;
+        while k < 6 && k < c.len() {
+            o[k] = c[k].to_f64();
+            k += 1;
+        }
+        o
+    }
+}
+
+#[inline(always)]
+fn from6<R: Real, S: SymTensor<R>>(v: &[f64; 6], s: &mut S) {
+    // SAFETY: as above.
+    let c = unsafe { core::slice::from_raw_parts_mut(s as *mut S as *mut R, S::COMPONENTS) };
+    if S::COMPONENTS == 4 {
+        let m = [v[0], v[1], v[3], v[5]];
+        let mut k = 0;
+        while k < 4 && k < c.len() {
+            c[k] = R::from_f64(m[k]);
+            k += 1;
+        }
+    } else {
+        let mut k = 0;
+        while k < 6 && k < c.len() {
+            c[k] = R::from_f64(v[k]);
+            k += 1;
+        }
+    }
+}
+
+/// The plastic update of one particle. `cp` is the specific heat of its material (unused when t_q = 0).
+/// Returns the solver's iteration count (0 for an elastic step).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub fn plastic_update<R: Real, D: TensorOps<R>, M: FlowStress>(
+    model: &M,
+    c: &PlasticConsts,
+    s: &mut D::Sym<R>,
+    eps: &mut f64,
+    rate: &mut f64,
+    temp: &mut f64,
+    rho: R,
+    fl: u32,
+    cp: f64,
+) -> u32 {
+    let r = radial_return(model, &to6::<R, _>(s), *eps, *rate, *temp, c.shear, c.dt, &ReturnOptions::DEFAULT);
+    let d_eps = r.eps - *eps;
+    if r.status != ReturnStatus::Elastic {
+        from6::<R, _>(&r.stress, s);
+    }
+    if c.taylor_quinney > 0.0 && d_eps > 0.0 && fl & flags::FIXED_TEMPERATURE == 0 {
+        let sy = model.sigma_y(r.eps, r.rate, *temp);
+        *temp = heated_temperature(
+            *temp,
+            plastic_heating(c.taylor_quinney, sy, d_eps, rho.to_f64(), cp),
+            model.melt_temperature(),
+        );
+    }
+    *eps = r.eps;
+    *rate = r.rate;
+    r.iterations
+}
+
+/// Per-particle arrays of the plastic pass (sorted order).
+#[derive(Clone, Copy)]
+pub struct PlasticArrays<R: Real, S> {
+    pub stress: *mut S,
+    pub rho: *const R,
+    pub eps: *mut f64,
+    pub rate: *mut f64,
+    pub temp: *mut f64,
+    pub flags: *const u32,
+    /// Thermal materials by body (null when plastic heating is off).
+    pub materials: *const ThermalMaterial,
+}
+
+/// The plastic update of sorted particle i, reading and writing the arrays.
+///
+/// # Safety
+/// All arrays hold at least i + 1 particles; `materials` covers every body index when t_q > 0.
+#[inline(always)]
+pub unsafe fn plastic_particle<R: Real, D: TensorOps<R>, M: FlowStress>(
+    model: &M,
+    c: &PlasticConsts,
+    a: &PlasticArrays<R, D::Sym<R>>,
+    i: usize,
+) {
+    unsafe {
+        let fl = *a.flags.add(i);
+        let cp = if c.taylor_quinney > 0.0 && !a.materials.is_null() {
+            (*a.materials.add((fl >> flags::BODY_SHIFT) as usize)).specific_heat
+        } else {
+            1.0
+        };
+        let (mut e, mut r, mut t) = (*a.eps.add(i), *a.rate.add(i), *a.temp.add(i));
+        plastic_update::<R, D, M>(model, c, &mut *a.stress.add(i), &mut e, &mut r, &mut t, *a.rho.add(i), fl, cp);
+        *a.eps.add(i) = e;
+        *a.rate.add(i) = r;
+        *a.temp.add(i) = t;
+    }
+}
