@@ -23,6 +23,20 @@ enum Cmd {
     Run(RunArgs),
     /// Time standard workloads on the chosen backend.
     Bench(BenchArgs),
+    /// List the material library, print a material, evaluate its flow stress, draw flow curves.
+    Material {
+        /// A material name (omit to list the library).
+        name: Option<String>,
+        /// Evaluate σ_y at STRAIN,RATE,TEMP (strain [-], rate [1/s], temperature [K]); repeatable.
+        #[arg(long = "at", value_name = "STRAIN,RATE,TEMP")]
+        at: Vec<String>,
+        /// Draw flow curves to this PNG (at the --at rates and temperatures, or three default rates).
+        #[arg(long)]
+        plot: Option<std::path::PathBuf>,
+        /// The library folder.
+        #[arg(long, default_value = "cases/materials")]
+        library: std::path::PathBuf,
+    },
     /// Draw the PNG plots of a run folder (energies, momenta; forces and temperatures where recorded).
     Plot {
         /// The run folder (holds energy.csv).
@@ -201,6 +215,31 @@ fn run(cli: Cli) -> Result<()> {
                     r.precision,
                     opts.out_dir.display()
                 );
+            }
+            Ok(())
+        }
+        Cmd::Material { name, at, plot, library } => {
+            let lib = swarf::material::Library::load_dir(&library).map_err(|e| swarf::Error::Scene(e.to_string()))?;
+            let Some(name) = name else {
+                print!("{}", swarf::material::report::list(&lib));
+                return Ok(());
+            };
+            let m = lib.get(&name).map_err(|e| swarf::Error::Scene(e.to_string()))?;
+            let mut points = Vec::new();
+            for a in &at {
+                let v: Vec<f64> = a.split(',').filter_map(|x| x.trim().parse::<f64>().ok()).collect();
+                if v.len() != 3 || v[0] < 0.0 || v[1] < 0.0 || v[2] <= 0.0 {
+                    eprintln!(
+                        "error: --at {a}: expected STRAIN,RATE,TEMP with strain >= 0, rate >= 0 1/s, temperature > 0 K"
+                    );
+                    std::process::exit(2);
+                }
+                points.push([v[0], v[1], v[2]]);
+            }
+            print!("{}", swarf::material::report::describe(m, &points));
+            if let Some(p) = plot {
+                swarf::material::report::plot(m, &points, &p).map_err(swarf::Error::Output)?;
+                println!("wrote {}", p.display());
             }
             Ok(())
         }

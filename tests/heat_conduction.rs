@@ -208,3 +208,72 @@ fn gaussian_pulse_converges_in_3d() {
         }
     }
 }
+
+/// 1D conduction into a half-space: T(x, 0) = T0 for x > 0, the surface held at T1 from t = 0, so
+/// T = T1 + (T0 − T1) erf(x/(2√(αt))) (Carslaw–Jaeger). A 2D strip x ∈ [−2h, 1], y ∈ [0, 0.5] with α = 1;
+/// particles with x ≤ 0 and the outer layers (far end, top, bottom) held at the exact solution; t from 2e-3 to
+/// 1e-2. The L∞ error over the strip's middle must fall under refinement (Δx = 1/40, 1/60, 1/80), Brookshaw
+/// and PSE, regular and jittered ±0.25Δx.
+#[test]
+fn half_space_erfc_converges_in_2d() {
+    let (t0v, t1v) = (300.0, 1000.0);
+    let exact = |x: f64, t: f64| if x <= 0.0 { t1v } else { t1v + (t0v - t1v) * libm::erf(x / (2.0 * t.sqrt())) };
+    for pse in [false, true] {
+        for jitter in [0.0, 0.25] {
+            let mut errs = Vec::new();
+            for n in [40usize, 60, 80] {
+                let dx = 1.0 / n as f64;
+                let h = 1.5 * dx;
+                let nx = ((1.0 + 2.0 * h) / dx).round() as usize + 1;
+                let ny = (0.5 / dx).round() as usize + 1;
+                let mut rng = SplitMix64::new(n as u64 + 7);
+                let pos: Vec<_> = (0..nx * ny)
+                    .map(|i| {
+                        let (ix, iy) = (i % nx, i / nx);
+                        let j = if ix == 0 || iy == 0 || ix == nx - 1 || iy == ny - 1 { 0.0 } else { jitter };
+                        <Dim2 as Dim>::Vec::<f64>::new([
+                            -2.0 * h + ix as f64 * dx + j * dx * (rng.uniform() - 0.5) * 2.0,
+                            iy as f64 * dx + j * dx * (rng.uniform() - 0.5) * 2.0,
+                            0.0,
+                        ])
+                    })
+                    .collect();
+                let fixed = |p: &<Dim2 as Dim>::Vec<f64>| {
+                    p.get(0) <= 0.0 || p.get(0) > 1.0 - 2.0 * h || p.get(1) < 2.0 * h || p.get(1) > 0.5 - 2.0 * h
+                };
+                let s = sorted_set::<Dim2>(pos, h, dx * dx, if pse { 3 } else { 2 }, fixed);
+                let xs: Vec<f64> = s.pos.iter().map(|p| p.get(0)).collect();
+                let (ta, tb) = (2e-3, 1e-2);
+                let steps = ((tb - ta) / (0.1 * dx * dx)).ceil() as usize;
+                let dt = (tb - ta) / steps as f64;
+                let mut temp: Vec<f64> = xs.iter().map(|&x| exact(x, ta)).collect();
+                let mut time = ta;
+                for _ in 0..steps {
+                    let l0 = laplacian(&s, &temp, pse);
+                    let half: Vec<f64> =
+                        (0..temp.len())
+                            .map(|i| {
+                                if s.flags[i] != 0 { exact(xs[i], time + 0.5 * dt) } else { temp[i] + 0.5 * dt * l0[i] }
+                            })
+                            .collect();
+                    let l1 = laplacian(&s, &half, pse);
+                    time += dt;
+                    temp = (0..temp.len())
+                        .map(|i| if s.flags[i] != 0 { exact(xs[i], time) } else { temp[i] + dt * l1[i] })
+                        .collect();
+                }
+                let err = (0..temp.len())
+                    .filter(|&i| s.flags[i] == 0)
+                    .map(|i| (temp[i] - exact(xs[i], tb)).abs())
+                    .fold(0.0, f64::max)
+                    / (t1v - t0v);
+                errs.push(err);
+            }
+            eprintln!("erfc pse = {pse}, jitter = {jitter}: relative L∞ errors Δx = 1/40, 1/60, 1/80: {errs:?}");
+            assert!(
+                errs[1] < errs[0] && errs[2] < errs[1],
+                "pse = {pse}, jitter = {jitter}: errors {errs:?} must fall"
+            );
+        }
+    }
+}

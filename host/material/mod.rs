@@ -47,6 +47,8 @@
 //! Unknown keys are refused; every error names the file, the line where known, the dotted key and what was
 //! expected.
 
+pub mod report;
+
 use std::collections::{BTreeMap, HashMap};
 use std::fmt;
 use std::path::{Path, PathBuf};
