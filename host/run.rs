@@ -135,7 +135,9 @@ pub fn setup<R: Real, D: TensorOps<R>>(scene: &Scene) -> Result<Setup<R, D>> {
     let elastic = Elastic { density: m.density, youngs_modulus: m.youngs_modulus, poisson_ratio: m.poisson_ratio };
     let dx = scene.discretisation.dx;
     let h = scene.h();
-    let params = sph_params::<R>(&elastic, dx, h, scene.dim, &stabilisers);
+    let mut params = sph_params::<R>(&elastic, dx, h, scene.dim, &stabilisers);
+    params.expansion = R::from_f64(3.0 * scene.physics.thermal_expansion);
+    params.expansion_t0 = R::from_f64(scene.physics.expansion_reference);
     // A fixed ("locked") grid over the initial bodies with room to move; particles leaving it are clamped into
     // its boundary cells, which keeps the search exact (docs/neighbour-search.md).
     let (lo, hi) = crate::grid::bounding_box::<f64, _>(
@@ -191,7 +193,9 @@ pub fn setup<R: Real, D: TensorOps<R>>(scene: &Scene) -> Result<Setup<R, D>> {
         }
         _ => None,
     };
-    let temperature = if thermal.is_some() || plastic.is_some() { Some(set.temperature.clone()) } else { None };
+    let expands = ph.thermal_expansion > 0.0;
+    let temperature =
+        if thermal.is_some() || plastic.is_some() || expands { Some(set.temperature.clone()) } else { None };
     Ok(Setup {
         particles,
         params,
@@ -261,7 +265,7 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
         if solver.time >= next_out - 1e-9 * dt || solver.time >= end - 1e-9 * dt {
             let host = solver.download(b)?;
             let (temp, eps, rate) = solver.download_internal(b)?;
-            let mut d = compute(&host, &solver.host_params, solver.time, solver.steps);
+            let mut d = compute(&host, &solver.host_params, solver.time, solver.steps, temp.as_deref());
             crate::solver::diagnostics::internal(&mut d, &host.id, temp.as_deref(), eps.as_deref());
             if let Some((id, field)) = d.non_finite {
                 return Err(Error::NonFinite { id, field, time: solver.time, step: solver.steps });
@@ -406,8 +410,14 @@ fn write_frame<R: Real, D: TensorOps<R>>(
     let pts: Vec<f64> = p.pos.iter().flat_map(|x| (0..3).map(|k| x.get(k).to_f64())).collect();
     let vel: Vec<f64> = p.vel.iter().flat_map(|x| (0..3).map(|k| x.get(k).to_f64())).collect();
     let rho: Vec<f64> = p.rho.iter().map(|r| r.to_f64()).collect();
-    let pressure: Vec<f64> =
-        p.rho.iter().map(|r| crate::kernels::sph::interact::pressure(params, *r).to_f64()).collect();
+    let pressure: Vec<f64> = p
+        .rho
+        .iter()
+        .enumerate()
+        .map(|(i, r)| {
+            crate::kernels::sph::interact::pressure_at(params, *r, internal.temp.map_or(0.0, |t| t[i])).to_f64()
+        })
+        .collect();
     let mut stress = Vec::with_capacity(6 * n);
     let mut vm = Vec::with_capacity(n);
     for s in &p.stress {

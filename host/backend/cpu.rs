@@ -305,8 +305,12 @@ impl Backend for CpuBackend {
         sig: &mut Vec<D::Sym<R>>,
         art: Option<&mut Vec<D::Sym<R>>>,
         sound: Option<&mut Vec<R>>,
+        temp: Option<&Vec<f64>>,
     ) -> Result<()> {
         check("sph_prepare rho", n, rho.len())?;
+        if let Some(t) = temp {
+            check("sph_prepare temp", n, t.len())?;
+        }
         check("sph_prepare stress", n, stress.len())?;
         check("sph_prepare sig", n, sig.len())?;
         let p = params[0];
@@ -324,7 +328,7 @@ impl Backend for CpuBackend {
         macro_rules! go {
             ($av:literal, $as:literal) => {
                 sig[..n].par_iter_mut().enumerate().for_each(|(i, sg)| {
-                    let q = prepare::<R, D, $av, $as>(&p, rho[i], &stress[i]);
+                    let q = prepare::<R, D, $av, $as>(&p, rho[i], &stress[i], temp.map(|t| t[i]));
                     *sg = q.sig;
                     // SAFETY: the buffers exist when their stabiliser is on and hold n elements (checked by the
                     // solver, which allocates them); each index is written by one task.

@@ -545,6 +545,7 @@ impl Backend for CudaBackend {
         sig: &mut CudaBuf<D::Sym<R>>,
         art: Option<&mut CudaBuf<D::Sym<R>>>,
         sound: Option<&mut CudaBuf<R>>,
+        temp: Option<&CudaBuf<f64>>,
     ) -> Result<()> {
         let art = if stab.stress { art.map(|a| self.ptr_mut(a)).unwrap_or(0) } else { 0 };
         let sound = if stab.viscosity { sound.map(|c| self.ptr_mut(c)).unwrap_or(0) } else { 0 };
@@ -560,6 +561,7 @@ impl Backend for CudaBackend {
             Arg::U64(self.ptr_mut(sig)),
             Arg::U64(art),
             Arg::U64(sound),
+            Arg::U64(temp.map_or(0, |t| self.ptr(t))),
         ];
         self.launch(&self.k.sph_prepare[c].0[variant::<R, D>()], n, BLOCK, &args)
     }

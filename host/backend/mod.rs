@@ -129,7 +129,7 @@ pub trait Backend: Sized + Send + Sync {
     ) -> Result<()>;
 
     /// SPH pre-pass (`sph::interact::prepare`): sig = σ/ρ², art = artificial stress (if on), sound = √(K/ρ)
-    /// (if the viscosity is on).
+    /// (if the viscosity is on); `temp` is given when the EOS has thermal expansion.
     #[allow(clippy::too_many_arguments)]
     fn sph_prepare<R: Real, D: TensorOps<R>>(
         &self,
@@ -141,6 +141,7 @@ pub trait Backend: Sized + Send + Sync {
         sig: &mut Self::Buf<D::Sym<R>>,
         art: Option<&mut Self::Buf<D::Sym<R>>>,
         sound: Option<&mut Self::Buf<R>>,
+        temp: Option<&Self::Buf<f64>>,
     ) -> Result<()>;
     /// SPH pair interaction (`sph::interact::rates`): the rates of every sorted particle.
     #[allow(clippy::too_many_arguments)]

@@ -102,6 +102,11 @@ pub struct Physics {
     pub taylor_quinney: f64,
     /// `initial_temperature` (optional, default the material's reference temperature, else 300) [K], > 0.
     pub initial_temperature: f64,
+    /// `thermal_expansion` (optional, default 0 = off) [1/K], ≥ 0: the linear expansion coefficient α; the EOS
+    /// then uses ρ0(T) = ρ0/(1 + 3α (T − T_ref)), T_ref the material's reference temperature (else 300 K).
+    pub thermal_expansion: f64,
+    /// The reference temperature of the expansion [K] (the material's reference temperature, else 300).
+    pub expansion_reference: f64,
 }
 
 /// Heat conduction discretisation (`physics.conduction`).

@@ -261,15 +261,31 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
         plastic_heating: has_flow && thermal.is_some_and(|t| t.specific_heat.is_some()),
         taylor_quinney: thermal.and_then(|t| t.taylor_quinney).unwrap_or(0.9),
         initial_temperature: thermal.and_then(|t| t.reference_temperature).unwrap_or(300.0),
+        thermal_expansion: 0.0,
+        expansion_reference: thermal.and_then(|t| t.reference_temperature).unwrap_or(300.0),
     };
     let phys_expected =
         "a table [physics] with plasticity, conduction, plastic_heating, taylor_quinney, initial_temperature";
     if let Some(ph) = root.table("physics", "physics", phys_expected)? {
         ph.check_keys(
-            &["plasticity", "conduction", "plastic_heating", "taylor_quinney", "initial_temperature"],
+            &[
+                "plasticity",
+                "conduction",
+                "plastic_heating",
+                "taylor_quinney",
+                "initial_temperature",
+                "thermal_expansion",
+            ],
             &[],
             "",
         )?;
+        if let Some(a) =
+            ph.number("thermal_expansion", "a non-negative linear expansion coefficient in 1/K (e.g. 8.6e-6)", |x| {
+                (0.0..1e-3).contains(&x)
+            })?
+        {
+            physics.thermal_expansion = a;
+        }
         if let Some(p) = ph.boolean("plasticity", "true or false")? {
             if p && !has_flow {
                 return Err(ph.invalid(

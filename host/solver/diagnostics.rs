@@ -1,7 +1,7 @@
 //! Diagnostics of a particle state: energies, momenta and the first non-finite value, summed in f64 in particle
 //! order (deterministic) from the per-particle functions of `kernels::sph::energy`.
 
-use crate::kernels::sph::energy::{elastic, kinetic};
+use crate::kernels::sph::energy::{elastic_at, kinetic};
 use crate::kernels::sph::{SphParams, TensorOps};
 use crate::kernels::{Real, Vector};
 use crate::state::HostParticles;
@@ -34,11 +34,13 @@ impl Diagnostics {
     }
 }
 
+/// `temp`: the particles' temperatures when the run models thermal expansion (the pressure then depends on T).
 pub fn compute<R: Real, D: TensorOps<R>>(
     p: &HostParticles<R, D>,
     params: &SphParams<R>,
     time: f64,
     step: u64,
+    temp: Option<&[f64]>,
 ) -> Diagnostics {
     let mut d =
         Diagnostics { time, step, temperature_max: f64::NAN, plastic_strain_max: f64::NAN, ..Default::default() };
@@ -57,7 +59,7 @@ pub fn compute<R: Real, D: TensorOps<R>>(
             continue;
         }
         d.kinetic += kinetic(m, v).to_f64();
-        d.elastic += elastic::<R, D>(params, m, rho, &p.stress[i]).to_f64();
+        d.elastic += elastic_at::<R, D>(params, m, rho, &p.stress[i], temp.map(|t| t[i])).to_f64();
         let mf = m.to_f64();
         let xv: [f64; 3] = std::array::from_fn(|k| x.get(k).to_f64());
         let vv: [f64; 3] = std::array::from_fn(|k| v.get(k).to_f64());

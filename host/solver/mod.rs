@@ -242,6 +242,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             &mut self.sig,
             self.art.as_mut(),
             self.sound.as_mut(),
+            if self.host_params.expansion != R::ZERO { self.temp.as_ref().map(|t| &t.cur) } else { None },
         )?;
         let input = SphInputs::<B, R, D> {
             pos: &p.pos.cur,

@@ -63,6 +63,8 @@ pub fn sph_params<R: Real>(m: &Elastic, dx: f64, h: f64, dim: usize, s: &Stabili
         as_inv_w_dx: R::from_f64(1.0 / kernel.w(dx)),
         xsph_eps: R::from_f64(s.xsph.unwrap_or(0.0)),
         min_r2: R::from_f64((1e-6 * h) * (1e-6 * h)),
+        expansion: R::ZERO,
+        expansion_t0: R::ZERO,
         as_exponent: exponent,
         _pad: 0,
     }

@@ -69,11 +69,13 @@ macro_rules! prepare_entry {
             sig: *mut Sym_<$r, $d>,
             art: *mut Sym_<$r, $d>,
             sound: *mut $r,
+            temp: *const f64,
         ) {
             let i = global_index() as usize;
             if i < n as usize {
                 unsafe {
-                    let q = prepare::<$r, $d, $av, $as>(&*params, *rho.add(i), &*stress.add(i));
+                    let t = if temp.is_null() { None } else { Some(*temp.add(i)) };
+                    let q = prepare::<$r, $d, $av, $as>(&*params, *rho.add(i), &*stress.add(i), t);
                     *sig.add(i) = q.sig;
                     if $as {
                         *art.add(i) = q.art;

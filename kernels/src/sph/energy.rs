@@ -21,7 +21,16 @@ pub fn kinetic<R: Real, V: Vector<R>>(m: R, v: &V) -> R {
 
 #[inline(always)]
 pub fn elastic<R: Real, D: TensorOps<R>>(p: &SphParams<R>, m: R, rho: R, s: &D::Sym<R>) -> R {
-    let pr = pressure(p, rho);
+    elastic_at::<R, D>(p, m, rho, s, None)
+}
+
+/// The same with the temperature of a run with thermal expansion (the pressure is the mechanical one).
+#[inline(always)]
+pub fn elastic_at<R: Real, D: TensorOps<R>>(p: &SphParams<R>, m: R, rho: R, s: &D::Sym<R>, temp: Option<f64>) -> R {
+    let pr = match temp {
+        Some(t) => super::interact::pressure_at(p, rho, t),
+        None => pressure(p, rho),
+    };
     let vol = m / rho;
     vol * (D::double_dot(s) / (R::from_f64(4.0) * p.shear) + pr * pr / (R::from_f64(2.0) * p.bulk))
 }

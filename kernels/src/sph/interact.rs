@@ -35,14 +35,30 @@ pub fn pressure<R: Real>(p: &SphParams<R>, rho: R) -> R {
     p.c0sq * (rho - p.rho0)
 }
 
-/// The pre-pass of one particle: EOS, σ/ρ², artificial stress and sound speed.
+/// EOS with thermal expansion: p = c0² (ρ − ρ0(T)), ρ0(T) = ρ0/(1 + 3α (T − T0)); equal to [`pressure`] when
+/// the expansion is off.
+#[inline(always)]
+pub fn pressure_at<R: Real>(p: &SphParams<R>, rho: R, temp: f64) -> R {
+    if p.expansion == R::ZERO {
+        return pressure(p, rho);
+    }
+    let rho0 = p.rho0.to_f64() / (1.0 + p.expansion.to_f64() * (temp - p.expansion_t0.to_f64()));
+    p.c0sq * (rho - R::from_f64(rho0))
+}
+
+/// The pre-pass of one particle: EOS, σ/ρ², artificial stress and sound speed. `temp` is the particle's
+/// temperature when the run models thermal expansion.
 #[inline(always)]
 pub fn prepare<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool>(
     p: &SphParams<R>,
     rho: R,
     s: &D::Sym<R>,
+    temp: Option<f64>,
 ) -> Prepared<R, D> {
-    let pr = pressure(p, rho);
+    let pr = match temp {
+        Some(t) => pressure_at(p, rho, t),
+        None => pressure(p, rho),
+    };
     Prepared {
         sig: D::stress_over_rho2(s, pr, rho),
         art: if AS { D::artificial_stress(s, pr, rho, p.as_eps) } else { Default::default() },

@@ -30,12 +30,16 @@ pub struct SphParams<R: Real> {
     /// Pairs closer than this (squared) are skipped: coincident particles have no gradient direction
     /// (erratum 31: relative to h, (1e-6 h)², not an absolute 1e-8).
     pub min_r2: R,
+    /// Volumetric thermal expansion 3α [1/K] (0: off) and its reference temperature T0 [K]: the EOS uses
+    /// ρ0(T) = ρ0/(1 + 3α (T − T0)) (klippel-constitutive.md §1.1 [NOTE]).
+    pub expansion: R,
+    pub expansion_t0: R,
     pub as_exponent: u32,
     pub _pad: u32,
 }
 
-// SAFETY: repr(C), fields of one float type followed by two u32; R is 4 or 8 bytes, so with 15 floats and two
-// u32 there is no padding for f32 (68 bytes) and none for f64 (128 bytes).
+// SAFETY: repr(C), fields of one float type followed by two u32; R is 4 or 8 bytes, so with 17 floats and two
+// u32 there is no padding for f32 (76 bytes) and none for f64 (144 bytes).
 unsafe impl<R: Real> Zeroable for SphParams<R> {}
 unsafe impl<R: Real> Pod for SphParams<R> {}
 
