@@ -153,11 +153,22 @@ pub fn setup<R: Real, D: TensorOps<R>>(scene: &Scene) -> Result<Setup<R, D>> {
     let grid = grid_for_support(glo, ghi, scene.dim, 2.0 * h, 2)?;
     let vmax0 = set.vel.iter().map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()).fold(0.0, f64::max);
     let c0 = elastic.sound_speed();
-    let limit = cfl_time_step(scene.time.cfl, h, c0, vmax0);
+    let mut limit = cfl_time_step(scene.time.cfl, h, c0, vmax0);
+    // Explicit conduction is stable for Δt ≤ 0.1 h² ρ c / k (Cleary & Monaghan's bound for the Brookshaw form;
+    // PSE is no less restrictive): the largest diffusivity of the scene's bodies decides.
+    if scene.physics.conduction != Conduction::Off {
+        let lib_th = m.library.as_ref().and_then(|l| l.thermal);
+        for bd in &scene.bodies {
+            let t = bd.material.as_ref().and_then(|l| l.thermal).or(lib_th);
+            if let (Some(k), Some(c)) = (t.and_then(|t| t.conductivity), t.and_then(|t| t.specific_heat)) {
+                limit = limit.min(0.1 * h * h * m.density * c / k);
+            }
+        }
+    }
     let dt = match scene.time.dt {
         Some(dt) if dt > limit => {
             return Err(Error::Scene(format!(
-                "{}: time.dt = {dt:e} s is above the stability limit {limit:e} s (cfl {} · h {h:e} m / (c0 {c0:.1} m/s + |v|max {vmax0:.1} m/s))",
+                "{}: time.dt = {dt:e} s is above the stability limit {limit:e} s (cfl {} · h {h:e} m / (c0 {c0:.1} m/s + |v|max {vmax0:.1} m/s), and 0.1 h² ρ c / k with conduction)",
                 scene.origin, scene.time.cfl
             )));
         }
@@ -171,12 +182,20 @@ pub fn setup<R: Real, D: TensorOps<R>>(scene: &Scene) -> Result<Setup<R, D>> {
     let th = lib.and_then(|l| l.thermal);
     let needs_heat = ph.conduction != Conduction::Off || ph.plastic_heating;
     let thermal = if needs_heat {
-        let mat = ThermalMaterial {
-            conductivity: th.and_then(|t| t.conductivity).unwrap_or(0.0),
-            specific_heat: th.and_then(|t| t.specific_heat).unwrap_or(1.0),
-        };
+        // Each body's thermal data: its own library material if it names one, else the scene material's.
+        let materials = scene
+            .bodies
+            .iter()
+            .map(|bd| {
+                let t = bd.material.as_ref().and_then(|m| m.thermal).or(th);
+                ThermalMaterial {
+                    conductivity: t.and_then(|t| t.conductivity).unwrap_or(0.0),
+                    specific_heat: t.and_then(|t| t.specific_heat).unwrap_or(1.0),
+                }
+            })
+            .collect();
         Some(ThermalSetup {
-            materials: vec![mat; scene.bodies.len()],
+            materials,
             conduction: match ph.conduction {
                 Conduction::Off => None,
                 Conduction::Brookshaw => Some(false),

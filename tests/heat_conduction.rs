@@ -277,3 +277,87 @@ fn half_space_erfc_converges_in_2d() {
         }
     }
 }
+
+/// Per-body thermal materials: two half-spaces in perfect contact, initially at T_A and T_B, keep their contact
+/// temperature at T_s = (e_A T_A + e_B T_B)/(e_A + e_B), e = √(k ρ c) (Carslaw–Jaeger). Two fixed 2D blocks
+/// (6 mm × 1 mm each, Δx = 0.1 mm), block A with tungsten carbide's thermal data (k = 110, c = 39.8) and block B
+/// with diamond's (k = 2200, c = 630), the shared density 8000 kg/m³: T_s = 962.8 K for 300 K and 1000 K.
+/// The contact temperature, from the two particle columns beside the interface on the middle row by flux
+/// continuity (k_A (T_s − T_a) = k_B (T_b − T_s)), stays within 0.5 % of (T_B − T_A) of T_s from 0.25 to 2 ms
+/// (the heat reaches ≈ 1 mm into each block, well inside them).
+#[test]
+fn contact_temperature_of_two_materials() {
+    use swarf::backend::{AnyBackend, BackendChoice};
+    use swarf::run::{RunOptions, Snapshot, run_observed};
+    use swarf::scene::Scene;
+    let text = r#"
+name = "contact"
+dim = 2
+[discretisation]
+dx = 1.0e-4
+[material]
+density = 8000.0
+youngs_modulus = 1.0e6
+poisson_ratio = 0.3
+[physics]
+conduction = "brookshaw"
+[[body]]
+name = "a"
+shape = "rectangle"
+min = [-0.006, 0.0]
+max = [0.0, 0.001]
+material = "WC-Roethlin"
+temperature = 300.0
+[[body]]
+name = "b"
+shape = "rectangle"
+min = [0.0, 0.0]
+max = [0.006, 0.001]
+material = "Diamond-Roethlin"
+temperature = 1000.0
+[[boundary]]
+kind = "fixed"
+min = [-0.006, 0.0]
+max = [0.006, 0.001]
+[time]
+end = 2.0e-3
+[output]
+every = 2.5e-4
+"#;
+    let scene = Scene::from_str(text, "cases/contact (test)", &[]).expect("scene");
+    let e = |k: f64, c: f64| (k * 8000.0 * c).sqrt();
+    let (ea, eb) = (e(110.0, 39.8), e(2200.0, 630.0));
+    let ts = (ea * 300.0 + eb * 1000.0) / (ea + eb);
+    let opts = RunOptions {
+        out_dir: std::env::temp_dir().join(format!("swarf-test-contact-{}", std::process::id())),
+        precision: None,
+        frames: false,
+        quiet: true,
+    };
+    let mut seen = Vec::new();
+    let mut obs = |s: &Snapshot| {
+        if s.diagnostics.time == 0.0 {
+            return true;
+        }
+        let t = s.temperature.expect("temperature");
+        // Middle row (y = 0.45 … 0.55 mm), last column of A (x = −0.05 mm) and first of B (x = +0.05 mm).
+        let pick = |x0: f64| {
+            let v: Vec<f64> = (0..s.pos.len())
+                .filter(|&i| (s.pos[i][0] - x0).abs() < 1e-6 && (s.pos[i][1] - 0.0005).abs() < 0.6e-4)
+                .map(|i| t[i])
+                .collect();
+            v.iter().sum::<f64>() / v.len() as f64
+        };
+        // Flux continuity across the interface, half a spacing on each side: k_A (T_s − T_a) = k_B (T_b − T_s).
+        let contact = (110.0 * pick(-0.5e-4) + 2200.0 * pick(0.5e-4)) / 2310.0;
+        seen.push((s.diagnostics.time, contact));
+        true
+    };
+    let any = AnyBackend::select(BackendChoice::Cpu).expect("cpu").0;
+    run_observed(&any, &scene, &opts, Some(&mut obs)).expect("run");
+    eprintln!("contact temperature: analytical {ts:.1} K; measured {seen:?}");
+    for (time, c) in &seen {
+        assert!((c - ts).abs() < 0.005 * 700.0, "t = {time}: contact at {c:.1} K, analytical {ts:.1} K");
+    }
+    assert!(seen.len() >= 7);
+}

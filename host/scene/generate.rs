@@ -197,7 +197,10 @@ pub(super) fn generate(scene: &Scene) -> Result<ParticleSet, SceneError> {
         }
     }
     // Temperatures: the initial temperature, or that of the last temperature boundary containing the particle.
-    let mut temperature = vec![scene.physics.initial_temperature; pos.len()];
+    let mut temperature: Vec<f64> = body
+        .iter()
+        .map(|&b| scene.bodies[b as usize].temperature.unwrap_or(scene.physics.initial_temperature))
+        .collect();
     let mut fixed_temperature = vec![false; pos.len()];
     for (i, p) in pos.iter().enumerate() {
         for boundary in &scene.boundaries {

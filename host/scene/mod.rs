@@ -221,6 +221,13 @@ pub struct Body {
     pub angular_velocity: f64,
     /// `lattice` (optional): `"nodes"` or `"cells"`; default `"cells"` for rectangle and box, `"nodes"` otherwise.
     pub lattice: Lattice,
+    /// `material` (optional): a library material whose thermal data (conductivity, specific heat) this body uses
+    /// instead of the scene material's; mechanics uses the scene material, so its elastic constants, if any, must
+    /// equal the scene material's.
+    #[serde(skip)]
+    pub material: Option<crate::material::Material>,
+    /// `temperature` (optional; unit K), > 0: the body's initial temperature (default `physics.initial_temperature`).
+    pub temperature: Option<f64>,
 }
 
 /// The `shape` of a body and its parameters (keys of the body table; those of other shapes are an error).

@@ -23,7 +23,7 @@ const ROOT_KEYS: &[&str] = &[
     "output",
     "physics",
 ];
-const BODY_KEYS: &[&str] = &["name", "shape", "velocity", "angular_velocity", "lattice"];
+const BODY_KEYS: &[&str] = &["name", "shape", "velocity", "angular_velocity", "lattice", "material", "temperature"];
 const SHAPES: &[(&str, &[&str])] = &[
     ("rectangle", &["min", "max"]),
     ("box", &["min", "max"]),
@@ -303,10 +303,7 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
                 "pse" => Conduction::Pse,
                 _ => Conduction::Off,
             };
-            let ok = thermal.is_some_and(|t| t.conductivity.is_some() && t.specific_heat.is_some());
-            if physics.conduction != Conduction::Off && !ok {
-                return Err(ph.invalid("conduction", ph.get("conduction"), "\"off\": the material has no conductivity and specific heat (name a library material with [thermal])"));
-            }
+            // The conductivity and specific heat of every body are checked with the bodies.
         }
         if let Some(h) = ph.boolean("plastic_heating", "true or false")? {
             if h && !(physics.plasticity && thermal.is_some_and(|t| t.specific_heat.is_some())) {
@@ -341,6 +338,32 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
     for (i, &(node, entries)) in body_tables.iter().enumerate() {
         let t = Tab { doc, path: &body_paths[i], node, entries };
         let (body, points) = body(&t, i, dim, dx, &bodies)?;
+        if let Some(m) = &body.material {
+            if let Some(e) = m.elastic
+                && (e.density, e.youngs_modulus, e.poisson_ratio)
+                    != (material.density, material.youngs_modulus, material.poisson_ratio)
+            {
+                return Err(t.invalid(
+                    "material",
+                    t.get("material"),
+                    format!(
+                        "a material with the scene material's elastic constants (density {}, E {:e}, ν {}): per-body \
+                         mechanical materials are not supported yet, only per-body thermal data",
+                        material.density, material.youngs_modulus, material.poisson_ratio
+                    ),
+                ));
+            }
+        }
+        let th = body.material.as_ref().and_then(|m| m.thermal).or(material.library.as_ref().and_then(|m| m.thermal));
+        let ok = th.is_some_and(|t| t.conductivity.is_some() && t.specific_heat.is_some());
+        if physics.conduction != Conduction::Off && !ok {
+            return Err(t.invalid(
+                "material",
+                t.get("material"),
+                "a library material with [thermal] conductivity and specific_heat, for this body or the scene \
+                 (the scene conducts heat)",
+            ));
+        }
         lattice_points += points;
         bodies.push(body);
     }
@@ -558,7 +581,26 @@ fn body(t: &Tab<'_>, index: usize, dim: usize, dx: f64, earlier: &[Body]) -> Res
         None => shape.default_lattice(),
     };
     let points = (0..dim).map(|k| points_on_axis(extents[k], dx, lattice) as f64).product();
-    Ok((Body { name, shape, velocity, angular_velocity, lattice }, points))
+    // A body's own library material supplies its thermal data (per-material conductivity and heat capacity);
+    // mechanics uses the scene's material, so a body material must not disagree with it elastically.
+    let material = match t.string("material", "the name of a material of the library", |s| !s.trim().is_empty())? {
+        Some(mname) => {
+            let dir = super::library_dir(&t.doc.file);
+            let lib = crate::material::Library::load_dir(&dir).map_err(|e| {
+                t.invalid("material", t.get("material"), format!("a material of the library {} ({e})", dir.display()))
+            })?;
+            match lib.get(mname) {
+                Ok(m) => Some(m.clone()),
+                Err(_) => {
+                    let names = lib.names().collect::<Vec<_>>().join(", ");
+                    return Err(t.invalid("material", t.get("material"), format!("one of {names}")));
+                }
+            }
+        }
+        None => None,
+    };
+    let temperature = t.number("temperature", "a positive temperature in K", positive)?;
+    Ok((Body { name, shape, velocity, angular_velocity, lattice, material, temperature }, points))
 }
 
 fn dim_of(shape: &str) -> usize {
