@@ -338,21 +338,20 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
     for (i, &(node, entries)) in body_tables.iter().enumerate() {
         let t = Tab { doc, path: &body_paths[i], node, entries };
         let (body, points) = body(&t, i, dim, dx, &bodies)?;
-        if let Some(m) = &body.material {
-            if let Some(e) = m.elastic
-                && (e.density, e.youngs_modulus, e.poisson_ratio)
-                    != (material.density, material.youngs_modulus, material.poisson_ratio)
-            {
-                return Err(t.invalid(
-                    "material",
-                    t.get("material"),
-                    format!(
-                        "a material with the scene material's elastic constants (density {}, E {:e}, ν {}): per-body \
+        if let Some(m) = &body.material
+            && let Some(e) = m.elastic
+            && (e.density, e.youngs_modulus, e.poisson_ratio)
+                != (material.density, material.youngs_modulus, material.poisson_ratio)
+        {
+            return Err(t.invalid(
+                "material",
+                t.get("material"),
+                format!(
+                    "a material with the scene material's elastic constants (density {}, E {:e}, ν {}): per-body \
                          mechanical materials are not supported yet, only per-body thermal data",
-                        material.density, material.youngs_modulus, material.poisson_ratio
-                    ),
-                ));
-            }
+                    material.density, material.youngs_modulus, material.poisson_ratio
+                ),
+            ));
         }
         let th = body.material.as_ref().and_then(|m| m.thermal).or(material.library.as_ref().and_then(|m| m.thermal));
         let ok = th.is_some_and(|t| t.conductivity.is_some() && t.specific_heat.is_some());
