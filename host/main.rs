@@ -60,6 +60,10 @@ struct RunArgs {
     /// Print nothing but errors.
     #[arg(long)]
     quiet: bool,
+    /// Also write the frames as HDF5 with an XDMF sidecar (particles.h5, particles.xmf); needs a build with
+    /// `--features hdf5`.
+    #[arg(long)]
+    hdf5: bool,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -201,6 +205,7 @@ fn run(cli: Cli) -> Result<()> {
                     PrecisionChoice::F64 => swarf::scene::Precision::F64,
                 }),
                 frames: true,
+                hdf5: a.hdf5,
                 quiet: a.quiet,
             };
             let r = swarf::run::run(&any, &scene, &opts)?;

@@ -30,6 +30,8 @@ pub struct RunOptions {
     pub precision: Option<Precision>,
     /// Write frames (VTU + PVD); the energy CSV is always written.
     pub frames: bool,
+    /// Also write the frames as HDF5 + XDMF (`particles.h5`, `particles.xmf`; needs the `hdf5` feature).
+    pub hdf5: bool,
     pub quiet: bool,
 }
 
@@ -261,6 +263,7 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
         ],
     );
     let mut pvd = Collection::new(opts.out_dir.join("particles.pvd"));
+    let mut h5 = open_hdf5(opts)?;
     let mut history = Vec::new();
     let t0 = Instant::now();
     let end = scene.time.end;
@@ -312,6 +315,7 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
                 let internal = Internal { temp: temp.as_deref(), eps: eps.as_deref(), rate: rate.as_deref() };
                 write_frame(
                     &opts.out_dir.join(&name),
+                    &mut h5,
                     &host,
                     &internal,
                     &solver.host_params,
@@ -417,8 +421,36 @@ struct Internal<'a> {
     rate: Option<&'a [f64]>,
 }
 
+#[cfg(feature = "hdf5")]
+type H5 = crate::output::hdf5::H5Writer;
+/// Without the `hdf5` feature there is no HDF5 writer.
+#[cfg(not(feature = "hdf5"))]
+type H5 = std::convert::Infallible;
+
+/// The HDF5 writer of a run that asked for one.
+fn open_hdf5(opts: &RunOptions) -> Result<Option<H5>> {
+    if !opts.hdf5 || !opts.frames {
+        return Ok(None);
+    }
+    #[cfg(feature = "hdf5")]
+    {
+        let path = opts.out_dir.join("particles.h5");
+        crate::output::hdf5::H5Writer::create(&path).map(Some).map_err(|e| io_err(&path, e))
+    }
+    #[cfg(not(feature = "hdf5"))]
+    {
+        Err(Error::Output(
+            "--hdf5: this swarf was built without HDF5 support; rebuild with `cargo build --release --features hdf5` \
+             (needs the system HDF5 library, e.g. Debian's libhdf5-dev)"
+                .into(),
+        ))
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
 fn write_frame<R: Real, D: TensorOps<R>>(
     path: &Path,
+    h5: &mut Option<H5>,
     p: &HostParticles<R, D>,
     internal: &Internal,
     params: &SphParams<R>,
@@ -467,7 +499,15 @@ fn write_frame<R: Real, D: TensorOps<R>>(
         }
     }
     let frame = Frame { time, points: Values::F64(&pts), point_data, field_data: vec![("STEP", step as f64)] };
-    vtu::write(path, &frame).map_err(|e| io_err(path, e))
+    vtu::write(path, &frame).map_err(|e| io_err(path, e))?;
+    #[cfg(feature = "hdf5")]
+    if let Some(w) = h5.as_mut() {
+        let p = w.path().to_path_buf();
+        w.write_frame(&frame).map_err(|e| io_err(&p, e))?;
+    }
+    #[cfg(not(feature = "hdf5"))]
+    let _ = h5;
+    Ok(())
 }
 
 /// Each body's initial centre (the axis for the footprint radius).

@@ -17,6 +17,7 @@ fn opts(name: &str) -> RunOptions {
         out_dir: std::env::temp_dir().join(format!("swarf-test-{name}-{}", std::process::id())),
         precision: None,
         frames: false,
+        hdf5: false,
         quiet: true,
     }
 }

@@ -332,6 +332,7 @@ every = 2.5e-4
         out_dir: std::env::temp_dir().join(format!("swarf-test-contact-{}", std::process::id())),
         precision: None,
         frames: false,
+        hdf5: false,
         quiet: true,
     };
     let mut seen = Vec::new();

@@ -13,6 +13,7 @@ fn plastic_impact_is_finite_and_heats_only_plastic_particles() {
         out_dir: std::env::temp_dir().join(format!("swarf-test-impact-{}", std::process::id())),
         precision: None,
         frames: false,
+        hdf5: false,
         quiet: true,
     };
     let mut first_total = None;

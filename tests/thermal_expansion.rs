@@ -37,6 +37,7 @@ fn run(overrides: &[String]) -> (f64, f64) {
         out_dir: std::env::temp_dir().join(format!("swarf-test-expansion-{}", std::process::id())),
         precision: None,
         frames: false,
+        hdf5: false,
         quiet: true,
     };
     let mut last = (0.0, 0.0);

@@ -15,6 +15,8 @@
 
 pub mod atomic;
 pub mod csv;
+#[cfg(feature = "hdf5")]
+pub mod hdf5;
 pub mod pvd;
 mod text;
 pub mod vtu;
