@@ -12,7 +12,7 @@ use crate::output::{Array, Collection, Frame, TimeSeries, Values, vtu};
 use crate::scene::{Bc, Conduction, Precision, Scene};
 use crate::solver::Solver;
 use crate::solver::diagnostics::{Diagnostics, compute};
-use crate::solver::params::{Elastic, StabiliserSettings, cfl_time_step, sph_params};
+use crate::solver::params::{StabiliserSettings, cfl_time_step, sph_params};
 use crate::solver::{PlasticSetup, ThermalSetup};
 use crate::state::HostParticles;
 use crate::{Error, Result, with_backend};
@@ -134,7 +134,7 @@ pub fn setup<R: Real, D: TensorOps<R>>(scene: &Scene) -> Result<Setup<R, D>> {
         stress: st.artificial_stress.as_ref().map(|a| (a.epsilon, a.exponent)),
         xsph: st.xsph.as_ref().map(|x| x.epsilon),
     };
-    let elastic = Elastic { density: m.density, youngs_modulus: m.youngs_modulus, poisson_ratio: m.poisson_ratio };
+    let elastic = m.elastic();
     let dx = scene.discretisation.dx;
     let h = scene.h();
     let mut params = sph_params::<R>(&elastic, dx, h, scene.dim, &stabilisers);
@@ -226,7 +226,7 @@ pub fn setup<R: Real, D: TensorOps<R>>(scene: &Scene) -> Result<Setup<R, D>> {
         dt,
         c0,
         h,
-        shear: elastic.shear(),
+        shear: elastic.shear_modulus(),
         temperature,
         thermal,
         plastic,

@@ -336,7 +336,7 @@ fn unknown_key_is_refused_with_its_line() {
         msg,
         format!(
             "cases/rings.toml:{line}: unknown key 'materail' (expected one of: name, dim, precision, discretisation, \
-             material, body, boundary, stabilisation, time, output)"
+             material, body, boundary, stabilisation, time, output, physics)"
         )
     );
     let text = rings_with("h_over_dx = 1.7", "h_over_dx = 1.7\nkernel = \"wendland\"");
@@ -461,7 +461,7 @@ fn shape_parameter_of_another_shape_is_refused() {
         refused(&text, &[]),
         format!(
             "cases/rings.toml:{line}: unknown key 'body.0.radius' for shape 'ring' (expected one of: name, shape, \
-             velocity, angular_velocity, lattice, center, inner_radius, outer_radius)"
+             velocity, angular_velocity, lattice, material, temperature, center, inner_radius, outer_radius)"
         )
     );
     // A 3D shape in a 2D scene.

@@ -71,7 +71,7 @@ fn eos_with_expansion_at_a_material_point() {
     let rho_t = 7830.0 / (1.0 + 3.0 * alpha * dt);
     assert!(pressure_at(&p, rho_t, t0 + dt).abs() < 1e-6, "ρ0(T) must be stress-free");
     let confined = pressure_at(&p, 7830.0, t0 + dt);
-    let linear = 3.0 * m.bulk() * alpha * dt;
+    let linear = 3.0 * m.bulk_modulus() * alpha * dt;
     assert!(
         (confined / linear - 1.0).abs() < 2.0 * 3.0 * alpha * dt,
         "confined: {confined:e} Pa vs 3KαΔT = {linear:e}"

@@ -82,6 +82,11 @@ impl Elastic {
     pub fn bulk_modulus(&self) -> f64 {
         self.youngs_modulus / (3.0 * (1.0 - 2.0 * self.poisson_ratio))
     }
+
+    /// Bulk sound speed c0 = √(K/ρ0) [m/s] (roethlin-solver.md §2.3; AT-21).
+    pub fn sound_speed(&self) -> f64 {
+        (self.bulk_modulus() / self.density).sqrt()
+    }
 }
 
 /// Thermal properties; every entry optional.

@@ -73,7 +73,7 @@ fn write_temp(tmp: &Path, f: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> i
 
 /// Makes the rename itself durable: the new directory entry is on disk once this returns.
 #[cfg(unix)]
-fn sync_dir(path: &Path) -> io::Result<()> {
+pub(crate) fn sync_dir(path: &Path) -> io::Result<()> {
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
@@ -83,18 +83,18 @@ fn sync_dir(path: &Path) -> io::Result<()> {
 
 /// Directories cannot be opened as files here; the rename is still atomic, only its durability is up to the OS.
 #[cfg(not(unix))]
-fn sync_dir(_path: &Path) -> io::Result<()> {
+pub(crate) fn sync_dir(_path: &Path) -> io::Result<()> {
     Ok(())
 }
 
 /// Removes the temporary file if the write is abandoned, including by a panic in the caller's closure.
-struct TempFile {
-    path: PathBuf,
-    armed: bool,
+pub(crate) struct TempFile {
+    pub(crate) path: PathBuf,
+    pub(crate) armed: bool,
 }
 
 impl TempFile {
-    fn remove(&mut self) -> io::Result<()> {
+    pub(crate) fn remove(&mut self) -> io::Result<()> {
         self.armed = false;
         match fs::remove_file(&self.path) {
             // Nothing was created (e.g. the directory does not exist): nothing to clean up.

@@ -70,6 +70,8 @@ use std::fs;
 use std::io;
 use std::path::{Path, PathBuf};
 
+use super::atomic::{TempFile, sync_dir};
+
 use ::hdf5::types::VarLenUnicode;
 use ::hdf5::{Group, H5Type};
 
@@ -460,44 +462,4 @@ fn temp_path(path: &Path) -> io::Result<PathBuf> {
     tmp.push(name);
     tmp.push(format!(".tmp-{}", std::process::id()));
     Ok(path.with_file_name(tmp))
-}
-
-/// Makes a rename durable: the directory entry is on disk once this returns.
-#[cfg(unix)]
-fn sync_dir(path: &Path) -> io::Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    fs::File::open(dir)?.sync_all()
-}
-
-/// Directories cannot be opened as files here; the rename is still atomic, only its durability is up to the OS.
-#[cfg(not(unix))]
-fn sync_dir(_path: &Path) -> io::Result<()> {
-    Ok(())
-}
-
-/// Removes the temporary file if the write is abandoned, including by a panic.
-struct TempFile {
-    path: PathBuf,
-    armed: bool,
-}
-
-impl TempFile {
-    fn remove(&mut self) -> io::Result<()> {
-        self.armed = false;
-        match fs::remove_file(&self.path) {
-            Err(e) if e.kind() == io::ErrorKind::NotFound => Ok(()),
-            r => r,
-        }
-    }
-}
-
-impl Drop for TempFile {
-    fn drop(&mut self) {
-        if self.armed {
-            let _ = fs::remove_file(&self.path);
-        }
-    }
 }

@@ -161,19 +161,28 @@ pub struct Material {
 }
 
 impl Material {
+    /// The elastic constants (one place computes the moduli and the sound speed: `material::Elastic`).
+    pub fn elastic(&self) -> crate::material::Elastic {
+        crate::material::Elastic {
+            density: self.density,
+            youngs_modulus: self.youngs_modulus,
+            poisson_ratio: self.poisson_ratio,
+        }
+    }
+
     /// Bulk modulus K = E / (3 (1 − 2ν)) (Pa).
     pub fn bulk_modulus(&self) -> f64 {
-        self.youngs_modulus / (3.0 * (1.0 - 2.0 * self.poisson_ratio))
+        self.elastic().bulk_modulus()
     }
 
     /// Shear modulus G = E / (2 (1 + ν)) (Pa).
     pub fn shear_modulus(&self) -> f64 {
-        self.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio))
+        self.elastic().shear_modulus()
     }
 
     /// Bulk sound speed c0 = √(K/ρ0) (m/s), the speed of the equation of state p = c0² (ρ − ρ0).
     pub fn sound_speed(&self) -> f64 {
-        (self.bulk_modulus() / self.density).sqrt()
+        self.elastic().sound_speed()
     }
 }
 

@@ -3,28 +3,7 @@
 use crate::kernels::Real;
 use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers};
 
-/// Elastic material constants [SI].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Elastic {
-    pub density: f64,
-    pub youngs_modulus: f64,
-    pub poisson_ratio: f64,
-}
-
-impl Elastic {
-    /// Bulk modulus K = E/(3(1 − 2ν)).
-    pub fn bulk(&self) -> f64 {
-        self.youngs_modulus / (3.0 * (1.0 - 2.0 * self.poisson_ratio))
-    }
-    /// Shear modulus G = E/(2(1 + ν)).
-    pub fn shear(&self) -> f64 {
-        self.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio))
-    }
-    /// Bulk sound speed c0 = √(K/ρ0) (roethlin-solver.md §2.3; AT-21).
-    pub fn sound_speed(&self) -> f64 {
-        (self.bulk() / self.density).sqrt()
-    }
-}
+pub use crate::material::Elastic;
 
 /// Stabiliser constants (roethlin-solver.md §4.1 defaults); `Default` is all off.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -53,9 +32,9 @@ pub fn sph_params<R: Real>(m: &Elastic, dx: f64, h: f64, dim: usize, s: &Stabili
     SphParams {
         kernel: CubicSpline::new(h, dim),
         rho0: R::from_f64(m.density),
-        c0sq: R::from_f64(m.bulk() / m.density),
-        bulk: R::from_f64(m.bulk()),
-        shear: R::from_f64(m.shear()),
+        c0sq: R::from_f64(m.bulk_modulus() / m.density),
+        bulk: R::from_f64(m.bulk_modulus()),
+        shear: R::from_f64(m.shear_modulus()),
         av_alpha: R::from_f64(alpha),
         av_beta: R::from_f64(beta),
         av_eta2h2: R::from_f64(eta * eta * h * h),
