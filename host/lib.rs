@@ -6,6 +6,7 @@
 pub mod analysis;
 pub mod backend;
 pub mod bench;
+pub mod check;
 pub mod error;
 pub mod grid;
 pub mod info;

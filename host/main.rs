@@ -21,6 +21,15 @@ enum Cmd {
     Info,
     /// Run a scene: particle frames (VTU + PVD) and energies (CSV) in the output folder.
     Run(RunArgs),
+    /// Validate a scene and print particles, h, c0, dt, steps, memory and the expected run time on this backend.
+    Check {
+        scene: std::path::PathBuf,
+        #[arg(long, value_enum)]
+        precision: Option<PrecisionChoice>,
+        /// Override a scene key (repeatable), as for `run`.
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+    },
     /// Time standard workloads on the chosen backend.
     Bench(BenchArgs),
     /// List the material library, print a material, evaluate its flow stress, draw flow curves.
@@ -246,6 +255,18 @@ fn run(cli: Cli) -> Result<()> {
                 swarf::material::report::plot(m, &points, &p).map_err(swarf::Error::Output)?;
                 println!("wrote {}", p.display());
             }
+            Ok(())
+        }
+        Cmd::Check { scene, precision, set } => {
+            let sc = swarf::scene::Scene::load(&scene, &set).map_err(|e| swarf::Error::Scene(e.to_string()))?;
+            let (any, line) = AnyBackend::select(cli.backend)?;
+            eprintln!("{line}");
+            let p = precision.map(|p| match p {
+                PrecisionChoice::F32 => swarf::scene::Precision::F32,
+                PrecisionChoice::F64 => swarf::scene::Precision::F64,
+            });
+            let r = swarf::check::check(&any, &sc, p, 5)?;
+            print!("{}", swarf::check::format(&sc, &r));
             Ok(())
         }
         Cmd::Plot { run } => {

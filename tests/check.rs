@@ -1,0 +1,26 @@
+//! `swarf check` on every scene in cases/ (issue 6): each validates, and the report's derived quantities are
+//! consistent with the scene (steps = ⌈end/Δt⌉, Δt within the CFL limit, memory at least the particle state).
+
+use swarf::backend::{AnyBackend, BackendChoice};
+use swarf::scene::Scene;
+
+#[test]
+fn every_case_checks() {
+    let any = AnyBackend::select(BackendChoice::Cpu).expect("cpu").0;
+    let mut n = 0;
+    for entry in std::fs::read_dir("cases").expect("cases/") {
+        let path = entry.expect("entry").path();
+        if path.extension().is_none_or(|e| e != "toml") {
+            continue;
+        }
+        let scene = Scene::load(&path, &[]).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let r = swarf::check::check(&any, &scene, None, 1).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let cfl = scene.time.cfl * r.h / r.c0;
+        assert!(r.dt <= cfl * (1.0 + 1e-12), "{}: dt {} above the CFL limit {cfl}", path.display(), r.dt);
+        assert_eq!(r.steps, (scene.time.end / r.dt).ceil() as u64, "{}", path.display());
+        assert!(r.memory_bytes > r.particles * 100, "{}: memory estimate {} too small", path.display(), r.memory_bytes);
+        assert!(r.seconds_per_step > 0.0 && r.expected_run_time().is_finite());
+        n += 1;
+    }
+    assert!(n >= 6, "expected the scenes of cases/, found {n}");
+}
