@@ -69,6 +69,9 @@ struct RunArgs {
     /// Print nothing but errors.
     #[arg(long)]
     quiet: bool,
+    /// Print the diagnostics of every output step instead of the progress line.
+    #[arg(long)]
+    verbose: bool,
     /// Also write the frames as HDF5 with an XDMF sidecar (particles.h5, particles.xmf); needs a build with
     /// `--features hdf5`.
     #[arg(long)]
@@ -216,6 +219,8 @@ fn run(cli: Cli) -> Result<()> {
                 frames: true,
                 hdf5: a.hdf5,
                 quiet: a.quiet,
+                verbose: a.verbose,
+                overrides: a.set.clone(),
             };
             let r = swarf::run::run(&any, &scene, &opts)?;
             if !a.quiet {

@@ -33,6 +33,10 @@ pub struct RunOptions {
     /// Also write the frames as HDF5 + XDMF (`particles.h5`, `particles.xmf`; needs the `hdf5` feature).
     pub hdf5: bool,
     pub quiet: bool,
+    /// Print the diagnostics of every output step instead of a progress line.
+    pub verbose: bool,
+    /// The `--set` overrides the scene was loaded with (recorded in summary.json).
+    pub overrides: Vec<String>,
 }
 
 /// The outcome of a run.
@@ -241,7 +245,18 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
 ) -> Result<RunReport> {
     let s = setup::<R, D>(scene)?;
     let n = s.particles.len();
+    // Refuse before allocating when the GPU cannot hold the run, saying how much it needs.
+    let needed = crate::check::memory_estimate(&s);
+    if b.info().backend == "gpu" && needed > b.info().memory_bytes {
+        return Err(Error::OutOfMemory { what: "the scene", bytes: needed, free: 0, total: b.info().memory_bytes });
+    }
     std::fs::create_dir_all(&opts.out_dir).map_err(|e| io_err(&opts.out_dir, e))?;
+    // The run folder keeps the scene it ran (as given, with the overrides recorded in summary.json).
+    if let Ok(text) = std::fs::read(&scene.origin) {
+        let copy = opts.out_dir.join("scene.toml");
+        crate::output::write_atomic(&copy, &text).map_err(|e| io_err(&copy, e))?;
+    }
+    let mut log = RunLog::new(opts.out_dir.join("run.log"));
     let mut solver = Solver::<B, R, D>::new(b, &s)?;
     let mut csv = TimeSeries::new(
         opts.out_dir.join("energy.csv"),
@@ -271,18 +286,22 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
     let mut dt = s.dt;
     let mut frame = 0usize;
     let mut next_out = 0.0;
+    let head = format!(
+        "{}: {n} particles, {}D {}, h = {:.4e} m, c0 = {:.1} m/s, dt = {:.4e} s, about {} steps, {} ({})",
+        scene.name,
+        scene.dim,
+        R::NAME,
+        s.h,
+        s.c0,
+        dt,
+        (end / dt).ceil(),
+        b.info().backend,
+        b.info().name
+    );
     if !opts.quiet {
-        eprintln!(
-            "{}: {n} particles, {}D {}, h = {:.4e} m, c0 = {:.1} m/s, dt = {:.4e} s, about {} steps",
-            scene.name,
-            scene.dim,
-            R::NAME,
-            s.h,
-            s.c0,
-            dt,
-            (end / dt).ceil()
-        );
+        eprintln!("{head}");
     }
+    log.line(&head)?;
     loop {
         if solver.time >= next_out - 1e-9 * dt || solver.time >= end - 1e-9 * dt {
             let host = solver.download(b)?;
@@ -338,16 +357,36 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
                     return Err(Error::Unstable { vmax: d.vmax, dt, dt0: s.dt, time: solver.time, step: solver.steps });
                 }
             }
-            if !opts.quiet {
-                let el = t0.elapsed().as_secs_f64();
-                eprintln!(
-                    "t = {:.4e} s  step {}  E_kin {:.4e}  E_el {:.4e}  {:.0} steps/s",
+            let el = t0.elapsed().as_secs_f64();
+            let rate = d.step as f64 / el.max(1e-9);
+            let line = format!(
+                "t = {:.4e} s  step {}  E_kin {:.4e}  E_el {:.4e}  {:.0} steps/s  {:.3e} particle-steps/s",
+                d.time,
+                d.step,
+                d.kinetic,
+                d.elastic,
+                rate,
+                rate * n as f64
+            );
+            log.line(&line)?;
+            if opts.verbose {
+                eprintln!("{line}");
+            } else if !opts.quiet {
+                // One progress line, rewritten in place: simulated time, rates and the time left.
+                let frac = (d.time / end).clamp(0.0, 1.0);
+                let eta = if frac > 0.0 { el * (1.0 - frac) / frac } else { f64::NAN };
+                eprint!(
+                    "\r[{:<30}] {:5.1} %  t = {:.3e} s  {:.0} steps/s  {:.2e} particle-steps/s  ETA {:.0} s   ",
+                    "#".repeat((frac * 30.0) as usize),
+                    100.0 * frac,
                     d.time,
-                    d.step,
-                    d.kinetic,
-                    d.elastic,
-                    d.step as f64 / el.max(1e-9)
+                    rate,
+                    rate * n as f64,
+                    eta
                 );
+                if frac >= 1.0 {
+                    eprintln!();
+                }
             }
             let keep_going = match observer.as_deref_mut() {
                 Some(f) => f(&Snapshot {
@@ -369,6 +408,7 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
                 let wall = t0.elapsed().as_secs_f64();
                 write_summary(
                     &opts.out_dir,
+                    &opts.overrides,
                     scene,
                     b.info(),
                     R::NAME,
@@ -414,6 +454,24 @@ fn io_err(path: &Path, e: std::io::Error) -> Error {
 
 /// One VTU frame: positions, id, body, boundary kind, velocity, density, pressure, stress (VTK order xx, yy, zz,
 /// xy, yz, xz) and von Mises stress.
+/// `run.log` of the run folder: the header and one line per output step, rewritten atomically each time.
+struct RunLog {
+    path: PathBuf,
+    text: String,
+}
+
+impl RunLog {
+    fn new(path: PathBuf) -> Self {
+        RunLog { path, text: String::new() }
+    }
+
+    fn line(&mut self, l: &str) -> Result<()> {
+        self.text.push_str(l);
+        self.text.push('\n');
+        crate::output::write_atomic(&self.path, self.text.as_bytes()).map_err(|e| io_err(&self.path, e))
+    }
+}
+
 /// The f64 internal variables of a frame, where modelled.
 struct Internal<'a> {
     temp: Option<&'a [f64]>,
@@ -521,6 +579,7 @@ fn set_centres(scene: &Scene) -> Vec<[f64; 3]> {
 #[allow(clippy::too_many_arguments)]
 fn write_summary(
     dir: &Path,
+    overrides: &[String],
     scene: &Scene,
     info: &crate::backend::DeviceInfo,
     precision: &str,
@@ -558,6 +617,8 @@ fn write_summary(
         .collect();
     let v = serde_json::json!({
         "scene": scene.name,
+        "scene_file": scene.origin,
+        "overrides": overrides,
         "particles": particles,
         "steps": steps,
         "dt_s": dt,

@@ -19,6 +19,8 @@ fn opts(name: &str) -> RunOptions {
         frames: false,
         hdf5: false,
         quiet: true,
+        verbose: false,
+        overrides: Vec::new(),
     }
 }
 

@@ -334,6 +334,8 @@ every = 2.5e-4
         frames: false,
         hdf5: false,
         quiet: true,
+        verbose: false,
+        overrides: Vec::new(),
     };
     let mut seen = Vec::new();
     let mut obs = |s: &Snapshot| {

@@ -15,6 +15,8 @@ fn plastic_impact_is_finite_and_heats_only_plastic_particles() {
         frames: false,
         hdf5: false,
         quiet: true,
+        verbose: false,
+        overrides: Vec::new(),
     };
     let mut first_total = None;
     let mut eps_max = 0.0f64;

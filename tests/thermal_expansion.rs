@@ -39,6 +39,8 @@ fn run(overrides: &[String]) -> (f64, f64) {
         frames: false,
         hdf5: false,
         quiet: true,
+        verbose: false,
+        overrides: Vec::new(),
     };
     let mut last = (0.0, 0.0);
     let mut interior: Option<Vec<u32>> = None;
