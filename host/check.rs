@@ -54,6 +54,15 @@ pub fn memory_estimate<R: Real, D: TensorOps<R>>(s: &crate::solver::Setup<R, D>)
     n * (state + start + rates + prepass + thermal + plastic + cells) + (s.grid.n_cells as usize + 2) * 4
 }
 
+/// Refuses a run that cannot fit the GPU's memory, naming the bytes needed and available (the CPU backend uses
+/// host memory and is not checked).
+pub fn fits(needed: usize, info: &crate::backend::DeviceInfo) -> Result<()> {
+    if info.backend == "gpu" && needed > info.memory_bytes {
+        return Err(crate::Error::OutOfMemory { what: "the scene", bytes: needed, free: 0, total: info.memory_bytes });
+    }
+    Ok(())
+}
+
 pub fn check(any: &AnyBackend, scene: &Scene, precision: Option<Precision>, probe_steps: u64) -> Result<CheckReport> {
     let p = precision.unwrap_or(scene.precision);
     with_backend!(any, b => match (scene.dim, p) {
@@ -68,9 +77,7 @@ fn typed<B: Backend, R: Real, D: TensorOps<R>>(b: &B, scene: &Scene, probe_steps
     let s = setup::<R, D>(scene)?;
     let memory = memory_estimate(&s);
     let info = b.info();
-    if info.backend == "gpu" && memory > info.memory_bytes {
-        return Err(crate::Error::OutOfMemory { what: "the scene", bytes: memory, free: 0, total: info.memory_bytes });
-    }
+    fits(memory, info)?;
     let steps = (scene.time.end / s.dt).ceil() as u64;
     let mut solver = Solver::<B, R, D>::new(b, &s)?;
     solver.step(b, s.dt)?;

@@ -39,6 +39,14 @@ pub enum Error {
         "unstable: |v|max = {vmax:.3e} m/s needs dt = {dt:.3e} s, below 1 % of the initial {dt0:.3e} s (t = {time:e} s, step {step}); the last good frame is kept"
     )]
     Unstable { vmax: f64, dt: f64, dt0: f64, time: f64, step: u64 },
+    /// A checkpoint that cannot be read or does not fit the scene.
+    #[error("checkpoint: {0}")]
+    Checkpoint(String),
+    /// The run was interrupted (Ctrl-C); its state is in the checkpoint.
+    #[error(
+        "interrupted at t = {time:e} s, step {step}; checkpoint written to {path}; continue with `swarf run --resume {dir}`"
+    )]
+    Interrupted { time: f64, step: u64, path: String, dir: String },
     #[error("{0}")]
     Io(#[from] std::io::Error),
 }

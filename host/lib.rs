@@ -7,6 +7,7 @@ pub mod analysis;
 pub mod backend;
 pub mod bench;
 pub mod check;
+pub mod checkpoint;
 pub mod error;
 pub mod grid;
 pub mod info;

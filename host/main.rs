@@ -55,8 +55,15 @@ enum Cmd {
 
 #[derive(clap::Args)]
 struct RunArgs {
-    /// The scene file (TOML), e.g. cases/rings.toml.
-    scene: std::path::PathBuf,
+    /// The scene file (TOML), e.g. cases/rings.toml (omit with --resume).
+    #[arg(required_unless_present = "resume")]
+    scene: Option<std::path::PathBuf>,
+    /// Continue the run in this folder from its checkpoint.bin (same backend and precision: bit for bit).
+    #[arg(long, value_name = "RUN_FOLDER", conflicts_with_all = ["scene", "set", "out"])]
+    resume: Option<std::path::PathBuf>,
+    /// Write a checkpoint every this many seconds of simulated time (Ctrl-C always writes one).
+    #[arg(long, value_name = "SECONDS")]
+    checkpoint_every: Option<f64>,
     /// Floating-point precision of the particle state (default: the scene's, else f64).
     #[arg(long, value_enum)]
     precision: Option<PrecisionChoice>,
@@ -190,6 +197,10 @@ fn main() {
     let cli = Cli::parse();
     let code = match run(cli) {
         Ok(()) => 0,
+        Err(e @ swarf::Error::Interrupted { .. }) => {
+            eprintln!("\n{e}");
+            130
+        }
         Err(e) => {
             eprintln!("error: {e}");
             1
@@ -205,13 +216,37 @@ fn run(cli: Cli) -> Result<()> {
             Ok(())
         }
         Cmd::Run(a) => {
-            let scene = swarf::scene::Scene::load(&a.scene, &a.set).map_err(|e| swarf::Error::Scene(e.to_string()))?;
+            let (scene, overrides, out) = match &a.resume {
+                Some(dir) => {
+                    let (sc, ov) = swarf::run::resume_scene(dir)?;
+                    (sc, ov, dir.clone())
+                }
+                None => {
+                    let path = a.scene.clone().unwrap_or_default();
+                    let sc =
+                        swarf::scene::Scene::load(&path, &a.set).map_err(|e| swarf::Error::Scene(e.to_string()))?;
+                    let out = a.out.clone().unwrap_or_else(|| std::path::PathBuf::from("runs").join(&sc.name));
+                    (sc, a.set.clone(), out)
+                }
+            };
+            if let Some(c) = a.checkpoint_every
+                && !(c.is_finite() && c > 0.0)
+            {
+                eprintln!("error: --checkpoint-every {c}: expected a positive time in seconds");
+                std::process::exit(2);
+            }
             let (any, line) = AnyBackend::select(cli.backend)?;
             if !a.quiet {
                 eprintln!("{line}");
             }
+            // Ctrl-C: checkpoint before the next step and stop; a second Ctrl-C stops at once.
+            let _ = ctrlc::set_handler(|| {
+                if swarf::run::INTERRUPTED.swap(true, std::sync::atomic::Ordering::Relaxed) {
+                    std::process::exit(130);
+                }
+            });
             let opts = swarf::run::RunOptions {
-                out_dir: a.out.unwrap_or_else(|| std::path::PathBuf::from("runs").join(&scene.name)),
+                out_dir: out,
                 precision: a.precision.map(|p| match p {
                     PrecisionChoice::F32 => swarf::scene::Precision::F32,
                     PrecisionChoice::F64 => swarf::scene::Precision::F64,
@@ -220,7 +255,9 @@ fn run(cli: Cli) -> Result<()> {
                 hdf5: a.hdf5,
                 quiet: a.quiet,
                 verbose: a.verbose,
-                overrides: a.set.clone(),
+                overrides,
+                checkpoint_every: a.checkpoint_every,
+                resume: a.resume.is_some(),
             };
             let r = swarf::run::run(&any, &scene, &opts)?;
             if !a.quiet {

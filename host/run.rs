@@ -35,8 +35,22 @@ pub struct RunOptions {
     pub quiet: bool,
     /// Print the diagnostics of every output step instead of a progress line.
     pub verbose: bool,
-    /// The `--set` overrides the scene was loaded with (recorded in summary.json).
+    /// The `--set` overrides the scene was loaded with (recorded in summary.json and the checkpoint).
     pub overrides: Vec<String>,
+    /// Write `checkpoint.bin` every this much simulated time [s] (at the first output step past it).
+    pub checkpoint_every: Option<f64>,
+    /// Continue from `out_dir/checkpoint.bin` (the scene must be the run folder's, see [`resume_scene`]).
+    pub resume: bool,
+}
+
+/// Set by the Ctrl-C handler: the run writes a checkpoint before its next step and stops.
+pub static INTERRUPTED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// The scene of a run folder to resume: its `scene.toml` with the overrides recorded in its checkpoint.
+pub fn resume_scene(dir: &Path) -> Result<(Scene, Vec<String>)> {
+    let (h, _) = crate::checkpoint::read(&dir.join("checkpoint.bin"))?;
+    let scene = Scene::load(dir.join("scene.toml"), &h.overrides).map_err(|e| Error::Scene(e.to_string()))?;
+    Ok((scene, h.overrides))
 }
 
 /// The outcome of a run.
@@ -246,10 +260,7 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
     let s = setup::<R, D>(scene)?;
     let n = s.particles.len();
     // Refuse before allocating when the GPU cannot hold the run, saying how much it needs.
-    let needed = crate::check::memory_estimate(&s);
-    if b.info().backend == "gpu" && needed > b.info().memory_bytes {
-        return Err(Error::OutOfMemory { what: "the scene", bytes: needed, free: 0, total: b.info().memory_bytes });
-    }
+    crate::check::fits(crate::check::memory_estimate(&s), b.info())?;
     std::fs::create_dir_all(&opts.out_dir).map_err(|e| io_err(&opts.out_dir, e))?;
     // The run folder keeps the scene it ran (as given, with the overrides recorded in summary.json).
     if let Ok(text) = std::fs::read(&scene.origin) {
@@ -257,6 +268,9 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
         crate::output::write_atomic(&copy, &text).map_err(|e| io_err(&copy, e))?;
     }
     let mut log = RunLog::new(opts.out_dir.join("run.log"));
+    if opts.resume {
+        log.text = std::fs::read_to_string(&log.path).unwrap_or_default();
+    }
     let mut solver = Solver::<B, R, D>::new(b, &s)?;
     let mut csv = TimeSeries::new(
         opts.out_dir.join("energy.csv"),
@@ -278,7 +292,14 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
         ],
     );
     let mut pvd = Collection::new(opts.out_dir.join("particles.pvd"));
+    // Temperatures over time (drawn as temperature.png), when the run models them.
+    let mut tcsv = s
+        .temperature
+        .as_ref()
+        .map(|_| TimeSeries::new(opts.out_dir.join("temperature.csv"), &["time", "step", "temperature_max"]));
     let mut h5 = open_hdf5(opts)?;
+    let mut next_ckpt = opts.checkpoint_every.unwrap_or(f64::INFINITY);
+    let ckpt_path = opts.out_dir.join("checkpoint.bin");
     let mut history = Vec::new();
     let t0 = Instant::now();
     let end = scene.time.end;
@@ -286,6 +307,41 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
     let mut dt = s.dt;
     let mut frame = 0usize;
     let mut next_out = 0.0;
+    if opts.resume {
+        let (h, blobs) = crate::checkpoint::read(&ckpt_path)?;
+        if h.precision != R::NAME || h.dim != D::D || h.particles != n {
+            return Err(Error::Checkpoint(format!(
+                "{} holds a {}D {} run of {} particles; this scene is {}D {} with {n}",
+                ckpt_path.display(),
+                h.dim,
+                h.precision,
+                h.particles,
+                D::D,
+                R::NAME
+            )));
+        }
+        solver.load_state(b, &blobs)?;
+        solver.time = h.time;
+        solver.steps = h.steps;
+        dt = h.dt;
+        frame = h.frame;
+        next_out = h.next_out;
+        next_ckpt = h.next_checkpoint.unwrap_or(f64::INFINITY);
+        // Continue the time series and the frame index up to the checkpoint.
+        for series in std::iter::once(&mut csv).chain(tcsv.as_mut()) {
+            if let Ok((_, rows)) = crate::output::csv::read(series.path()) {
+                for r in rows.into_iter().filter(|r| r[0] <= h.time) {
+                    series.push(&r).map_err(|e| io_err(series.path(), e))?;
+                }
+            }
+        }
+        if let Ok(entries) = crate::output::pvd::read(pvd.path()) {
+            for (t, f) in entries.into_iter().filter(|(t, _)| *t <= h.time) {
+                pvd.push(t, f).map_err(|e| io_err(pvd.path(), e))?;
+            }
+        }
+        log.line(&format!("resumed from {} at t = {:e} s, step {}", ckpt_path.display(), h.time, h.steps))?;
+    }
     let head = format!(
         "{}: {n} particles, {}D {}, h = {:.4e} m, c0 = {:.1} m/s, dt = {:.4e} s, about {} steps, {} ({})",
         scene.name,
@@ -329,6 +385,10 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
             ])
             .map_err(|e| io_err(csv.path(), e))?;
             csv.write().map_err(|e| io_err(csv.path(), e))?;
+            if let Some(t) = tcsv.as_mut() {
+                t.push(&[d.time, d.step as f64, d.temperature_max]).map_err(|e| io_err(t.path(), e))?;
+                t.write().map_err(|e| io_err(t.path(), e))?;
+            }
             if opts.frames {
                 let name = format!("frame_{frame:05}.vtu");
                 let internal = Internal { temp: temp.as_deref(), eps: eps.as_deref(), rate: rate.as_deref() };
@@ -388,6 +448,13 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
                     eprintln!();
                 }
             }
+            if solver.time >= next_ckpt - 1e-9 * dt && solver.time < end - 1e-9 * dt {
+                while next_ckpt <= solver.time + 1e-9 * dt {
+                    next_ckpt += opts.checkpoint_every.unwrap_or(f64::INFINITY);
+                }
+                save_checkpoint(b, &solver, &ckpt_path, opts, dt, frame, next_out, next_ckpt)?;
+                log.line(&format!("checkpoint at t = {:e} s, step {}", solver.time, solver.steps))?;
+            }
             let keep_going = match observer.as_deref_mut() {
                 Some(f) => f(&Snapshot {
                     diagnostics: &d,
@@ -434,6 +501,16 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
                 break;
             }
         }
+        if INTERRUPTED.load(std::sync::atomic::Ordering::Relaxed) {
+            save_checkpoint(b, &solver, &ckpt_path, opts, dt, frame, next_out, next_ckpt)?;
+            log.line(&format!("interrupted at t = {:e} s, step {}; checkpoint written", solver.time, solver.steps))?;
+            return Err(Error::Interrupted {
+                time: solver.time,
+                step: solver.steps,
+                path: ckpt_path.display().to_string(),
+                dir: opts.out_dir.display().to_string(),
+            });
+        }
         let h = dt.min(end - solver.time).min(next_out - solver.time).max(1e-12 * dt);
         solver.step(b, h)?;
     }
@@ -454,6 +531,34 @@ fn io_err(path: &Path, e: std::io::Error) -> Error {
 
 /// One VTU frame: positions, id, body, boundary kind, velocity, density, pressure, stress (VTK order xx, yy, zz,
 /// xy, yz, xz) and von Mises stress.
+#[allow(clippy::too_many_arguments)]
+fn save_checkpoint<B: Backend, R: Real, D: TensorOps<R>>(
+    b: &B,
+    solver: &Solver<B, R, D>,
+    path: &Path,
+    opts: &RunOptions,
+    dt: f64,
+    frame: usize,
+    next_out: f64,
+    next_checkpoint: f64,
+) -> Result<()> {
+    let state = solver.save_state(b)?;
+    let h = crate::checkpoint::Header {
+        overrides: opts.overrides.clone(),
+        precision: R::NAME.to_string(),
+        dim: D::D,
+        particles: solver.n,
+        time: solver.time,
+        steps: solver.steps,
+        dt,
+        frame,
+        next_out,
+        next_checkpoint: next_checkpoint.is_finite().then_some(next_checkpoint),
+        fields: Vec::new(),
+    };
+    crate::checkpoint::write(path, h, &state)
+}
+
 /// `run.log` of the run folder: the header and one line per output step, rewritten atomically each time.
 struct RunLog {
     path: PathBuf,

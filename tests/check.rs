@@ -24,3 +24,16 @@ fn every_case_checks() {
     }
     assert!(n >= 6, "expected the scenes of cases/, found {n}");
 }
+
+/// A scene larger than the GPU's memory is refused before anything is allocated, with the bytes it needs.
+#[test]
+fn a_scene_too_large_for_the_gpu_is_refused() {
+    let scene = Scene::load("cases/rings.toml", &[]).expect("scene");
+    let s = swarf::run::setup::<f64, swarf::kernels::Dim2>(&scene).expect("setup");
+    let need = swarf::check::memory_estimate(&s);
+    let small = swarf::backend::DeviceInfo { backend: "gpu", memory_bytes: need / 2, ..Default::default() };
+    let msg = swarf::check::fits(need, &small).expect_err("must not fit").to_string();
+    assert!(msg.contains(&need.to_string()) && msg.contains("out of memory"), "{msg}");
+    let big = swarf::backend::DeviceInfo { backend: "gpu", memory_bytes: 2 * need, ..Default::default() };
+    assert!(swarf::check::fits(need, &big).is_ok());
+}

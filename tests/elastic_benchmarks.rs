@@ -21,6 +21,8 @@ fn opts(name: &str) -> RunOptions {
         quiet: true,
         verbose: false,
         overrides: Vec::new(),
+        checkpoint_every: None,
+        resume: false,
     }
 }
 

@@ -336,6 +336,8 @@ every = 2.5e-4
         quiet: true,
         verbose: false,
         overrides: Vec::new(),
+        checkpoint_every: None,
+        resume: false,
     };
     let mut seen = Vec::new();
     let mut obs = |s: &Snapshot| {

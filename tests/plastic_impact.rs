@@ -17,6 +17,8 @@ fn plastic_impact_is_finite_and_heats_only_plastic_particles() {
         quiet: true,
         verbose: false,
         overrides: Vec::new(),
+        checkpoint_every: None,
+        resume: false,
     };
     let mut first_total = None;
     let mut eps_max = 0.0f64;
@@ -47,4 +49,15 @@ fn plastic_impact_is_finite_and_heats_only_plastic_particles() {
     assert!(eps_max > 0.3, "the impact must deform plastically (max ε̄ = {eps_max})");
     assert!(t_max > t0 + 50.0, "plastic work must heat the contact zone (max T = {t_max} K)");
     assert!(v_end < 250.0, "the projectile must be slowed by the wall (mean v_x = {v_end} m/s)");
+}
+
+/// A fixed time step above the stability limit is refused before the run, naming the file, the key and the limit.
+#[test]
+fn fixed_dt_above_the_stability_limit_is_refused() {
+    let scene = Scene::load("cases/impact.toml", &["time.dt=1e-6".into()]).expect("scene");
+    let err = match swarf::run::setup::<f64, swarf::kernels::Dim2>(&scene) {
+        Err(e) => e.to_string(),
+        Ok(_) => panic!("a dt of 1e-6 s must be refused (the limit is about 1e-7 s)"),
+    };
+    assert!(err.contains("cases/impact.toml") && err.contains("time.dt") && err.contains("stability limit"), "{err}");
 }

@@ -41,6 +41,8 @@ fn run(overrides: &[String]) -> (f64, f64) {
         quiet: true,
         verbose: false,
         overrides: Vec::new(),
+        checkpoint_every: None,
+        resume: false,
     };
     let mut last = (0.0, 0.0);
     let mut interior: Option<Vec<u32>> = None;

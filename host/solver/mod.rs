@@ -340,3 +340,116 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         Ok((b.read(&self.rates.pos)?, b.read(&self.rates.vel)?, b.read(&self.rates.rho)?, b.read(&self.rates.stress)?))
     }
 }
+
+/// Named raw copies of every buffer that carries state from one step to the next (the particle state, the
+/// start-of-step copies, the rates the next predictor uses, temperature and plastic fields). Scratch buffers
+/// (pre-pass outputs, cell list) are rebuilt every step and are not included.
+pub type StateBlobs = Vec<(String, Vec<u8>)>;
+
+fn dump<B: Backend, T: crate::backend::Element>(
+    b: &B,
+    name: &str,
+    buf: &B::Buf<T>,
+    out: &mut StateBlobs,
+) -> Result<()> {
+    out.push((name.to_string(), bytemuck::cast_slice::<T, u8>(&b.read(buf)?).to_vec()));
+    Ok(())
+}
+
+fn fill<B: Backend, T: crate::backend::Element>(
+    b: &B,
+    name: &str,
+    buf: &mut B::Buf<T>,
+    blobs: &StateBlobs,
+) -> Result<()> {
+    use crate::backend::Buffer;
+    let bytes = blobs
+        .iter()
+        .find(|(n, _)| n == name)
+        .map(|(_, v)| v)
+        .ok_or_else(|| crate::Error::Checkpoint(format!("field '{name}' missing")))?;
+    if bytes.len() != buf.len() * size_of::<T>() {
+        return Err(crate::Error::Checkpoint(format!(
+            "field '{name}' has {} bytes, the scene needs {}",
+            bytes.len(),
+            buf.len() * size_of::<T>()
+        )));
+    }
+    let v: Vec<T> = bytemuck::pod_collect_to_vec(bytes);
+    b.write(buf, &v)
+}
+
+impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
+    /// Copies of every stateful buffer, for a checkpoint.
+    pub fn save_state(&self, b: &B) -> Result<StateBlobs> {
+        let mut o = Vec::new();
+        let p = &self.particles;
+        dump(b, "id", &p.id.cur, &mut o)?;
+        dump(b, "flags", &p.flags.cur, &mut o)?;
+        dump(b, "pos", &p.pos.cur, &mut o)?;
+        dump(b, "vel", &p.vel.cur, &mut o)?;
+        dump(b, "mass", &p.mass.cur, &mut o)?;
+        dump(b, "rho", &p.rho.cur, &mut o)?;
+        dump(b, "stress", &p.stress.cur, &mut o)?;
+        dump(b, "pos0", &self.start.pos.cur, &mut o)?;
+        dump(b, "vel0", &self.start.vel.cur, &mut o)?;
+        dump(b, "rho0", &self.start.rho.cur, &mut o)?;
+        dump(b, "stress0", &self.start.stress.cur, &mut o)?;
+        dump(b, "pos_t", &self.rates.pos, &mut o)?;
+        dump(b, "vel_t", &self.rates.vel, &mut o)?;
+        dump(b, "rho_t", &self.rates.rho, &mut o)?;
+        dump(b, "stress_t", &self.rates.stress, &mut o)?;
+        if let Some(t) = &self.temp {
+            dump(b, "temp", &t.cur, &mut o)?;
+        }
+        if let Some(th) = &self.thermal {
+            if let Some(t0) = &th.temp0 {
+                dump(b, "temp0", &t0.cur, &mut o)?;
+            }
+            if let Some(tt) = &th.temp_t {
+                dump(b, "temp_t", tt, &mut o)?;
+            }
+        }
+        if let Some(pl) = &self.plastic {
+            dump(b, "eps", &pl.eps.cur, &mut o)?;
+            dump(b, "eps_rate", &pl.rate.cur, &mut o)?;
+        }
+        Ok(o)
+    }
+
+    /// Restores the buffers saved by [`Solver::save_state`] (the solver must have been built from the same scene).
+    pub fn load_state(&mut self, b: &B, s: &StateBlobs) -> Result<()> {
+        let p = &mut self.particles;
+        fill(b, "id", &mut p.id.cur, s)?;
+        fill(b, "flags", &mut p.flags.cur, s)?;
+        fill(b, "pos", &mut p.pos.cur, s)?;
+        fill(b, "vel", &mut p.vel.cur, s)?;
+        fill(b, "mass", &mut p.mass.cur, s)?;
+        fill(b, "rho", &mut p.rho.cur, s)?;
+        fill(b, "stress", &mut p.stress.cur, s)?;
+        fill(b, "pos0", &mut self.start.pos.cur, s)?;
+        fill(b, "vel0", &mut self.start.vel.cur, s)?;
+        fill(b, "rho0", &mut self.start.rho.cur, s)?;
+        fill(b, "stress0", &mut self.start.stress.cur, s)?;
+        fill(b, "pos_t", &mut self.rates.pos, s)?;
+        fill(b, "vel_t", &mut self.rates.vel, s)?;
+        fill(b, "rho_t", &mut self.rates.rho, s)?;
+        fill(b, "stress_t", &mut self.rates.stress, s)?;
+        if let Some(t) = &mut self.temp {
+            fill(b, "temp", &mut t.cur, s)?;
+        }
+        if let Some(th) = &mut self.thermal {
+            if let Some(t0) = &mut th.temp0 {
+                fill(b, "temp0", &mut t0.cur, s)?;
+            }
+            if let Some(tt) = &mut th.temp_t {
+                fill(b, "temp_t", tt, s)?;
+            }
+        }
+        if let Some(pl) = &mut self.plastic {
+            fill(b, "eps", &mut pl.eps.cur, s)?;
+            fill(b, "eps_rate", &mut pl.rate.cur, s)?;
+        }
+        Ok(())
+    }
+}
