@@ -29,6 +29,35 @@ impl<B: Backend, T: Element> Field<B, T> {
     pub fn read(&self, b: &B) -> Result<Vec<T>> {
         b.read(&self.cur)
     }
+
+    /// Overwrites the field with the bytes saved under `name` (a checkpoint), checking their length.
+    pub fn load(&mut self, b: &B, name: &str, blobs: &[(String, Vec<u8>)]) -> Result<()> {
+        load_blob(b, name, &mut self.cur, blobs)
+    }
+}
+
+/// Writes the saved bytes named `name` into `buf`, refusing a missing field or a length that does not fit.
+pub fn load_blob<B: Backend, T: Element>(
+    b: &B,
+    name: &str,
+    buf: &mut B::Buf<T>,
+    blobs: &[(String, Vec<u8>)],
+) -> Result<()> {
+    use crate::backend::Buffer;
+    let bytes = blobs
+        .iter()
+        .find(|(n, _)| n == name)
+        .map(|(_, v)| v)
+        .ok_or_else(|| crate::Error::Checkpoint(format!("field '{name}' missing")))?;
+    if bytes.len() != buf.len() * size_of::<T>() {
+        return Err(crate::Error::Checkpoint(format!(
+            "field '{name}' has {} bytes, the scene needs {}",
+            bytes.len(),
+            buf.len() * size_of::<T>()
+        )));
+    }
+    let v: Vec<T> = bytemuck::pod_collect_to_vec(bytes);
+    b.write(buf, &v)
 }
 
 /// Declares the particle fields once; upload, download and reorder are generated from the list, so a field
@@ -86,6 +115,18 @@ macro_rules! particle_fields {
             /// Reorders every field through one permutation (`CellList::perm`).
             pub fn reorder(&mut self, b: &B, perm: &B::Buf<u32>) -> Result<()> {
                 $( self.$name.reorder(b, self.n, perm)?; )*
+                Ok(())
+            }
+
+            /// Raw copies of every field, named as declared (for checkpoints).
+            pub fn save(&self, b: &B, out: &mut Vec<(String, Vec<u8>)>) -> Result<()> {
+                $( out.push((stringify!($name).to_string(), bytemuck::cast_slice::<_, u8>(&self.$name.read(b)?).to_vec())); )*
+                Ok(())
+            }
+
+            /// Restores every field from [`Particles::save`]'s copies.
+            pub fn load(&mut self, b: &B, blobs: &[(String, Vec<u8>)]) -> Result<()> {
+                $( self.$name.load(b, stringify!($name), blobs)?; )*
                 Ok(())
             }
         }

@@ -356,41 +356,11 @@ fn dump<B: Backend, T: crate::backend::Element>(
     Ok(())
 }
 
-fn fill<B: Backend, T: crate::backend::Element>(
-    b: &B,
-    name: &str,
-    buf: &mut B::Buf<T>,
-    blobs: &StateBlobs,
-) -> Result<()> {
-    use crate::backend::Buffer;
-    let bytes = blobs
-        .iter()
-        .find(|(n, _)| n == name)
-        .map(|(_, v)| v)
-        .ok_or_else(|| crate::Error::Checkpoint(format!("field '{name}' missing")))?;
-    if bytes.len() != buf.len() * size_of::<T>() {
-        return Err(crate::Error::Checkpoint(format!(
-            "field '{name}' has {} bytes, the scene needs {}",
-            bytes.len(),
-            buf.len() * size_of::<T>()
-        )));
-    }
-    let v: Vec<T> = bytemuck::pod_collect_to_vec(bytes);
-    b.write(buf, &v)
-}
-
 impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
     /// Copies of every stateful buffer, for a checkpoint.
     pub fn save_state(&self, b: &B) -> Result<StateBlobs> {
         let mut o = Vec::new();
-        let p = &self.particles;
-        dump(b, "id", &p.id.cur, &mut o)?;
-        dump(b, "flags", &p.flags.cur, &mut o)?;
-        dump(b, "pos", &p.pos.cur, &mut o)?;
-        dump(b, "vel", &p.vel.cur, &mut o)?;
-        dump(b, "mass", &p.mass.cur, &mut o)?;
-        dump(b, "rho", &p.rho.cur, &mut o)?;
-        dump(b, "stress", &p.stress.cur, &mut o)?;
+        self.particles.save(b, &mut o)?;
         dump(b, "pos0", &self.start.pos.cur, &mut o)?;
         dump(b, "vel0", &self.start.vel.cur, &mut o)?;
         dump(b, "rho0", &self.start.rho.cur, &mut o)?;
@@ -419,36 +389,29 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
 
     /// Restores the buffers saved by [`Solver::save_state`] (the solver must have been built from the same scene).
     pub fn load_state(&mut self, b: &B, s: &StateBlobs) -> Result<()> {
-        let p = &mut self.particles;
-        fill(b, "id", &mut p.id.cur, s)?;
-        fill(b, "flags", &mut p.flags.cur, s)?;
-        fill(b, "pos", &mut p.pos.cur, s)?;
-        fill(b, "vel", &mut p.vel.cur, s)?;
-        fill(b, "mass", &mut p.mass.cur, s)?;
-        fill(b, "rho", &mut p.rho.cur, s)?;
-        fill(b, "stress", &mut p.stress.cur, s)?;
-        fill(b, "pos0", &mut self.start.pos.cur, s)?;
-        fill(b, "vel0", &mut self.start.vel.cur, s)?;
-        fill(b, "rho0", &mut self.start.rho.cur, s)?;
-        fill(b, "stress0", &mut self.start.stress.cur, s)?;
-        fill(b, "pos_t", &mut self.rates.pos, s)?;
-        fill(b, "vel_t", &mut self.rates.vel, s)?;
-        fill(b, "rho_t", &mut self.rates.rho, s)?;
-        fill(b, "stress_t", &mut self.rates.stress, s)?;
+        self.particles.load(b, s)?;
+        crate::state::load_blob(b, "pos0", &mut self.start.pos.cur, s)?;
+        crate::state::load_blob(b, "vel0", &mut self.start.vel.cur, s)?;
+        crate::state::load_blob(b, "rho0", &mut self.start.rho.cur, s)?;
+        crate::state::load_blob(b, "stress0", &mut self.start.stress.cur, s)?;
+        crate::state::load_blob(b, "pos_t", &mut self.rates.pos, s)?;
+        crate::state::load_blob(b, "vel_t", &mut self.rates.vel, s)?;
+        crate::state::load_blob(b, "rho_t", &mut self.rates.rho, s)?;
+        crate::state::load_blob(b, "stress_t", &mut self.rates.stress, s)?;
         if let Some(t) = &mut self.temp {
-            fill(b, "temp", &mut t.cur, s)?;
+            crate::state::load_blob(b, "temp", &mut t.cur, s)?;
         }
         if let Some(th) = &mut self.thermal {
             if let Some(t0) = &mut th.temp0 {
-                fill(b, "temp0", &mut t0.cur, s)?;
+                crate::state::load_blob(b, "temp0", &mut t0.cur, s)?;
             }
             if let Some(tt) = &mut th.temp_t {
-                fill(b, "temp_t", tt, s)?;
+                crate::state::load_blob(b, "temp_t", tt, s)?;
             }
         }
         if let Some(pl) = &mut self.plastic {
-            fill(b, "eps", &mut pl.eps.cur, s)?;
-            fill(b, "eps_rate", &mut pl.rate.cur, s)?;
+            crate::state::load_blob(b, "eps", &mut pl.eps.cur, s)?;
+            crate::state::load_blob(b, "eps_rate", &mut pl.rate.cur, s)?;
         }
         Ok(())
     }
