@@ -1,6 +1,6 @@
 //! Analyses of particle states used by tests and reports.
 
-use crate::backend::{Backend, CpuBackend};
+use crate::backend::CpuBackend;
 use crate::grid::{bounding_box, grid_for_support};
 use crate::kernels::vector::V3f64;
 use crate::kernels::{Dim3, Real};
@@ -26,16 +26,7 @@ pub fn components_per_group(pos: &[[f64; 3]], group: &[u32], radius: f64) -> Res
     let mut cl = CellList::new(&b, grid, n)?;
     cl.build::<f64, Dim3>(&b, &p)?;
     let sorted: Vec<V3f64> = cl.perm.iter().map(|&i| p[i as usize]).collect();
-    let mut counts = vec![0u32; n];
-    let mut none = Vec::new();
-    let r2 = radius * radius;
-    b.neighbour_list::<f64, Dim3>(n, &sorted, &cl.grid_buf, &cl.starts, r2, None, &mut counts, &mut none)?;
-    let mut off = vec![0u32; n + 1];
-    for i in 0..n {
-        off[i + 1] = off[i] + counts[i];
-    }
-    let mut list = vec![0u32; off[n] as usize];
-    b.neighbour_list::<f64, Dim3>(n, &sorted, &cl.grid_buf, &cl.starts, r2, Some(&off), &mut counts, &mut list)?;
+    let (_, off, list) = cl.csr_neighbours::<f64, Dim3>(&b, &sorted, radius * radius)?;
     // Union–find over original indices.
     let mut parent: Vec<usize> = (0..n).collect();
     fn find(p: &mut [usize], mut a: usize) -> usize {

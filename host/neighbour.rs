@@ -57,3 +57,42 @@ impl<B: Backend> CellList<B> {
         b.sort_cells(n_buckets, &self.starts, &mut self.perm)
     }
 }
+
+impl<B: Backend> CellList<B> {
+    /// Neighbour lists (j ≠ i, |x_ij|² < support2) of the particles at `pos`, sorted by this cell list, in CSR
+    /// form: a counting pass, a prefix sum, a filling pass. Returns (counts, offsets (n + 1), list); the indices
+    /// are sorted-order indices in gather order. The two passes must agree (checked).
+    pub fn csr_neighbours<R: Real, D: Dim>(
+        &self,
+        b: &B,
+        pos: &B::Buf<D::Vec<R>>,
+        support2: R,
+    ) -> Result<(Vec<u32>, Vec<u32>, Vec<u32>)> {
+        let n = self.n;
+        let mut counts = b.alloc::<u32>(n, "neighbour counts")?;
+        let mut empty = b.alloc::<u32>(0, "neighbour list")?;
+        b.neighbour_list::<R, D>(n, pos, &self.grid_buf, &self.starts, support2, None, &mut counts, &mut empty)?;
+        let first = b.read(&counts)?;
+        let mut off = vec![0u32; n + 1];
+        for i in 0..n {
+            off[i + 1] = off[i] + first[i];
+        }
+        let offsets = b.upload(&off, "neighbour offsets")?;
+        let mut list = b.alloc::<u32>(off[n] as usize, "neighbour list")?;
+        b.neighbour_list::<R, D>(
+            n,
+            pos,
+            &self.grid_buf,
+            &self.starts,
+            support2,
+            Some(&offsets),
+            &mut counts,
+            &mut list,
+        )?;
+        let second = b.read(&counts)?;
+        if first != second {
+            return Err(crate::Error::Grid("the counting and filling passes of the neighbour lists disagree".into()));
+        }
+        Ok((second, off, b.read(&list)?))
+    }
+}

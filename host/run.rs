@@ -43,6 +43,24 @@ pub struct RunOptions {
     pub resume: bool,
 }
 
+/// The columns of `energy.csv`, in order (read by `plot::plot_run` and by tools that post-process runs).
+pub const ENERGY_COLUMNS: &[&str] = &[
+    "time",
+    "step",
+    "kinetic",
+    "elastic",
+    "total",
+    "momentum_x",
+    "momentum_y",
+    "momentum_z",
+    "angular_x",
+    "angular_y",
+    "angular_z",
+    "vmax",
+    "temperature_max",
+    "plastic_strain_max",
+];
+
 /// Set by the Ctrl-C handler: the run writes a checkpoint before its next step and stops.
 pub static INTERRUPTED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
@@ -272,25 +290,7 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
         log.text = std::fs::read_to_string(&log.path).unwrap_or_default();
     }
     let mut solver = Solver::<B, R, D>::new(b, &s)?;
-    let mut csv = TimeSeries::new(
-        opts.out_dir.join("energy.csv"),
-        &[
-            "time",
-            "step",
-            "kinetic",
-            "elastic",
-            "total",
-            "momentum_x",
-            "momentum_y",
-            "momentum_z",
-            "angular_x",
-            "angular_y",
-            "angular_z",
-            "vmax",
-            "temperature_max",
-            "plastic_strain_max",
-        ],
-    );
+    let mut csv = TimeSeries::new(opts.out_dir.join("energy.csv"), ENERGY_COLUMNS);
     let mut pvd = Collection::new(opts.out_dir.join("particles.pvd"));
     // Temperatures over time (drawn as temperature.png), when the run models them.
     let mut tcsv = s

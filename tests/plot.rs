@@ -120,30 +120,33 @@ fn two_series_make_a_png_of_the_requested_size() {
     assert_eq!(entries(&dir), ["waves.png"]);
 }
 
-const ENERGY_HEADER: [&str; 12] = [
-    "time",
-    "step",
-    "kinetic",
-    "elastic",
-    "total",
-    "momentum_x",
-    "momentum_y",
-    "momentum_z",
-    "angular_x",
-    "angular_y",
-    "angular_z",
-    "vmax",
-];
+/// The columns a run writes (`swarf::run::ENERGY_COLUMNS`), so the test reads the real format.
+const ENERGY_HEADER: &[&str] = swarf::run::ENERGY_COLUMNS;
 
 /// An energy.csv as a run writes it: energy sloshing between kinetic and elastic, momentum conserved to noise.
 fn write_energy(dir: &Path, rows: usize) {
-    let mut csv = TimeSeries::new(dir.join("energy.csv"), &ENERGY_HEADER);
+    let mut csv = TimeSeries::new(dir.join("energy.csv"), ENERGY_HEADER);
     for i in 0..rows {
         let t = 1e-6 * i as f64;
         let kinetic = 2.0 * (t * 2e5).cos().powi(2);
         let elastic = 2.0 - kinetic;
         let noise = 1e-12 * ((i * 7919) % 13) as f64;
-        let row = [t, (i * 10) as f64, kinetic, elastic, 2.0 + noise, 0.1 + noise, -noise, 0.0, 0.0, 0.0, 3e-3, 100.0];
+        let row = [
+            t,
+            (i * 10) as f64,
+            kinetic,
+            elastic,
+            2.0 + noise,
+            0.1 + noise,
+            -noise,
+            0.0,
+            0.0,
+            0.0,
+            3e-3,
+            100.0,
+            300.0,
+            0.0,
+        ];
         csv.push(&row).expect("push");
     }
     csv.write().expect("write energy.csv");
@@ -200,7 +203,7 @@ fn missing_or_malformed_csv_is_an_error_naming_the_file() {
     assert!(entries(&dir).is_empty(), "{:?}", entries(&dir));
 
     // A header and no rows.
-    TimeSeries::new(dir.join("energy.csv"), &ENERGY_HEADER).write().expect("write");
+    TimeSeries::new(dir.join("energy.csv"), ENERGY_HEADER).write().expect("write");
     let err = plot::plot_run(&dir).expect_err("no rows");
     assert!(matches!(err, PlotError::NoRows { .. }), "{err:?}");
     assert!(err.to_string().contains("energy.csv"), "{err}");

@@ -74,30 +74,15 @@ pub struct Searched<R: Real, D: Dim> {
     pub raw_list: Vec<u32>,
 }
 
-/// CSR neighbour lists on backend `b`: a counting pass, a scan, a filling pass.
+/// CSR neighbour lists on backend `b` (`CellList::csr_neighbours`, which also checks that its counting and filling
+/// passes agree).
 pub fn csr_lists<B: Backend, R: Real, D: Dim>(
     b: &B,
-    n: usize,
     pos: &B::Buf<D::Vec<R>>,
     cl: &CellList<B>,
     support2: R,
 ) -> (Vec<u32>, Vec<u32>, Vec<u32>) {
-    let mut counts = b.alloc::<u32>(n, "counts").expect("alloc");
-    let mut empty = b.alloc::<u32>(0, "list").expect("alloc");
-    b.neighbour_list::<R, D>(n, pos, &cl.grid_buf, &cl.starts, support2, None, &mut counts, &mut empty)
-        .expect("count pass");
-    let c = b.read(&counts).expect("read");
-    let mut off = vec![0u32; n + 1];
-    for i in 0..n {
-        off[i + 1] = off[i] + c[i];
-    }
-    let offsets = b.upload(&off, "offsets").expect("upload");
-    let mut list = b.alloc::<u32>(off[n] as usize, "list").expect("alloc");
-    b.neighbour_list::<R, D>(n, pos, &cl.grid_buf, &cl.starts, support2, Some(&offsets), &mut counts, &mut list)
-        .expect("fill pass");
-    let c2 = b.read(&counts).expect("read");
-    assert_eq!(c, c2, "the counting and filling passes disagree");
-    (c2, off, b.read(&list).expect("read"))
+    cl.csr_neighbours::<R, D>(b, pos, support2).expect("neighbour lists")
 }
 
 pub fn search<B: Backend, R: Real, D: Dim>(b: &B, pos: &[D::Vec<R>], grid: GridParams, support2: R) -> Searched<R, D> {
@@ -108,7 +93,7 @@ pub fn search<B: Backend, R: Real, D: Dim>(b: &B, pos: &[D::Vec<R>], grid: GridP
     cl.build::<R, D>(b, &p.pos.cur).expect("build");
     let keys = b.read(&cl.keys).expect("keys");
     p.reorder(b, &cl.perm).expect("reorder");
-    let (raw_counts, offsets, raw_list) = csr_lists::<B, R, D>(b, n, &p.pos.cur, &cl, support2);
+    let (raw_counts, offsets, raw_list) = csr_lists::<B, R, D>(b, &p.pos.cur, &cl, support2);
     let sorted = p.download(b).expect("download");
     let mut lists = vec![Vec::new(); n];
     for i in 0..n {
