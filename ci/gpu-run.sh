@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
-# Arguments select parts: info tests bench rings ptx plasticity runs criterion (default: all but ptx). Run from the repository root
+# Arguments select parts: info tests bench rings ptx plasticity runs criterion cutting ladder fine (default: all but
+# ptx, ladder and fine). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
@@ -20,6 +21,12 @@ run() { # name, command...
     summary+=("$(printf '%-12s %s (%ss)' "$name" "$([ $rc = 0 ] && echo ok || echo "FAILED rc=$rc")" "$dt")")
     [ $rc = 0 ] || status=1
     tail -n 40 "$out/$name.log"
+}
+cut() { # a cutting run on the GPU: out-name, scene, extra args; prints its summary and a thinned force trace
+    local name=$1 scene=$2; shift 2
+    "$here/swarf" --backend gpu run "$scene" --quiet --out "/tmp/swarf-cut/$name" "$@" || return 1
+    echo "== $name"; cat "/tmp/swarf-cut/$name/summary.json"; tail -n 3 "/tmp/swarf-cut/$name/run.log"
+    awk 'NR == 1 || NR % 10 == 0' "/tmp/swarf-cut/$name/forces.csv"
 }
 echo "commit $(cat "$here/COMMIT")"
 nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.max.sm --format=csv,noheader 2>/dev/null | tee "$out/nvidia-smi.log"
@@ -49,6 +56,43 @@ for p in $parts; do
               }
               run runs runs_log ;;
         criterion) run criterion "$here/bench-neighbours" --bench --noplot ;;
+        cutting) # issue 5: the validation cuts, whole (1 mm), with wall time; summary and a thinned force trace
+                 cuts() {
+                     cut v0060-f64 cases/cutting/v0060.toml && cut v0060-f32 cases/cutting/v0060.toml --precision f32 \
+                         && cut v0300-f64 cases/cutting/v0300.toml && cut reference-cut-f64 cases/cutting/reference-cut.toml
+                 }
+                 run cutting cuts ;;
+        ladder) # H9 / C9: V0060 at about 65k and 127k particles (0.5 mm of cut)
+                ladder() {
+                    cut v0060-6k cases/cutting/v0060.toml --set time.end=7.868e-5 \
+                    && cut v0060-65k cases/cutting/v0060.toml --set discretisation.dx=2.9e-6 \
+                        --set 'boundary.2.min=[1.8675e-3,-1.0]' --set 'tool.position=[-3.6e-5,1.9145e-4]' \
+                        --set time.end=7.868e-5 --set output.every=1.5736e-6 \
+                    && cut v0060-127k cases/cutting/v0060.toml --set discretisation.dx=2.07e-6 \
+                        --set 'boundary.2.min=[1.8691e-3,-1.0]' --set 'tool.position=[-3.6e-5,1.90835e-4]' \
+                        --set time.end=7.868e-5 --set output.every=1.5736e-6
+                }
+                run ladder ladder ;;
+        sweep) # AT-85 friction sweep, AT-83 edge radius, AT-86 friction cap: reference cut, 0.25 mm each
+               sweep() {
+                   local e="--set time.end=2.1428e-4 --set output.every=4.2857e-6" ok=0
+                   cut mu035 cases/cutting/reference-cut.toml $e || ok=1
+                   for mu in 0.5 0.6 0.7; do cut mu$mu cases/cutting/reference-cut.toml $e --set tool.friction=$mu || ok=1; done
+                   cut r10 cases/cutting/reference-cut.toml $e --set tool.edge_radius=1.0e-5 \
+                       --set 'tool.position=[-1.31e-5,2.0517e-4]' || ok=1
+                   cut r50 cases/cutting/reference-cut.toml $e --set tool.edge_radius=5.0e-5 \
+                       --set 'tool.position=[-5.31e-5,2.0517e-4]' || ok=1
+                   for c in static current; do
+                       cut cap-$c cases/cutting/reference-cut.toml $e --set tool.friction=0.7 \
+                           --set "tool.friction_cap=\"$c\"" || ok=1
+                   done
+                   cut v0060-f64 cases/cutting/v0060.toml || ok=1
+                   return $ok
+               }
+               run sweep sweep ;;
+        fine) # the 150k reference cut: the first 0.5 % of the cut (about 15 000 steps), for the step time
+              run fine "$here/swarf" --backend gpu run cases/cutting/reference-cut-150k.toml --verbose \
+                  --set time.end=4.2857e-6 --set output.every=1.0714e-6 --out /tmp/swarf-cut/fine ;;
     esac
 done
 echo "== summary =="

@@ -308,6 +308,7 @@ pub fn plasticity<B: Backend>(
                         rate: &mut rb,
                         temp: &mut tb,
                         flags: &fl,
+                        yield_stress: None,
                         materials: None,
                     },
                 )

@@ -55,8 +55,8 @@ enum Cmd {
 
 #[derive(clap::Args)]
 struct RunArgs {
-    /// The scene file (TOML), e.g. cases/rings.toml (omit with --resume).
-    #[arg(required_unless_present = "resume")]
+    /// The scene file (TOML), e.g. cases/rings.toml; default: the built-in cutting scene
+    /// cases/cutting/v0060.toml (Ti6Al4V, 381 m/min, 0.1 mm, the experiment V0060).
     scene: Option<std::path::PathBuf>,
     /// Continue the run in this folder from its checkpoint.bin (same backend and precision: bit for bit).
     #[arg(long, value_name = "RUN_FOLDER", conflicts_with_all = ["scene", "set", "out"])]
@@ -222,7 +222,7 @@ fn run(cli: Cli) -> Result<()> {
                     (sc, ov, dir.clone())
                 }
                 None => {
-                    let path = a.scene.clone().unwrap_or_default();
+                    let path = a.scene.clone().unwrap_or_else(swarf::run::default_scene);
                     let sc =
                         swarf::scene::Scene::load(&path, &a.set).map_err(|e| swarf::Error::Scene(e.to_string()))?;
                     let out = a.out.clone().unwrap_or_else(|| std::path::PathBuf::from("runs").join(&sc.name));

@@ -61,6 +61,13 @@ pub const ENERGY_COLUMNS: &[&str] = &[
     "plastic_strain_max",
 ];
 
+/// The built-in default scene, `swarf run` without a scene: the V0060 orthogonal cut (cases/cutting/v0060.toml),
+/// from the working directory if it has the repository's `cases/`, else from the source tree swarf was built from.
+pub fn default_scene() -> PathBuf {
+    let rel = Path::new("cases").join("cutting").join("v0060.toml");
+    if rel.is_file() { rel } else { Path::new(env!("CARGO_MANIFEST_DIR")).join(rel) }
+}
+
 /// Set by the Ctrl-C handler: the run writes a checkpoint before its next step and stops.
 pub static INTERRUPTED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
@@ -155,13 +162,75 @@ pub fn setup<R: Real, D: TensorOps<R>>(scene: &Scene) -> Result<Setup<R, D>> {
     }
     let conv = |c: &[f64; 3]| D::Vec::<R>::new(std::array::from_fn(|k| R::from_f64(c[k])));
     let m = &scene.material;
+    let mut pos: Vec<[f64; 3]> = set.pos.clone();
+    let mut vel: Vec<[f64; 3]> = set.vel.clone();
+    let mut mass = vec![set.mass; n];
+    let mut density = vec![m.density; n];
+    let mut temperature = set.temperature.clone();
+    // The cutting tool: its contact set-up, and its thermal-only particles appended as one more body.
+    let mut contact = None;
+    let mut tool_thermal = None;
+    if let Some(t) = &scene.tool {
+        let tool = crate::cutting::setup::build_tool(t)?;
+        let motion = crate::cutting::setup::motion(t);
+        crate::cutting::setup::check_engagement(scene, &tool, &motion, &set.pos, &set.vel)?;
+        let model = scene.material.library.as_ref().and_then(|l| l.flow_stress);
+        let mut tool_velocity_index = None;
+        if let Some(th) = &t.thermal
+            && let Some(mat) = th.material.as_ref().and_then(|m| m.thermal)
+        {
+            let dx = scene.discretisation.dx;
+            let tp = crate::cutting::setup::tool_particles(&tool, t, dx, th.fixed_width);
+            let v0 = motion.velocity_at(0.0);
+            let v = [t.velocity[0], t.velocity[1], 0.0];
+            let k = match table.iter().position(|x| *x == v) {
+                Some(k) => k,
+                None => {
+                    table.push(v);
+                    table.len() - 1
+                }
+            };
+            if k > flags::VEL_INDEX_MASK as usize {
+                return Err(Error::Scene(format!("{}: too many distinct prescribed velocities", scene.origin)));
+            }
+            tool_velocity_index = (t.ramp > 0.0).then_some(k);
+            let body = scene.bodies.len() as u32;
+            let rho_t = mat.density.unwrap_or(m.density);
+            for (p, held) in tp.pos.iter().zip(&tp.held) {
+                let hold = if *held { flags::FIXED_TEMPERATURE } else { 0 };
+                fl.push(
+                    flags::VELOCITY
+                        | flags::THERMAL_ONLY
+                        | hold
+                        | (k as u32) << flags::VEL_INDEX_SHIFT
+                        | body << flags::BODY_SHIFT,
+                );
+                pos.push([p[0], p[1], 0.0]);
+                vel.push([v0[0], v0[1], 0.0]);
+                mass.push(rho_t * set.volume);
+                density.push(rho_t);
+                temperature.push(th.temperature);
+            }
+            tool_thermal = Some(ThermalMaterial {
+                conductivity: mat.conductivity.unwrap_or(0.0),
+                specific_heat: mat.specific_heat.unwrap_or(1.0),
+            });
+        }
+        contact = Some(crate::solver::ContactSetup {
+            params: crate::cutting::setup::contact_params(scene, t, tool, model.as_ref()),
+            motion,
+            tool_velocity_index,
+            wear: t.usui.is_some(),
+        });
+    }
+    let n = pos.len();
     let particles = HostParticles::<R, D> {
         id: (0..n as u32).collect(),
         flags: fl,
-        pos: set.pos.iter().map(conv).collect(),
-        vel: set.vel.iter().map(conv).collect(),
-        mass: vec![R::from_f64(set.mass); n],
-        rho: vec![R::from_f64(m.density); n],
+        pos: pos.iter().map(conv).collect(),
+        vel: vel.iter().map(conv).collect(),
+        mass: mass.iter().map(|&x| R::from_f64(x)).collect(),
+        rho: density.iter().map(|&x| R::from_f64(x)).collect(),
         stress: vec![Default::default(); n],
     };
     let st = &scene.stabilisation;
@@ -178,9 +247,20 @@ pub fn setup<R: Real, D: TensorOps<R>>(scene: &Scene) -> Result<Setup<R, D>> {
     params.expansion_t0 = R::from_f64(scene.physics.expansion_reference);
     // A fixed ("locked") grid over the initial bodies with room to move; particles leaving it are clamped into
     // its boundary cells, which keeps the search exact (docs/neighbour-search.md).
-    let (lo, hi) = crate::grid::bounding_box::<f64, _>(
-        &set.pos.iter().map(|p| crate::kernels::vector::V3f64([p[0], p[1], p[2], 0.0])).collect::<Vec<_>>(),
-    );
+    let mut corners: Vec<crate::kernels::vector::V3f64> =
+        pos.iter().map(|p| crate::kernels::vector::V3f64([p[0], p[1], p[2], 0.0])).collect();
+    if let (Some(t), Some(c)) = (&scene.tool, &contact) {
+        // The tool's path, and room above the workpiece for the chip (a tool height): cutting runs keep their
+        // particles inside the grid instead of clamping the chip into boundary cells.
+        let end = c.motion.offset_at(scene.time.end);
+        let top = pos.iter().map(|p| p[1]).fold(f64::NEG_INFINITY, f64::max);
+        for o in [c.motion.start, end] {
+            corners.push(crate::kernels::vector::V3f64([o[0] - t.length, o[1], 0.0, 0.0]));
+            corners.push(crate::kernels::vector::V3f64([o[0], o[1] + t.height, 0.0, 0.0]));
+        }
+        corners.push(crate::kernels::vector::V3f64([end[0], top + t.height, 0.0, 0.0]));
+    }
+    let (lo, hi) = crate::grid::bounding_box::<f64, _>(&corners);
     let mut glo = [0.0; 3];
     let mut ghi = [0.0; 3];
     for k in 0..scene.dim {
@@ -189,7 +269,7 @@ pub fn setup<R: Real, D: TensorOps<R>>(scene: &Scene) -> Result<Setup<R, D>> {
         ghi[k] = hi[k] + margin;
     }
     let grid = grid_for_support(glo, ghi, scene.dim, 2.0 * h, 2)?;
-    let vmax0 = set.vel.iter().map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()).fold(0.0, f64::max);
+    let vmax0 = vel.iter().map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()).fold(0.0, f64::max);
     let c0 = elastic.sound_speed();
     let mut limit = cfl_time_step(scene.time.cfl, h, c0, vmax0);
     // Explicit conduction is stable for Δt ≤ 0.1 h² ρ c / k (Cleary & Monaghan's bound for the Brookshaw form;
@@ -201,6 +281,12 @@ pub fn setup<R: Real, D: TensorOps<R>>(scene: &Scene) -> Result<Setup<R, D>> {
             if let (Some(k), Some(c)) = (t.and_then(|t| t.conductivity), t.and_then(|t| t.specific_heat)) {
                 limit = limit.min(0.1 * h * h * m.density * c / k);
             }
+        }
+        if let Some(tm) = scene.tool.as_ref().and_then(|t| t.thermal.as_ref()).and_then(|t| t.material.as_ref())
+            && let Some(t) = tm.thermal
+            && let (Some(rho), Some(c), Some(k)) = (t.density, t.specific_heat, t.conductivity)
+        {
+            limit = limit.min(0.1 * h * h * rho * c / k);
         }
     }
     let dt = match scene.time.dt {
@@ -218,10 +304,11 @@ pub fn setup<R: Real, D: TensorOps<R>>(scene: &Scene) -> Result<Setup<R, D>> {
     let ph = &scene.physics;
     let lib = m.library.as_ref();
     let th = lib.and_then(|l| l.thermal);
-    let needs_heat = ph.conduction != Conduction::Off || ph.plastic_heating;
+    let friction_heat = scene.tool.as_ref().is_some_and(|t| t.friction_heating > 0.0);
+    let needs_heat = ph.conduction != Conduction::Off || ph.plastic_heating || friction_heat;
     let thermal = if needs_heat {
         // Each body's thermal data: its own library material if it names one, else the scene material's.
-        let materials = scene
+        let mut materials: Vec<ThermalMaterial> = scene
             .bodies
             .iter()
             .map(|bd| {
@@ -232,6 +319,7 @@ pub fn setup<R: Real, D: TensorOps<R>>(scene: &Scene) -> Result<Setup<R, D>> {
                 }
             })
             .collect();
+        materials.extend(tool_thermal);
         Some(ThermalSetup {
             materials,
             conduction: match ph.conduction {
@@ -251,8 +339,7 @@ pub fn setup<R: Real, D: TensorOps<R>>(scene: &Scene) -> Result<Setup<R, D>> {
         _ => None,
     };
     let expands = ph.thermal_expansion > 0.0;
-    let temperature =
-        if thermal.is_some() || plastic.is_some() || expands { Some(set.temperature.clone()) } else { None };
+    let temperature = if thermal.is_some() || plastic.is_some() || expands { Some(temperature) } else { None };
     Ok(Setup {
         particles,
         params,
@@ -266,6 +353,7 @@ pub fn setup<R: Real, D: TensorOps<R>>(scene: &Scene) -> Result<Setup<R, D>> {
         temperature,
         thermal,
         plastic,
+        contact,
     })
 }
 
@@ -298,6 +386,23 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
         .as_ref()
         .map(|_| TimeSeries::new(opts.out_dir.join("temperature.csv"), &["time", "step", "temperature_max"]));
     let mut h5 = open_hdf5(opts)?;
+    // Cutting runs record the tool force and the chip (forces.csv, and the analysis in summary.json).
+    let workpiece: Vec<[f64; 3]> = {
+        let host = &s.particles;
+        (0..n)
+            .filter(|&i| host.flags[i] & flags::THERMAL_ONLY == 0)
+            .map(|i| std::array::from_fn(|k| if k < D::D { host.pos[i].get(k).to_f64() } else { 0.0 }))
+            .collect()
+    };
+    let mut cut = match &scene.tool {
+        Some(t) => crate::cutting::record::CutRecorder::new(
+            scene,
+            crate::cutting::setup::build_tool(t)?,
+            &workpiece,
+            &opts.out_dir,
+        ),
+        None => None,
+    };
     let mut next_ckpt = opts.checkpoint_every.unwrap_or(f64::INFINITY);
     let ckpt_path = opts.out_dir.join("checkpoint.bin");
     let mut history = Vec::new();
@@ -324,6 +429,7 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
         solver.time = h.time;
         solver.steps = h.steps;
         dt = h.dt;
+        solver.set_nominal_dt(dt);
         frame = h.frame;
         next_out = h.next_out;
         next_ckpt = h.next_checkpoint.unwrap_or(f64::INFINITY);
@@ -334,6 +440,9 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
                     series.push(&r).map_err(|e| io_err(series.path(), e))?;
                 }
             }
+        }
+        if let Some(c) = cut.as_mut() {
+            c.resume(h.time)?;
         }
         if let Ok(entries) = crate::output::pvd::read(pvd.path()) {
             for (t, f) in entries.into_iter().filter(|(t, _)| *t <= h.time) {
@@ -389,6 +498,12 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
                 t.push(&[d.time, d.step as f64, d.temperature_max]).map_err(|e| io_err(t.path(), e))?;
                 t.write().map_err(|e| io_err(t.path(), e))?;
             }
+            if let Some(c) = cut.as_mut() {
+                if c.due(solver.time) {
+                    c.sample(b, &solver)?;
+                }
+                c.write()?;
+            }
             if opts.frames {
                 let name = format!("frame_{frame:05}.vtu");
                 let internal = Internal { temp: temp.as_deref(), eps: eps.as_deref(), rate: rate.as_deref() };
@@ -411,6 +526,7 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
                 let limit = cfl_time_step(scene.time.cfl, s.h, s.c0, d.vmax);
                 if limit < dt {
                     dt = limit;
+                    solver.set_nominal_dt(dt);
                 }
                 // A speed that has grown by orders of magnitude is a blow-up, not physics: stop instead of crawling.
                 if dt < MIN_DT_FRACTION * s.dt {
@@ -473,6 +589,13 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
                 let pos = crate::analysis::positions_f64::<R, _>(&host.pos);
                 let body: Vec<u32> = host.flags.iter().map(|f| f >> flags::BODY_SHIFT).collect();
                 let wall = t0.elapsed().as_secs_f64();
+                let cutting = cut.as_ref().map(|c| c.analysis());
+                if let (Some(a), false) = (&cutting, opts.quiet) {
+                    eprintln!("{}", cutting_line(a));
+                }
+                if let Some(a) = &cutting {
+                    log.line(&cutting_line(a))?;
+                }
                 write_summary(
                     &opts.out_dir,
                     &opts.overrides,
@@ -486,6 +609,7 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
                     &pos,
                     &body,
                     &set_centres(scene),
+                    cutting.map(|a| a.json()),
                 )?;
                 if opts.frames {
                     // The plots are a convenience: a failure is reported, never fatal to a finished run.
@@ -513,6 +637,11 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
         }
         let h = dt.min(end - solver.time).min(next_out - solver.time).max(1e-12 * dt);
         solver.step(b, h)?;
+        if let Some(c) = cut.as_mut()
+            && c.due(solver.time)
+        {
+            c.sample(b, &solver)?;
+        }
     }
     Ok(RunReport {
         particles: n,
@@ -673,6 +802,23 @@ fn write_frame<R: Real, D: TensorOps<R>>(
     Ok(())
 }
 
+/// The one-line result of a cutting run.
+fn cutting_line(a: &crate::cutting::record::CutAnalysis) -> String {
+    let f = |x: Option<f64>| x.map_or("n/a".to_string(), |v| format!("{v:.1}"));
+    format!(
+        "cutting: F_c = {} N/mm, F_f = {} N/mm ({}), chip thickness {} um, segmentation {}",
+        f(a.fc),
+        f(a.ff),
+        match a.steady {
+            Some(s) if s.steady => format!("steady from {:.3e} s", s.start_time),
+            Some(_) => "no steady state: mean of the steady candidate".to_string(),
+            None => "too few samples: mean of the second half".to_string(),
+        },
+        f(a.chip.map(|c| c.h_avg * 1e6)),
+        a.chip.map_or("n/a".to_string(), |c| format!("{:.2}", c.segmentation))
+    )
+}
+
 /// Each body's initial centre (the axis for the footprint radius).
 fn set_centres(scene: &Scene) -> Vec<[f64; 3]> {
     scene.bodies.iter().map(|b| b.shape.centre()).collect()
@@ -695,6 +841,7 @@ fn write_summary(
     pos: &[[f64; 3]],
     body: &[u32],
     centres: &[[f64; 3]],
+    cutting: Option<serde_json::Value>,
 ) -> Result<()> {
     let bodies: Vec<serde_json::Value> = scene
         .bodies
@@ -720,7 +867,7 @@ fn write_summary(
             })
         })
         .collect();
-    let v = serde_json::json!({
+    let mut v = serde_json::json!({
         "scene": scene.name,
         "scene_file": scene.origin,
         "overrides": overrides,
@@ -734,6 +881,9 @@ fn write_summary(
         "precision": precision,
         "bodies": bodies,
     });
+    if let (Some(serde_json::Value::Object(extra)), Some(obj)) = (cutting, v.as_object_mut()) {
+        obj.extend(extra);
+    }
     let text = serde_json::to_string_pretty(&v).map_err(|e| Error::Output(e.to_string()))?;
     let path = dir.join("summary.json");
     crate::output::write_atomic(&path, text.as_bytes()).map_err(|e| io_err(&path, e))

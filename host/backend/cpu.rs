@@ -2,7 +2,10 @@
 //! the counting sort runs sequentially, which makes its arrival order the index order, so its permutation is
 //! the stable one by construction (the GPU restores the same order with `sort_cells`).
 
-use super::{Backend, Buffer, DeviceInfo, Element, FieldsMut, FieldsRef, HeatInputs, PlasticInputs, SphInputs};
+use super::{
+    Backend, Buffer, ContactInputs, DeviceInfo, Element, FieldsMut, FieldsRef, HeatInputs, PlasticInputs, SphInputs,
+};
+use crate::kernels::contact::penalty::{ContactArrays, ContactParams, ToolState, contact_particle};
 use crate::kernels::neighbour::search::neighbour_row;
 use crate::kernels::neighbour::{GridParams, sort::sort_cell};
 use crate::kernels::sph::heat::{HeatArrays, HeatParams, heat_rate};
@@ -93,6 +96,11 @@ struct SendPlastic<R: Real, S>(PlasticArrays<R, S>);
 // SAFETY: disjoint per-index writes, buffers outlive the loop.
 unsafe impl<R: Real, S> Send for SendPlastic<R, S> {}
 unsafe impl<R: Real, S> Sync for SendPlastic<R, S> {}
+
+struct SendContact<R: Real, V>(ContactArrays<R, V>);
+// SAFETY: disjoint per-index writes, buffers outlive the loop.
+unsafe impl<R: Real, V> Send for SendContact<R, V> {}
+unsafe impl<R: Real, V> Sync for SendContact<R, V> {}
 
 /// The conduction pass's array views, shared by parallel tasks that only read through them.
 struct SendHeat<R: Real, V: crate::kernels::Vector<R>>(HeatArrays<R, V>);
@@ -396,6 +404,8 @@ impl Backend for CpuBackend {
             sound: input.sound.map_or(std::ptr::null(), |v| v.as_ptr()),
             flags: input.flags.as_ptr(),
             bc_vel: input.bc_vel.as_ptr(),
+            normal: input.contact.map_or(std::ptr::null(), |c| c.0.as_ptr()),
+            friction: input.contact.map_or(std::ptr::null(), |c| c.1.as_ptr()),
         });
         let st = SendPtr(starts.as_ptr() as *mut u32);
         let (vel_t, rho_t, stress_t) = (
@@ -570,6 +580,63 @@ impl Backend for CpuBackend {
         Ok(())
     }
 
+    fn contact<R: Real, D: Dim>(
+        &self,
+        n: usize,
+        params: &Vec<ContactParams>,
+        tool: ToolState,
+        a: ContactInputs<'_, Self, R, D>,
+    ) -> Result<()> {
+        if D::D != 2 {
+            return Err(Error::Length { op: "contact (the parametric tool is 2D)", expected: 2, got: D::D });
+        }
+        for (what, len) in [
+            ("pos", a.pos.len()),
+            ("vel", a.vel.len()),
+            ("mass", a.mass.len()),
+            ("rho", a.rho.len()),
+            ("flags", a.flags.len()),
+            ("normal", a.normal.len()),
+            ("friction", a.friction.len()),
+        ] {
+            check(what, n, len)?;
+        }
+        for (what, len) in [
+            ("temp", a.temp.as_ref().map(|t| t.len())),
+            ("yield_stress", a.yield_stress.map(|t| t.len())),
+            ("wear", a.wear.as_ref().map(|t| t.len())),
+        ] {
+            if let Some(len) = len {
+                check(what, n, len)?;
+            }
+        }
+        if let Some(m) = a.materials {
+            let bodies =
+                a.flags[..n].iter().map(|f| (f >> crate::kernels::sph::params::flags::BODY_SHIFT) as usize + 1).max();
+            check("contact materials", bodies.unwrap_or(0), m.len())?;
+        }
+        let c = params[0];
+        let arr = SendContact(ContactArrays::<R, D::Vec<R>> {
+            pos: a.pos.as_ptr(),
+            vel: a.vel.as_ptr(),
+            mass: a.mass.as_ptr(),
+            rho: a.rho.as_ptr(),
+            flags: a.flags.as_ptr(),
+            normal: a.normal.as_mut_ptr(),
+            friction: a.friction.as_mut_ptr(),
+            temp: a.temp.map_or(std::ptr::null_mut(), |t| t.as_mut_ptr()),
+            materials: a.materials.map_or(std::ptr::null(), |m| m.as_ptr()),
+            yield_stress: a.yield_stress.map_or(std::ptr::null(), |y| y.as_ptr()),
+            wear: a.wear.map_or(std::ptr::null_mut(), |w| w.as_mut_ptr()),
+        });
+        (0..n).into_par_iter().for_each(|i| {
+            let arr = &arr;
+            // SAFETY: lengths checked above; each particle i is touched by one task only.
+            unsafe { contact_particle::<R, D::Vec<R>>(&c, &tool, &arr.0, i) }
+        });
+        Ok(())
+    }
+
     fn plastic_step<R: Real, D: TensorOps<R>>(
         &self,
         n: usize,
@@ -601,6 +668,13 @@ impl Backend for CpuBackend {
             temp: a.temp.as_mut_ptr(),
             flags: a.flags.as_ptr(),
             materials: a.materials.map_or(std::ptr::null(), |m| m.as_ptr()),
+            yield_stress: match a.yield_stress {
+                Some(y) => {
+                    check("yield_stress", n, y.len())?;
+                    y.as_mut_ptr()
+                }
+                None => std::ptr::null_mut(),
+            },
         });
         macro_rules! go {
             ($m:expr, $t:ty) => {{

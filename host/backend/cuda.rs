@@ -3,7 +3,8 @@
 //! One stream, no event tracking: every launch is ordered after the previous one.
 
 use super::{
-    Backend, Buffer, DeviceInfo, Element, FieldsMut, FieldsRef, HeatInputs, PlasticInputs, SCAN_TILE, SphInputs,
+    Backend, Buffer, ContactInputs, DeviceInfo, Element, FieldsMut, FieldsRef, HeatInputs, PlasticInputs, SCAN_TILE,
+    SphInputs,
 };
 use crate::kernels::neighbour::GridParams;
 use crate::kernels::sph::heat::HeatParams;
@@ -33,6 +34,8 @@ pub fn kernel_names() -> Vec<String> {
         "swarf_gather_b16",
         "swarf_scalar_predict",
         "swarf_scalar_correct",
+        "swarf_contact_2d_f32",
+        "swarf_contact_2d_f64",
     ]
     .iter()
     .map(|s| s.to_string())
@@ -144,6 +147,8 @@ fn real_arg<R: Real>(x: R) -> Arg {
 
 struct Kernels {
     plastic: Vec<Variants>,
+    /// 2D f32, 2D f64.
+    contact: [CudaFunction; 2],
     heat_brookshaw: Variants,
     heat_pse: Variants,
     scalar_predict: CudaFunction,
@@ -217,6 +222,7 @@ impl CudaBackend {
         };
         let k = Kernels {
             plastic: PLASTIC_MODELS.iter().map(|m| v(&format!("swarf_plastic_{m}"), "")).collect::<Result<_>>()?,
+            contact: [f("swarf_contact_2d_f32")?, f("swarf_contact_2d_f64")?],
             heat_brookshaw: v("swarf_heat_brookshaw", "")?,
             heat_pse: v("swarf_heat_pse", "")?,
             scalar_predict: f("swarf_scalar_predict")?,
@@ -597,6 +603,8 @@ impl Backend for CudaBackend {
             Arg::U64(sound),
             Arg::U64(self.ptr(i.flags)),
             Arg::U64(self.ptr(i.bc_vel)),
+            Arg::U64(i.contact.map_or(0, |c| self.ptr(c.0))),
+            Arg::U64(i.contact.map_or(0, |c| self.ptr(c.1))),
             Arg::U64(self.ptr_mut(out.pos)),
             Arg::U64(self.ptr_mut(out.vel)),
             Arg::U64(self.ptr_mut(out.rho)),
@@ -724,6 +732,40 @@ impl Backend for CudaBackend {
         self.launch(&self.k.scalar_correct, n, BLOCK, &args)
     }
 
+    fn contact<R: Real, D: Dim>(
+        &self,
+        n: usize,
+        params: &CudaBuf<crate::kernels::contact::ContactParams>,
+        tool: crate::kernels::contact::ToolState,
+        a: ContactInputs<'_, Self, R, D>,
+    ) -> Result<()> {
+        if D::D != 2 {
+            return Err(Error::Length { op: "contact (the parametric tool is 2D)", expected: 2, got: D::D });
+        }
+        let args = [
+            Arg::U32(n as u32),
+            Arg::U64(self.ptr(params)),
+            Arg::F64(tool.offset[0]),
+            Arg::F64(tool.offset[1]),
+            Arg::F64(tool.velocity[0]),
+            Arg::F64(tool.velocity[1]),
+            Arg::F64(tool.dt),
+            Arg::F64(tool.step),
+            Arg::U64(self.ptr(a.pos)),
+            Arg::U64(self.ptr(a.vel)),
+            Arg::U64(self.ptr(a.mass)),
+            Arg::U64(self.ptr(a.rho)),
+            Arg::U64(self.ptr(a.flags)),
+            Arg::U64(self.ptr_mut(a.normal)),
+            Arg::U64(self.ptr_mut(a.friction)),
+            Arg::U64(a.temp.map_or(0, |t| self.ptr_mut(t))),
+            Arg::U64(a.materials.map_or(0, |m| self.ptr(m))),
+            Arg::U64(a.yield_stress.map_or(0, |y| self.ptr(y))),
+            Arg::U64(a.wear.map_or(0, |w| self.ptr_mut(w))),
+        ];
+        self.launch(&self.k.contact[(size_of::<R>() == 8) as usize], n, BLOCK, &args)
+    }
+
     fn plastic_step<R: Real, D: TensorOps<R>>(
         &self,
         n: usize,
@@ -748,6 +790,7 @@ impl Backend for CudaBackend {
             Arg::U64(self.ptr_mut(a.temp)),
             Arg::U64(self.ptr(a.flags)),
             Arg::U64(a.materials.map_or(0, |m| self.ptr(m))),
+            Arg::U64(a.yield_stress.map_or(0, |y| self.ptr_mut(y))),
         ];
         self.launch(&self.k.plastic[model_index(model)].0[variant::<R, D>()], n, BLOCK, &args)
     }

@@ -188,6 +188,14 @@ pub trait Backend: Sized + Send + Sync {
         consts: crate::kernels::sph::plastic::PlasticConsts,
         a: PlasticInputs<'_, Self, R, D>,
     ) -> Result<()>;
+    /// The contact pass with the rigid 2D tool (`contact::penalty::contact_particle`); 2D only.
+    fn contact<R: Real, D: Dim>(
+        &self,
+        n: usize,
+        params: &Self::Buf<crate::kernels::contact::ContactParams>,
+        tool: crate::kernels::contact::ToolState,
+        a: ContactInputs<'_, Self, R, D>,
+    ) -> Result<()>;
     /// Predictor of an f64 scalar field: y0 ← y, y ← y0 + c ẏ.
     fn scalar_predict(
         &self,
@@ -250,7 +258,13 @@ pub struct SphInputs<'a, B: Backend, R: Real, D: Dim> {
     pub flags: &'a B::Buf<u32>,
     /// Prescribed velocities, indexed by the flags' velocity index.
     pub bc_vel: &'a B::Buf<D::Vec<R>>,
+    /// The tool's normal and friction forces from the last contact pass (present iff the scene has a tool).
+    pub contact: Option<ContactForces<'a, B, R, D>>,
 }
+
+/// The normal and friction force buffers of the contact pass.
+pub type ContactForces<'a, B, R, D> =
+    (&'a <B as Backend>::Buf<<D as Dim>::Vec<R>>, &'a <B as Backend>::Buf<<D as Dim>::Vec<R>>);
 
 /// Read-only inputs of the conduction pass, all in sorted order.
 pub struct HeatInputs<'a, B: Backend, R: Real, D: Dim> {
@@ -272,6 +286,29 @@ pub struct PlasticInputs<'a, B: Backend, R: Real, D: Dim> {
     pub flags: &'a B::Buf<u32>,
     /// Thermal materials by body (needed when t_q > 0).
     pub materials: Option<&'a B::Buf<ThermalMaterial>>,
+    /// Receives σ_y after the update (only when the friction cap uses the current yield stress).
+    pub yield_stress: Option<&'a mut B::Buf<f64>>,
+}
+
+/// Per-particle state of the contact pass, sorted order.
+pub struct ContactInputs<'a, B: Backend, R: Real, D: Dim> {
+    pub pos: &'a B::Buf<D::Vec<R>>,
+    pub vel: &'a B::Buf<D::Vec<R>>,
+    /// The particles' own masses.
+    pub mass: &'a B::Buf<R>,
+    pub rho: &'a B::Buf<R>,
+    pub flags: &'a B::Buf<u32>,
+    pub normal: &'a mut B::Buf<D::Vec<R>>,
+    /// Friction force: read as the history, overwritten with the new force.
+    pub friction: &'a mut B::Buf<D::Vec<R>>,
+    /// Temperature (friction heating, wear law), where modelled.
+    pub temp: Option<&'a mut B::Buf<f64>>,
+    /// Thermal materials by body (needed with friction heating).
+    pub materials: Option<&'a B::Buf<ThermalMaterial>>,
+    /// Current yield stresses (the CURRENT friction cap).
+    pub yield_stress: Option<&'a B::Buf<f64>>,
+    /// Usui wear-rate output, when on.
+    pub wear: Option<&'a mut B::Buf<f64>>,
 }
 
 /// Elements per tile of the GPU scan (kernels/src/ptx/scan.rs).

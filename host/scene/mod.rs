@@ -46,13 +46,12 @@ use serde::Serialize;
 pub use error::{Location, SceneError};
 pub use generate::{Bc, ParticleSet};
 
-/// Where a scene's named materials are looked up: `materials/` beside the scene file, else `cases/materials`.
+/// Where a scene's named materials are looked up: `materials/` beside the scene file, else in its parent folder
+/// (`cases/materials` for a scene in `cases/cutting/`), else `cases/materials` of the working directory.
 pub fn library_dir(origin: &str) -> std::path::PathBuf {
-    let beside = Path::new(origin).parent().map(|d| d.join("materials"));
-    match beside {
-        Some(d) if d.is_dir() => d,
-        _ => Path::new("cases").join("materials"),
-    }
+    let dir = Path::new(origin).parent();
+    let candidates = [dir.map(|d| d.join("materials")), dir.and_then(|d| d.parent()).map(|d| d.join("materials"))];
+    candidates.into_iter().flatten().find(|d| d.is_dir()).unwrap_or_else(|| Path::new("cases").join("materials"))
 }
 
 /// A validated scene. Vectors and points are stored with three components; in 2D the third is 0.
@@ -83,6 +82,79 @@ pub struct Scene {
     pub output: Output,
     /// `[physics]` (optional): plasticity, heat conduction and heating, initial temperature.
     pub physics: Physics,
+    /// `[tool]` (optional, 2D): a rigid cutting tool with penalty contact and friction.
+    pub tool: Option<Tool>,
+}
+
+/// `[tool]`: the rigid 2D cutting tool (roethlin-solver.md §5.4; klippel-constitutive.md §1.3). Its outline is
+/// the rake face, top, back and flank faces and the edge arc (kernels/src/contact/tool2d.rs); the tool frame's
+/// origin is the lowest point of the cutting edge and the rake face faces +x.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Tool {
+    /// `rake_angle` (required; unit degree), in (−90, 90): γ from the vertical, positive leaning back.
+    pub rake_angle: f64,
+    /// `clearance_angle` (required; unit degree), ≥ 0, with γ + α < 90: α of the flank from the horizontal.
+    pub clearance_angle: f64,
+    /// `edge_radius` (optional, default 0 = sharp; unit m), ≥ 0: r_c of the edge arc.
+    pub edge_radius: f64,
+    /// `length` (required; unit m), > 0: the tool's extent behind the edge's lowest point.
+    pub length: f64,
+    /// `height` (required; unit m), > 0: its extent above the edge's lowest point.
+    pub height: f64,
+    /// `position` (required; unit m) `[x, y]`: where the edge's lowest point is at t = 0.
+    pub position: [f64; 2],
+    /// `velocity` (required; unit m/s) `[vx, vy]`: the cutting velocity (zero: a resting tool, e.g. a contact test).
+    pub velocity: [f64; 2],
+    /// `ramp` (optional, default 0; unit s), ≥ 0: the velocity is reached linearly over this time.
+    pub ramp: f64,
+    /// `contact_stiffness` (optional, default 0.1, the theses' codes), in (0, 1]: κ, the fraction of a penetration
+    /// the penalty force removes per step.
+    pub contact_stiffness: f64,
+    /// `friction_stiffness` (optional, default `contact_stiffness`, as in Röthlin's code), in (0, 1]: κ_t of the
+    /// LS-DYNA friction update f* = f_old − κ_t m v_t/Δt (Klippel's (4.47) and Röthlin's (5.129) write m/Δt: 1).
+    pub friction_stiffness: Option<f64>,
+    /// `friction` (optional, default 0), ≥ 0: the Coulomb coefficient μ.
+    pub friction: f64,
+    /// `friction_cap` (optional, default `"none"`): `"none"`, `"static"` (|f_t| ≤ κ_fric A σ_y0/√3 with the static
+    /// yield stress σ_y(0, ε̇0, T0), (7.6)) or `"current"` (the particle's current σ_y, (7.7)/(9.21)).
+    pub friction_cap: FrictionCap,
+    /// `friction_cap_factor` (optional, default 1), > 0: κ_fric.
+    pub friction_cap_factor: f64,
+    /// `friction_heating` (optional, default 0 = off), in [0, 1]: the fraction η of the friction work that heats
+    /// the workpiece (the theses: 0.9; Klippel's identification model: off).
+    pub friction_heating: f64,
+    /// `usui = { psi, xi }` (optional): record the Usui wear rate Ψ exp(−ξ/T) p v (Ψ [1/Pa], default 7.8e-9;
+    /// ξ [K], default 2500; roethlin-solver.md §7.8).
+    pub usui: Option<[f64; 2]>,
+    /// `chip_station` (optional, default twice the uncut chip thickness; unit m), > 0: where up the rake face the
+    /// chip thickness is measured (host/cutting/chip.rs).
+    pub chip_station: Option<f64>,
+    /// `[tool.thermal]` (optional): the tool as thermal-only particles (a heat sink, roethlin-solver.md §5.6).
+    pub thermal: Option<ToolThermal>,
+}
+
+/// Friction cap of the tool contact (`tool.friction_cap`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum FrictionCap {
+    None,
+    Static,
+    Current,
+}
+
+/// `[tool.thermal]`: the tool sampled by particles on the workpiece's lattice spacing that conduct heat and move
+/// with the tool.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ToolThermal {
+    /// `material` (required): a library material with `[thermal]` density, specific_heat and conductivity.
+    #[serde(skip)]
+    pub material: Option<crate::material::Material>,
+    /// `temperature` (optional, default `physics.initial_temperature`; unit K), > 0: the tool's initial
+    /// temperature, and that of its held band.
+    pub temperature: f64,
+    /// `fixed_width` (optional, default 2·dx; unit m), ≥ 0: tool particles closer than this to the top or back
+    /// face are held at `temperature` (the tool's far boundary).
+    pub fixed_width: f64,
 }
 
 /// `[physics]`: what the run models beyond elasticity; everything off by default except what the material

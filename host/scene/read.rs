@@ -22,6 +22,7 @@ const ROOT_KEYS: &[&str] = &[
     "time",
     "output",
     "physics",
+    "tool",
 ];
 const BODY_KEYS: &[&str] = &["name", "shape", "velocity", "angular_velocity", "lattice", "material", "temperature"];
 const SHAPES: &[(&str, &[&str])] = &[
@@ -445,6 +446,12 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
         }
     }
 
+    // [tool]
+    let tool = match root.table("tool", "tool", "a table [tool]")? {
+        Some(t) => Some(tool(&t, doc, dim, dx, &physics)?),
+        None => None,
+    };
+
     Ok(Scene {
         origin: doc.file.clone(),
         name: name.to_string(),
@@ -458,6 +465,167 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
         time,
         output,
         physics,
+        tool,
+    })
+}
+
+/// A library material by `name` for the key `k` of table `t`.
+fn library_material(t: &Tab<'_>, doc: &Doc, k: &str) -> Result<crate::material::Material> {
+    let e = "the name of a material of the library";
+    let name = t.required(k, e, t.string(k, e, |s| !s.trim().is_empty())?)?;
+    let dir = super::library_dir(&doc.file);
+    let lib = crate::material::Library::load_dir(&dir)
+        .map_err(|err| t.invalid(k, t.get(k), format!("a material of the library {} ({err})", dir.display())))?;
+    lib.get(name).cloned().map_err(|_| {
+        let names = lib.names().collect::<Vec<_>>().join(", ");
+        t.invalid(k, t.get(k), format!("a material of {}: one of {names}", dir.display()))
+    })
+}
+
+/// The `[tool]` table.
+fn tool(t: &Tab<'_>, doc: &Doc, dim: usize, dx: f64, physics: &Physics) -> Result<Tool> {
+    t.check_keys(
+        &[
+            "rake_angle",
+            "clearance_angle",
+            "edge_radius",
+            "length",
+            "height",
+            "position",
+            "velocity",
+            "ramp",
+            "contact_stiffness",
+            "friction_stiffness",
+            "friction",
+            "friction_cap",
+            "friction_cap_factor",
+            "friction_heating",
+            "usui",
+            "chip_station",
+            "thermal",
+        ],
+        &[],
+        "",
+    )?;
+    if dim != 2 {
+        return Err(t.invalid("rake_angle", None, "a 2D scene: the parametric tool is 2D (dim = 2)"));
+    }
+    let e = "an angle in degrees in (-90, 90)";
+    let rake_angle = t.required("rake_angle", e, t.number("rake_angle", e, |x| x > -90.0 && x < 90.0)?)?;
+    let e = "an angle in degrees >= 0 with rake_angle + clearance_angle < 90";
+    let clearance_angle =
+        t.required("clearance_angle", e, t.number("clearance_angle", e, |x| x >= 0.0 && x + rake_angle < 90.0)?)?;
+    let edge_radius = t.number("edge_radius", "a non-negative radius in m", non_negative)?.unwrap_or(0.0);
+    let e = "a positive length in m";
+    let length = t.required("length", e, t.number("length", e, positive)?)?;
+    let height = t.required("height", e, t.number("height", e, positive)?)?;
+    let e = point_text("the edge's lowest point at t = 0", 2, "m");
+    let position = t.required("position", &e, t.vector("position", 2, &e)?)?;
+    let e = "the cutting velocity [vx, vy] in m/s";
+    let velocity = t.required("velocity", e, t.vector("velocity", 2, e)?)?;
+    let ramp = t.number("ramp", "a non-negative time in s", non_negative)?.unwrap_or(0.0);
+    let contact_stiffness =
+        t.number("contact_stiffness", "a fraction in (0, 1]", |x| x > 0.0 && x <= 1.0)?.unwrap_or(0.1);
+    let friction_stiffness = t.number("friction_stiffness", "a fraction in (0, 1]", |x| x > 0.0 && x <= 1.0)?;
+    let friction = t.number("friction", "a non-negative coefficient", non_negative)?.unwrap_or(0.0);
+    let e = "\"none\", \"static\" or \"current\"";
+    let friction_cap = match t.string("friction_cap", e, |s| matches!(s, "none" | "static" | "current"))? {
+        Some("static") => FrictionCap::Static,
+        Some("current") => FrictionCap::Current,
+        _ => FrictionCap::None,
+    };
+    if friction_cap != FrictionCap::None && !physics.plasticity {
+        return Err(t.invalid("friction_cap", t.get("friction_cap"), "\"none\": a yield-stress cap needs plasticity"));
+    }
+    let friction_cap_factor = t.number("friction_cap_factor", "a positive factor", positive)?.unwrap_or(1.0);
+    let friction_heating =
+        t.number("friction_heating", "a fraction in [0, 1]", |x| (0.0..=1.0).contains(&x))?.unwrap_or(0.0);
+    let usui = match t.table("usui", "tool.usui", "a table { psi, xi }")? {
+        Some(u) => {
+            u.check_keys(&["psi", "xi"], &[], "")?;
+            Some([
+                u.number("psi", "a positive coefficient in 1/Pa", positive)?.unwrap_or(7.8e-9),
+                u.number("xi", "a positive temperature in K", positive)?.unwrap_or(2500.0),
+            ])
+        }
+        None => None,
+    };
+    let chip_station = t.number("chip_station", "a positive distance in m", positive)?;
+    let thermal = match t.table("thermal", "tool.thermal", "a table [tool.thermal] with material")? {
+        Some(th) => {
+            th.check_keys(&["material", "temperature", "fixed_width"], &[], "")?;
+            let material = library_material(&th, doc, "material")?;
+            let ok = material
+                .thermal
+                .is_some_and(|m| m.density.is_some() && m.specific_heat.is_some() && m.conductivity.is_some());
+            if !ok {
+                return Err(th.invalid(
+                    "material",
+                    th.get("material"),
+                    "a library material with [thermal] density, specific_heat and conductivity",
+                ));
+            }
+            if physics.conduction == Conduction::Off {
+                return Err(th.invalid(
+                    "material",
+                    th.get("material"),
+                    "a scene that conducts heat (physics.conduction): the thermal tool is a heat sink",
+                ));
+            }
+            Some(ToolThermal {
+                material: Some(material),
+                temperature: th
+                    .number("temperature", "a positive temperature in K", positive)?
+                    .unwrap_or(physics.initial_temperature),
+                fixed_width: th.number("fixed_width", "a non-negative width in m", non_negative)?.unwrap_or(2.0 * dx),
+            })
+        }
+        None => None,
+    };
+    if friction_heating > 0.0 && !(physics.plastic_heating || physics.conduction != Conduction::Off) {
+        return Err(t.invalid(
+            "friction_heating",
+            t.get("friction_heating"),
+            "0: friction heating needs the thermal model (plastic heating or conduction, and the material's \
+             specific heat)",
+        ));
+    }
+    let shape = crate::kernels::contact::ToolShape {
+        rake_angle: rake_angle.to_radians(),
+        clearance_angle: clearance_angle.to_radians(),
+        edge_radius,
+        length,
+        height,
+    };
+    if let Err(err) = crate::kernels::contact::Tool2d::new(&shape) {
+        let why = match err {
+            crate::kernels::contact::tool2d::ShapeError::Angles => "angles with a wedge 90 - rake - clearance > 0",
+            crate::kernels::contact::tool2d::ShapeError::Size => "finite, non-negative sizes",
+            crate::kernels::contact::tool2d::ShapeError::TooSmall => {
+                "a tool large enough for its edge radius (faces longer than the arc's tangent length, the flank \
+                 below the top)"
+            }
+        };
+        return Err(t.invalid("length", t.get("length"), why));
+    }
+    Ok(Tool {
+        rake_angle,
+        clearance_angle,
+        edge_radius,
+        length,
+        height,
+        position: [position[0], position[1]],
+        velocity: [velocity[0], velocity[1]],
+        ramp,
+        contact_stiffness,
+        friction_stiffness,
+        friction,
+        friction_cap,
+        friction_cap_factor,
+        friction_heating,
+        usui,
+        chip_station,
+        thermal,
     })
 }
 

@@ -58,6 +58,10 @@ pub fn compute<R: Real, D: TensorOps<R>>(
             }
             continue;
         }
+        // The tool's thermal-only particles carry no mechanics (roethlin-solver.md §5.6).
+        if p.flags[i] & crate::kernels::sph::params::flags::THERMAL_ONLY != 0 {
+            continue;
+        }
         d.kinetic += kinetic(m, v).to_f64();
         d.elastic += elastic_at::<R, D>(params, m, rho, &p.stress[i], temp.map(|t| t[i])).to_f64();
         let mf = m.to_f64();

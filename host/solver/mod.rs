@@ -18,13 +18,17 @@
 pub mod diagnostics;
 pub mod params;
 
+pub use crate::cutting::motion::ToolMotion;
+
 use crate::Result;
-use crate::backend::{Backend, FieldsMut, FieldsRef, SphInputs};
+use crate::backend::{Backend, ContactInputs, FieldsMut, FieldsRef, SphInputs};
+use crate::kernels::contact::{ContactParams, ToolState, penalty::cap};
 use crate::kernels::neighbour::GridParams;
 use crate::kernels::sph::heat::{HeatParams, ThermalMaterial};
+use crate::kernels::sph::params::flags;
 use crate::kernels::sph::plastic::PlasticConsts;
 use crate::kernels::sph::{SphParams, Stabilisers, TensorOps};
-use crate::kernels::{Dim, Real};
+use crate::kernels::{Dim, Real, Vector};
 use crate::material::FlowModel;
 use crate::neighbour::CellList;
 use crate::state::{Field, HostParticles, Particles};
@@ -47,6 +51,17 @@ pub struct PlasticSetup {
     pub taylor_quinney: f64,
 }
 
+/// The rigid tool of a cutting run (2D).
+#[derive(Clone, Debug)]
+pub struct ContactSetup {
+    pub params: ContactParams,
+    pub motion: ToolMotion,
+    /// Index of the tool particles' velocity in the prescribed-velocity table (rewritten during a start-up ramp).
+    pub tool_velocity_index: Option<usize>,
+    /// Record the Usui wear rate.
+    pub wear: bool,
+}
+
 /// Everything a solver needs, in the run's precision (built from a scene by `run::setup`).
 pub struct Setup<R: Real, D: TensorOps<R>> {
     pub particles: HostParticles<R, D>,
@@ -63,6 +78,7 @@ pub struct Setup<R: Real, D: TensorOps<R>> {
     pub temperature: Option<Vec<f64>>,
     pub thermal: Option<ThermalSetup>,
     pub plastic: Option<PlasticSetup>,
+    pub contact: Option<ContactSetup>,
 }
 
 struct ThermalState<B: Backend> {
@@ -81,6 +97,35 @@ struct PlasticState<B: Backend> {
     model: FlowModel,
     model_buf: B::Buf<u8>,
     taylor_quinney: f64,
+}
+
+struct ContactState<B: Backend, R: Real, D: Dim> {
+    params: B::Buf<ContactParams>,
+    motion: ToolMotion,
+    normal: Field<B, D::Vec<R>>,
+    friction: Field<B, D::Vec<R>>,
+    /// σ_y after the plastic update (CURRENT friction cap only; rewritten every step, never reordered).
+    yield_stress: Option<B::Buf<f64>>,
+    wear: Option<B::Buf<f64>>,
+    tool_velocity_index: Option<usize>,
+    /// Friction heating is on.
+    heating: bool,
+    /// The run's time step, which scales the contact stiffness (a step shortened to land on an output time does
+    /// not stiffen it).
+    nominal_dt: f64,
+    /// Host copy of the prescribed-velocity table, for the ramp's rewrites.
+    bc_table: Vec<D::Vec<R>>,
+}
+
+/// The tool's force on the workpiece and its contact statistics at one instant.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ContactSample {
+    /// Σ (f_c + f_t) over the particles: the force of the tool on the workpiece [N per m of depth in 2D].
+    pub force: [f64; 2],
+    /// Particles in contact.
+    pub contacts: usize,
+    /// Mean Usui wear rate over the contacting particles [m/s] (NaN when wear is off or nothing touches).
+    pub wear_rate: f64,
 }
 
 /// Start-of-step copies y0 (reordered with the state each step).
@@ -114,6 +159,9 @@ pub struct Solver<B: Backend, R: Real, D: TensorOps<R>> {
     temp: Option<Field<B, f64>>,
     thermal: Option<ThermalState<B>>,
     plastic: Option<PlasticState<B>>,
+    contact: Option<ContactState<B, R, D>>,
+    /// Masses for the mechanics where they differ from the particles' masses: zero for thermal-only particles.
+    mech_mass: Option<Field<B, R>>,
     shear: f64,
     pub stab: Stabilisers,
     pub n: usize,
@@ -163,6 +211,44 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             }),
             None => None,
         };
+        let contact = match &setup.contact {
+            Some(c) => {
+                if D::D != 2 {
+                    return Err(crate::Error::Scene("the parametric tool is 2D only".into()));
+                }
+                let current = c.params.cap_mode == cap::CURRENT;
+                if current && setup.plastic.is_none() {
+                    return Err(crate::Error::Scene("the current-yield friction cap needs plasticity".into()));
+                }
+                if c.params.heat_fraction > 0.0 && (setup.thermal.is_none() || setup.temperature.is_none()) {
+                    return Err(crate::Error::Scene("friction heating needs the thermal model".into()));
+                }
+                Some(ContactState {
+                    params: b.upload(&[c.params], "contact parameters")?,
+                    motion: c.motion,
+                    normal: Field::upload(b, &zeros_v, "contact forces")?,
+                    friction: Field::upload(b, &zeros_v, "friction forces")?,
+                    yield_stress: if current { Some(b.alloc(n, "yield stress")?) } else { None },
+                    wear: if c.wear { Some(b.alloc(n, "wear rate")?) } else { None },
+                    tool_velocity_index: c.tool_velocity_index,
+                    heating: c.params.heat_fraction > 0.0,
+                    nominal_dt: setup.dt,
+                    bc_table: table.clone(),
+                })
+            }
+            None => None,
+        };
+        let mech_mass = if particles.flags.iter().any(|f| f & flags::THERMAL_ONLY != 0) {
+            let m: Vec<R> = particles
+                .mass
+                .iter()
+                .zip(&particles.flags)
+                .map(|(&m, &f)| if f & flags::THERMAL_ONLY != 0 { R::ZERO } else { m })
+                .collect();
+            Some(Field::upload(b, &m, "mechanical mass")?)
+        } else {
+            None
+        };
         if (plastic.is_some() || thermal.is_some()) && temp.is_none() {
             return Err(crate::Error::Scene("plasticity and heat need a temperature field".into()));
         }
@@ -190,6 +276,8 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             temp,
             thermal,
             plastic,
+            contact,
+            mech_mass,
             shear: setup.shear,
             stab,
             n,
@@ -201,6 +289,16 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
     /// One step of length `dt`.
     pub fn step(&mut self, b: &B, dt: f64) -> Result<()> {
         let n = self.n;
+        if let Some(c) = self.contact.as_mut()
+            && let Some(k) = c.tool_velocity_index
+            && c.motion.ramp > 0.0
+            && self.time < c.motion.ramp
+        {
+            // The tool particles follow the ramp: their prescribed velocity at this step's midpoint.
+            let v = c.motion.velocity_at(self.time + 0.5 * dt);
+            c.bc_table[k] = D::Vec::<R>::new([R::from_f64(v[0]), R::from_f64(v[1]), R::ZERO]);
+            b.write(&mut self.bc_vel, &c.bc_table)?;
+        }
         let p = &mut self.particles;
         let s = &mut self.start;
         let r = &self.rates;
@@ -233,6 +331,13 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             pl.eps.reorder(b, n, perm)?;
             pl.rate.reorder(b, n, perm)?;
         }
+        if let Some(c) = self.contact.as_mut() {
+            c.normal.reorder(b, n, perm)?;
+            c.friction.reorder(b, n, perm)?;
+        }
+        if let Some(m) = self.mech_mass.as_mut() {
+            m.reorder(b, n, perm)?;
+        }
         b.sph_prepare::<R, D>(
             n,
             self.stab,
@@ -248,13 +353,14 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             pos: &p.pos.cur,
             vel: &p.vel.cur,
             rho: &p.rho.cur,
-            mass: &p.mass.cur,
+            mass: self.mech_mass.as_ref().map_or(&p.mass.cur, |m| &m.cur),
             stress: &p.stress.cur,
             sig: &self.sig,
             art: self.art.as_ref(),
             sound: self.sound.as_ref(),
             flags: &p.flags.cur,
             bc_vel: &self.bc_vel,
+            contact: self.contact.as_ref().map(|c| (&c.normal.cur, &c.friction.cur)),
         };
         let r = &mut self.rates;
         b.sph_rates::<R, D>(
@@ -307,12 +413,94 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                     temp: &mut t.cur,
                     flags: &p.flags.cur,
                     materials: self.thermal.as_ref().map(|th| &th.materials),
+                    yield_stress: self.contact.as_mut().and_then(|c| c.yield_stress.as_mut()),
+                },
+            )?;
+        }
+        if let Some(c) = self.contact.as_mut() {
+            let t1 = self.time + dt;
+            let tool = ToolState {
+                offset: c.motion.offset_at(t1),
+                velocity: c.motion.velocity_at(t1),
+                dt: dt.max(c.nominal_dt),
+                step: dt,
+            };
+            let heating = c.heating;
+            b.contact::<R, D>(
+                n,
+                &c.params,
+                tool,
+                ContactInputs {
+                    pos: &p.pos.cur,
+                    vel: &p.vel.cur,
+                    mass: &p.mass.cur,
+                    rho: &p.rho.cur,
+                    flags: &p.flags.cur,
+                    normal: &mut c.normal.cur,
+                    friction: &mut c.friction.cur,
+                    temp: self.temp.as_mut().map(|t| &mut t.cur),
+                    materials: if heating { self.thermal.as_ref().map(|th| &th.materials) } else { None },
+                    yield_stress: c.yield_stress.as_ref(),
+                    wear: c.wear.as_mut(),
                 },
             )?;
         }
         self.time += dt;
         self.steps += 1;
         Ok(())
+    }
+
+    /// The tool's force on the workpiece now, summed in f64 in particle order (deterministic, equal on every
+    /// backend); None without a tool.
+    pub fn contact_sample(&self, b: &B) -> Result<Option<ContactSample>> {
+        let Some(c) = &self.contact else { return Ok(None) };
+        let (fc, ft) = (c.normal.read(b)?, c.friction.read(b)?);
+        let wear = match &c.wear {
+            Some(w) => Some(b.read(w)?),
+            None => None,
+        };
+        let mut s = ContactSample::default();
+        let mut wear_sum = 0.0;
+        for i in 0..self.n {
+            let f = [fc[i].get(0).to_f64() + ft[i].get(0).to_f64(), fc[i].get(1).to_f64() + ft[i].get(1).to_f64()];
+            s.force[0] += f[0];
+            s.force[1] += f[1];
+            if fc[i].get(0) != R::ZERO || fc[i].get(1) != R::ZERO {
+                s.contacts += 1;
+                if let Some(w) = &wear {
+                    wear_sum += w[i];
+                }
+            }
+        }
+        s.wear_rate = if wear.is_some() && s.contacts > 0 { wear_sum / s.contacts as f64 } else { f64::NAN };
+        Ok(Some(s))
+    }
+
+    /// Host copies of the contact normal and friction forces (state order), with a tool.
+    #[allow(clippy::type_complexity)]
+    pub fn download_contact(&self, b: &B) -> Result<Option<(Vec<D::Vec<R>>, Vec<D::Vec<R>>)>> {
+        match &self.contact {
+            Some(c) => Ok(Some((c.normal.read(b)?, c.friction.read(b)?))),
+            None => Ok(None),
+        }
+    }
+
+    /// Sets the run's time step, which scales the contact stiffness (after a CFL reduction).
+    pub fn set_nominal_dt(&mut self, dt: f64) {
+        if let Some(c) = self.contact.as_mut() {
+            c.nominal_dt = dt;
+        }
+    }
+
+    /// Host copies of the positions and flags (state order).
+    #[allow(clippy::type_complexity)]
+    pub fn positions(&self, b: &B) -> Result<(Vec<D::Vec<R>>, Vec<u32>)> {
+        Ok((self.particles.pos.read(b)?, self.particles.flags.read(b)?))
+    }
+
+    /// Where the tool's frame origin is at the current time, with a tool.
+    pub fn tool_offset(&self) -> Option<[f64; 2]> {
+        self.contact.as_ref().map(|c| c.motion.offset_at(self.time))
     }
 
     /// A host copy of the particle state (in the current sorted order).
@@ -384,6 +572,13 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             dump(b, "eps", &pl.eps.cur, &mut o)?;
             dump(b, "eps_rate", &pl.rate.cur, &mut o)?;
         }
+        if let Some(c) = &self.contact {
+            dump(b, "contact_normal", &c.normal.cur, &mut o)?;
+            dump(b, "contact_friction", &c.friction.cur, &mut o)?;
+        }
+        if let Some(m) = &self.mech_mass {
+            dump(b, "mech_mass", &m.cur, &mut o)?;
+        }
         Ok(o)
     }
 
@@ -412,6 +607,19 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         if let Some(pl) = &mut self.plastic {
             crate::state::load_blob(b, "eps", &mut pl.eps.cur, s)?;
             crate::state::load_blob(b, "eps_rate", &mut pl.rate.cur, s)?;
+        }
+        if let Some(c) = &mut self.contact {
+            crate::state::load_blob(b, "contact_normal", &mut c.normal.cur, s)?;
+            crate::state::load_blob(b, "contact_friction", &mut c.friction.cur, s)?;
+            // The ramp's table entry is rewritten by the next step while the ramp lasts; after it, it is final.
+            if let Some(k) = c.tool_velocity_index {
+                let v = c.motion.velocity_at(self.time);
+                c.bc_table[k] = D::Vec::<R>::new([R::from_f64(v[0]), R::from_f64(v[1]), R::ZERO]);
+                b.write(&mut self.bc_vel, &c.bc_table)?;
+            }
+        }
+        if let Some(m) = &mut self.mech_mass {
+            crate::state::load_blob(b, "mech_mass", &mut m.cur, s)?;
         }
         Ok(())
     }

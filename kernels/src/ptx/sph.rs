@@ -108,6 +108,8 @@ macro_rules! rates_entry {
             sound: *const $r,
             flags: *const u32,
             bc_vel: *const Vec_<$r, $d>,
+            normal: *const Vec_<$r, $d>,
+            friction: *const Vec_<$r, $d>,
             pos_t: *mut Vec_<$r, $d>,
             vel_t: *mut Vec_<$r, $d>,
             rho_t: *mut $r,
@@ -115,7 +117,8 @@ macro_rules! rates_entry {
         ) {
             let i = global_index();
             if i < n {
-                let a = Arrays::<$r, $d> { pos, vel, rho, mass, stress, sig, art, sound, flags, bc_vel };
+                let a =
+                    Arrays::<$r, $d> { pos, vel, rho, mass, stress, sig, art, sound, flags, bc_vel, normal, friction };
                 unsafe {
                     let o = rates::<$r, $d, $av, $as, $xs>(&*params, &*grid, starts, &a, i);
                     let iu = i as usize;
@@ -333,10 +336,12 @@ macro_rules! plastic_entry {
             temp: *mut f64,
             flags: *const u32,
             materials: *const ThermalMaterial,
+            yield_stress: *mut f64,
         ) {
             let i = global_index() as usize;
             if i < n as usize {
-                let a = PlasticArrays::<$r, Sym_<$r, $d>> { stress, rho, eps, rate, temp, flags, materials };
+                let a =
+                    PlasticArrays::<$r, Sym_<$r, $d>> { stress, rho, eps, rate, temp, flags, materials, yield_stress };
                 let c = PlasticConsts { shear, dt, taylor_quinney, _pad: 0.0 };
                 unsafe { plastic_particle::<$r, $d, $m>(&*model, &c, &a, i) };
             }
@@ -380,3 +385,55 @@ plastic_entry!(swarf_plastic_bilinear_2d_f32, Bilinear, f32, Dim2);
 plastic_entry!(swarf_plastic_bilinear_2d_f64, Bilinear, f64, Dim2);
 plastic_entry!(swarf_plastic_bilinear_3d_f32, Bilinear, f32, Dim3);
 plastic_entry!(swarf_plastic_bilinear_3d_f64, Bilinear, f64, Dim3);
+
+use crate::contact::penalty::{ContactArrays, ContactParams, ToolState, contact_particle};
+
+/// The contact pass with the rigid 2D tool (contact::penalty::contact_particle).
+macro_rules! contact_entry {
+    ($name:ident, $r:ty) => {
+        #[unsafe(no_mangle)]
+        pub unsafe extern "ptx-kernel" fn $name(
+            n: u32,
+            params: *const ContactParams,
+            offset_x: f64,
+            offset_y: f64,
+            velocity_x: f64,
+            velocity_y: f64,
+            dt: f64,
+            step: f64,
+            pos: *const Vec_<$r, Dim2>,
+            vel: *const Vec_<$r, Dim2>,
+            mass: *const $r,
+            rho: *const $r,
+            flags: *const u32,
+            normal: *mut Vec_<$r, Dim2>,
+            friction: *mut Vec_<$r, Dim2>,
+            temp: *mut f64,
+            materials: *const ThermalMaterial,
+            yield_stress: *const f64,
+            wear: *mut f64,
+        ) {
+            let i = global_index() as usize;
+            if i < n as usize {
+                let s = ToolState { offset: [offset_x, offset_y], velocity: [velocity_x, velocity_y], dt, step };
+                let a = ContactArrays::<$r, Vec_<$r, Dim2>> {
+                    pos,
+                    vel,
+                    mass,
+                    rho,
+                    flags,
+                    normal,
+                    friction,
+                    temp,
+                    materials,
+                    yield_stress,
+                    wear,
+                };
+                unsafe { contact_particle::<$r, Vec_<$r, Dim2>>(&*params, &s, &a, i) };
+            }
+        }
+    };
+}
+
+contact_entry!(swarf_contact_2d_f32, f32);
+contact_entry!(swarf_contact_2d_f64, f64);

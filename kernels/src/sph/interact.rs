@@ -91,6 +91,9 @@ pub struct Arrays<R: Real, D: Dim> {
     pub flags: *const u32,
     /// Prescribed velocities, indexed by the flags' velocity index.
     pub bc_vel: *const D::Vec<R>,
+    /// Contact normal and friction forces of the last contact pass (`contact::penalty`); null without a tool.
+    pub normal: *const D::Vec<R>,
+    pub friction: *const D::Vec<R>,
 }
 
 #[inline(always)]
@@ -112,8 +115,10 @@ fn dot<R: Real, V: Vector<R>>(a: &V, b: &V) -> R {
     s
 }
 
-/// The rates of sorted particle i. Boundary conditions are imposed here: a fixed particle gets ẋ = v̇ = 0, a
-/// prescribed-velocity particle ẋ = v_bc and v̇ = 0 (its velocity was set to v_bc at the start).
+/// The rates of sorted particle i. The tool's contact forces of the previous step's contact pass add
+/// v̇ += (f_c + f_t)/m_i (roethlin-solver.md §5.2 step 9). Boundary conditions are imposed here: a fixed particle
+/// gets ẋ = v̇ = 0, a prescribed-velocity particle ẋ = v_bc and v̇ = 0 (its velocity was set to v_bc at the
+/// start); a thermal-only particle moves likewise and keeps its density and stress (ρ̇ = 0, Ṡ = 0).
 ///
 /// # Safety
 /// All arrays hold the sorted particles of the cell list `starts`/`grid`; `i` is in range; `art` and `sound`
@@ -189,11 +194,21 @@ pub unsafe fn rates<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, co
     };
     let fl = unsafe { *a.flags.add(iu) };
     let kind = fl & flags::KIND_MASK;
+    if !a.normal.is_null() && fl & flags::THERMAL_ONLY == 0 {
+        let (f_n, f_t, m) = unsafe { (*a.normal.add(iu), *a.friction.add(iu), *a.mass.add(iu)) };
+        let inv_m = R::ONE / m;
+        axpy(&mut acc, inv_m, &f_n);
+        axpy(&mut acc, inv_m, &f_t);
+    }
     let si = unsafe { *a.stress.add(iu) };
     let mut out =
         Rates::<R, D> { pos_t: vi, vel_t: acc, rho_t: -rhoi * D::trace(&l), stress_t: D::jaumann(&l, &si, p.shear) };
     if XSPH {
         axpy(&mut out.pos_t, p.xsph_eps, &xsph);
+    }
+    if fl & flags::THERMAL_ONLY != 0 {
+        out.rho_t = R::ZERO;
+        out.stress_t = Default::default();
     }
     if kind == flags::FIXED {
         out.pos_t = Default::default();

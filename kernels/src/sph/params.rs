@@ -51,16 +51,19 @@ pub struct Stabilisers {
     pub xsph: bool,
 }
 
-/// Particle flags: bits 0..7 the mechanical boundary-condition kind, bit 7 a fixed temperature, 8..16 the index
+/// Particle flags: bits 0..6 the mechanical boundary-condition kind, bit 6 thermal-only, bit 7 a fixed temperature, 8..16 the index
 /// into the prescribed-velocity table, 16..32 the body index (materials, output, per-body diagnostics).
 pub mod flags {
     pub const BODY_SHIFT: u32 = 16;
     /// Held at its initial temperature (no conduction, no heating).
     pub const FIXED_TEMPERATURE: u32 = 0x80;
+    /// A thermal-only particle (the tool's heat sink, roethlin-solver.md §5.6): it moves with its prescribed
+    /// velocity, conducts heat, and takes no part in the mechanics (zero mechanical mass, no contact).
+    pub const THERMAL_ONLY: u32 = 0x40;
     pub const FREE: u32 = 0;
     pub const FIXED: u32 = 1;
     pub const VELOCITY: u32 = 2;
-    pub const KIND_MASK: u32 = 0x7f;
+    pub const KIND_MASK: u32 = 0x3f;
     pub const VEL_INDEX_SHIFT: u32 = 8;
     pub const VEL_INDEX_MASK: u32 = 0xff;
 }

@@ -105,6 +105,8 @@ pub struct PlasticArrays<R: Real, S> {
     pub flags: *const u32,
     /// Thermal materials by body (null when plastic heating is off).
     pub materials: *const ThermalMaterial,
+    /// The flow stress σ_y(ε̄, ε̄̇, T) after the update (null unless the contact's friction cap needs it).
+    pub yield_stress: *mut f64,
 }
 
 /// The plastic update of sorted particle i, reading and writing the arrays.
@@ -130,5 +132,8 @@ pub unsafe fn plastic_particle<R: Real, D: TensorOps<R>, M: FlowStress>(
         *a.eps.add(i) = e;
         *a.rate.add(i) = r;
         *a.temp.add(i) = t;
+        if !a.yield_stress.is_null() {
+            *a.yield_stress.add(i) = model.sigma_y(e, r, t);
+        }
     }
 }

@@ -1,0 +1,118 @@
+//! From a scene's `[tool]` to the solver's contact set-up: the built tool, its contact constants, its motion and
+//! the thermal-only tool particles (roethlin-solver.md §5.4, §5.6).
+
+use crate::kernels::contact::penalty::cap;
+use crate::kernels::contact::tool2d::{BACK, TOP};
+use crate::kernels::contact::{ContactParams, Tool2d, ToolShape};
+use crate::material::FlowModel;
+use crate::scene::{FrictionCap, Scene, Tool};
+use crate::{Error, Result};
+
+use super::motion::ToolMotion;
+
+/// The built tool of a scene's `[tool]` (validated when the scene was read).
+pub fn build_tool(t: &Tool) -> Result<Tool2d> {
+    Tool2d::new(&ToolShape {
+        rake_angle: t.rake_angle.to_radians(),
+        clearance_angle: t.clearance_angle.to_radians(),
+        edge_radius: t.edge_radius,
+        length: t.length,
+        height: t.height,
+    })
+    .map_err(|e| Error::Scene(format!("tool: {e:?}")))
+}
+
+/// The tool's motion.
+pub fn motion(t: &Tool) -> ToolMotion {
+    ToolMotion { start: t.position, velocity: t.velocity, ramp: t.ramp }
+}
+
+/// The contact constants: κ, μ, the friction cap (static: κ_fric σ_y(0, ε̇0, T0)/√3 with T0 the initial
+/// temperature; current: κ_fric/√3 times each particle's σ_y), friction heating, Usui's constants and the melt
+/// temperature that caps friction heating.
+pub fn contact_params(scene: &Scene, t: &Tool, tool: Tool2d, model: Option<&FlowModel>) -> ContactParams {
+    let inv_sqrt3 = 1.0 / 3f64.sqrt();
+    let (cap_mode, cap_stress) = match (t.friction_cap, model) {
+        (FrictionCap::Static, Some(m)) => {
+            (cap::STATIC, t.friction_cap_factor * inv_sqrt3 * m.sigma_y(0.0, 0.0, scene.physics.initial_temperature))
+        }
+        (FrictionCap::Current, Some(_)) => (cap::CURRENT, t.friction_cap_factor * inv_sqrt3),
+        _ => (cap::NONE, 0.0),
+    };
+    ContactParams {
+        tool,
+        kappa: t.contact_stiffness,
+        friction_kappa: t.friction_stiffness.unwrap_or(t.contact_stiffness),
+        friction: t.friction,
+        cap_stress,
+        heat_fraction: t.friction_heating,
+        usui_psi: t.usui.map_or(0.0, |u| u[0]),
+        usui_xi: t.usui.map_or(0.0, |u| u[1]),
+        melt: model.map_or(f64::INFINITY, |m| m.melt_temperature()),
+        cap_mode,
+        _pad: 0,
+    }
+}
+
+/// Thermal-only particles filling the tool: cell centres of a lattice of spacing `dx` in the tool frame, kept
+/// when at least dx/2 inside the outline; `held` marks those within `band` of the top or back face.
+pub struct ToolParticles {
+    /// World positions at t = 0.
+    pub pos: Vec<[f64; 2]>,
+    pub held: Vec<bool>,
+}
+
+pub fn tool_particles(tool: &Tool2d, t: &Tool, dx: f64, band: f64) -> ToolParticles {
+    let nx = (t.length / dx).ceil() as usize + 2;
+    let ny = (t.height / dx).ceil() as usize + 2;
+    let mut out = ToolParticles { pos: Vec::new(), held: Vec::new() };
+    for j in 0..ny {
+        for i in 0..nx {
+            let p = [-t.length + (i as f64 + 0.5) * dx, (j as f64 + 0.5) * dx];
+            if tool.closest(p).distance > -0.5 * dx {
+                continue;
+            }
+            let top = tool.seg[TOP][1] - p[1];
+            let back = p[0] - tool.seg[BACK][0];
+            out.pos.push([p[0] + t.position[0], p[1] + t.position[1]]);
+            out.held.push(top < band || back < band);
+        }
+    }
+    out
+}
+
+/// Refuses a tool that overlaps the workpiece at t = 0 (the penalty force would explode) or never meets it before
+/// the end of the run (nothing would be cut): the tool and the particles, moving on with their initial
+/// velocities, are checked at 400 instants.
+pub fn check_engagement(
+    scene: &Scene,
+    tool: &Tool2d,
+    motion: &ToolMotion,
+    pos: &[[f64; 3]],
+    vel: &[[f64; 3]],
+) -> Result<()> {
+    let at = |time: f64| {
+        let o = motion.offset_at(time);
+        pos.iter()
+            .zip(vel)
+            .filter(|(p, v)| tool.contains([p[0] + v[0] * time - o[0], p[1] + v[1] * time - o[1]]))
+            .count()
+    };
+    let inside = at(0.0);
+    if inside > 0 {
+        return Err(Error::Scene(format!(
+            "{}: tool.position: {inside} particles lie inside the tool at t = 0; expected the tool clear of the \
+             workpiece (move it back along its velocity)",
+            scene.origin
+        )));
+    }
+    let end = scene.time.end;
+    if !(1..=400).any(|k| at(end * k as f64 / 400.0) > 0) {
+        return Err(Error::Scene(format!(
+            "{}: tool: the tool never meets the workpiece before time.end = {end:e} s; expected a position and \
+             velocity that bring its edge into the material",
+            scene.origin
+        )));
+    }
+    Ok(())
+}
