@@ -25,6 +25,8 @@ pub struct CheckReport {
     pub seconds_per_step: f64,
     pub backend: String,
     pub precision: &'static str,
+    /// Input that runs but whose result is not meaningful.
+    pub warnings: Vec<String>,
 }
 
 impl CheckReport {
@@ -98,6 +100,7 @@ fn typed<B: Backend, R: Real, D: TensorOps<R>>(b: &B, scene: &Scene, probe_steps
         seconds_per_step: t.elapsed().as_secs_f64() / probe as f64,
         backend: format!("{} ({})", info.backend, info.name),
         precision: R::NAME,
+        warnings: s.warnings.clone(),
     })
 }
 
@@ -118,5 +121,8 @@ pub fn format(scene: &Scene, r: &CheckReport) -> String {
         r.precision,
         r.seconds_per_step * 1e3
     );
+    for w in &r.warnings {
+        let _ = writeln!(s, "warning:            {w}");
+    }
     s
 }

@@ -43,6 +43,24 @@ pub struct RunOptions {
     pub resume: bool,
 }
 
+impl RunOptions {
+    /// A quiet run into `out_dir` that writes no frames (energy, force and summary files only): the options tests
+    /// and analyses use.
+    pub fn quiet(out_dir: PathBuf) -> Self {
+        RunOptions {
+            out_dir,
+            precision: None,
+            frames: false,
+            hdf5: false,
+            quiet: true,
+            verbose: false,
+            overrides: Vec::new(),
+            checkpoint_every: None,
+            resume: false,
+        }
+    }
+}
+
 /// The columns of `energy.csv`, in order (read by `plot::plot_run` and by tools that post-process runs).
 pub const ENERGY_COLUMNS: &[&str] = &[
     "time",
@@ -132,6 +150,7 @@ pub use crate::solver::Setup;
 /// Builds the particles, parameters, grid and time step of `scene`.
 pub fn setup<R: Real, D: TensorOps<R>>(scene: &Scene) -> Result<Setup<R, D>> {
     let set = scene.generate().map_err(|e| Error::Scene(e.to_string()))?;
+    let warnings = crate::scene::degenerate_input_warnings(scene, &set);
     let n = set.len();
     let mut table: Vec<[f64; 3]> = Vec::new();
     let mut fl = Vec::with_capacity(n);
@@ -354,6 +373,7 @@ pub fn setup<R: Real, D: TensorOps<R>>(scene: &Scene) -> Result<Setup<R, D>> {
         thermal,
         plastic,
         contact,
+        warnings,
     })
 }
 
@@ -467,6 +487,12 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
         eprintln!("{head}");
     }
     log.line(&head)?;
+    for w in &s.warnings {
+        if !opts.quiet {
+            eprintln!("warning: {w}");
+        }
+        log.line(&format!("warning: {w}"))?;
+    }
     loop {
         if solver.time >= next_out - 1e-9 * dt || solver.time >= end - 1e-9 * dt {
             let host = solver.download(b)?;

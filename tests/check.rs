@@ -1,4 +1,4 @@
-//! `swarf check` on every scene in cases/ and cases/cutting/ (issues 5, 6): each validates, and the report's derived quantities are
+//! `swarf check` on every scene in cases/, cases/cutting/ and cases/hard/ (issues 5, 6, 8): each validates, and the report's derived quantities are
 //! consistent with the scene (steps = ⌈end/Δt⌉, Δt within the CFL limit, memory at least the particle state).
 
 use swarf::backend::{AnyBackend, BackendChoice};
@@ -8,7 +8,7 @@ use swarf::scene::Scene;
 fn every_case_checks() {
     let any = AnyBackend::select(BackendChoice::Cpu).expect("cpu").0;
     let mut n = 0;
-    let dirs = ["cases", "cases/cutting"];
+    let dirs = ["cases", "cases/cutting", "cases/hard"];
     let paths = dirs.iter().flat_map(|d| std::fs::read_dir(d).unwrap_or_else(|e| panic!("{d}: {e}")));
     for entry in paths {
         let path = entry.expect("entry").path();
@@ -24,7 +24,7 @@ fn every_case_checks() {
         assert!(r.seconds_per_step > 0.0 && r.expected_run_time().is_finite());
         n += 1;
     }
-    assert!(n >= 10, "expected the scenes of cases/ and cases/cutting/, found {n}");
+    assert!(n >= 18, "expected the scenes of cases/, cases/cutting/ and cases/hard/, found {n}");
 }
 
 /// A scene larger than the GPU's memory is refused before anything is allocated, with the bytes it needs.

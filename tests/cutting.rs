@@ -8,17 +8,7 @@ use swarf::run::{RunOptions, Snapshot, run, run_observed};
 use swarf::scene::Scene;
 
 fn opts(tag: &str) -> RunOptions {
-    RunOptions {
-        out_dir: std::env::temp_dir().join(format!("swarf-test-cutting-{tag}-{}", std::process::id())),
-        precision: None,
-        frames: false,
-        hdf5: false,
-        quiet: true,
-        verbose: false,
-        overrides: Vec::new(),
-        checkpoint_every: None,
-        resume: false,
-    }
+    RunOptions::quiet(std::env::temp_dir().join(format!("swarf-test-cutting-{tag}-{}", std::process::id())))
 }
 
 fn cpu() -> AnyBackend {

@@ -13,17 +13,7 @@ fn cpu() -> AnyBackend {
 }
 
 fn opts(name: &str) -> RunOptions {
-    RunOptions {
-        out_dir: std::env::temp_dir().join(format!("swarf-test-{name}-{}", std::process::id())),
-        precision: None,
-        frames: false,
-        hdf5: false,
-        quiet: true,
-        verbose: false,
-        overrides: Vec::new(),
-        checkpoint_every: None,
-        resume: false,
-    }
+    RunOptions::quiet(std::env::temp_dir().join(format!("swarf-test-{name}-{}", std::process::id())))
 }
 
 /// AT-60: a stress-free block translating at 100 m/s for 10⁴ steps with every stabiliser on stays stress-free

@@ -328,17 +328,7 @@ every = 2.5e-4
     let e = |k: f64, c: f64| (k * 8000.0 * c).sqrt();
     let (ea, eb) = (e(110.0, 39.8), e(2200.0, 630.0));
     let ts = (ea * 300.0 + eb * 1000.0) / (ea + eb);
-    let opts = RunOptions {
-        out_dir: std::env::temp_dir().join(format!("swarf-test-contact-{}", std::process::id())),
-        precision: None,
-        frames: false,
-        hdf5: false,
-        quiet: true,
-        verbose: false,
-        overrides: Vec::new(),
-        checkpoint_every: None,
-        resume: false,
-    };
+    let opts = RunOptions::quiet(std::env::temp_dir().join(format!("swarf-test-contact-{}", std::process::id())));
     let mut seen = Vec::new();
     let mut obs = |s: &Snapshot| {
         if s.diagnostics.time == 0.0 {

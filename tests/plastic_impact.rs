@@ -9,17 +9,7 @@ use swarf::scene::Scene;
 fn plastic_impact_is_finite_and_heats_only_plastic_particles() {
     let scene = Scene::load("cases/impact.toml", &["discretisation.dx=2e-3".into()]).expect("scene");
     let t0 = scene.physics.initial_temperature;
-    let opts = RunOptions {
-        out_dir: std::env::temp_dir().join(format!("swarf-test-impact-{}", std::process::id())),
-        precision: None,
-        frames: false,
-        hdf5: false,
-        quiet: true,
-        verbose: false,
-        overrides: Vec::new(),
-        checkpoint_every: None,
-        resume: false,
-    };
+    let opts = RunOptions::quiet(std::env::temp_dir().join(format!("swarf-test-impact-{}", std::process::id())));
     let mut first_total = None;
     let mut eps_max = 0.0f64;
     let mut t_max = 0.0f64;

@@ -33,17 +33,7 @@ every = 1.0e-5
 /// (roethlin-solver.md AT-05), so the interior is what the EOS governs.
 fn run(overrides: &[String]) -> (f64, f64) {
     let scene = Scene::from_str(SCENE, "expansion (test)", overrides).expect("scene");
-    let opts = RunOptions {
-        out_dir: std::env::temp_dir().join(format!("swarf-test-expansion-{}", std::process::id())),
-        precision: None,
-        frames: false,
-        hdf5: false,
-        quiet: true,
-        verbose: false,
-        overrides: Vec::new(),
-        checkpoint_every: None,
-        resume: false,
-    };
+    let opts = RunOptions::quiet(std::env::temp_dir().join(format!("swarf-test-expansion-{}", std::process::id())));
     let mut last = (0.0, 0.0);
     let mut interior: Option<Vec<u32>> = None;
     let mut obs = |s: &Snapshot| {

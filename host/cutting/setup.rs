@@ -81,9 +81,9 @@ pub fn tool_particles(tool: &Tool2d, t: &Tool, dx: f64, band: f64) -> ToolPartic
     out
 }
 
-/// Refuses a tool that overlaps the workpiece at t = 0 (the penalty force would explode) or never meets it before
-/// the end of the run (nothing would be cut): the tool and the particles, moving on with their initial
-/// velocities, are checked at 400 instants.
+/// Refuses a tool that overlaps the workpiece at t = 0 (a particle strictly inside: the penalty force would
+/// explode) or never meets it before the end of the run (nothing would be cut): the tool and the particles, moving
+/// on with their initial velocities, are checked at 400 instants.
 pub fn check_engagement(
     scene: &Scene,
     tool: &Tool2d,
@@ -98,7 +98,11 @@ pub fn check_engagement(
             .filter(|(p, v)| tool.contains([p[0] + v[0] * time - o[0], p[1] + v[1] * time - o[1]]))
             .count()
     };
-    let inside = at(0.0);
+    // At t = 0 only a particle inside by more than 1e-6 Δx is refused: one on the outline (its distance is 0 up to
+    // rounding) is a legitimate start, e.g. a block resting on the tool.
+    let o = motion.offset_at(0.0);
+    let tol = 1e-6 * scene.discretisation.dx;
+    let inside = pos.iter().filter(|p| tool.closest([p[0] - o[0], p[1] - o[1]]).distance < -tol).count();
     if inside > 0 {
         return Err(Error::Scene(format!(
             "{}: tool.position: {inside} particles lie inside the tool at t = 0; expected the tool clear of the \

@@ -618,3 +618,69 @@ fn num(x: f64) -> String {
 fn pt(p: &[f64]) -> String {
     format!("({})", p.iter().map(|&x| num(x)).collect::<Vec<_>>().join(", "))
 }
+
+/// Warnings about input that runs but whose result is not meaningful (issue 8, degenerate input): a body one
+/// particle thick (its stresses have no interior to rest on) and particles with no neighbour within the kernel
+/// support 2h (they move ballistically and carry no stress). `set` is the scene's generated particle set.
+pub fn degenerate_input_warnings(scene: &Scene, set: &ParticleSet) -> Vec<String> {
+    let dx = scene.discretisation.dx;
+    let support = 2.0 * scene.h();
+    let mut out = Vec::new();
+    let axes = ["x", "y", "z"];
+    for (b, body) in scene.bodies.iter().enumerate() {
+        let idx: Vec<usize> = (0..set.len()).filter(|&i| set.body[i] as usize == b).collect();
+        if idx.len() < 2 {
+            continue;
+        }
+        for (k, axis) in axes.iter().enumerate().take(scene.dim) {
+            let (lo, hi) = idx.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &i| {
+                (lo.min(set.pos[i][k]), hi.max(set.pos[i][k]))
+            });
+            if hi - lo < 0.5 * dx {
+                out.push(format!(
+                    "body '{}' is one particle thick along {axis}: its stresses have no interior neighbours and are \
+                     not meaningful",
+                    body.name
+                ));
+            }
+        }
+    }
+    // Particles with no neighbour within 2h, by a hash grid of cell 2h.
+    let cell = |p: &[f64; 3]| -> [i64; 3] { std::array::from_fn(|k| (p[k] / support).floor() as i64) };
+    let mut grid: std::collections::HashMap<[i64; 3], Vec<usize>> = std::collections::HashMap::new();
+    for (i, p) in set.pos.iter().enumerate() {
+        grid.entry(cell(p)).or_default().push(i);
+    }
+    let mut lonely = vec![0usize; scene.bodies.len()];
+    let r2 = support * support;
+    for (i, p) in set.pos.iter().enumerate() {
+        let c = cell(p);
+        let dz = if scene.dim == 3 { -1..=1 } else { 0..=0 };
+        let mut found = false;
+        'search: for x in -1..=1 {
+            for y in -1..=1 {
+                for z in dz.clone() {
+                    for &j in grid.get(&[c[0] + x, c[1] + y, c[2] + z]).map_or(&[][..], |v| v.as_slice()) {
+                        let d2: f64 = (0..3).map(|k| (set.pos[j][k] - p[k]).powi(2)).sum();
+                        if j != i && d2 < r2 {
+                            found = true;
+                            break 'search;
+                        }
+                    }
+                }
+            }
+        }
+        if !found {
+            lonely[set.body[i] as usize] += 1;
+        }
+    }
+    for (b, &k) in lonely.iter().enumerate() {
+        if k > 0 {
+            out.push(format!(
+                "{k} particle(s) of body '{}' have no neighbour within 2h: they move ballistically and carry no stress",
+                scene.bodies[b].name
+            ));
+        }
+    }
+    out
+}

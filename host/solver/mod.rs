@@ -79,6 +79,8 @@ pub struct Setup<R: Real, D: TensorOps<R>> {
     pub thermal: Option<ThermalSetup>,
     pub plastic: Option<PlasticSetup>,
     pub contact: Option<ContactSetup>,
+    /// Input that runs but whose result is not meaningful (`scene::degenerate_input_warnings`).
+    pub warnings: Vec<String>,
 }
 
 struct ThermalState<B: Backend> {

@@ -139,8 +139,9 @@ impl Tool2d {
         let t_f = add_scaled(tip, tangent, d_f);
         let s_rake = (s.height - tip[1]) / cg;
         let s_flank = (s.length + tip[0]) / ca;
-        let top = add_scaled(tip, s_rake, d_r);
-        let back = add_scaled(tip, s_flank, d_f);
+        // Snapped to the exact top and back so that those faces are exactly horizontal and vertical.
+        let top = [tip[0] + s_rake * d_r[0], s.height];
+        let back = [-s.length, tip[1] + s_flank * d_f[1]];
         if s_rake <= tangent || s_flank <= tangent || back[1] >= s.height || top[0] <= -s.length {
             return Err(ShapeError::TooSmall);
         }
