@@ -147,6 +147,22 @@ pub fn run_observed(
 
 pub use crate::solver::Setup;
 
+/// The index of prescribed velocity `v` in the table the flags point into, adding it if new.
+fn velocity_index(table: &mut Vec<[f64; 3]>, v: [f64; 3], scene: &Scene) -> Result<usize> {
+    let k = table.iter().position(|t| *t == v).unwrap_or_else(|| {
+        table.push(v);
+        table.len() - 1
+    });
+    if k > flags::VEL_INDEX_MASK as usize {
+        return Err(Error::Scene(format!(
+            "{}: more than {} distinct prescribed velocities",
+            scene.origin,
+            flags::VEL_INDEX_MASK + 1
+        )));
+    }
+    Ok(k)
+}
+
 /// Builds the particles, parameters, grid and time step of `scene`.
 pub fn setup<R: Real, D: TensorOps<R>>(scene: &Scene) -> Result<Setup<R, D>> {
     let set = scene.generate().map_err(|e| Error::Scene(e.to_string()))?;
@@ -158,23 +174,7 @@ pub fn setup<R: Real, D: TensorOps<R>>(scene: &Scene) -> Result<Setup<R, D>> {
         let (kind, idx) = match set.bc[i] {
             Bc::Free => (flags::FREE, 0),
             Bc::Fixed => (flags::FIXED, 0),
-            Bc::Velocity(v) => {
-                let k = match table.iter().position(|t| *t == v) {
-                    Some(k) => k,
-                    None => {
-                        table.push(v);
-                        table.len() - 1
-                    }
-                };
-                if k > flags::VEL_INDEX_MASK as usize {
-                    return Err(Error::Scene(format!(
-                        "{}: more than {} distinct prescribed velocities",
-                        scene.origin,
-                        flags::VEL_INDEX_MASK + 1
-                    )));
-                }
-                (flags::VELOCITY, k as u32)
-            }
+            Bc::Velocity(v) => (flags::VELOCITY, velocity_index(&mut table, v, scene)? as u32),
         };
         let thermal_fix = if set.fixed_temperature[i] { flags::FIXED_TEMPERATURE } else { 0 };
         fl.push(kind | thermal_fix | idx << flags::VEL_INDEX_SHIFT | set.body[i] << flags::BODY_SHIFT);
@@ -202,16 +202,7 @@ pub fn setup<R: Real, D: TensorOps<R>>(scene: &Scene) -> Result<Setup<R, D>> {
             let tp = crate::cutting::setup::tool_particles(&tool, t, dx, th.fixed_width);
             let v0 = motion.velocity_at(0.0);
             let v = [t.velocity[0], t.velocity[1], 0.0];
-            let k = match table.iter().position(|x| *x == v) {
-                Some(k) => k,
-                None => {
-                    table.push(v);
-                    table.len() - 1
-                }
-            };
-            if k > flags::VEL_INDEX_MASK as usize {
-                return Err(Error::Scene(format!("{}: too many distinct prescribed velocities", scene.origin)));
-            }
+            let k = velocity_index(&mut table, v, scene)?;
             tool_velocity_index = (t.ramp > 0.0).then_some(k);
             let body = scene.bodies.len() as u32;
             let rho_t = mat.density.unwrap_or(m.density);

@@ -425,15 +425,10 @@ fn resumed_gpu_run_equals_uninterrupted() {
     let any = AnyBackend::select(BackendChoice::Gpu).expect("gpu").0;
     let end = scene.time.end;
     let opts = |d: &std::path::Path, resume: bool| RunOptions {
-        out_dir: d.to_path_buf(),
-        precision: None,
-        frames: false,
-        hdf5: false,
-        quiet: true,
-        verbose: false,
         overrides: ov.clone(),
         checkpoint_every: Some(0.5 * end),
         resume,
+        ..RunOptions::quiet(d.to_path_buf())
     };
     let bits = |s: &Snapshot| -> Vec<u64> {
         let mut v: Vec<u64> = s.pos.iter().chain(&s.vel).flat_map(|p| p.map(f64::to_bits)).collect();
@@ -499,17 +494,7 @@ fn cutting_force_trace_equals_cpu() {
         for (k, choice) in [BackendChoice::Cpu, BackendChoice::Gpu].into_iter().enumerate() {
             let any = AnyBackend::select(choice).expect("backend").0;
             let dir = std::env::temp_dir().join(format!("swarf-gpu-cut-{k}-{}", std::process::id()));
-            let opts = RunOptions {
-                out_dir: dir.clone(),
-                precision: None,
-                frames: false,
-                hdf5: false,
-                quiet: true,
-                verbose: false,
-                overrides: ov.clone(),
-                checkpoint_every: None,
-                resume: false,
-            };
+            let opts = RunOptions { overrides: ov.clone(), ..RunOptions::quiet(dir.clone()) };
             let mut last = Vec::new();
             let mut obs = |s: &Snapshot| {
                 last = s.pos.iter().chain(&s.vel).flat_map(|p| p.map(f64::to_bits)).collect::<Vec<u64>>();

@@ -118,6 +118,12 @@ fn check(op: &'static str, expected: usize, got: usize) -> Result<()> {
     if got < expected { Err(Error::Length { op, expected, got }) } else { Ok(()) }
 }
 
+/// Checks that a per-body material table of `len` entries covers every body index in `flags`.
+fn check_bodies(op: &'static str, flags: &[u32], len: usize) -> Result<()> {
+    let bodies = flags.iter().map(|f| (f >> crate::kernels::sph::params::flags::BODY_SHIFT) as usize + 1).max();
+    check(op, bodies.unwrap_or(0), len)
+}
+
 /// Exclusive prefix sum in place (wrapping, as on the GPU): the CPU twin of the GPU scan.
 pub fn exclusive_scan(data: &mut [u32]) {
     let mut acc = 0u32;
@@ -534,9 +540,7 @@ impl Backend for CpuBackend {
             check(what, n, len)?;
         }
         check("heat_rates starts", grid[0].n_cells as usize + 2, starts.len())?;
-        let bodies =
-            input.flags[..n].iter().map(|f| (f >> crate::kernels::sph::params::flags::BODY_SHIFT) as usize + 1).max();
-        check("heat_rates materials", bodies.unwrap_or(0), input.materials.len())?;
+        check_bodies("heat_rates materials", &input.flags[..n], input.materials.len())?;
         let (h, k, g) = (hp[0], params[0].kernel, grid[0]);
         let a = SendHeat(HeatArrays::<R, D::Vec<R>> {
             pos: input.pos.as_ptr(),
@@ -611,9 +615,7 @@ impl Backend for CpuBackend {
             }
         }
         if let Some(m) = a.materials {
-            let bodies =
-                a.flags[..n].iter().map(|f| (f >> crate::kernels::sph::params::flags::BODY_SHIFT) as usize + 1).max();
-            check("contact materials", bodies.unwrap_or(0), m.len())?;
+            check_bodies("contact materials", &a.flags[..n], m.len())?;
         }
         let c = params[0];
         let arr = SendContact(ContactArrays::<R, D::Vec<R>> {
@@ -656,9 +658,7 @@ impl Backend for CpuBackend {
             check(what, n, len)?;
         }
         if c.taylor_quinney > 0.0 {
-            let bodies =
-                a.flags[..n].iter().map(|f| (f >> crate::kernels::sph::params::flags::BODY_SHIFT) as usize + 1).max();
-            check("plastic_step materials", bodies.unwrap_or(0), a.materials.map_or(0, |m| m.len()))?;
+            check_bodies("plastic_step materials", &a.flags[..n], a.materials.map_or(0, |m| m.len()))?;
         }
         let arr = SendPlastic(PlasticArrays::<R, D::Sym<R>> {
             stress: a.stress.as_mut_ptr(),

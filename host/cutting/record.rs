@@ -36,7 +36,6 @@ pub struct CutRecorder {
     next: f64,
     dir: [f64; 2],
     up: [f64; 2],
-    tool: Tool2d,
     station: Station,
     /// Samples kept for the analysis.
     pub time: Vec<f64>,
@@ -62,7 +61,6 @@ impl CutRecorder {
             next: 0.0,
             dir,
             up: [-dir[1], dir[0]],
-            tool,
             station: Station {
                 rake_point: tool.rake_tangent(),
                 rake_angle: tool.rake_angle,
@@ -138,11 +136,6 @@ impl CutRecorder {
     /// Rewrites `forces.csv` (atomically).
     pub fn write(&self) -> Result<()> {
         self.series.write().map_err(|e| Error::Output(format!("{}: {e}", self.series.path().display())))
-    }
-
-    /// The tool in its frame.
-    pub fn tool(&self) -> &Tool2d {
-        &self.tool
     }
 
     /// The end-of-run analysis: steady state of F_c (MSER-5, host/cutting/steady.rs), the mean forces over the

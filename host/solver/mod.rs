@@ -478,15 +478,6 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         Ok(Some(s))
     }
 
-    /// Host copies of the contact normal and friction forces (state order), with a tool.
-    #[allow(clippy::type_complexity)]
-    pub fn download_contact(&self, b: &B) -> Result<Option<(Vec<D::Vec<R>>, Vec<D::Vec<R>>)>> {
-        match &self.contact {
-            Some(c) => Ok(Some((c.normal.read(b)?, c.friction.read(b)?))),
-            None => Ok(None),
-        }
-    }
-
     /// Sets the run's time step, which scales the contact stiffness (after a CFL reduction).
     pub fn set_nominal_dt(&mut self, dt: f64) {
         if let Some(c) = self.contact.as_mut() {
