@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
-# Arguments select parts: info tests bench rings ptx plasticity runs criterion cutting ladder fine (default: all but
-# ptx, ladder and fine). Run from the repository root
+# Arguments select parts: info tests bench step rings ptx plasticity runs criterion cutting ladder sweep fine
+# (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
@@ -43,6 +43,8 @@ for p in $parts; do
                  SWARF_PTX_TARGET=$t run "neighbours-$t" "$here/swarf" --backend gpu bench neighbours --sizes 16e6 --dims 2,3
                  SWARF_PTX_TARGET=$t run "rings-$t" "$here/swarf" --backend gpu bench rings --nbox 400,800 --steps 2000
              done ;;
+        step) # issue 7: the whole step of the standard workloads, per phase, with each physics option off
+              run step "$here/swarf" --backend gpu bench step --precision both --options ;;
         plasticity) run plasticity "$here/swarf" --backend gpu bench plasticity --repeats 5 ;;
         runs) # the issue-4 scenes on the GPU: wall time and summary (final shape) of each
               runs_log() {
@@ -90,6 +92,25 @@ for p in $parts; do
                    return $ok
                }
                run sweep sweep ;;
+        whole150k) # issues 7/8: the whole 150k reference cut (1 mm), resumable across device calls: each call runs
+                   # until SWARF_CUT_LIMIT seconds (default 500), is interrupted (checkpoint written) and the next
+                   # call resumes it. The run folder is git-ignored and stays on the device while it is held.
+              for prec in ${SWARF_CUT_PRECISIONS:-f64}; do
+                  d=runs/whole-150k-$prec
+                  if [ -f "$d/checkpoint.bin" ]; then
+                      timeout -s INT "${SWARF_CUT_LIMIT:-500}" "$here/swarf" --backend gpu run --resume "$d" --quiet
+                  else
+                      timeout -s INT "${SWARF_CUT_LIMIT:-500}" "$here/swarf" --backend gpu run \
+                          cases/cutting/reference-cut-150k.toml --precision "$prec" --out "$d" --quiet \
+                          --checkpoint-every 5e-5
+                  fi
+                  echo "rc $? ($prec)"
+                  cp "$d/run.log" "$out/whole150k-$prec-run.log" 2>/dev/null
+                  cp "$d/forces.csv" "$out/whole150k-$prec-forces.csv" 2>/dev/null
+                  cp "$d/energy.csv" "$out/whole150k-$prec-energy.csv" 2>/dev/null
+                  cp "$d/summary.json" "$out/whole150k-$prec-summary.json" 2>/dev/null
+                  tail -n 3 "$d/run.log"
+              done ;;
         fine) # the 150k reference cut: the first 0.5 % of the cut (about 15 000 steps), for the step time
               run fine "$here/swarf" --backend gpu run cases/cutting/reference-cut-150k.toml --verbose \
                   --set time.end=4.2857e-6 --set output.every=1.0714e-6 --out /tmp/swarf-cut/fine ;;

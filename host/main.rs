@@ -99,6 +99,9 @@ enum Workload {
     Rings,
     /// Return maps per second of the plastic pass, per flow-stress model of the library (10⁶ random states).
     Plasticity,
+    /// The whole step of scenes (`--scenes`): ms/step, per-phase times, interactions/s, bandwidth against the
+    /// measured copy bandwidth; with `--options`, the step cost of each physics option.
+    Step,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -132,6 +135,19 @@ struct BenchArgs {
     /// rings: the scene file to scale.
     #[arg(long, default_value = "cases/rings.toml")]
     scene: std::path::PathBuf,
+    /// step: the scenes, comma separated.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "cases/rings.toml,cases/cylinders-3d.toml,cases/impact.toml,cases/cutting/v0060.toml,cases/cutting/reference-cut.toml,cases/cutting/reference-cut-150k.toml"
+    )]
+    scenes: Vec<std::path::PathBuf>,
+    /// step: steps timed per configuration (whole graph batches).
+    #[arg(long, default_value_t = 1024)]
+    step_count: usize,
+    /// step: also time each physics option switched off.
+    #[arg(long)]
+    options: bool,
 }
 
 fn parse_count(s: &str) -> std::result::Result<usize, String> {
@@ -157,6 +173,9 @@ fn run_bench<B: Backend>(b: &B, a: &BenchArgs, sizes: &[usize]) -> Result<()> {
             println!("| {name} | {rate:.3e} |");
         }
         return Ok(());
+    }
+    if a.workload == Workload::Step {
+        return bench::step::scenes(b, &a.scenes, precs, a.step_count, a.options);
     }
     if a.workload == Workload::Rings {
         println!("{}", bench::rings_header());

@@ -2,7 +2,7 @@
 //! stable sort of the particles by cell key, identical on every backend (docs/neighbour-search.md).
 
 use crate::Result;
-use crate::backend::{Backend, scan_levels};
+use crate::backend::{Backend, CountPass, scan_levels};
 use crate::kernels::neighbour::GridParams;
 use crate::kernels::{Dim, Real};
 
@@ -48,10 +48,26 @@ impl<B: Backend> CellList<B> {
     /// through `perm` (`state::Particles::reorder`).
     pub fn build<R: Real, D: Dim>(&mut self, b: &B, pos: &B::Buf<D::Vec<R>>) -> Result<()> {
         let n = self.n;
-        let n_buckets = self.grid.n_cells as usize + 1;
+        self.begin(b)?;
         b.hash::<R, D>(n, pos, &self.grid_buf, &mut self.keys)?;
-        b.fill_zero(&mut self.starts, n_buckets + 1)?;
         b.count_cells(n, &self.keys, &mut self.starts, &mut self.slots)?;
+        self.finish(b)
+    }
+
+    /// Zeroes the cell counts before a counting pass (`build`'s, or the one fused into the predictor).
+    pub fn begin(&mut self, b: &B) -> Result<()> {
+        b.fill_zero(&mut self.starts, self.grid.n_cells as usize + 2)
+    }
+
+    /// The buffers of the counting pass, for a kernel that fuses it (`Backend::step_predict`).
+    pub fn count_pass(&mut self) -> CountPass<'_, B> {
+        CountPass { grid: &self.grid_buf, keys: &mut self.keys, counts: &mut self.starts, slots: &mut self.slots }
+    }
+
+    /// Completes the build after the counting pass: prefix sum of the counts, scatter, per-cell sort.
+    pub fn finish(&mut self, b: &B) -> Result<()> {
+        let n = self.n;
+        let n_buckets = self.grid.n_cells as usize + 1;
         b.exclusive_scan(n_buckets + 1, &mut self.starts, &mut self.scan)?;
         b.scatter(n, &self.keys, &self.slots, &self.starts, &mut self.perm)?;
         b.sort_cells(n_buckets, &self.starts, &mut self.perm)

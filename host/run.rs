@@ -77,6 +77,9 @@ pub const ENERGY_COLUMNS: &[&str] = &[
     "vmax",
     "temperature_max",
     "plastic_strain_max",
+    "plastic_work",
+    "viscous_dissipation",
+    "balance",
 ];
 
 /// The built-in default scene, `swarf run` without a scene: the V0060 orthogonal cut (cases/cutting/v0060.toml),
@@ -490,6 +493,8 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
             let (temp, eps, rate) = solver.download_internal(b)?;
             let mut d = compute(&host, &solver.host_params, solver.time, solver.steps, temp.as_deref());
             crate::solver::diagnostics::internal(&mut d, &host.id, temp.as_deref(), eps.as_deref());
+            let (work, diss) = solver.download_dissipated(b)?;
+            crate::solver::diagnostics::dissipated(&mut d, &host, work.as_deref(), diss.as_deref());
             if let Some((id, field)) = d.non_finite {
                 return Err(Error::NonFinite { id, field, time: solver.time, step: solver.steps });
             }
@@ -508,6 +513,9 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
                 d.vmax,
                 d.temperature_max,
                 d.plastic_strain_max,
+                d.plastic_work,
+                d.viscous_dissipation,
+                d.balance(),
             ])
             .map_err(|e| io_err(csv.path(), e))?;
             csv.write().map_err(|e| io_err(csv.path(), e))?;
@@ -652,8 +660,14 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
                 dir: opts.out_dir.display().to_string(),
             });
         }
-        let h = dt.min(end - solver.time).min(next_out - solver.time).max(1e-12 * dt);
-        solver.step(b, h)?;
+        // Full steps up to the next event (an output, the end, a force sample) run as one batch; the step that
+        // lands on an output time is cut short.
+        let full = full_steps(solver.time, dt, next_out, end, cut.as_ref().map(|c| c.next()), MAX_BATCH);
+        if full > 0 {
+            solver.advance(b, dt, full)?;
+        } else {
+            solver.step(b, dt.min(end - solver.time).min(next_out - solver.time).max(1e-12 * dt))?;
+        }
         if let Some(c) = cut.as_mut()
             && c.due(solver.time)
         {
@@ -669,6 +683,26 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
         backend: b.info().backend.to_string(),
         history,
     })
+}
+
+/// Most steps between two checks for an interrupt.
+const MAX_BATCH: usize = 4096;
+
+/// How many steps of exactly `dt` the run loop takes from `t` before its next event: each must fit before the
+/// output time and the end (else the step is cut short), and the batch stops after the step that reaches an output
+/// time (within the loop's 1e-9 Δt tolerance), the end, or the next force sample `sample`. Replays the host's
+/// `t += dt`, so the batch ends exactly where single steps would.
+pub fn full_steps(t: f64, dt: f64, next_out: f64, end: f64, sample: Option<f64>, max: usize) -> usize {
+    let mut t = t;
+    let mut k = 0;
+    while k < max && dt <= end - t && dt <= next_out - t {
+        t += dt;
+        k += 1;
+        if t >= next_out - 1e-9 * dt || t >= end - 1e-9 * dt || sample.is_some_and(|s| t >= s) {
+            break;
+        }
+    }
+    k
 }
 
 fn io_err(path: &Path, e: std::io::Error) -> Error {

@@ -5,6 +5,7 @@
 
 use crate::Result;
 use crate::backend::{Backend, Element};
+use crate::kernels::neighbour::GatherField;
 use crate::kernels::{Dim, Real};
 
 /// A field in backend memory with a spare buffer, so that a reorder is one gather and a swap (Green's
@@ -26,6 +27,18 @@ impl<B: Backend, T: Element> Field<B, T> {
         Ok(())
     }
 
+    /// Adds this field to a batch reordered by one launch (`ReorderBatch::run`) and swaps its buffers now: the
+    /// batch keeps the addresses, so `cur` names the reordered copy once the batch has run.
+    pub fn stage(&mut self, b: &B, batch: &mut ReorderBatch) {
+        batch.push(GatherField {
+            src: b.address(&self.cur),
+            dst: b.address_mut(&mut self.spare),
+            bytes: size_of::<T>() as u32,
+            _pad: 0,
+        });
+        std::mem::swap(&mut self.cur, &mut self.spare);
+    }
+
     pub fn read(&self, b: &B) -> Result<Vec<T>> {
         b.read(&self.cur)
     }
@@ -33,6 +46,42 @@ impl<B: Backend, T: Element> Field<B, T> {
     /// Overwrites the field with the bytes saved under `name` (a checkpoint), checking their length.
     pub fn load(&mut self, b: &B, name: &str, blobs: &[(String, Vec<u8>)]) -> Result<()> {
         load_blob(b, name, &mut self.cur, blobs)
+    }
+}
+
+/// Most fields one reorder launch moves.
+pub const MAX_REORDER: usize = 32;
+
+/// Fields staged for one fused reorder (fixed capacity: the step loop allocates nothing).
+pub struct ReorderBatch {
+    fields: [GatherField; MAX_REORDER],
+    len: usize,
+}
+
+impl Default for ReorderBatch {
+    fn default() -> Self {
+        ReorderBatch { fields: [GatherField::default(); MAX_REORDER], len: 0 }
+    }
+}
+
+impl ReorderBatch {
+    fn push(&mut self, f: GatherField) {
+        if self.len < MAX_REORDER {
+            self.fields[self.len] = f;
+        }
+        self.len += 1;
+    }
+
+    /// Gathers every staged field through `perm` in one launch and empties the batch.
+    pub fn run<B: Backend>(&mut self, b: &B, n: usize, perm: &B::Buf<u32>) -> Result<()> {
+        let len = std::mem::take(&mut self.len);
+        let fields = self.fields.get(..len).ok_or(crate::Error::Length {
+            op: "reorder batch (too many fields)",
+            expected: MAX_REORDER,
+            got: len,
+        })?;
+        // SAFETY: every entry was staged from a Field's two distinct live buffers of at least n elements.
+        unsafe { b.gather_fields(n, perm, fields) }
     }
 }
 
@@ -116,6 +165,11 @@ macro_rules! particle_fields {
             pub fn reorder(&mut self, b: &B, perm: &B::Buf<u32>) -> Result<()> {
                 $( self.$name.reorder(b, self.n, perm)?; )*
                 Ok(())
+            }
+
+            /// Stages every field for a fused reorder ([`Field::stage`]).
+            pub fn stage(&mut self, b: &B, batch: &mut ReorderBatch) {
+                $( self.$name.stage(b, batch); )*
             }
 
             /// Raw copies of every field, named as declared (for checkpoints).

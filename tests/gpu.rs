@@ -340,6 +340,7 @@ fn plastic_pass_equals_cpu_within_one_ulp() {
                     flags: &fl,
                     materials: None,
                     yield_stress: None,
+                    work: None,
                 },
             )
             .unwrap();
@@ -407,6 +408,36 @@ fn plastic_thermal_run_equals_cpu() {
     }
     assert!(ea.iter().any(|&e| e > 0.0), "the 300 steps must include plastic flow");
     eprintln!("impact + conduction: bitwise equal to the CPU: {}", a.bitwise_eq(&b) && ta == tb && ea == eb);
+}
+
+/// Issue 7: steps run in captured CUDA graphs (batches of GRAPH_STEPS, both buffer parities, an odd remainder)
+/// end bit for bit where the same steps submitted one by one end, and where the CPU ends.
+#[test]
+fn graph_batches_equal_plain_steps_and_cpu() {
+    let Some(g) = gpu() else { return };
+    use swarf::kernels::Dim2;
+    use swarf::run::setup;
+    use swarf::scene::Scene;
+    use swarf::solver::{GRAPH_STEPS, Solver};
+    let scene =
+        Scene::load("cases/impact.toml", &["discretisation.dx=2e-3".into(), "physics.conduction=\"brookshaw\"".into()])
+            .expect("scene");
+    let count = 3 + 3 * GRAPH_STEPS + 7;
+    fn run<B: Backend>(b: &B, scene: &Scene, graphs: bool, count: usize) -> (HostParticles<f64, Dim2>, Vec<f64>) {
+        let s = setup::<f64, Dim2>(scene).expect("setup");
+        let mut sv = Solver::<B, f64, Dim2>::new(b, &s).expect("solver");
+        sv.use_graphs = graphs;
+        sv.advance(b, s.dt, count).expect("advance");
+        assert_eq!(sv.steps, count as u64);
+        let (t, _, _) = sv.download_internal(b).expect("internal");
+        (sv.download(b).expect("state"), t.expect("temperature"))
+    }
+    let (a, ta) = run(&CpuBackend::new(), &scene, true, count);
+    let (b, tb) = run(&g, &scene, true, count);
+    let (c, tc) = run(&g, &scene, false, count);
+    assert!(b.bitwise_eq(&c) && tb == tc, "graph batches differ from plain steps");
+    assert!(a.bitwise_eq(&b) && ta == tb, "graph batches differ from the CPU");
+    eprintln!("{count} steps in graph batches: bitwise equal to plain GPU steps and to the CPU");
 }
 
 /// Issue 6 on the GPU: the plastic impact with conduction, stopped at its checkpoint half way and resumed,

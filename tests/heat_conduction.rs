@@ -58,6 +58,7 @@ fn laplacian<D: Dim>(s: &Set<D>, t: &[f64], pse: bool) -> Vec<f64> {
     };
     b.heat_rates::<f64, D>(
         n,
+        1,
         pse,
         &vec![HeatParams::new(s.h, D::D)],
         &vec![params],

@@ -3,15 +3,16 @@
 //! the stable one by construction (the GPU restores the same order with `sort_cells`).
 
 use super::{
-    Backend, Buffer, ContactInputs, DeviceInfo, Element, FieldsMut, FieldsRef, HeatInputs, PlasticInputs, SphInputs,
+    Backend, Buffer, ContactInputs, CountPass, DeviceInfo, Element, FieldsMut, HeatInputs, PlasticInputs, PlasticPass,
+    ScalarsAt, SphInputs, StepFields,
 };
-use crate::kernels::contact::penalty::{ContactArrays, ContactParams, ToolState, contact_particle};
+use crate::kernels::contact::penalty::{ContactArrays, ContactParams, contact_particle};
 use crate::kernels::neighbour::search::neighbour_row;
-use crate::kernels::neighbour::{GridParams, sort::sort_cell};
+use crate::kernels::neighbour::{GatherField, GridParams, sort::sort_cell};
 use crate::kernels::sph::heat::{HeatArrays, HeatParams, heat_rate};
-use crate::kernels::sph::integrate::{advance_sym, advance_vec};
 use crate::kernels::sph::interact::{Arrays, prepare, rates};
 use crate::kernels::sph::plastic::{PlasticArrays, PlasticConsts, plastic_particle};
+use crate::kernels::sph::step::{StepArrays, StepScalars, correct_particle, predict_particle};
 use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers, TensorOps, density::density_sum};
 use crate::kernels::{Dim, Real};
 use crate::material::FlowModel;
@@ -114,6 +115,69 @@ struct SendArrays<R: Real, D: Dim>(Arrays<R, D>);
 unsafe impl<R: Real, D: Dim> Send for SendArrays<R, D> {}
 unsafe impl<R: Real, D: Dim> Sync for SendArrays<R, D> {}
 
+struct SendStep<R: Real, D: Dim>(StepArrays<R, D::Vec<R>, D::Sym<R>>);
+
+unsafe impl<R: Real, D: Dim> Send for SendStep<R, D> {}
+unsafe impl<R: Real, D: Dim> Sync for SendStep<R, D> {}
+
+/// The step's scalars at `s.index`.
+fn scalars(s: &ScalarsAt<'_, CpuBackend>) -> Result<StepScalars> {
+    s.buf.get(s.index).copied().ok_or(Error::Length { op: "step scalars", expected: s.index + 1, got: s.buf.len() })
+}
+
+/// Raw views of the step's fields after checking that every one holds n particles.
+fn step_arrays<R: Real, D: Dim>(n: usize, f: StepFields<'_, CpuBackend, R, D>) -> Result<SendStep<R, D>> {
+    let lens = [
+        f.y.pos.len(),
+        f.y.vel.len(),
+        f.y.rho.len(),
+        f.y.stress.len(),
+        f.y0.pos.len(),
+        f.y0.vel.len(),
+        f.y0.rho.len(),
+        f.y0.stress.len(),
+        f.rates.pos.len(),
+        f.rates.vel.len(),
+        f.rates.rho.len(),
+        f.rates.stress.len(),
+    ];
+    check("step fields", n, lens.into_iter().min().unwrap_or(0))?;
+    let (temp, temp0, temp_t) = match (f.temp, f.conduction) {
+        (Some(t), Some((t0, tt))) => {
+            check("step temperature", n, t.len().min(t0.len()).min(tt.len()))?;
+            (t.as_mut_ptr(), t0.as_mut_ptr(), tt.as_ptr())
+        }
+        (Some(t), None) => (t.as_mut_ptr(), std::ptr::null_mut(), std::ptr::null()),
+        _ => (std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null()),
+    };
+    let (diss, diss_t) = match f.dissipation {
+        Some((d, dt)) => {
+            check("step dissipation", n, d.len().min(dt.len()))?;
+            (d.as_mut_ptr(), dt.as_ptr())
+        }
+        None => (std::ptr::null_mut(), std::ptr::null()),
+    };
+    Ok(SendStep(StepArrays {
+        pos: f.y.pos.as_mut_ptr(),
+        vel: f.y.vel.as_mut_ptr(),
+        rho: f.y.rho.as_mut_ptr(),
+        stress: f.y.stress.as_mut_ptr(),
+        pos0: f.y0.pos.as_mut_ptr(),
+        vel0: f.y0.vel.as_mut_ptr(),
+        rho0: f.y0.rho.as_mut_ptr(),
+        stress0: f.y0.stress.as_mut_ptr(),
+        pos_t: f.rates.pos.as_ptr(),
+        vel_t: f.rates.vel.as_ptr(),
+        rho_t: f.rates.rho.as_ptr(),
+        stress_t: f.rates.stress.as_ptr(),
+        temp,
+        temp0,
+        temp_t,
+        diss,
+        diss_t,
+    }))
+}
+
 fn check(op: &'static str, expected: usize, got: usize) -> Result<()> {
     if got < expected { Err(Error::Length { op, expected, got }) } else { Ok(()) }
 }
@@ -136,6 +200,7 @@ pub fn exclusive_scan(data: &mut [u32]) {
 
 impl Backend for CpuBackend {
     type Buf<T: Element> = Vec<T>;
+    type Graph = ();
 
     fn info(&self) -> &DeviceInfo {
         &self.info
@@ -369,12 +434,14 @@ impl Backend for CpuBackend {
     fn sph_rates<R: Real, D: TensorOps<R>>(
         &self,
         n: usize,
+        lanes: u32,
         stab: Stabilisers,
         params: &Vec<SphParams<R>>,
         grid: &Vec<GridParams>,
         starts: &Vec<u32>,
         input: &SphInputs<'_, Self, R, D>,
         out: FieldsMut<'_, Self, R, D>,
+        dissipation: Option<&mut Vec<R>>,
     ) -> Result<()> {
         for (what, len) in [
             ("pos", input.pos.len()),
@@ -419,6 +486,13 @@ impl Backend for CpuBackend {
             SendPtr(out.rho.as_mut_ptr() as *mut u32),
             SendPtr(out.stress.as_mut_ptr() as *mut u32),
         );
+        let diss_t = match dissipation {
+            Some(d) => {
+                check("sph_rates dissipation", n, d.len())?;
+                SendPtr(d.as_mut_ptr() as *mut u32)
+            }
+            None => SendPtr(std::ptr::null_mut()),
+        };
         macro_rules! go {
             ($av:literal, $as:literal, $xs:literal) => {
                 out.pos[..n].par_iter_mut().enumerate().for_each(|(i, pt)| {
@@ -426,11 +500,14 @@ impl Backend for CpuBackend {
                     // SAFETY: every array was checked to hold n sorted particles, starts belongs to the grid, and
                     // each index i is written by one task only.
                     unsafe {
-                        let o = rates::<R, D, $av, $as, $xs>(&p, &g, st.get(), &a.0, i as u32);
+                        let o = rates::<R, D, $av, $as, $xs>(&p, &g, st.get(), &a.0, i as u32, lanes);
                         *pt = o.pos_t;
                         *(vel_t.get() as *mut D::Vec<R>).add(i) = o.vel_t;
                         *(rho_t.get() as *mut R).add(i) = o.rho_t;
                         *(stress_t.get() as *mut D::Sym<R>).add(i) = o.stress_t;
+                        if !diss_t.is_null() {
+                            *(diss_t.get() as *mut R).add(i) = o.dissipation_t;
+                        }
                     }
                 })
             };
@@ -448,79 +525,10 @@ impl Backend for CpuBackend {
         Ok(())
     }
 
-    fn sph_predict<R: Real, D: Dim>(
-        &self,
-        n: usize,
-        c: R,
-        y: FieldsMut<'_, Self, R, D>,
-        y0: FieldsMut<'_, Self, R, D>,
-        r: FieldsRef<'_, Self, R, D>,
-    ) -> Result<()> {
-        check("sph_predict", n, y.pos.len().min(y0.pos.len()).min(r.pos.len()))?;
-        let step = |x: &mut D::Vec<R>, x0: &mut D::Vec<R>, xt: &D::Vec<R>| {
-            *x0 = *x;
-            *x = advance_vec(x0, c, xt);
-        };
-        y.pos[..n]
-            .par_iter_mut()
-            .zip(y0.pos[..n].par_iter_mut())
-            .zip(r.pos[..n].par_iter())
-            .for_each(|((x, x0), xt)| step(x, x0, xt));
-        y.vel[..n]
-            .par_iter_mut()
-            .zip(y0.vel[..n].par_iter_mut())
-            .zip(r.vel[..n].par_iter())
-            .for_each(|((x, x0), xt)| step(x, x0, xt));
-        y.rho[..n].par_iter_mut().zip(y0.rho[..n].par_iter_mut()).zip(r.rho[..n].par_iter()).for_each(
-            |((x, x0), xt)| {
-                *x0 = *x;
-                *x = *x0 + c * *xt;
-            },
-        );
-        y.stress[..n].par_iter_mut().zip(y0.stress[..n].par_iter_mut()).zip(r.stress[..n].par_iter()).for_each(
-            |((x, x0), xt)| {
-                *x0 = *x;
-                *x = advance_sym(x0, c, xt);
-            },
-        );
-        Ok(())
-    }
-
-    fn sph_correct<R: Real, D: Dim>(
-        &self,
-        n: usize,
-        c: R,
-        y: FieldsMut<'_, Self, R, D>,
-        y0: FieldsRef<'_, Self, R, D>,
-        r: FieldsRef<'_, Self, R, D>,
-    ) -> Result<()> {
-        check("sph_correct", n, y.pos.len().min(y0.pos.len()).min(r.pos.len()))?;
-        y.pos[..n]
-            .par_iter_mut()
-            .zip(y0.pos[..n].par_iter())
-            .zip(r.pos[..n].par_iter())
-            .for_each(|((x, x0), xt)| *x = advance_vec(x0, c, xt));
-        y.vel[..n]
-            .par_iter_mut()
-            .zip(y0.vel[..n].par_iter())
-            .zip(r.vel[..n].par_iter())
-            .for_each(|((x, x0), xt)| *x = advance_vec(x0, c, xt));
-        y.rho[..n]
-            .par_iter_mut()
-            .zip(y0.rho[..n].par_iter())
-            .zip(r.rho[..n].par_iter())
-            .for_each(|((x, x0), xt)| *x = *x0 + c * *xt);
-        y.stress[..n]
-            .par_iter_mut()
-            .zip(y0.stress[..n].par_iter())
-            .zip(r.stress[..n].par_iter())
-            .for_each(|((x, x0), xt)| *x = advance_sym(x0, c, xt));
-        Ok(())
-    }
-
     fn heat_rates<R: Real, D: Dim>(
         &self,
         n: usize,
+        lanes: u32,
         pse: bool,
         hp: &Vec<HeatParams>,
         params: &Vec<SphParams<R>>,
@@ -556,31 +564,143 @@ impl Backend for CpuBackend {
             // SAFETY: lengths checked above; every body index has a material.
             *t = unsafe {
                 if pse {
-                    heat_rate::<R, D::Vec<R>, true>(&h, &k, &g, st.get(), &a.0, i as u32)
+                    heat_rate::<R, D::Vec<R>, true>(&h, &k, &g, st.get(), &a.0, i as u32, lanes)
                 } else {
-                    heat_rate::<R, D::Vec<R>, false>(&h, &k, &g, st.get(), &a.0, i as u32)
+                    heat_rate::<R, D::Vec<R>, false>(&h, &k, &g, st.get(), &a.0, i as u32, lanes)
                 }
             };
         });
         Ok(())
     }
 
-    fn scalar_predict(&self, n: usize, c: f64, y: &mut Vec<f64>, y0: &mut Vec<f64>, yt: &Vec<f64>) -> Result<()> {
-        check("scalar_predict", n, y.len().min(y0.len()).min(yt.len()))?;
-        y[..n].par_iter_mut().zip(y0[..n].par_iter_mut()).zip(yt[..n].par_iter()).for_each(|((v, v0), t)| {
-            *v0 = *v;
-            *v = *v0 + c * *t;
+    fn step_predict<R: Real, D: TensorOps<R>>(
+        &self,
+        n: usize,
+        s: ScalarsAt<'_, Self>,
+        f: StepFields<'_, Self, R, D>,
+        cells: CountPass<'_, Self>,
+    ) -> Result<()> {
+        let dt = scalars(&s)?.dt;
+        let a = step_arrays::<R, D>(n, f)?;
+        check("step_predict keys", n, cells.keys.len())?;
+        let g = cells.grid[0];
+        cells.keys[..n].par_iter_mut().enumerate().for_each(|(i, k)| {
+            let a = &a;
+            // SAFETY: lengths checked by step_arrays; each particle i is touched by one task only.
+            let x = unsafe { predict_particle(&a.0, dt, i) };
+            *k = g.key::<R, D::Vec<R>>(&x);
         });
+        self.count_cells(n, cells.keys, cells.counts, cells.slots)
+    }
+
+    fn step_finish<R: Real, D: TensorOps<R>>(
+        &self,
+        n: usize,
+        s: ScalarsAt<'_, Self>,
+        f: StepFields<'_, Self, R, D>,
+        plastic: Option<PlasticPass<'_, Self>>,
+    ) -> Result<()> {
+        let dt = scalars(&s)?.dt;
+        let mut f = f;
+        let (stress, rho) = (f.y.stress.as_mut_ptr(), f.y.rho.as_ptr());
+        let temp = f.temp.as_mut().map(|t| t.as_mut_ptr());
+        let a = step_arrays::<R, D>(n, f)?;
+        let Some(p) = plastic else {
+            (0..n).into_par_iter().for_each(|i| {
+                let a = &a;
+                // SAFETY: lengths checked by step_arrays; each particle i is touched by one task only.
+                unsafe { correct_particle(&a.0, dt, i) }
+            });
+            return Ok(());
+        };
+        let temp =
+            temp.ok_or(Error::Length { op: "step_finish (plasticity needs temperature)", expected: n, got: 0 })?;
+        for (what, len) in [("eps", p.eps.len()), ("rate", p.rate.len()), ("flags", p.flags.len())] {
+            check(what, n, len)?;
+        }
+        if p.taylor_quinney > 0.0 {
+            check_bodies("step_finish materials", &p.flags[..n], p.materials.map_or(0, |m| m.len()))?;
+        }
+        let opt = |b: Option<&mut Vec<f64>>, what: &'static str| -> Result<*mut f64> {
+            match b {
+                Some(y) => {
+                    check(what, n, y.len())?;
+                    Ok(y.as_mut_ptr())
+                }
+                None => Ok(std::ptr::null_mut()),
+            }
+        };
+        let arr = SendPlastic(PlasticArrays::<R, D::Sym<R>> {
+            stress,
+            rho,
+            eps: p.eps.as_mut_ptr(),
+            rate: p.rate.as_mut_ptr(),
+            temp,
+            flags: p.flags.as_ptr(),
+            materials: p.materials.map_or(std::ptr::null(), |m| m.as_ptr()),
+            yield_stress: opt(p.yield_stress, "yield_stress")?,
+            work: opt(p.work, "plastic work")?,
+        });
+        let c = PlasticConsts { shear: p.shear, dt, taylor_quinney: p.taylor_quinney, _pad: 0.0 };
+        macro_rules! go {
+            ($m:expr, $t:ty) => {{
+                let m: &$t = $m;
+                (0..n).into_par_iter().for_each(|i| {
+                    let (a, arr) = (&a, &arr);
+                    // SAFETY: lengths checked above; each particle i is touched by one task only.
+                    unsafe {
+                        correct_particle(&a.0, dt, i);
+                        plastic_particle::<R, D, $t>(m, &c, &arr.0, i)
+                    }
+                })
+            }};
+        }
+        match p.model {
+            FlowModel::JohnsonCook(m) => go!(m, crate::kernels::material::JohnsonCook),
+            FlowModel::Calamaz2008(m) => go!(m, crate::kernels::material::Calamaz2008),
+            FlowModel::Calamaz2010(m) => go!(m, crate::kernels::material::Calamaz2010),
+            FlowModel::Calamaz2011(m) => go!(m, crate::kernels::material::Calamaz2011),
+            FlowModel::SimaOzel1(m) => go!(m, crate::kernels::material::SimaOzel1),
+            FlowModel::SimaOzel2(m) => go!(m, crate::kernels::material::SimaOzel2),
+            FlowModel::SimaOzel3(m) => go!(m, crate::kernels::material::SimaOzel3),
+            FlowModel::Scgl(m) => go!(m, crate::kernels::material::Scgl),
+            FlowModel::Bilinear(m) => go!(m, crate::kernels::material::Bilinear),
+        }
         Ok(())
     }
 
-    fn scalar_correct(&self, n: usize, c: f64, y: &mut Vec<f64>, y0: &Vec<f64>, yt: &Vec<f64>) -> Result<()> {
-        check("scalar_correct", n, y.len().min(y0.len()).min(yt.len()))?;
-        y[..n]
-            .par_iter_mut()
-            .zip(y0[..n].par_iter())
-            .zip(yt[..n].par_iter())
-            .for_each(|((v, v0), t)| *v = *v0 + c * *t);
+    fn address<T: Element>(&self, buf: &Vec<T>) -> u64 {
+        buf.as_ptr() as u64
+    }
+
+    fn address_mut<T: Element>(&self, buf: &mut Vec<T>) -> u64 {
+        buf.as_mut_ptr() as u64
+    }
+
+    unsafe fn gather_fields(&self, n: usize, perm: &Vec<u32>, fields: &[GatherField]) -> Result<()> {
+        check("gather_fields perm", n, perm.len())?;
+        for f in fields {
+            let b = f.bytes as usize;
+            if b == 0 || !b.is_multiple_of(4) {
+                return Err(Error::Length { op: "gather_fields (element size)", expected: 4, got: b });
+            }
+            let (src, dst) = (f.src as usize, f.dst as usize);
+            (0..n).into_par_iter().for_each(|i| {
+                let j = perm[i] as usize;
+                // SAFETY: the caller guarantees distinct live buffers of at least n elements of b bytes; each
+                // destination element i is written by one task only.
+                unsafe { std::ptr::copy_nonoverlapping((src + j * b) as *const u8, (dst + i * b) as *mut u8, b) };
+            });
+        }
+        Ok(())
+    }
+
+    fn capture(&self, f: &mut dyn FnMut() -> Result<()>) -> Result<Option<()>> {
+        f()?;
+        Ok(None)
+    }
+
+    fn replay(&self, _g: &()) -> Result<()> {
         Ok(())
     }
 
@@ -588,9 +708,10 @@ impl Backend for CpuBackend {
         &self,
         n: usize,
         params: &Vec<ContactParams>,
-        tool: ToolState,
+        s: ScalarsAt<'_, Self>,
         a: ContactInputs<'_, Self, R, D>,
     ) -> Result<()> {
+        let tool = scalars(&s)?.tool;
         if D::D != 2 {
             return Err(Error::Length { op: "contact (the parametric tool is 2D)", expected: 2, got: D::D });
         }
@@ -672,6 +793,13 @@ impl Backend for CpuBackend {
                 Some(y) => {
                     check("yield_stress", n, y.len())?;
                     y.as_mut_ptr()
+                }
+                None => std::ptr::null_mut(),
+            },
+            work: match a.work {
+                Some(w) => {
+                    check("plastic work", n, w.len())?;
+                    w.as_mut_ptr()
                 }
                 None => std::ptr::null_mut(),
             },

@@ -3,20 +3,24 @@
 //! One stream, no event tracking: every launch is ordered after the previous one.
 
 use super::{
-    Backend, Buffer, ContactInputs, DeviceInfo, Element, FieldsMut, FieldsRef, HeatInputs, PlasticInputs, SCAN_TILE,
-    SphInputs,
+    Backend, Buffer, ContactInputs, CountPass, DeviceInfo, Element, FieldsMut, HeatInputs, PlasticInputs, PlasticPass,
+    SCAN_TILE, ScalarsAt, SphInputs, StepFields,
 };
+use crate::kernels::neighbour::GatherField;
 use crate::kernels::neighbour::GridParams;
 use crate::kernels::sph::heat::HeatParams;
+use crate::kernels::sph::step::StepScalars;
 use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers, TensorOps};
 use crate::kernels::{Dim, Real};
 use crate::material::FlowModel;
 use crate::{Error, Result};
 use cudarc::driver::sys::{CUdevice_attribute, CUevent_flags, CUresult};
 use cudarc::driver::{CudaContext, CudaFunction, CudaSlice, CudaStream, DevicePtr, DevicePtrMut, DriverError, result};
+use std::collections::HashMap;
 use std::ffi::c_void;
 use std::marker::PhantomData;
-use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
 
 /// The (dimension, precision) suffixes of generic entry points, in `variant` order.
 const VARIANTS: [&str; 4] = ["2d_f32", "2d_f64", "3d_f32", "3d_f64"];
@@ -32,8 +36,7 @@ pub fn kernel_names() -> Vec<String> {
         "swarf_gather_b4",
         "swarf_gather_b8",
         "swarf_gather_b16",
-        "swarf_scalar_predict",
-        "swarf_scalar_correct",
+        "swarf_gather_fields",
         "swarf_contact_2d_f32",
         "swarf_contact_2d_f64",
     ]
@@ -45,8 +48,8 @@ pub fn kernel_names() -> Vec<String> {
             "swarf_hash",
             "swarf_neighbour_list",
             "swarf_density",
-            "swarf_sph_predict",
-            "swarf_sph_correct",
+            "swarf_step_predict",
+            "swarf_step_finish",
             "swarf_heat_brookshaw",
             "swarf_heat_pse",
         ] {
@@ -57,6 +60,7 @@ pub fn kernel_names() -> Vec<String> {
         }
         for m in PLASTIC_MODELS {
             v.push(format!("swarf_plastic_{m}_{var}"));
+            v.push(format!("swarf_step_finish_{m}_{var}"));
         }
         for c in 0..8 {
             v.push(format!("swarf_sph_rates_{var}_{}", rates_suffix(c)));
@@ -103,7 +107,7 @@ fn rates_suffix(c: usize) -> String {
 }
 
 /// Most arguments of any entry point.
-const MAX_ARGS: usize = 24;
+const MAX_ARGS: usize = 32;
 
 /// Threads per block of the per-particle kernels.
 const BLOCK: u32 = 256;
@@ -151,12 +155,12 @@ struct Kernels {
     contact: [CudaFunction; 2],
     heat_brookshaw: Variants,
     heat_pse: Variants,
-    scalar_predict: CudaFunction,
-    scalar_correct: CudaFunction,
     sph_prepare: Vec<Variants>,
     sph_rates: Vec<Variants>,
-    sph_predict: Variants,
-    sph_correct: Variants,
+    step_predict: Variants,
+    step_finish: Variants,
+    /// The corrector fused with each flow-stress model's plastic update.
+    step_finish_plastic: Vec<Variants>,
     hash: Variants,
     neighbour_list: Variants,
     density: Variants,
@@ -168,6 +172,7 @@ struct Kernels {
     gather_b4: CudaFunction,
     gather_b8: CudaFunction,
     gather_b16: CudaFunction,
+    gather_fields: CudaFunction,
 }
 
 pub struct CudaBackend {
@@ -175,7 +180,14 @@ pub struct CudaBackend {
     stream: Arc<CudaStream>,
     k: Kernels,
     info: DeviceInfo,
+    /// Device copies of the field tables of `gather_fields`, by content (a solver alternates between two).
+    gather_tables: Mutex<HashMap<Vec<GatherField>, CudaBuf<GatherField>>>,
+    /// A graph is being captured: nothing may be uploaded or synchronised.
+    capturing: AtomicBool,
 }
+
+/// A captured CUDA graph.
+pub struct Graph(cudarc::driver::CudaGraph);
 
 fn cuda(op: &'static str) -> impl FnOnce(DriverError) -> Error {
     move |source| Error::Cuda { op, source }
@@ -199,7 +211,8 @@ impl CudaBackend {
         let ctx = CudaContext::new(ordinal).map_err(cuda("cuCtxCreate"))?;
         // SAFETY: a single stream orders all work; cross-stream event tracking is not needed.
         unsafe { ctx.disable_event_tracking() };
-        let stream = ctx.default_stream();
+        // A stream of its own: the legacy default stream cannot be captured into a graph.
+        let stream = ctx.new_stream().map_err(cuda("cuStreamCreate"))?;
         let cc = ctx.compute_capability().map_err(cuda("compute capability"))?;
         let (target, ptx) = crate::ptx::select(cc.0, cc.1).ok_or_else(|| {
             Error::GpuUnavailable(format!(
@@ -225,12 +238,14 @@ impl CudaBackend {
             contact: [f("swarf_contact_2d_f32")?, f("swarf_contact_2d_f64")?],
             heat_brookshaw: v("swarf_heat_brookshaw", "")?,
             heat_pse: v("swarf_heat_pse", "")?,
-            scalar_predict: f("swarf_scalar_predict")?,
-            scalar_correct: f("swarf_scalar_correct")?,
             sph_prepare: (0..4).map(|c| v("swarf_sph_prepare", &prepare_suffix(c))).collect::<Result<_>>()?,
             sph_rates: (0..8).map(|c| v("swarf_sph_rates", &rates_suffix(c))).collect::<Result<_>>()?,
-            sph_predict: v("swarf_sph_predict", "")?,
-            sph_correct: v("swarf_sph_correct", "")?,
+            step_predict: v("swarf_step_predict", "")?,
+            step_finish: v("swarf_step_finish", "")?,
+            step_finish_plastic: PLASTIC_MODELS
+                .iter()
+                .map(|m| v(&format!("swarf_step_finish_{m}"), ""))
+                .collect::<Result<_>>()?,
             hash: v("swarf_hash", "")?,
             neighbour_list: v("swarf_neighbour_list", "")?,
             density: v("swarf_density", "")?,
@@ -242,6 +257,7 @@ impl CudaBackend {
             gather_b4: f("swarf_gather_b4")?,
             gather_b8: f("swarf_gather_b8")?,
             gather_b16: f("swarf_gather_b16")?,
+            gather_fields: f("swarf_gather_fields")?,
         };
         let mut driver = 0i32;
         // SAFETY: plain query into a local.
@@ -257,7 +273,14 @@ impl CudaBackend {
                 .map_err(cuda("multiprocessor count"))? as usize,
             ptx_target: Some(target),
         };
-        Ok(CudaBackend { ctx, stream, k, info })
+        Ok(CudaBackend {
+            ctx,
+            stream,
+            k,
+            info,
+            gather_tables: Mutex::new(HashMap::new()),
+            capturing: AtomicBool::new(false),
+        })
     }
 
     fn ptr<T>(&self, b: &CudaBuf<T>) -> u64 {
@@ -273,7 +296,12 @@ impl CudaBackend {
     /// Launches `f` over `threads` threads in blocks of `block`. Arguments live in a stack array for the call,
     /// so a launch allocates nothing.
     fn launch(&self, f: &CudaFunction, threads: usize, block: u32, args: &[Arg]) -> Result<()> {
-        if threads == 0 {
+        self.launch_rows(f, threads, 1, block, args)
+    }
+
+    /// The same with `rows` block rows (blockIdx.y).
+    fn launch_rows(&self, f: &CudaFunction, threads: usize, rows: u32, block: u32, args: &[Arg]) -> Result<()> {
+        if threads == 0 || rows == 0 {
             return Ok(());
         }
         let blocks = threads.div_ceil(block as usize);
@@ -302,7 +330,7 @@ impl CudaBackend {
         unsafe {
             result::launch_kernel(
                 f.cu_function(),
-                (blocks as u32, 1, 1),
+                (blocks as u32, rows, 1),
                 (block, 1, 1),
                 0,
                 self.stream.cu_stream(),
@@ -322,12 +350,102 @@ impl CudaBackend {
     }
 }
 
+/// Lanes per particle must be a power of two up to 8 (they combine within a warp).
+fn check_lanes(lanes: u32) -> Result<()> {
+    if matches!(lanes, 1 | 2 | 4 | 8) {
+        Ok(())
+    } else {
+        Err(Error::Length { op: "lanes per particle (1, 2, 4 or 8)", expected: 8, got: lanes as usize })
+    }
+}
+
+/// A launch's argument list (at most MAX_ARGS; no allocation in the step: the capacity is fixed).
+fn vec_args(a: &[Arg]) -> ArgList {
+    let mut l = ArgList { a: [Arg::U32(0); MAX_ARGS], len: 0 };
+    l.extend_from_slice(a);
+    l
+}
+
+/// A fixed-capacity argument list.
+struct ArgList {
+    a: [Arg; MAX_ARGS],
+    len: usize,
+}
+
+impl ArgList {
+    fn extend_from_slice(&mut self, x: &[Arg]) {
+        for v in x {
+            if self.len < MAX_ARGS {
+                self.a[self.len] = *v;
+            }
+            // An overflowing list is refused by `launch` (its length is then MAX_ARGS + 1).
+            self.len = (self.len + 1).min(MAX_ARGS + 1);
+        }
+    }
+}
+
+impl ArgList {
+    /// The arguments, or an error if more than MAX_ARGS were pushed.
+    fn get(&self) -> Result<&[Arg]> {
+        self.a.get(..self.len).ok_or(Error::Length { op: "kernel arguments", expected: MAX_ARGS, got: self.len })
+    }
+}
+
 fn first_line(s: &str) -> &str {
     s.lines().next().unwrap_or(s)
 }
 
+impl CudaBackend {
+    /// The device address of the step's scalars.
+    fn scalars(&self, s: &ScalarsAt<'_, Self>) -> Result<Arg> {
+        if s.index >= s.buf.len {
+            return Err(Error::Length { op: "step scalars", expected: s.index + 1, got: s.buf.len });
+        }
+        Ok(Arg::U64(self.ptr(s.buf) + (s.index * size_of::<StepScalars>()) as u64))
+    }
+
+    /// The 15 field arguments of the step kernels (y, y0, ẏ, then T, T0, Ṫ or nulls) and the two of the
+    /// dissipation (the corrector's only).
+    fn step_args<R: Real, D: Dim>(&self, n: usize, f: StepFields<'_, Self, R, D>) -> Result<([Arg; 15], [Arg; 2])> {
+        let lens = [f.y.pos.len, f.y0.pos.len, f.rates.pos.len, f.y.stress.len, f.y0.stress.len, f.rates.stress.len];
+        if lens.iter().any(|&l| l < n) {
+            return Err(Error::Length { op: "step fields", expected: n, got: lens.into_iter().min().unwrap_or(0) });
+        }
+        let (t, t0, tt) = match (f.temp, f.conduction) {
+            (Some(t), Some((t0, tt))) => (self.ptr_mut(t), self.ptr_mut(t0), self.ptr(tt)),
+            (Some(t), None) => (self.ptr_mut(t), 0, 0),
+            _ => (0, 0, 0),
+        };
+        let diss = match f.dissipation {
+            Some((d, dt)) => [Arg::U64(self.ptr_mut(d)), Arg::U64(self.ptr(dt))],
+            None => [Arg::U64(0), Arg::U64(0)],
+        };
+        Ok((
+            [
+                Arg::U64(self.ptr_mut(f.y.pos)),
+                Arg::U64(self.ptr_mut(f.y.vel)),
+                Arg::U64(self.ptr_mut(f.y.rho)),
+                Arg::U64(self.ptr_mut(f.y.stress)),
+                Arg::U64(self.ptr_mut(f.y0.pos)),
+                Arg::U64(self.ptr_mut(f.y0.vel)),
+                Arg::U64(self.ptr_mut(f.y0.rho)),
+                Arg::U64(self.ptr_mut(f.y0.stress)),
+                Arg::U64(self.ptr(f.rates.pos)),
+                Arg::U64(self.ptr(f.rates.vel)),
+                Arg::U64(self.ptr(f.rates.rho)),
+                Arg::U64(self.ptr(f.rates.stress)),
+                Arg::U64(t),
+                Arg::U64(t0),
+                Arg::U64(tt),
+            ],
+            diss,
+        ))
+    }
+}
+
 impl Backend for CudaBackend {
     type Buf<T: Element> = CudaBuf<T>;
+    type Graph = Graph;
 
     fn info(&self) -> &DeviceInfo {
         &self.info
@@ -435,14 +553,19 @@ impl Backend for CudaBackend {
             return Err(Error::Length { op: "exclusive_scan workspace", expected: tiles, got: sums.len });
         }
         let d = self.ptr_mut(data);
+        if tiles == 1 {
+            // One tile: the apply pass alone, with offset 0 (no reduction, no memset).
+            return self.launch(
+                &self.k.scan_apply,
+                32,
+                128,
+                &[Arg::U32(n as u32), Arg::U64(d), Arg::U64(d), Arg::U64(0)],
+            );
+        }
         let s = self.ptr_mut(sums);
         // One warp per tile, four warps per block.
         self.launch(&self.k.scan_reduce, tiles * 32, 128, &[Arg::U32(n as u32), Arg::U64(d), Arg::U64(s)])?;
-        if tiles == 1 {
-            self.fill_zero(sums, 1)?; // the exclusive scan of one tile sum is 0
-        } else {
-            self.exclusive_scan(tiles, sums, rest)?;
-        }
+        self.exclusive_scan(tiles, sums, rest)?;
         self.launch(&self.k.scan_apply, tiles * 32, 128, &[Arg::U32(n as u32), Arg::U64(d), Arg::U64(d), Arg::U64(s)])
     }
 
@@ -575,12 +698,14 @@ impl Backend for CudaBackend {
     fn sph_rates<R: Real, D: TensorOps<R>>(
         &self,
         n: usize,
+        lanes: u32,
         stab: Stabilisers,
         params: &CudaBuf<SphParams<R>>,
         grid: &CudaBuf<GridParams>,
         starts: &CudaBuf<u32>,
         i: &SphInputs<'_, Self, R, D>,
         out: FieldsMut<'_, Self, R, D>,
+        dissipation: Option<&mut CudaBuf<R>>,
     ) -> Result<()> {
         let art = if stab.stress { i.art.map(|a| self.ptr(a)).unwrap_or(0) } else { 0 };
         let sound = if stab.viscosity { i.sound.map(|c| self.ptr(c)).unwrap_or(0) } else { 0 };
@@ -590,6 +715,7 @@ impl Backend for CudaBackend {
         let c = (stab.viscosity as usize) << 2 | (stab.stress as usize) << 1 | stab.xsph as usize;
         let args = [
             Arg::U32(n as u32),
+            Arg::U32(lanes),
             Arg::U64(self.ptr(params)),
             Arg::U64(self.ptr(grid)),
             Arg::U64(self.ptr(starts)),
@@ -609,67 +735,16 @@ impl Backend for CudaBackend {
             Arg::U64(self.ptr_mut(out.vel)),
             Arg::U64(self.ptr_mut(out.rho)),
             Arg::U64(self.ptr_mut(out.stress)),
+            Arg::U64(dissipation.map_or(0, |d| self.ptr_mut(d))),
         ];
-        self.launch(&self.k.sph_rates[c].0[variant::<R, D>()], n, BLOCK, &args)
-    }
-
-    fn sph_predict<R: Real, D: Dim>(
-        &self,
-        n: usize,
-        c: R,
-        y: FieldsMut<'_, Self, R, D>,
-        y0: FieldsMut<'_, Self, R, D>,
-        r: FieldsRef<'_, Self, R, D>,
-    ) -> Result<()> {
-        let args = [
-            Arg::U32(n as u32),
-            real_arg(c),
-            Arg::U64(self.ptr_mut(y.pos)),
-            Arg::U64(self.ptr_mut(y.vel)),
-            Arg::U64(self.ptr_mut(y.rho)),
-            Arg::U64(self.ptr_mut(y.stress)),
-            Arg::U64(self.ptr_mut(y0.pos)),
-            Arg::U64(self.ptr_mut(y0.vel)),
-            Arg::U64(self.ptr_mut(y0.rho)),
-            Arg::U64(self.ptr_mut(y0.stress)),
-            Arg::U64(self.ptr(r.pos)),
-            Arg::U64(self.ptr(r.vel)),
-            Arg::U64(self.ptr(r.rho)),
-            Arg::U64(self.ptr(r.stress)),
-        ];
-        self.launch(&self.k.sph_predict.0[variant::<R, D>()], n, BLOCK, &args)
-    }
-
-    fn sph_correct<R: Real, D: Dim>(
-        &self,
-        n: usize,
-        c: R,
-        y: FieldsMut<'_, Self, R, D>,
-        y0: FieldsRef<'_, Self, R, D>,
-        r: FieldsRef<'_, Self, R, D>,
-    ) -> Result<()> {
-        let args = [
-            Arg::U32(n as u32),
-            real_arg(c),
-            Arg::U64(self.ptr_mut(y.pos)),
-            Arg::U64(self.ptr_mut(y.vel)),
-            Arg::U64(self.ptr_mut(y.rho)),
-            Arg::U64(self.ptr_mut(y.stress)),
-            Arg::U64(self.ptr(y0.pos)),
-            Arg::U64(self.ptr(y0.vel)),
-            Arg::U64(self.ptr(y0.rho)),
-            Arg::U64(self.ptr(y0.stress)),
-            Arg::U64(self.ptr(r.pos)),
-            Arg::U64(self.ptr(r.vel)),
-            Arg::U64(self.ptr(r.rho)),
-            Arg::U64(self.ptr(r.stress)),
-        ];
-        self.launch(&self.k.sph_correct.0[variant::<R, D>()], n, BLOCK, &args)
+        check_lanes(lanes)?;
+        self.launch(&self.k.sph_rates[c].0[variant::<R, D>()], n * lanes as usize, BLOCK, &args)
     }
 
     fn heat_rates<R: Real, D: Dim>(
         &self,
         n: usize,
+        lanes: u32,
         pse: bool,
         hp: &CudaBuf<HeatParams>,
         params: &CudaBuf<SphParams<R>>,
@@ -678,8 +753,10 @@ impl Backend for CudaBackend {
         i: &HeatInputs<'_, Self, R, D>,
         temp_t: &mut CudaBuf<f64>,
     ) -> Result<()> {
+        check_lanes(lanes)?;
         let args = [
             Arg::U32(n as u32),
+            Arg::U32(lanes),
             Arg::U64(self.ptr(hp)),
             Arg::U64(self.ptr(params)),
             Arg::U64(self.ptr(grid)),
@@ -693,50 +770,134 @@ impl Backend for CudaBackend {
             Arg::U64(self.ptr_mut(temp_t)),
         ];
         let f = if pse { &self.k.heat_pse } else { &self.k.heat_brookshaw };
-        self.launch(&f.0[variant::<R, D>()], n, BLOCK, &args)
+        self.launch(&f.0[variant::<R, D>()], n * lanes as usize, BLOCK, &args)
     }
 
-    fn scalar_predict(
+    fn step_predict<R: Real, D: TensorOps<R>>(
         &self,
         n: usize,
-        c: f64,
-        y: &mut CudaBuf<f64>,
-        y0: &mut CudaBuf<f64>,
-        yt: &CudaBuf<f64>,
+        s: ScalarsAt<'_, Self>,
+        f: StepFields<'_, Self, R, D>,
+        cells: CountPass<'_, Self>,
     ) -> Result<()> {
-        let args = [
-            Arg::U32(n as u32),
-            Arg::F64(c),
-            Arg::U64(self.ptr_mut(y)),
-            Arg::U64(self.ptr_mut(y0)),
-            Arg::U64(self.ptr(yt)),
-        ];
-        self.launch(&self.k.scalar_predict, n, BLOCK, &args)
+        if cells.keys.len < n || cells.slots.len < n {
+            return Err(Error::Length {
+                op: "step_predict keys",
+                expected: n,
+                got: cells.keys.len.min(cells.slots.len),
+            });
+        }
+        let mut args = vec_args(&[Arg::U32(n as u32), self.scalars(&s)?, Arg::U64(self.ptr(cells.grid))]);
+        args.extend_from_slice(&self.step_args(n, f)?.0);
+        args.extend_from_slice(&[
+            Arg::U64(self.ptr_mut(cells.keys)),
+            Arg::U64(self.ptr_mut(cells.counts)),
+            Arg::U64(self.ptr_mut(cells.slots)),
+        ]);
+        self.launch(&self.k.step_predict.0[variant::<R, D>()], n, BLOCK, args.get()?)
     }
 
-    fn scalar_correct(
+    fn step_finish<R: Real, D: TensorOps<R>>(
         &self,
         n: usize,
-        c: f64,
-        y: &mut CudaBuf<f64>,
-        y0: &CudaBuf<f64>,
-        yt: &CudaBuf<f64>,
+        s: ScalarsAt<'_, Self>,
+        f: StepFields<'_, Self, R, D>,
+        plastic: Option<PlasticPass<'_, Self>>,
     ) -> Result<()> {
-        let args = [
+        let sc = self.scalars(&s)?;
+        let Some(p) = plastic else {
+            let mut args = vec_args(&[Arg::U32(n as u32), sc]);
+            let (fields, diss) = self.step_args(n, f)?;
+            args.extend_from_slice(&fields);
+            args.extend_from_slice(&diss);
+            return self.launch(&self.k.step_finish.0[variant::<R, D>()], n, BLOCK, args.get()?);
+        };
+        if f.temp.is_none() {
+            return Err(Error::Length { op: "step_finish (plasticity needs temperature)", expected: n, got: 0 });
+        }
+        if p.taylor_quinney > 0.0 && p.materials.is_none() {
+            return Err(Error::Length { op: "step_finish (thermal materials missing)", expected: 1, got: 0 });
+        }
+        let mut args = vec_args(&[
             Arg::U32(n as u32),
-            Arg::F64(c),
-            Arg::U64(self.ptr_mut(y)),
-            Arg::U64(self.ptr(y0)),
-            Arg::U64(self.ptr(yt)),
-        ];
-        self.launch(&self.k.scalar_correct, n, BLOCK, &args)
+            sc,
+            Arg::U64(self.ptr(p.model_buf)),
+            Arg::F64(p.shear),
+            Arg::F64(p.taylor_quinney),
+        ]);
+        let (fields, diss) = self.step_args(n, f)?;
+        args.extend_from_slice(&fields);
+        args.extend_from_slice(&diss);
+        args.extend_from_slice(&[
+            Arg::U64(self.ptr_mut(p.eps)),
+            Arg::U64(self.ptr_mut(p.rate)),
+            Arg::U64(self.ptr(p.flags)),
+            Arg::U64(p.materials.map_or(0, |m| self.ptr(m))),
+            Arg::U64(p.yield_stress.map_or(0, |y| self.ptr_mut(y))),
+            Arg::U64(p.work.map_or(0, |w| self.ptr_mut(w))),
+        ]);
+        self.launch(&self.k.step_finish_plastic[model_index(p.model)].0[variant::<R, D>()], n, BLOCK, args.get()?)
+    }
+
+    fn address<T: Element>(&self, buf: &CudaBuf<T>) -> u64 {
+        self.ptr(buf)
+    }
+
+    fn address_mut<T: Element>(&self, buf: &mut CudaBuf<T>) -> u64 {
+        self.ptr_mut(buf)
+    }
+
+    unsafe fn gather_fields(&self, n: usize, perm: &CudaBuf<u32>, fields: &[GatherField]) -> Result<()> {
+        if perm.len < n {
+            return Err(Error::Length { op: "gather_fields perm", expected: n, got: perm.len });
+        }
+        if let Some(f) = fields.iter().find(|f| f.bytes == 0 || !f.bytes.is_multiple_of(4)) {
+            return Err(Error::Length { op: "gather_fields (element size)", expected: 4, got: f.bytes as usize });
+        }
+        let mut tables = self.gather_tables.lock().map_err(|_| Error::Length {
+            op: "gather_fields (table cache poisoned)",
+            expected: 0,
+            got: 0,
+        })?;
+        if !tables.contains_key(fields) {
+            if self.capturing.load(Ordering::Relaxed) {
+                return Err(Error::Length {
+                    op: "gather_fields (new table while capturing a graph)",
+                    expected: 0,
+                    got: 1,
+                });
+            }
+            let t = self.upload(fields, "reorder table")?;
+            tables.insert(fields.to_vec(), t);
+        }
+        let table = self.ptr(&tables[fields]);
+        let args = [Arg::U32(n as u32), Arg::U64(self.ptr(perm)), Arg::U64(table)];
+        self.launch_rows(&self.k.gather_fields, n, fields.len() as u32, BLOCK, &args)
+    }
+
+    fn capture(&self, f: &mut dyn FnMut() -> Result<()>) -> Result<Option<Graph>> {
+        use cudarc::driver::sys::{CUgraphInstantiate_flags, CUstreamCaptureMode};
+        self.stream
+            .begin_capture(CUstreamCaptureMode::CU_STREAM_CAPTURE_MODE_THREAD_LOCAL)
+            .map_err(cuda("cuStreamBeginCapture"))?;
+        self.capturing.store(true, Ordering::Relaxed);
+        let recorded = f();
+        self.capturing.store(false, Ordering::Relaxed);
+        // End the capture whatever happened, so that the stream is usable again.
+        let graph = self.stream.end_capture(CUgraphInstantiate_flags(0)).map_err(cuda("cuStreamEndCapture"));
+        recorded?;
+        Ok(graph?.map(Graph))
+    }
+
+    fn replay(&self, g: &Graph) -> Result<()> {
+        g.0.launch().map_err(cuda("cuGraphLaunch"))
     }
 
     fn contact<R: Real, D: Dim>(
         &self,
         n: usize,
         params: &CudaBuf<crate::kernels::contact::ContactParams>,
-        tool: crate::kernels::contact::ToolState,
+        s: ScalarsAt<'_, Self>,
         a: ContactInputs<'_, Self, R, D>,
     ) -> Result<()> {
         if D::D != 2 {
@@ -745,12 +906,7 @@ impl Backend for CudaBackend {
         let args = [
             Arg::U32(n as u32),
             Arg::U64(self.ptr(params)),
-            Arg::F64(tool.offset[0]),
-            Arg::F64(tool.offset[1]),
-            Arg::F64(tool.velocity[0]),
-            Arg::F64(tool.velocity[1]),
-            Arg::F64(tool.dt),
-            Arg::F64(tool.step),
+            self.scalars(&s)?,
             Arg::U64(self.ptr(a.pos)),
             Arg::U64(self.ptr(a.vel)),
             Arg::U64(self.ptr(a.mass)),
@@ -791,6 +947,7 @@ impl Backend for CudaBackend {
             Arg::U64(self.ptr(a.flags)),
             Arg::U64(a.materials.map_or(0, |m| self.ptr(m))),
             Arg::U64(a.yield_stress.map_or(0, |y| self.ptr_mut(y))),
+            Arg::U64(a.work.map_or(0, |w| self.ptr_mut(w))),
         ];
         self.launch(&self.k.plastic[model_index(model)].0[variant::<R, D>()], n, BLOCK, &args)
     }

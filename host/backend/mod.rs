@@ -6,8 +6,9 @@ pub mod cpu;
 pub mod cuda;
 
 use crate::Result;
-use crate::kernels::neighbour::GridParams;
+use crate::kernels::neighbour::{GatherField, GridParams};
 use crate::kernels::sph::heat::{HeatParams, ThermalMaterial};
+use crate::kernels::sph::step::StepScalars;
 use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers, TensorOps};
 use crate::kernels::{Dim, Real};
 use bytemuck::Pod;
@@ -46,6 +47,8 @@ pub struct DeviceInfo {
 
 pub trait Backend: Sized + Send + Sync {
     type Buf<T: Element>: Buffer<T>;
+    /// A captured sequence of launches (CUDA graph); `()` where the backend has none.
+    type Graph;
 
     fn info(&self) -> &DeviceInfo;
 
@@ -143,33 +146,63 @@ pub trait Backend: Sized + Send + Sync {
         sound: Option<&mut Self::Buf<R>>,
         temp: Option<&Self::Buf<f64>>,
     ) -> Result<()>;
-    /// SPH pair interaction (`sph::interact::rates`): the rates of every sorted particle.
+    /// SPH pair interaction (`sph::interact::rates`): the rates of every sorted particle, each summed by `lanes`
+    /// lanes (1, 2, 4 or 8; the sums' order depends on it, equally on every backend).
     #[allow(clippy::too_many_arguments)]
     fn sph_rates<R: Real, D: TensorOps<R>>(
         &self,
         n: usize,
+        lanes: u32,
         stab: Stabilisers,
         params: &Self::Buf<SphParams<R>>,
         grid: &Self::Buf<GridParams>,
         starts: &Self::Buf<u32>,
         input: &SphInputs<'_, Self, R, D>,
         out: FieldsMut<'_, Self, R, D>,
+        dissipation: Option<&mut Self::Buf<R>>,
     ) -> Result<()>;
-    /// Predictor: y0 ← y, then y ← y0 + c ẏ.
-    fn sph_predict<R: Real, D: Dim>(
+    /// The fused predictor and counting pass (`sph::step::predict_particle`): y0 ← y, y ← y0 + ½Δt ẏ (x, v, ρ, S
+    /// and, with conduction, T), then the predicted position's cell key, its slot and the cell's count
+    /// (`counts` zeroed before).
+    fn step_predict<R: Real, D: TensorOps<R>>(
         &self,
         n: usize,
-        c: R,
-        y: FieldsMut<'_, Self, R, D>,
-        y0: FieldsMut<'_, Self, R, D>,
-        rates: FieldsRef<'_, Self, R, D>,
+        s: ScalarsAt<'_, Self>,
+        f: StepFields<'_, Self, R, D>,
+        cells: CountPass<'_, Self>,
     ) -> Result<()>;
+    /// The fused corrector (`sph::step::correct_particle`) y ← y0 + Δt ẏ, followed by the plastic update of the
+    /// same particle when `plastic` is given (`sph::plastic::plastic_particle`).
+    fn step_finish<R: Real, D: TensorOps<R>>(
+        &self,
+        n: usize,
+        s: ScalarsAt<'_, Self>,
+        f: StepFields<'_, Self, R, D>,
+        plastic: Option<PlasticPass<'_, Self>>,
+    ) -> Result<()>;
+    /// The address of a buffer's first element, for [`Backend::gather_fields`].
+    fn address<T: Element>(&self, buf: &Self::Buf<T>) -> u64;
+    /// The same for a buffer that will be written.
+    fn address_mut<T: Element>(&self, buf: &mut Self::Buf<T>) -> u64;
+    /// dst_f[i] = src_f[perm[i]] for every field f, i < n, in one pass.
+    ///
+    /// # Safety
+    /// Each field names two distinct live buffers of this backend (addresses from [`Backend::address`] and
+    /// [`Backend::address_mut`]) of at least n elements of `bytes` bytes (a multiple of 4), and no destination
+    /// appears twice or as a source.
+    unsafe fn gather_fields(&self, n: usize, perm: &Self::Buf<u32>, fields: &[GatherField]) -> Result<()>;
+    /// Records the work that `f` submits as a replayable graph without running it; None where the backend has no
+    /// graphs, and then the work has run.
+    fn capture(&self, f: &mut dyn FnMut() -> Result<()>) -> Result<Option<Self::Graph>>;
+    /// Runs a captured graph.
+    fn replay(&self, g: &Self::Graph) -> Result<()>;
     /// Conduction rates Ṫ (`sph::heat::heat_rate`), Brookshaw or (`pse`) PSE; `grid` has stencil 2 for
     /// Brookshaw and 3 for PSE.
     #[allow(clippy::too_many_arguments)]
     fn heat_rates<R: Real, D: Dim>(
         &self,
         n: usize,
+        lanes: u32,
         pse: bool,
         hp: &Self::Buf<HeatParams>,
         params: &Self::Buf<SphParams<R>>,
@@ -193,35 +226,8 @@ pub trait Backend: Sized + Send + Sync {
         &self,
         n: usize,
         params: &Self::Buf<crate::kernels::contact::ContactParams>,
-        tool: crate::kernels::contact::ToolState,
+        s: ScalarsAt<'_, Self>,
         a: ContactInputs<'_, Self, R, D>,
-    ) -> Result<()>;
-    /// Predictor of an f64 scalar field: y0 ← y, y ← y0 + c ẏ.
-    fn scalar_predict(
-        &self,
-        n: usize,
-        c: f64,
-        y: &mut Self::Buf<f64>,
-        y0: &mut Self::Buf<f64>,
-        yt: &Self::Buf<f64>,
-    ) -> Result<()>;
-    /// Corrector of an f64 scalar field: y ← y0 + c ẏ.
-    fn scalar_correct(
-        &self,
-        n: usize,
-        c: f64,
-        y: &mut Self::Buf<f64>,
-        y0: &Self::Buf<f64>,
-        yt: &Self::Buf<f64>,
-    ) -> Result<()>;
-    /// Corrector: y ← y0 + c ẏ.
-    fn sph_correct<R: Real, D: Dim>(
-        &self,
-        n: usize,
-        c: R,
-        y: FieldsMut<'_, Self, R, D>,
-        y0: FieldsRef<'_, Self, R, D>,
-        rates: FieldsRef<'_, Self, R, D>,
     ) -> Result<()>;
 }
 
@@ -288,6 +294,55 @@ pub struct PlasticInputs<'a, B: Backend, R: Real, D: Dim> {
     pub materials: Option<&'a B::Buf<ThermalMaterial>>,
     /// Receives σ_y after the update (only when the friction cap uses the current yield stress).
     pub yield_stress: Option<&'a mut B::Buf<f64>>,
+    /// Accumulates the specific plastic work Σ σ_y Δε̄/ρ (energy balance), when tracked.
+    pub work: Option<&'a mut B::Buf<f64>>,
+}
+
+/// Where a step's scalars are: entry `index` of `buf`.
+pub struct ScalarsAt<'a, B: Backend> {
+    pub buf: &'a B::Buf<StepScalars>,
+    pub index: usize,
+}
+
+/// The fields a step integrates, in sorted order: the state y, its start-of-step copy y0, the rates, and the
+/// temperature (present with heat or plasticity) with its start copy and rate (present with conduction).
+pub struct StepFields<'a, B: Backend, R: Real, D: Dim> {
+    pub y: FieldsMut<'a, B, R, D>,
+    pub y0: FieldsMut<'a, B, R, D>,
+    pub rates: FieldsRef<'a, B, R, D>,
+    pub temp: Option<&'a mut B::Buf<f64>>,
+    pub conduction: Option<Conduction<'a, B>>,
+    /// The artificial viscosity's accumulated dissipation and its rate from the interaction (with AV; the
+    /// corrector integrates it, the predictor ignores it).
+    pub dissipation: Option<Dissipation<'a, B, R>>,
+}
+
+/// The accumulated dissipation per unit mass [J/kg] and its rate.
+pub type Dissipation<'a, B, R> = (&'a mut <B as Backend>::Buf<f64>, &'a <B as Backend>::Buf<R>);
+
+/// The conduction predictor–corrector's start copy T0 and rate Ṫ.
+pub type Conduction<'a, B> = (&'a mut <B as Backend>::Buf<f64>, &'a <B as Backend>::Buf<f64>);
+
+/// The cell list's counting pass, fused into the predictor.
+pub struct CountPass<'a, B: Backend> {
+    pub grid: &'a B::Buf<GridParams>,
+    pub keys: &'a mut B::Buf<u32>,
+    pub counts: &'a mut B::Buf<u32>,
+    pub slots: &'a mut B::Buf<u32>,
+}
+
+/// The plastic update fused into the corrector (stress, density and temperature come from [`StepFields`]).
+pub struct PlasticPass<'a, B: Backend> {
+    pub model: &'a crate::material::FlowModel,
+    pub model_buf: &'a B::Buf<u8>,
+    pub shear: f64,
+    pub taylor_quinney: f64,
+    pub eps: &'a mut B::Buf<f64>,
+    pub rate: &'a mut B::Buf<f64>,
+    pub flags: &'a B::Buf<u32>,
+    pub materials: Option<&'a B::Buf<ThermalMaterial>>,
+    pub yield_stress: Option<&'a mut B::Buf<f64>>,
+    pub work: Option<&'a mut B::Buf<f64>>,
 }
 
 /// Per-particle state of the contact pass, sorted order.

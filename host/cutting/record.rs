@@ -81,6 +81,11 @@ impl CutRecorder {
         t >= self.next
     }
 
+    /// The time of the next sample.
+    pub fn next(&self) -> f64 {
+        self.next
+    }
+
     /// Takes a sample of the solver's state.
     pub fn sample<B: Backend, R: Real, D: TensorOps<R>>(&mut self, b: &B, s: &Solver<B, R, D>) -> Result<()> {
         let Some(c) = s.contact_sample(b)? else { return Ok(()) };

@@ -24,6 +24,12 @@ pub struct Diagnostics {
     pub temperature_max: f64,
     /// Largest equivalent plastic strain (NaN when not modelled).
     pub plastic_strain_max: f64,
+    /// Plastic work dissipated so far, Σ m_i Σ_steps σ_y Δε̄/ρ [J, per m of depth in 2D] (0 without plasticity):
+    /// the heat t_q W_p of plastic heating is part of it.
+    pub plastic_work: f64,
+    /// Energy the artificial viscosity has taken out of the motion so far, Σ m_i ∫ ½ Σ_j m_j Π_ij v_ij·∇W dt
+    /// (0 without it).
+    pub viscous_dissipation: f64,
     /// First non-finite value: (particle id, field).
     pub non_finite: Option<(u32, &'static str)>,
 }
@@ -31,6 +37,12 @@ pub struct Diagnostics {
 impl Diagnostics {
     pub fn total(&self) -> f64 {
         self.kinetic + self.elastic
+    }
+
+    /// The energy balance's left side: kinetic + elastic + plastic work + viscous dissipation. Constant up to the
+    /// time-integration error and the work of prescribed motions and the tool (docs/stability.md).
+    pub fn balance(&self) -> f64 {
+        self.kinetic + self.elastic + self.plastic_work + self.viscous_dissipation
     }
 }
 
@@ -98,4 +110,18 @@ pub fn internal(d: &mut Diagnostics, id: &[u32], temp: Option<&[f64]>, eps: Opti
             }
         }
     }
+}
+
+/// Adds the dissipated energies Σ m_i w_i of the per-particle specific plastic work and viscous dissipation
+/// (thermal-only particles carry no mechanics and are left out).
+pub fn dissipated<R: Real, D: TensorOps<R>>(
+    d: &mut Diagnostics,
+    p: &HostParticles<R, D>,
+    work: Option<&[f64]>,
+    viscous: Option<&[f64]>,
+) {
+    let mech = |i: usize| p.flags[i] & crate::kernels::sph::params::flags::THERMAL_ONLY == 0;
+    let sum = |w: &[f64]| (0..p.len()).filter(|&i| mech(i)).map(|i| p.mass[i].to_f64() * w[i]).sum::<f64>();
+    d.plastic_work = work.map_or(0.0, sum);
+    d.viscous_dissipation = viscous.map_or(0.0, sum);
 }

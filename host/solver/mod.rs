@@ -21,17 +21,19 @@ pub mod params;
 pub use crate::cutting::motion::ToolMotion;
 
 use crate::Result;
-use crate::backend::{Backend, ContactInputs, FieldsMut, FieldsRef, SphInputs};
+use crate::backend::{
+    Backend, Conduction, ContactInputs, FieldsMut, FieldsRef, PlasticPass, ScalarsAt, SphInputs, StepFields,
+};
 use crate::kernels::contact::{ContactParams, ToolState, penalty::cap};
 use crate::kernels::neighbour::GridParams;
 use crate::kernels::sph::heat::{HeatParams, ThermalMaterial};
 use crate::kernels::sph::params::flags;
-use crate::kernels::sph::plastic::PlasticConsts;
+use crate::kernels::sph::step::StepScalars;
 use crate::kernels::sph::{SphParams, Stabilisers, TensorOps};
 use crate::kernels::{Dim, Real, Vector};
 use crate::material::FlowModel;
 use crate::neighbour::CellList;
-use crate::state::{Field, HostParticles, Particles};
+use crate::state::{Field, HostParticles, Particles, ReorderBatch};
 
 /// Heat physics of a run.
 #[derive(Clone, Debug)]
@@ -96,6 +98,8 @@ struct ThermalState<B: Backend> {
 struct PlasticState<B: Backend> {
     eps: Field<B, f64>,
     rate: Field<B, f64>,
+    /// Specific plastic work Σ σ_y Δε̄/ρ [J/kg], for the energy balance.
+    work: Field<B, f64>,
     model: FlowModel,
     model_buf: B::Buf<u8>,
     taylor_quinney: f64,
@@ -164,11 +168,95 @@ pub struct Solver<B: Backend, R: Real, D: TensorOps<R>> {
     contact: Option<ContactState<B, R, D>>,
     /// Masses for the mechanics where they differ from the particles' masses: zero for thermal-only particles.
     mech_mass: Option<Field<B, R>>,
+    /// The artificial viscosity's accumulated dissipation per unit mass [J/kg] and its rate (with AV), for the
+    /// energy balance.
+    dissipation: Option<(Field<B, f64>, B::Buf<R>)>,
     shear: f64,
     pub stab: Stabilisers,
+    /// Scalars of the next steps (Δt, the tool), read by the step's kernels.
+    scalars: B::Buf<StepScalars>,
+    host_scalars: Vec<StepScalars>,
+    batch: ReorderBatch,
+    /// Captured batches of GRAPH_STEPS steps, by the address of the position buffer they start from.
+    graphs: Vec<(u64, B::Graph)>,
+    /// Steps run one by one so far (two prepare the reorder tables a capture needs).
+    plain_steps: u64,
+    /// Run batches as captured graphs where the backend has them (`SWARF_NO_GRAPHS=1` turns them off).
+    pub use_graphs: bool,
+    /// Threads (lanes) per particle in the pair interaction and the conduction pass: 1, 2, 4 or 8
+    /// ([`default_lanes`]; `SWARF_LANES`). The order of the sums depends on it, the same on every backend.
+    pub lanes: u32,
     pub n: usize,
     pub time: f64,
     pub steps: u64,
+}
+
+/// The phases of a step, in order (`Solver::profile_step` times each).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Phase {
+    /// Predictor fused with the cell count.
+    Predict,
+    /// Scan, scatter and per-cell sort.
+    CellList,
+    /// Every per-particle field gathered in one launch.
+    Reorder,
+    /// σ/ρ², artificial stress, sound speed.
+    Prepare,
+    /// The pair interaction.
+    Interact,
+    /// Heat conduction (when on).
+    Conduction,
+    /// Corrector fused with the plastic update.
+    Correct,
+    /// The tool's contact pass (with a tool).
+    Contact,
+}
+
+impl Phase {
+    pub const ALL: [Phase; 8] = [
+        Phase::Predict,
+        Phase::CellList,
+        Phase::Reorder,
+        Phase::Prepare,
+        Phase::Interact,
+        Phase::Conduction,
+        Phase::Correct,
+        Phase::Contact,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Phase::Predict => "predict+count",
+            Phase::CellList => "cell list",
+            Phase::Reorder => "reorder",
+            Phase::Prepare => "pre-pass",
+            Phase::Interact => "interaction",
+            Phase::Conduction => "conduction",
+            Phase::Correct => "correct+plastic",
+            Phase::Contact => "contact",
+        }
+    }
+}
+
+/// Lanes per particle of the pair interaction and the conduction pass for a run of `n` particles: eight below
+/// LANES_8_BELOW particles, where one thread per particle leaves the GPU idle, one above (docs/performance.md,
+/// "Lanes per particle").
+pub fn default_lanes(n: usize) -> u32 {
+    if n < LANES_8_BELOW { 8 } else { 1 }
+}
+
+/// The particle count below which eight lanes per particle pay (measured: docs/performance.md).
+pub const LANES_8_BELOW: usize = 50_000;
+
+/// Steps per captured graph (even: a batch then leaves every double buffer as it found it).
+pub const GRAPH_STEPS: usize = 32;
+
+/// The conduction predictor–corrector's (T0, Ṫ) of a thermal state, when it conducts.
+fn conduction_fields<B: Backend>(th: Option<&mut ThermalState<B>>) -> Option<Conduction<'_, B>> {
+    match th {
+        Some(ThermalState { temp0: Some(t0), temp_t: Some(tt), .. }) => Some((&mut t0.cur, &*tt)),
+        _ => None,
+    }
 }
 
 impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
@@ -207,6 +295,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             Some(p) => Some(PlasticState {
                 eps: Field::upload(b, &zeros_f, "plastic strain")?,
                 rate: Field::upload(b, &zeros_f, "plastic strain rate")?,
+                work: Field::upload(b, &zeros_f, "plastic work")?,
                 model_buf: b.upload(p.model.param_bytes(), "flow-stress parameters")?,
                 model: p.model,
                 taylor_quinney: p.taylor_quinney,
@@ -280,8 +369,23 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             plastic,
             contact,
             mech_mass,
+            dissipation: if stab.viscosity {
+                Some((Field::upload(b, &zeros_f, "viscous dissipation")?, b.alloc(n, "viscous dissipation rate")?))
+            } else {
+                None
+            },
             shear: setup.shear,
             stab,
+            scalars: b.alloc(GRAPH_STEPS, "step scalars")?,
+            host_scalars: vec![StepScalars::default(); GRAPH_STEPS],
+            batch: ReorderBatch::default(),
+            graphs: Vec::new(),
+            plain_steps: 0,
+            use_graphs: std::env::var("SWARF_NO_GRAPHS").map_or(true, |v| v != "1"),
+            lanes: match std::env::var("SWARF_LANES").ok().and_then(|v| v.parse().ok()) {
+                Some(l @ (1 | 2 | 4 | 8)) => l,
+                _ => default_lanes(n),
+            },
             n,
             time: 0.0,
             steps: 0,
@@ -290,166 +394,335 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
 
     /// One step of length `dt`.
     pub fn step(&mut self, b: &B, dt: f64) -> Result<()> {
-        let n = self.n;
+        self.ramp_tool(b, dt)?;
+        self.fill_scalars(b, dt, 1)?;
+        self.step_at(b, dt, 0)?;
+        self.plain_steps += 1;
+        Ok(())
+    }
+
+    /// `count` steps of length `dt`, equal to `count` calls of [`Solver::step`]. On a backend with graphs the
+    /// steps run in captured batches of [`GRAPH_STEPS`] (one launch per batch; captured once per buffer parity,
+    /// after two plain steps have prepared every reorder table).
+    pub fn advance(&mut self, b: &B, dt: f64, mut count: usize) -> Result<()> {
+        while count > 0 {
+            if self.ramping() || count < GRAPH_STEPS || self.plain_steps < 2 || !self.use_graphs {
+                self.step(b, dt)?;
+                count -= 1;
+                continue;
+            }
+            self.fill_scalars(b, dt, GRAPH_STEPS)?;
+            let key = b.address(&self.particles.pos.cur);
+            if let Some((_, g)) = self.graphs.iter().find(|(k, _)| *k == key) {
+                b.replay(g)?;
+                for _ in 0..GRAPH_STEPS {
+                    self.time += dt;
+                }
+                self.steps += GRAPH_STEPS as u64;
+            } else {
+                let (t0, s0) = (self.time, self.steps);
+                let mut run = || -> Result<()> {
+                    for j in 0..GRAPH_STEPS {
+                        self.step_at(b, dt, j)?;
+                    }
+                    Ok(())
+                };
+                match b.capture(&mut run)? {
+                    Some(g) => {
+                        // Capturing recorded the steps (and advanced the host's bookkeeping) without running them.
+                        b.replay(&g)?;
+                        self.graphs.push((key, g));
+                    }
+                    None => {
+                        debug_assert!(self.steps == s0 + GRAPH_STEPS as u64 && self.time > t0);
+                    }
+                }
+                if b.address(&self.particles.pos.cur) != key {
+                    return Err(crate::Error::Grid("a captured batch must leave the buffers as it found them".into()));
+                }
+            }
+            count -= GRAPH_STEPS;
+        }
+        Ok(())
+    }
+
+    /// The tool's prescribed velocity is being ramped up (steps then run one by one: the table is rewritten).
+    fn ramping(&self) -> bool {
+        self.contact
+            .as_ref()
+            .is_some_and(|c| c.tool_velocity_index.is_some() && c.motion.ramp > 0.0 && self.time < c.motion.ramp)
+    }
+
+    fn ramp_tool(&mut self, b: &B, dt: f64) -> Result<()> {
+        if !self.ramping() {
+            return Ok(());
+        }
         if let Some(c) = self.contact.as_mut()
             && let Some(k) = c.tool_velocity_index
-            && c.motion.ramp > 0.0
-            && self.time < c.motion.ramp
         {
             // The tool particles follow the ramp: their prescribed velocity at this step's midpoint.
             let v = c.motion.velocity_at(self.time + 0.5 * dt);
             c.bc_table[k] = D::Vec::<R>::new([R::from_f64(v[0]), R::from_f64(v[1]), R::ZERO]);
             b.write(&mut self.bc_vel, &c.bc_table)?;
         }
-        let p = &mut self.particles;
-        let s = &mut self.start;
-        let r = &self.rates;
-        b.sph_predict::<R, D>(
-            n,
-            R::from_f64(0.5 * dt),
-            FieldsMut { pos: &mut p.pos.cur, vel: &mut p.vel.cur, rho: &mut p.rho.cur, stress: &mut p.stress.cur },
-            FieldsMut { pos: &mut s.pos.cur, vel: &mut s.vel.cur, rho: &mut s.rho.cur, stress: &mut s.stress.cur },
-            FieldsRef { pos: &r.pos, vel: &r.vel, rho: &r.rho, stress: &r.stress },
-        )?;
-        if let (Some(t), Some(th)) = (self.temp.as_mut(), self.thermal.as_mut())
-            && let (Some(t0), Some(tt)) = (th.temp0.as_mut(), th.temp_t.as_ref())
-        {
-            b.scalar_predict(n, 0.5 * dt, &mut t.cur, &mut t0.cur, tt)?;
+        Ok(())
+    }
+
+    /// Writes the scalars of the next `count` steps of length `dt` (their Δt and the tool's state at each step's
+    /// end, on the time line the host's `time += dt` makes).
+    fn fill_scalars(&mut self, b: &B, dt: f64, count: usize) -> Result<()> {
+        let mut t = self.time;
+        for s in self.host_scalars[..count].iter_mut() {
+            t += dt;
+            *s = StepScalars { dt, time: t, tool: Default::default() };
+            if let Some(c) = &self.contact {
+                s.tool = ToolState {
+                    offset: c.motion.offset_at(t),
+                    velocity: c.motion.velocity_at(t),
+                    dt: dt.max(c.nominal_dt),
+                    step: dt,
+                };
+            }
         }
-        self.cells.build::<R, D>(b, &p.pos.cur)?;
-        let perm = &self.cells.perm;
-        p.reorder(b, perm)?;
-        s.pos.reorder(b, n, perm)?;
-        s.vel.reorder(b, n, perm)?;
-        s.rho.reorder(b, n, perm)?;
-        s.stress.reorder(b, n, perm)?;
-        if let Some(t) = self.temp.as_mut() {
-            t.reorder(b, n, perm)?;
-        }
-        if let Some(t0) = self.thermal.as_mut().and_then(|th| th.temp0.as_mut()) {
-            t0.reorder(b, n, perm)?;
-        }
-        if let Some(pl) = self.plastic.as_mut() {
-            pl.eps.reorder(b, n, perm)?;
-            pl.rate.reorder(b, n, perm)?;
-        }
-        if let Some(c) = self.contact.as_mut() {
-            c.normal.reorder(b, n, perm)?;
-            c.friction.reorder(b, n, perm)?;
-        }
-        if let Some(m) = self.mech_mass.as_mut() {
-            m.reorder(b, n, perm)?;
-        }
-        b.sph_prepare::<R, D>(
-            n,
-            self.stab,
-            &self.params,
-            &p.rho.cur,
-            &p.stress.cur,
-            &mut self.sig,
-            self.art.as_mut(),
-            self.sound.as_mut(),
-            if self.host_params.expansion != R::ZERO { self.temp.as_ref().map(|t| &t.cur) } else { None },
-        )?;
-        let input = SphInputs::<B, R, D> {
-            pos: &p.pos.cur,
-            vel: &p.vel.cur,
-            rho: &p.rho.cur,
-            mass: self.mech_mass.as_ref().map_or(&p.mass.cur, |m| &m.cur),
-            stress: &p.stress.cur,
-            sig: &self.sig,
-            art: self.art.as_ref(),
-            sound: self.sound.as_ref(),
-            flags: &p.flags.cur,
-            bc_vel: &self.bc_vel,
-            contact: self.contact.as_ref().map(|c| (&c.normal.cur, &c.friction.cur)),
-        };
-        let r = &mut self.rates;
-        b.sph_rates::<R, D>(
-            n,
-            self.stab,
-            &self.params,
-            &self.cells.grid_buf,
-            &self.cells.starts,
-            &input,
-            FieldsMut { pos: &mut r.pos, vel: &mut r.vel, rho: &mut r.rho, stress: &mut r.stress },
-        )?;
-        if let (Some(t), Some(th)) = (self.temp.as_ref(), self.thermal.as_mut())
-            && let (Some(pse), Some(tt)) = (th.conduction, th.temp_t.as_mut())
-        {
-            let grid = if pse { &th.grid_pse } else { &self.cells.grid_buf };
-            let hin = crate::backend::HeatInputs::<B, R, D> {
-                pos: &p.pos.cur,
-                rho: &p.rho.cur,
-                mass: &p.mass.cur,
-                temp: &t.cur,
-                flags: &p.flags.cur,
-                materials: &th.materials,
-            };
-            b.heat_rates::<R, D>(n, pse, &th.heat, &self.params, grid, &self.cells.starts, &hin, tt)?;
-        }
-        b.sph_correct::<R, D>(
-            n,
-            R::from_f64(dt),
-            FieldsMut { pos: &mut p.pos.cur, vel: &mut p.vel.cur, rho: &mut p.rho.cur, stress: &mut p.stress.cur },
-            FieldsRef { pos: &s.pos.cur, vel: &s.vel.cur, rho: &s.rho.cur, stress: &s.stress.cur },
-            FieldsRef { pos: &r.pos, vel: &r.vel, rho: &r.rho, stress: &r.stress },
-        )?;
-        if let (Some(t), Some(th)) = (self.temp.as_mut(), self.thermal.as_ref())
-            && let (Some(t0), Some(tt)) = (th.temp0.as_ref(), th.temp_t.as_ref())
-        {
-            b.scalar_correct(n, dt, &mut t.cur, &t0.cur, tt)?;
-        }
-        if let (Some(pl), Some(t)) = (self.plastic.as_mut(), self.temp.as_mut()) {
-            let consts = PlasticConsts { shear: self.shear, dt, taylor_quinney: pl.taylor_quinney, _pad: 0.0 };
-            b.plastic_step::<R, D>(
-                n,
-                &pl.model,
-                &pl.model_buf,
-                consts,
-                crate::backend::PlasticInputs {
-                    stress: &mut p.stress.cur,
-                    rho: &p.rho.cur,
-                    eps: &mut pl.eps.cur,
-                    rate: &mut pl.rate.cur,
-                    temp: &mut t.cur,
-                    flags: &p.flags.cur,
-                    materials: self.thermal.as_ref().map(|th| &th.materials),
-                    yield_stress: self.contact.as_mut().and_then(|c| c.yield_stress.as_mut()),
-                },
-            )?;
-        }
-        if let Some(c) = self.contact.as_mut() {
-            let t1 = self.time + dt;
-            let tool = ToolState {
-                offset: c.motion.offset_at(t1),
-                velocity: c.motion.velocity_at(t1),
-                dt: dt.max(c.nominal_dt),
-                step: dt,
-            };
-            let heating = c.heating;
-            b.contact::<R, D>(
-                n,
-                &c.params,
-                tool,
-                ContactInputs {
-                    pos: &p.pos.cur,
-                    vel: &p.vel.cur,
-                    mass: &p.mass.cur,
-                    rho: &p.rho.cur,
-                    flags: &p.flags.cur,
-                    normal: &mut c.normal.cur,
-                    friction: &mut c.friction.cur,
-                    temp: self.temp.as_mut().map(|t| &mut t.cur),
-                    materials: if heating { self.thermal.as_ref().map(|th| &th.materials) } else { None },
-                    yield_stress: c.yield_stress.as_ref(),
-                    wear: c.wear.as_mut(),
-                },
-            )?;
+        b.write(&mut self.scalars, &self.host_scalars[..count])
+    }
+
+    /// One step of length `dt` whose scalars are entry `j` of the scalar buffer. Submits launches only (no copy,
+    /// no synchronisation), so that it can be captured.
+    fn step_at(&mut self, b: &B, dt: f64, j: usize) -> Result<()> {
+        for ph in Phase::ALL {
+            self.phase(b, ph, j)?;
         }
         self.time += dt;
         self.steps += 1;
         Ok(())
+    }
+
+    /// Submits one phase of the step whose scalars are entry `j`.
+    fn phase(&mut self, b: &B, ph: Phase, j: usize) -> Result<()> {
+        let n = self.n;
+        let p = &mut self.particles;
+        let s = &mut self.start;
+        match ph {
+            Phase::Predict => {
+                let r = &self.rates;
+                self.cells.begin(b)?;
+                let conduction = conduction_fields(self.thermal.as_mut());
+                b.step_predict::<R, D>(
+                    n,
+                    ScalarsAt { buf: &self.scalars, index: j },
+                    StepFields {
+                        y: FieldsMut {
+                            pos: &mut p.pos.cur,
+                            vel: &mut p.vel.cur,
+                            rho: &mut p.rho.cur,
+                            stress: &mut p.stress.cur,
+                        },
+                        y0: FieldsMut {
+                            pos: &mut s.pos.cur,
+                            vel: &mut s.vel.cur,
+                            rho: &mut s.rho.cur,
+                            stress: &mut s.stress.cur,
+                        },
+                        rates: FieldsRef { pos: &r.pos, vel: &r.vel, rho: &r.rho, stress: &r.stress },
+                        temp: if conduction.is_some() { self.temp.as_mut().map(|t| &mut t.cur) } else { None },
+                        conduction,
+                        dissipation: None,
+                    },
+                    self.cells.count_pass(),
+                )?;
+            }
+            Phase::CellList => {
+                self.cells.finish(b)?;
+            }
+            Phase::Reorder => {
+                let batch = &mut self.batch;
+                p.stage(b, batch);
+                s.pos.stage(b, batch);
+                s.vel.stage(b, batch);
+                s.rho.stage(b, batch);
+                s.stress.stage(b, batch);
+                if let Some(t) = self.temp.as_mut() {
+                    t.stage(b, batch);
+                }
+                if let Some(t0) = self.thermal.as_mut().and_then(|th| th.temp0.as_mut()) {
+                    t0.stage(b, batch);
+                }
+                if let Some(pl) = self.plastic.as_mut() {
+                    pl.eps.stage(b, batch);
+                    pl.rate.stage(b, batch);
+                    pl.work.stage(b, batch);
+                }
+                if let Some(c) = self.contact.as_mut() {
+                    c.normal.stage(b, batch);
+                    c.friction.stage(b, batch);
+                }
+                if let Some(m) = self.mech_mass.as_mut() {
+                    m.stage(b, batch);
+                }
+                if let Some((d, _)) = self.dissipation.as_mut() {
+                    d.stage(b, batch);
+                }
+                batch.run(b, n, &self.cells.perm)?;
+            }
+            Phase::Prepare => {
+                b.sph_prepare::<R, D>(
+                    n,
+                    self.stab,
+                    &self.params,
+                    &p.rho.cur,
+                    &p.stress.cur,
+                    &mut self.sig,
+                    self.art.as_mut(),
+                    self.sound.as_mut(),
+                    if self.host_params.expansion != R::ZERO { self.temp.as_ref().map(|t| &t.cur) } else { None },
+                )?;
+            }
+            Phase::Interact => {
+                let input = SphInputs::<B, R, D> {
+                    pos: &p.pos.cur,
+                    vel: &p.vel.cur,
+                    rho: &p.rho.cur,
+                    mass: self.mech_mass.as_ref().map_or(&p.mass.cur, |m| &m.cur),
+                    stress: &p.stress.cur,
+                    sig: &self.sig,
+                    art: self.art.as_ref(),
+                    sound: self.sound.as_ref(),
+                    flags: &p.flags.cur,
+                    bc_vel: &self.bc_vel,
+                    contact: self.contact.as_ref().map(|c| (&c.normal.cur, &c.friction.cur)),
+                };
+                let r = &mut self.rates;
+                b.sph_rates::<R, D>(
+                    n,
+                    self.lanes,
+                    self.stab,
+                    &self.params,
+                    &self.cells.grid_buf,
+                    &self.cells.starts,
+                    &input,
+                    FieldsMut { pos: &mut r.pos, vel: &mut r.vel, rho: &mut r.rho, stress: &mut r.stress },
+                    self.dissipation.as_mut().map(|(_, rate)| rate),
+                )?;
+            }
+            Phase::Conduction => {
+                let _ = s;
+                if let (Some(t), Some(th)) = (self.temp.as_ref(), self.thermal.as_mut())
+                    && let (Some(pse), Some(tt)) = (th.conduction, th.temp_t.as_mut())
+                {
+                    let grid = if pse { &th.grid_pse } else { &self.cells.grid_buf };
+                    let hin = crate::backend::HeatInputs::<B, R, D> {
+                        pos: &p.pos.cur,
+                        rho: &p.rho.cur,
+                        mass: &p.mass.cur,
+                        temp: &t.cur,
+                        flags: &p.flags.cur,
+                        materials: &th.materials,
+                    };
+                    b.heat_rates::<R, D>(
+                        n,
+                        self.lanes,
+                        pse,
+                        &th.heat,
+                        &self.params,
+                        grid,
+                        &self.cells.starts,
+                        &hin,
+                        tt,
+                    )?;
+                }
+            }
+            Phase::Correct => {
+                let yield_stress = self.contact.as_mut().and_then(|c| c.yield_stress.as_mut());
+                let (materials, conduction) = match self.thermal.as_mut() {
+                    Some(ThermalState { materials, temp0, temp_t, .. }) => (
+                        Some(&*materials),
+                        match (temp0.as_mut(), temp_t.as_ref()) {
+                            (Some(t0), Some(tt)) => Some((&mut t0.cur, tt)),
+                            _ => None,
+                        },
+                    ),
+                    None => (None, None),
+                };
+                let shear = self.shear;
+                let plastic = self.plastic.as_mut().map(|pl| PlasticPass {
+                    model: &pl.model,
+                    model_buf: &pl.model_buf,
+                    shear,
+                    taylor_quinney: pl.taylor_quinney,
+                    eps: &mut pl.eps.cur,
+                    rate: &mut pl.rate.cur,
+                    flags: &p.flags.cur,
+                    materials,
+                    yield_stress,
+                    work: Some(&mut pl.work.cur),
+                });
+                let r = &self.rates;
+                b.step_finish::<R, D>(
+                    n,
+                    ScalarsAt { buf: &self.scalars, index: j },
+                    StepFields {
+                        y: FieldsMut {
+                            pos: &mut p.pos.cur,
+                            vel: &mut p.vel.cur,
+                            rho: &mut p.rho.cur,
+                            stress: &mut p.stress.cur,
+                        },
+                        y0: FieldsMut {
+                            pos: &mut s.pos.cur,
+                            vel: &mut s.vel.cur,
+                            rho: &mut s.rho.cur,
+                            stress: &mut s.stress.cur,
+                        },
+                        rates: FieldsRef { pos: &r.pos, vel: &r.vel, rho: &r.rho, stress: &r.stress },
+                        temp: self.temp.as_mut().map(|t| &mut t.cur),
+                        conduction,
+                        dissipation: self.dissipation.as_mut().map(|(d, rate)| (&mut d.cur, &*rate)),
+                    },
+                    plastic,
+                )?;
+            }
+            Phase::Contact => {
+                if let Some(c) = self.contact.as_mut() {
+                    let heating = c.heating;
+                    b.contact::<R, D>(
+                        n,
+                        &c.params,
+                        ScalarsAt { buf: &self.scalars, index: j },
+                        ContactInputs {
+                            pos: &p.pos.cur,
+                            vel: &p.vel.cur,
+                            mass: &p.mass.cur,
+                            rho: &p.rho.cur,
+                            flags: &p.flags.cur,
+                            normal: &mut c.normal.cur,
+                            friction: &mut c.friction.cur,
+                            temp: self.temp.as_mut().map(|t| &mut t.cur),
+                            materials: if heating { self.thermal.as_ref().map(|th| &th.materials) } else { None },
+                            yield_stress: c.yield_stress.as_ref(),
+                            wear: c.wear.as_mut(),
+                        },
+                    )?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// One step of length `dt` with each phase timed by the backend (CUDA events around each phase on the GPU);
+    /// returns the milliseconds of each phase of [`Phase::ALL`]. Slower than [`Solver::step`] (it waits after
+    /// every phase) and equal to it in its results.
+    pub fn profile_step(&mut self, b: &B, dt: f64) -> Result<[f64; 8]> {
+        self.ramp_tool(b, dt)?;
+        self.fill_scalars(b, dt, 1)?;
+        let mut ms = [0.0; 8];
+        for (k, ph) in Phase::ALL.into_iter().enumerate() {
+            ms[k] = b.time_ms(&mut || self.phase(b, ph, 0))?;
+        }
+        self.time += dt;
+        self.steps += 1;
+        self.plain_steps += 1;
+        Ok(ms)
     }
 
     /// The tool's force on the workpiece now, summed in f64 in particle order (deterministic, equal on every
@@ -515,6 +788,21 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         Ok((t, e, r))
     }
 
+    /// Host copies of the accumulated specific plastic work and viscous dissipation [J/kg] (state order), where
+    /// modelled: the energy balance's dissipated terms.
+    #[allow(clippy::type_complexity)]
+    pub fn download_dissipated(&self, b: &B) -> Result<(Option<Vec<f64>>, Option<Vec<f64>>)> {
+        let w = match &self.plastic {
+            Some(p) => Some(p.work.read(b)?),
+            None => None,
+        };
+        let d = match &self.dissipation {
+            Some((d, _)) => Some(d.read(b)?),
+            None => None,
+        };
+        Ok((w, d))
+    }
+
     /// Host copies of the rates of the last step (x, v, ρ, S), in the state's order.
     #[allow(clippy::type_complexity)]
     pub fn download_rates(&self, b: &B) -> Result<(Vec<D::Vec<R>>, Vec<D::Vec<R>>, Vec<R>, Vec<D::Sym<R>>)> {
@@ -564,6 +852,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         if let Some(pl) = &self.plastic {
             dump(b, "eps", &pl.eps.cur, &mut o)?;
             dump(b, "eps_rate", &pl.rate.cur, &mut o)?;
+            dump(b, "plastic_work", &pl.work.cur, &mut o)?;
         }
         if let Some(c) = &self.contact {
             dump(b, "contact_normal", &c.normal.cur, &mut o)?;
@@ -571,6 +860,9 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         }
         if let Some(m) = &self.mech_mass {
             dump(b, "mech_mass", &m.cur, &mut o)?;
+        }
+        if let Some((d, _)) = &self.dissipation {
+            dump(b, "viscous_dissipation", &d.cur, &mut o)?;
         }
         Ok(o)
     }
@@ -600,6 +892,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         if let Some(pl) = &mut self.plastic {
             crate::state::load_blob(b, "eps", &mut pl.eps.cur, s)?;
             crate::state::load_blob(b, "eps_rate", &mut pl.rate.cur, s)?;
+            crate::state::load_blob(b, "plastic_work", &mut pl.work.cur, s)?;
         }
         if let Some(c) = &mut self.contact {
             crate::state::load_blob(b, "contact_normal", &mut c.normal.cur, s)?;
@@ -613,6 +906,9 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         }
         if let Some(m) = &mut self.mech_mass {
             crate::state::load_blob(b, "mech_mass", &mut m.cur, s)?;
+        }
+        if let Some((d, _)) = &mut self.dissipation {
+            crate::state::load_blob(b, "viscous_dissipation", &mut d.cur, s)?;
         }
         Ok(())
     }

@@ -5,8 +5,10 @@
 //! force loop. Differences from the original code are recorded in docs/neighbour-search.md.
 
 pub mod grid;
+pub mod reorder;
 pub mod search;
 pub mod sort;
 
 pub use grid::GridParams;
-pub use search::for_each_neighbour;
+pub use reorder::GatherField;
+pub use search::{for_each_neighbour, for_each_neighbour_strided};

@@ -82,3 +82,57 @@ pub unsafe fn neighbour_row<R: Real, V: Vector<R>>(
     };
     c
 }
+
+/// Calls `f(j)` for the share of `lane` (of `lanes`) of the candidates [`for_each_neighbour`] visits: the
+/// candidates numbered k ≡ lane (mod lanes) in that visiting order, in increasing k. The lanes together visit
+/// every candidate once, in balanced shares, so that `lanes` threads can sum over one particle's neighbours;
+/// with `lanes` = 1 this is `for_each_neighbour`.
+///
+/// # Safety
+/// As [`for_each_neighbour`]; `lane < lanes`.
+#[inline(always)]
+pub unsafe fn for_each_neighbour_strided<R: Real, V: Vector<R>, F: FnMut(u32)>(
+    grid: &GridParams,
+    starts: *const u32,
+    p: &V,
+    lane: u32,
+    lanes: u32,
+    mut f: F,
+) {
+    let c = grid.coords::<R, V>(p);
+    if c[0] == u32::MAX || lanes == 0 {
+        return;
+    }
+    let s = grid.stencil;
+    let [nx, ny, nz] = grid.dims;
+    let x0 = c[0].saturating_sub(s);
+    let x1 = if c[0] + s < nx { c[0] + s } else { nx - 1 };
+    let y0 = c[1].saturating_sub(s);
+    let y1 = if c[1] + s < ny { c[1] + s } else { ny - 1 };
+    let (z0, z1) =
+        if V::DIM == 3 { (c[2].saturating_sub(s), if c[2] + s < nz { c[2] + s } else { nz - 1 }) } else { (0, 0) };
+    // `skip`: how many candidates of the next row precede this lane's first one.
+    let mut skip = lane;
+    let mut z = z0;
+    while z <= z1 {
+        let mut y = y0;
+        while y <= y1 {
+            let row = (z * ny + y) * nx;
+            let (a, b) = unsafe { (*starts.add((row + x0) as usize), *starts.add((row + x1 + 1) as usize)) };
+            let len = b - a;
+            if skip >= len {
+                skip -= len;
+            } else {
+                let mut j = a + skip;
+                while j < b {
+                    f(j);
+                    j += lanes;
+                }
+                // j − b candidates of the next row belong to earlier lanes' turns before ours.
+                skip = j - b;
+            }
+            y += 1;
+        }
+        z += 1;
+    }
+}

@@ -47,3 +47,11 @@ pub unsafe fn atomic_add_u32(p: *mut u32, v: u32) -> u32 {
     use core::sync::atomic::{AtomicU32, Ordering};
     unsafe { AtomicU32::from_ptr(p).fetch_add(v, Ordering::Relaxed) }
 }
+
+/// `shfl.sync.bfly`: the value of lane (lane ^ mask).
+#[inline(always)]
+pub fn shfl_xor(v: u32, mask: u32) -> u32 {
+    let r: u32;
+    unsafe { asm!("shfl.sync.bfly.b32 {r}, {v}, {m}, 31, -1;", r = out(reg32) r, v = in(reg32) v, m = in(reg32) mask) };
+    r
+}

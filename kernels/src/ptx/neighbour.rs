@@ -4,7 +4,7 @@
 
 use super::global_index;
 use super::intrinsics::atomic_add_u32;
-use crate::neighbour::{GridParams, sort::sort_cell};
+use crate::neighbour::{GatherField, GridParams, sort::sort_cell};
 use crate::real::Real;
 use crate::vector::{V2f32, V2f64, V3f32, V3f64, Vector};
 use core::num::NonZeroU32;
@@ -142,3 +142,35 @@ pub struct B16([u32; 4]);
 gather!(swarf_gather_b4, u32);
 gather!(swarf_gather_b8, u64);
 gather!(swarf_gather_b16, B16);
+
+/// dst_f[i] = src_f[perm[i]] for every field f of `table` (block row y = field, one thread per particle), the
+/// whole particle state reordered in one launch. Each element is copied in the widest unit its size allows.
+#[unsafe(no_mangle)]
+pub unsafe extern "ptx-kernel" fn swarf_gather_fields(n: u32, perm: *const u32, table: *const GatherField) {
+    let i = global_index();
+    if i >= n {
+        return;
+    }
+    unsafe {
+        let f = *table.add(core::arch::nvptx::_block_idx_y() as usize);
+        let j = *perm.add(i as usize) as usize;
+        let (i, b) = (i as usize, f.bytes as usize);
+        if b.is_multiple_of(16) {
+            copy_units::<B16>(f, b / 16, i, j);
+        } else if b.is_multiple_of(8) {
+            copy_units::<u64>(f, b / 8, i, j);
+        } else {
+            copy_units::<u32>(f, b / 4, i, j);
+        }
+    }
+}
+
+#[inline(always)]
+unsafe fn copy_units<T: Copy>(f: GatherField, k: usize, i: usize, j: usize) {
+    let (src, dst) = (f.src as *const T, f.dst as *mut T);
+    let mut w = 0;
+    while w < k {
+        unsafe { *dst.add(i * k + w) = *src.add(j * k + w) };
+        w += 1;
+    }
+}

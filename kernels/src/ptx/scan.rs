@@ -52,7 +52,8 @@ pub unsafe extern "ptx-kernel" fn swarf_scan_apply(
         return;
     }
     let lane = lane_id();
-    let mut carry = unsafe { *tile_offsets.add(tile as usize) };
+    // A null `tile_offsets` means one tile: its offset is 0.
+    let mut carry = if tile_offsets.is_null() { 0 } else { unsafe { *tile_offsets.add(tile as usize) } };
     let mut r = 0;
     while r < 32 {
         let i = base as u32 + r * 32 + lane;

@@ -49,9 +49,11 @@ density_entry!(swarf_density_2d_f64, f64, V2f64);
 density_entry!(swarf_density_3d_f32, f32, V3f32);
 density_entry!(swarf_density_3d_f64, f64, V3f64);
 
-use crate::sph::integrate::{advance_sym, advance_vec};
-use crate::sph::interact::{Arrays, prepare, rates};
+use super::intrinsics::{atomic_add_u32, shfl_xor};
+use crate::sph::interact::{Arrays, PairSums, finish_rates, pair_sums, prepare};
+use crate::sph::lanes::{LaneSum, clamp_lanes};
 use crate::sph::params::SphParams;
+use crate::sph::step::{StepArrays, StepScalars, correct_particle, predict_particle};
 use crate::vector::{Dim, Dim2, Dim3};
 
 type Vec_<R, D> = <D as Dim>::Vec<R>;
@@ -89,12 +91,15 @@ macro_rules! prepare_entry {
     };
 }
 
-/// The pair interaction: rates of every sorted particle (sph::interact::rates).
+/// The pair interaction: rates of every sorted particle, `$lanes` threads per particle, each summing its share of
+/// the neighbours (sph::interact::pair_sums); the shares are combined by a shuffle butterfly in the order of
+/// sph::interact::combine_lanes and the particle's first lane writes the rates (sph::interact::finish_rates).
 macro_rules! rates_entry {
     ($name:ident, $r:ty, $d:ty, $av:literal, $as:literal, $xs:literal) => {
         #[unsafe(no_mangle)]
         pub unsafe extern "ptx-kernel" fn $name(
             n: u32,
+            lanes: u32,
             params: *const SphParams<$r>,
             grid: *const GridParams,
             starts: *const u32,
@@ -114,31 +119,65 @@ macro_rules! rates_entry {
             vel_t: *mut Vec_<$r, $d>,
             rho_t: *mut $r,
             stress_t: *mut Sym_<$r, $d>,
+            dissipation_t: *mut $r,
         ) {
-            let i = global_index();
-            if i < n {
-                let a =
-                    Arrays::<$r, $d> { pos, vel, rho, mass, stress, sig, art, sound, flags, bc_vel, normal, friction };
-                unsafe {
-                    let o = rates::<$r, $d, $av, $as, $xs>(&*params, &*grid, starts, &a, i);
+            let t = global_index();
+            let lanes = clamp_lanes(lanes);
+            let (i, lane) = (t / lanes, t % lanes);
+            let a = Arrays::<$r, $d> { pos, vel, rho, mass, stress, sig, art, sound, flags, bc_vel, normal, friction };
+            // Every lane takes part in the shuffles, also past the last particle.
+            let live = i < n;
+            unsafe {
+                let mut sums = if live {
+                    pair_sums::<$r, $d, $av, $as, $xs>(&*params, &*grid, starts, &a, i, lane, lanes)
+                } else {
+                    PairSums::default()
+                };
+                let mut s = 1;
+                while s < lanes {
+                    sums = sums.add(&shuffle_xor(&sums, s));
+                    s <<= 1;
+                }
+                if live && lane == 0 {
+                    let o = finish_rates::<$r, $d, $xs>(&*params, &a, i, &sums);
                     let iu = i as usize;
                     *pos_t.add(iu) = o.pos_t;
                     *vel_t.add(iu) = o.vel_t;
                     *rho_t.add(iu) = o.rho_t;
                     *stress_t.add(iu) = o.stress_t;
+                    if !dissipation_t.is_null() {
+                        *dissipation_t.add(iu) = o.dissipation_t;
+                    }
                 }
             }
         }
     };
 }
 
-/// Predictor (y0 ← y; y ← y0 + c ẏ) and corrector (y ← y0 + c ẏ) over x, v, ρ, S.
-macro_rules! step_entries {
-    ($predict:ident, $correct:ident, $r:ty, $d:ty) => {
+/// The value of lane (lane ^ mask), word by word (T is plain data of 4- or 8-byte reals).
+#[inline(always)]
+fn shuffle_xor<T: Copy>(x: &T, mask: u32) -> T {
+    let mut o = *x;
+    let words = size_of::<T>() / 4;
+    let (src, dst) = (x as *const T as *const u32, &mut o as *mut T as *mut u32);
+    let mut k = 0;
+    while k < words {
+        // SAFETY: k < the size of T in words.
+        unsafe { *dst.add(k) = shfl_xor(*src.add(k), mask) };
+        k += 1;
+    }
+    o
+}
+
+/// The fused predictor (sph::step::predict_particle) and the cell list's counting pass on the predicted position:
+/// keys[i] = its cell, slots[i] = its arrival order in the cell, counts[cell] += 1 (counts zeroed before).
+macro_rules! predict_entry {
+    ($name:ident, $r:ty, $d:ty) => {
         #[unsafe(no_mangle)]
-        pub unsafe extern "ptx-kernel" fn $predict(
+        pub unsafe extern "ptx-kernel" fn $name(
             n: u32,
-            c: $r,
+            scalars: *const StepScalars,
+            grid: *const GridParams,
             pos: *mut Vec_<$r, $d>,
             vel: *mut Vec_<$r, $d>,
             rho: *mut $r,
@@ -151,47 +190,169 @@ macro_rules! step_entries {
             vel_t: *const Vec_<$r, $d>,
             rho_t: *const $r,
             stress_t: *const Sym_<$r, $d>,
+            temp: *mut f64,
+            temp0: *mut f64,
+            temp_t: *const f64,
+            keys: *mut u32,
+            counts: *mut u32,
+            slots: *mut u32,
         ) {
-            let i = global_index() as usize;
-            if i < n as usize {
+            let i = global_index();
+            if i < n {
+                let a = StepArrays {
+                    pos,
+                    vel,
+                    rho,
+                    stress,
+                    pos0,
+                    vel0,
+                    rho0,
+                    stress0,
+                    pos_t,
+                    vel_t,
+                    rho_t,
+                    stress_t,
+                    temp,
+                    temp0,
+                    temp_t,
+                    diss: core::ptr::null_mut(),
+                    diss_t: core::ptr::null(),
+                };
                 unsafe {
-                    let (x, v, r, s) = (*pos.add(i), *vel.add(i), *rho.add(i), *stress.add(i));
-                    *pos0.add(i) = x;
-                    *vel0.add(i) = v;
-                    *rho0.add(i) = r;
-                    *stress0.add(i) = s;
-                    *pos.add(i) = advance_vec(&x, c, &*pos_t.add(i));
-                    *vel.add(i) = advance_vec(&v, c, &*vel_t.add(i));
-                    *rho.add(i) = r + c * *rho_t.add(i);
-                    *stress.add(i) = advance_sym(&s, c, &*stress_t.add(i));
+                    let x = predict_particle(&a, (*scalars).dt, i as usize);
+                    let k = (*grid).key::<$r, Vec_<$r, $d>>(&x);
+                    *keys.add(i as usize) = k;
+                    *slots.add(i as usize) = atomic_add_u32(counts.add(k as usize), 1);
                 }
             }
         }
+    };
+}
 
+/// The fused corrector (sph::step::correct_particle) of an elastic run.
+macro_rules! finish_entry {
+    ($name:ident, $r:ty, $d:ty) => {
         #[unsafe(no_mangle)]
-        pub unsafe extern "ptx-kernel" fn $correct(
+        pub unsafe extern "ptx-kernel" fn $name(
             n: u32,
-            c: $r,
+            scalars: *const StepScalars,
             pos: *mut Vec_<$r, $d>,
             vel: *mut Vec_<$r, $d>,
             rho: *mut $r,
             stress: *mut Sym_<$r, $d>,
-            pos0: *const Vec_<$r, $d>,
-            vel0: *const Vec_<$r, $d>,
-            rho0: *const $r,
-            stress0: *const Sym_<$r, $d>,
+            pos0: *mut Vec_<$r, $d>,
+            vel0: *mut Vec_<$r, $d>,
+            rho0: *mut $r,
+            stress0: *mut Sym_<$r, $d>,
             pos_t: *const Vec_<$r, $d>,
             vel_t: *const Vec_<$r, $d>,
             rho_t: *const $r,
             stress_t: *const Sym_<$r, $d>,
+            temp: *mut f64,
+            temp0: *mut f64,
+            temp_t: *const f64,
+            diss: *mut f64,
+            diss_t: *const $r,
         ) {
-            let i = global_index() as usize;
-            if i < n as usize {
+            let i = global_index();
+            if i < n {
+                let a = StepArrays {
+                    pos,
+                    vel,
+                    rho,
+                    stress,
+                    pos0,
+                    vel0,
+                    rho0,
+                    stress0,
+                    pos_t,
+                    vel_t,
+                    rho_t,
+                    stress_t,
+                    temp,
+                    temp0,
+                    temp_t,
+                    diss,
+                    diss_t,
+                };
+                unsafe { correct_particle(&a, (*scalars).dt, i as usize) };
+            }
+        }
+    };
+}
+
+/// The fused corrector and plastic update (sph::plastic::plastic_particle) of the same particle, one entry per
+/// flow-stress model.
+macro_rules! finish_plastic_entry {
+    ($name:ident, $m:ty, $r:ty, $d:ty) => {
+        #[unsafe(no_mangle)]
+        pub unsafe extern "ptx-kernel" fn $name(
+            n: u32,
+            scalars: *const StepScalars,
+            model: *const $m,
+            shear: f64,
+            taylor_quinney: f64,
+            pos: *mut Vec_<$r, $d>,
+            vel: *mut Vec_<$r, $d>,
+            rho: *mut $r,
+            stress: *mut Sym_<$r, $d>,
+            pos0: *mut Vec_<$r, $d>,
+            vel0: *mut Vec_<$r, $d>,
+            rho0: *mut $r,
+            stress0: *mut Sym_<$r, $d>,
+            pos_t: *const Vec_<$r, $d>,
+            vel_t: *const Vec_<$r, $d>,
+            rho_t: *const $r,
+            stress_t: *const Sym_<$r, $d>,
+            temp: *mut f64,
+            temp0: *mut f64,
+            temp_t: *const f64,
+            diss: *mut f64,
+            diss_t: *const $r,
+            eps: *mut f64,
+            rate: *mut f64,
+            flags: *const u32,
+            materials: *const ThermalMaterial,
+            yield_stress: *mut f64,
+            work: *mut f64,
+        ) {
+            let i = global_index();
+            if i < n {
+                let a = StepArrays {
+                    pos,
+                    vel,
+                    rho,
+                    stress,
+                    pos0,
+                    vel0,
+                    rho0,
+                    stress0,
+                    pos_t,
+                    vel_t,
+                    rho_t,
+                    stress_t,
+                    temp,
+                    temp0,
+                    temp_t,
+                    diss,
+                    diss_t,
+                };
+                let p = PlasticArrays::<$r, Sym_<$r, $d>> {
+                    stress,
+                    rho,
+                    eps,
+                    rate,
+                    temp,
+                    flags,
+                    materials,
+                    yield_stress,
+                    work,
+                };
                 unsafe {
-                    *pos.add(i) = advance_vec(&*pos0.add(i), c, &*pos_t.add(i));
-                    *vel.add(i) = advance_vec(&*vel0.add(i), c, &*vel_t.add(i));
-                    *rho.add(i) = *rho0.add(i) + c * *rho_t.add(i);
-                    *stress.add(i) = advance_sym(&*stress0.add(i), c, &*stress_t.add(i));
+                    let dt = (*scalars).dt;
+                    correct_particle(&a, dt, i as usize);
+                    let c = PlasticConsts { shear, dt, taylor_quinney, _pad: 0.0 };
+                    plastic_particle::<$r, $d, $m>(&*model, &c, &p, i as usize);
                 }
             }
         }
@@ -210,7 +371,8 @@ rates_entry!(swarf_sph_rates_2d_f32_v1s0x0, f32, Dim2, true, false, false);
 rates_entry!(swarf_sph_rates_2d_f32_v1s0x1, f32, Dim2, true, false, true);
 rates_entry!(swarf_sph_rates_2d_f32_v1s1x0, f32, Dim2, true, true, false);
 rates_entry!(swarf_sph_rates_2d_f32_v1s1x1, f32, Dim2, true, true, true);
-step_entries!(swarf_sph_predict_2d_f32, swarf_sph_correct_2d_f32, f32, Dim2);
+predict_entry!(swarf_step_predict_2d_f32, f32, Dim2);
+finish_entry!(swarf_step_finish_2d_f32, f32, Dim2);
 prepare_entry!(swarf_sph_prepare_2d_f64_v0s0, f64, Dim2, false, false);
 prepare_entry!(swarf_sph_prepare_2d_f64_v0s1, f64, Dim2, false, true);
 prepare_entry!(swarf_sph_prepare_2d_f64_v1s0, f64, Dim2, true, false);
@@ -223,7 +385,8 @@ rates_entry!(swarf_sph_rates_2d_f64_v1s0x0, f64, Dim2, true, false, false);
 rates_entry!(swarf_sph_rates_2d_f64_v1s0x1, f64, Dim2, true, false, true);
 rates_entry!(swarf_sph_rates_2d_f64_v1s1x0, f64, Dim2, true, true, false);
 rates_entry!(swarf_sph_rates_2d_f64_v1s1x1, f64, Dim2, true, true, true);
-step_entries!(swarf_sph_predict_2d_f64, swarf_sph_correct_2d_f64, f64, Dim2);
+predict_entry!(swarf_step_predict_2d_f64, f64, Dim2);
+finish_entry!(swarf_step_finish_2d_f64, f64, Dim2);
 prepare_entry!(swarf_sph_prepare_3d_f32_v0s0, f32, Dim3, false, false);
 prepare_entry!(swarf_sph_prepare_3d_f32_v0s1, f32, Dim3, false, true);
 prepare_entry!(swarf_sph_prepare_3d_f32_v1s0, f32, Dim3, true, false);
@@ -236,7 +399,8 @@ rates_entry!(swarf_sph_rates_3d_f32_v1s0x0, f32, Dim3, true, false, false);
 rates_entry!(swarf_sph_rates_3d_f32_v1s0x1, f32, Dim3, true, false, true);
 rates_entry!(swarf_sph_rates_3d_f32_v1s1x0, f32, Dim3, true, true, false);
 rates_entry!(swarf_sph_rates_3d_f32_v1s1x1, f32, Dim3, true, true, true);
-step_entries!(swarf_sph_predict_3d_f32, swarf_sph_correct_3d_f32, f32, Dim3);
+predict_entry!(swarf_step_predict_3d_f32, f32, Dim3);
+finish_entry!(swarf_step_finish_3d_f32, f32, Dim3);
 prepare_entry!(swarf_sph_prepare_3d_f64_v0s0, f64, Dim3, false, false);
 prepare_entry!(swarf_sph_prepare_3d_f64_v0s1, f64, Dim3, false, true);
 prepare_entry!(swarf_sph_prepare_3d_f64_v1s0, f64, Dim3, true, false);
@@ -249,9 +413,10 @@ rates_entry!(swarf_sph_rates_3d_f64_v1s0x0, f64, Dim3, true, false, false);
 rates_entry!(swarf_sph_rates_3d_f64_v1s0x1, f64, Dim3, true, false, true);
 rates_entry!(swarf_sph_rates_3d_f64_v1s1x0, f64, Dim3, true, true, false);
 rates_entry!(swarf_sph_rates_3d_f64_v1s1x1, f64, Dim3, true, true, true);
-step_entries!(swarf_sph_predict_3d_f64, swarf_sph_correct_3d_f64, f64, Dim3);
+predict_entry!(swarf_step_predict_3d_f64, f64, Dim3);
+finish_entry!(swarf_step_finish_3d_f64, f64, Dim3);
 
-use crate::sph::heat::{HeatArrays, HeatParams, ThermalMaterial, heat_rate};
+use crate::sph::heat::{HeatArrays, HeatParams, ThermalMaterial, heat_finish, heat_sum};
 
 /// Conduction: temp_t[i] = Ṫ_i (sph::heat::heat_rate), Brookshaw or PSE.
 macro_rules! heat_entry {
@@ -259,6 +424,7 @@ macro_rules! heat_entry {
         #[unsafe(no_mangle)]
         pub unsafe extern "ptx-kernel" fn $name(
             n: u32,
+            lanes: u32,
             hp: *const HeatParams,
             params: *const SphParams<$r>,
             grid: *const GridParams,
@@ -271,12 +437,25 @@ macro_rules! heat_entry {
             materials: *const ThermalMaterial,
             temp_t: *mut f64,
         ) {
-            let i = global_index();
-            if i < n {
-                let a = HeatArrays::<$r, Vec_<$r, $d>> { pos, rho, mass, temp, flags, materials };
-                unsafe {
-                    *temp_t.add(i as usize) =
-                        heat_rate::<$r, Vec_<$r, $d>, $pse>(&*hp, &(*params).kernel, &*grid, starts, &a, i);
+            let t = global_index();
+            let lanes = clamp_lanes(lanes);
+            let (i, lane) = (t / lanes, t % lanes);
+            let a = HeatArrays::<$r, Vec_<$r, $d>> { pos, rho, mass, temp, flags, materials };
+            // Every lane takes part in the shuffles, also past the last particle.
+            let live = i < n;
+            unsafe {
+                let mut sum = if live {
+                    heat_sum::<$r, Vec_<$r, $d>, $pse>(&*hp, &(*params).kernel, &*grid, starts, &a, i, lane, lanes)
+                } else {
+                    0.0
+                };
+                let mut s = 1;
+                while s < lanes {
+                    sum = sum.add(&shuffle_xor(&sum, s));
+                    s <<= 1;
+                }
+                if live && lane == 0 {
+                    *temp_t.add(i as usize) = heat_finish(&a, i, sum);
                 }
             }
         }
@@ -291,28 +470,6 @@ heat_entry!(swarf_heat_pse_2d_f32, f32, Dim2, true);
 heat_entry!(swarf_heat_pse_2d_f64, f64, Dim2, true);
 heat_entry!(swarf_heat_pse_3d_f32, f32, Dim3, true);
 heat_entry!(swarf_heat_pse_3d_f64, f64, Dim3, true);
-
-/// Predictor for an f64 scalar field: y0 ← y; y ← y0 + c ẏ.
-#[unsafe(no_mangle)]
-pub unsafe extern "ptx-kernel" fn swarf_scalar_predict(n: u32, c: f64, y: *mut f64, y0: *mut f64, yt: *const f64) {
-    let i = global_index() as usize;
-    if i < n as usize {
-        unsafe {
-            let v = *y.add(i);
-            *y0.add(i) = v;
-            *y.add(i) = v + c * *yt.add(i);
-        }
-    }
-}
-
-/// Corrector for an f64 scalar field: y ← y0 + c ẏ.
-#[unsafe(no_mangle)]
-pub unsafe extern "ptx-kernel" fn swarf_scalar_correct(n: u32, c: f64, y: *mut f64, y0: *const f64, yt: *const f64) {
-    let i = global_index() as usize;
-    if i < n as usize {
-        unsafe { *y.add(i) = *y0.add(i) + c * *yt.add(i) };
-    }
-}
 
 use crate::material::{
     Bilinear, Calamaz2008, Calamaz2010, Calamaz2011, JohnsonCook, Scgl, SimaOzel1, SimaOzel2, SimaOzel3,
@@ -337,11 +494,21 @@ macro_rules! plastic_entry {
             flags: *const u32,
             materials: *const ThermalMaterial,
             yield_stress: *mut f64,
+            work: *mut f64,
         ) {
             let i = global_index() as usize;
             if i < n as usize {
-                let a =
-                    PlasticArrays::<$r, Sym_<$r, $d>> { stress, rho, eps, rate, temp, flags, materials, yield_stress };
+                let a = PlasticArrays::<$r, Sym_<$r, $d>> {
+                    stress,
+                    rho,
+                    eps,
+                    rate,
+                    temp,
+                    flags,
+                    materials,
+                    yield_stress,
+                    work,
+                };
                 let c = PlasticConsts { shear, dt, taylor_quinney, _pad: 0.0 };
                 unsafe { plastic_particle::<$r, $d, $m>(&*model, &c, &a, i) };
             }
@@ -386,7 +553,44 @@ plastic_entry!(swarf_plastic_bilinear_2d_f64, Bilinear, f64, Dim2);
 plastic_entry!(swarf_plastic_bilinear_3d_f32, Bilinear, f32, Dim3);
 plastic_entry!(swarf_plastic_bilinear_3d_f64, Bilinear, f64, Dim3);
 
-use crate::contact::penalty::{ContactArrays, ContactParams, ToolState, contact_particle};
+finish_plastic_entry!(swarf_step_finish_jc_2d_f32, JohnsonCook, f32, Dim2);
+finish_plastic_entry!(swarf_step_finish_jc_2d_f64, JohnsonCook, f64, Dim2);
+finish_plastic_entry!(swarf_step_finish_jc_3d_f32, JohnsonCook, f32, Dim3);
+finish_plastic_entry!(swarf_step_finish_jc_3d_f64, JohnsonCook, f64, Dim3);
+finish_plastic_entry!(swarf_step_finish_calamaz_2008_2d_f32, Calamaz2008, f32, Dim2);
+finish_plastic_entry!(swarf_step_finish_calamaz_2008_2d_f64, Calamaz2008, f64, Dim2);
+finish_plastic_entry!(swarf_step_finish_calamaz_2008_3d_f32, Calamaz2008, f32, Dim3);
+finish_plastic_entry!(swarf_step_finish_calamaz_2008_3d_f64, Calamaz2008, f64, Dim3);
+finish_plastic_entry!(swarf_step_finish_calamaz_2010_2d_f32, Calamaz2010, f32, Dim2);
+finish_plastic_entry!(swarf_step_finish_calamaz_2010_2d_f64, Calamaz2010, f64, Dim2);
+finish_plastic_entry!(swarf_step_finish_calamaz_2010_3d_f32, Calamaz2010, f32, Dim3);
+finish_plastic_entry!(swarf_step_finish_calamaz_2010_3d_f64, Calamaz2010, f64, Dim3);
+finish_plastic_entry!(swarf_step_finish_calamaz_2011_2d_f32, Calamaz2011, f32, Dim2);
+finish_plastic_entry!(swarf_step_finish_calamaz_2011_2d_f64, Calamaz2011, f64, Dim2);
+finish_plastic_entry!(swarf_step_finish_calamaz_2011_3d_f32, Calamaz2011, f32, Dim3);
+finish_plastic_entry!(swarf_step_finish_calamaz_2011_3d_f64, Calamaz2011, f64, Dim3);
+finish_plastic_entry!(swarf_step_finish_sima_ozel_1_2d_f32, SimaOzel1, f32, Dim2);
+finish_plastic_entry!(swarf_step_finish_sima_ozel_1_2d_f64, SimaOzel1, f64, Dim2);
+finish_plastic_entry!(swarf_step_finish_sima_ozel_1_3d_f32, SimaOzel1, f32, Dim3);
+finish_plastic_entry!(swarf_step_finish_sima_ozel_1_3d_f64, SimaOzel1, f64, Dim3);
+finish_plastic_entry!(swarf_step_finish_sima_ozel_2_2d_f32, SimaOzel2, f32, Dim2);
+finish_plastic_entry!(swarf_step_finish_sima_ozel_2_2d_f64, SimaOzel2, f64, Dim2);
+finish_plastic_entry!(swarf_step_finish_sima_ozel_2_3d_f32, SimaOzel2, f32, Dim3);
+finish_plastic_entry!(swarf_step_finish_sima_ozel_2_3d_f64, SimaOzel2, f64, Dim3);
+finish_plastic_entry!(swarf_step_finish_sima_ozel_3_2d_f32, SimaOzel3, f32, Dim2);
+finish_plastic_entry!(swarf_step_finish_sima_ozel_3_2d_f64, SimaOzel3, f64, Dim2);
+finish_plastic_entry!(swarf_step_finish_sima_ozel_3_3d_f32, SimaOzel3, f32, Dim3);
+finish_plastic_entry!(swarf_step_finish_sima_ozel_3_3d_f64, SimaOzel3, f64, Dim3);
+finish_plastic_entry!(swarf_step_finish_scgl_2d_f32, Scgl, f32, Dim2);
+finish_plastic_entry!(swarf_step_finish_scgl_2d_f64, Scgl, f64, Dim2);
+finish_plastic_entry!(swarf_step_finish_scgl_3d_f32, Scgl, f32, Dim3);
+finish_plastic_entry!(swarf_step_finish_scgl_3d_f64, Scgl, f64, Dim3);
+finish_plastic_entry!(swarf_step_finish_bilinear_2d_f32, Bilinear, f32, Dim2);
+finish_plastic_entry!(swarf_step_finish_bilinear_2d_f64, Bilinear, f64, Dim2);
+finish_plastic_entry!(swarf_step_finish_bilinear_3d_f32, Bilinear, f32, Dim3);
+finish_plastic_entry!(swarf_step_finish_bilinear_3d_f64, Bilinear, f64, Dim3);
+
+use crate::contact::penalty::{ContactArrays, ContactParams, contact_particle};
 
 /// The contact pass with the rigid 2D tool (contact::penalty::contact_particle).
 macro_rules! contact_entry {
@@ -395,12 +599,7 @@ macro_rules! contact_entry {
         pub unsafe extern "ptx-kernel" fn $name(
             n: u32,
             params: *const ContactParams,
-            offset_x: f64,
-            offset_y: f64,
-            velocity_x: f64,
-            velocity_y: f64,
-            dt: f64,
-            step: f64,
+            scalars: *const StepScalars,
             pos: *const Vec_<$r, Dim2>,
             vel: *const Vec_<$r, Dim2>,
             mass: *const $r,
@@ -415,7 +614,6 @@ macro_rules! contact_entry {
         ) {
             let i = global_index() as usize;
             if i < n as usize {
-                let s = ToolState { offset: [offset_x, offset_y], velocity: [velocity_x, velocity_y], dt, step };
                 let a = ContactArrays::<$r, Vec_<$r, Dim2>> {
                     pos,
                     vel,
@@ -429,7 +627,7 @@ macro_rules! contact_entry {
                     yield_stress,
                     wear,
                 };
-                unsafe { contact_particle::<$r, Vec_<$r, Dim2>>(&*params, &s, &a, i) };
+                unsafe { contact_particle::<$r, Vec_<$r, Dim2>>(&*params, &(*scalars).tool, &a, i) };
             }
         }
     };

@@ -12,7 +12,8 @@
 //! Temperatures are f64 in every precision (with the plastic state: the constitutive layer is f64).
 
 use super::kernel::CubicSpline;
-use crate::neighbour::{GridParams, for_each_neighbour};
+use super::lanes::{MAX_LANES, clamp_lanes, combine};
+use crate::neighbour::{GridParams, for_each_neighbour, for_each_neighbour_strided};
 use crate::real::Real;
 use crate::vector::Vector;
 use bytemuck::{Pod, Zeroable};
@@ -61,11 +62,112 @@ pub struct HeatArrays<R: Real, V: Vector<R>> {
     pub materials: *const ThermalMaterial,
 }
 
-/// Ṫ_i from conduction. `PSE` selects the Gaussian kernel (else Brookshaw); `grid` must have stencil 2 for
-/// Brookshaw and 3 for PSE. Particles flagged with a fixed temperature get Ṫ = 0.
+/// Lane `lane` of `lanes`' share of the conduction sum Σ_j V_j k_ij L_ij of sorted particle i (0 for a particle
+/// with a fixed temperature). `PSE` selects the Gaussian kernel (else Brookshaw); `grid` must have stencil 2 for
+/// Brookshaw and 3 for PSE.
 ///
 /// # Safety
 /// Arrays hold the sorted particles of `starts`; `i` is in range; every body index has a material.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub unsafe fn heat_sum<R: Real, V: Vector<R>, const PSE: bool>(
+    hp: &HeatParams,
+    k: &CubicSpline<R>,
+    grid: &GridParams,
+    starts: *const u32,
+    a: &HeatArrays<R, V>,
+    i: u32,
+    lane: u32,
+    lanes: u32,
+) -> f64 {
+    let mut sum = 0.0;
+    unsafe {
+        if let Some(o) = heat_own(a, i) {
+            for_each_neighbour_strided::<R, V, _>(grid, starts, &o.x, lane, lanes, |j| {
+                sum += heat_pair::<R, V, PSE>(hp, k, a, &o, i, j)
+            });
+        }
+    }
+    sum
+}
+
+/// What a conduction term needs of particle i; None for a particle with a fixed temperature.
+#[derive(Clone, Copy)]
+pub struct HeatOwn<V> {
+    x: V,
+    t: f64,
+    material: ThermalMaterial,
+}
+
+#[inline(always)]
+unsafe fn heat_own<R: Real, V: Vector<R>>(a: &HeatArrays<R, V>, i: u32) -> Option<HeatOwn<V>> {
+    use super::params::flags;
+    let iu = i as usize;
+    unsafe {
+        let fl = *a.flags.add(iu);
+        if fl & flags::FIXED_TEMPERATURE != 0 {
+            return None;
+        }
+        Some(HeatOwn {
+            x: *a.pos.add(iu),
+            t: *a.temp.add(iu),
+            material: *a.materials.add((fl >> flags::BODY_SHIFT) as usize),
+        })
+    }
+}
+
+/// The term of pair (i, j) (0 for j = i or beyond the cutoff).
+#[inline(always)]
+unsafe fn heat_pair<R: Real, V: Vector<R>, const PSE: bool>(
+    hp: &HeatParams,
+    k: &CubicSpline<R>,
+    a: &HeatArrays<R, V>,
+    o: &HeatOwn<V>,
+    i: u32,
+    j: u32,
+) -> f64 {
+    use super::params::flags;
+    let cut2 = if PSE { R::from_f64(hp.pse_cut2) } else { k.support2 };
+    let ju = j as usize;
+    unsafe {
+        let r2 = o.x.dist2(&*a.pos.add(ju));
+        if j == i || r2 >= cut2 || r2 < R::from_f64(hp.min_r2) {
+            return 0.0;
+        }
+        let (mi, ti) = (o.material, o.t);
+        let fj = *a.flags.add(ju);
+        let mj = *a.materials.add((fj >> flags::BODY_SHIFT) as usize);
+        let kij = 2.0 * mi.conductivity * mj.conductivity / (mi.conductivity + mj.conductivity);
+        let vj = (*a.mass.add(ju) / *a.rho.add(ju)).to_f64();
+        let tj = *a.temp.add(ju);
+        if PSE {
+            let r2f = r2.to_f64();
+            vj * kij * (tj - ti) * hp.pse_norm * libm::exp(-r2f * hp.inv_h2)
+        } else {
+            let r = r2.sqrt();
+            let f = (k.dw_dr(r) / r).to_f64();
+            vj * kij * 2.0 * (ti - tj) * f
+        }
+    }
+}
+
+/// Ṫ_i from the combined conduction sum: Σ / (ρ_i c_i); 0 for a particle with a fixed temperature.
+///
+/// # Safety
+/// As [`heat_sum`].
+#[inline(always)]
+pub unsafe fn heat_finish<R: Real, V: Vector<R>>(a: &HeatArrays<R, V>, i: u32, sum: f64) -> f64 {
+    match unsafe { heat_own(a, i) } {
+        Some(o) => sum / (unsafe { *a.rho.add(i as usize) }.to_f64() * o.material.specific_heat),
+        None => 0.0,
+    }
+}
+
+/// Ṫ_i from conduction, summed by `lanes` lanes combined as the GPU combines them (`sph::lanes`). Particles
+/// flagged with a fixed temperature get Ṫ = 0.
+///
+/// # Safety
+/// As [`heat_sum`].
 #[inline(always)]
 pub unsafe fn heat_rate<R: Real, V: Vector<R>, const PSE: bool>(
     hp: &HeatParams,
@@ -74,40 +176,19 @@ pub unsafe fn heat_rate<R: Real, V: Vector<R>, const PSE: bool>(
     starts: *const u32,
     a: &HeatArrays<R, V>,
     i: u32,
+    lanes: u32,
 ) -> f64 {
-    use super::params::flags;
-    let iu = i as usize;
-    let fl = unsafe { *a.flags.add(iu) };
-    if fl & flags::FIXED_TEMPERATURE != 0 {
-        return 0.0;
-    }
-    let mi = unsafe { *a.materials.add((fl >> flags::BODY_SHIFT) as usize) };
-    let (xi, ti) = unsafe { (*a.pos.add(iu), *a.temp.add(iu)) };
-    let cut2 = if PSE { R::from_f64(hp.pse_cut2) } else { k.support2 };
-    let min_r2 = R::from_f64(hp.min_r2);
-    let mut sum = 0.0f64;
+    let lanes = clamp_lanes(lanes);
+    let mut parts = [0.0f64; MAX_LANES];
     unsafe {
-        for_each_neighbour::<R, V, _>(grid, starts, &xi, |j| {
-            let ju = j as usize;
-            let r2 = xi.dist2(&*a.pos.add(ju));
-            if j == i || r2 >= cut2 || r2 < min_r2 {
-                return;
-            }
-            let fj = *a.flags.add(ju);
-            let mj = *a.materials.add((fj >> flags::BODY_SHIFT) as usize);
-            let kij = 2.0 * mi.conductivity * mj.conductivity / (mi.conductivity + mj.conductivity);
-            let vj = (*a.mass.add(ju) / *a.rho.add(ju)).to_f64();
-            let tj = *a.temp.add(ju);
-            if PSE {
-                let r2f = r2.to_f64();
-                sum += vj * kij * (tj - ti) * hp.pse_norm * libm::exp(-r2f * hp.inv_h2);
-            } else {
-                let r = r2.sqrt();
-                let f = (k.dw_dr(r) / r).to_f64();
-                sum += vj * kij * 2.0 * (ti - tj) * f;
-            }
-        })
-    };
-    let rho_i = unsafe { *a.rho.add(iu) }.to_f64();
-    sum / (rho_i * mi.specific_heat)
+        if let Some(o) = heat_own(a, i) {
+            // One pass, candidate k to lane k mod lanes (each lane's sum in `heat_sum`'s order).
+            let mut c = 0u32;
+            for_each_neighbour::<R, V, _>(grid, starts, &o.x, |j| {
+                parts[(c % lanes) as usize] += heat_pair::<R, V, PSE>(hp, k, a, &o, i, j);
+                c += 1;
+            });
+        }
+        heat_finish(a, i, combine(&mut parts[..lanes as usize]))
+    }
 }

@@ -12,9 +12,10 @@
 //! with Π_ij = (−α c̄ μ + β μ²)/ρ̄ for v_ij·x_ij < 0 (else 0), μ = h v_ij·x_ij/(r² + η²h²).
 //! Every pair term is evaluated in the same order on CPU and GPU (the cell-list gather order).
 
+use super::lanes::{LaneSum, MAX_LANES, clamp_lanes, combine};
 use super::params::{SphParams, flags};
 use super::tensor::TensorOps;
-use crate::neighbour::{GridParams, for_each_neighbour};
+use crate::neighbour::{GridParams, for_each_neighbour, for_each_neighbour_strided};
 use crate::real::Real;
 use crate::vector::{Dim, Vector};
 
@@ -73,6 +74,8 @@ pub struct Rates<R: Real, D: Dim> {
     pub vel_t: D::Vec<R>,
     pub rho_t: R,
     pub stress_t: D::Sym<R>,
+    /// The artificial viscosity's dissipation rate per unit mass (0 without it).
+    pub dissipation_t: R,
 }
 
 /// Read-only views of the sorted particle arrays (raw pointers: the same code runs on CPU and GPU).
@@ -115,83 +118,175 @@ fn dot<R: Real, V: Vector<R>>(a: &V, b: &V) -> R {
     s
 }
 
-/// The rates of sorted particle i. The tool's contact forces of the previous step's contact pass add
-/// v̇ += (f_c + f_t)/m_i (roethlin-solver.md §5.2 step 9). Boundary conditions are imposed here: a fixed particle
-/// gets ẋ = v̇ = 0, a prescribed-velocity particle ẋ = v_bc and v̇ = 0 (its velocity was set to v_bc at the
-/// start); a thermal-only particle moves likewise and keeps its density and stress (ρ̇ = 0, Ṡ = 0).
+/// The pair sums of one particle (or one lane's share of them): the velocity gradient L = Σ m_j/ρ_j (v_j − v_i) ⊗
+/// ∇W, the acceleration Σ m_j f_ij and the XSPH sum. Plain data of R, so that lanes combine it by shuffles.
+#[repr(C)]
+#[derive(Clone, Copy, Default)]
+pub struct PairSums<R: Real, D: TensorOps<R>> {
+    pub l: D::Grad,
+    pub acc: D::Vec<R>,
+    pub xsph: D::Vec<R>,
+    /// The artificial viscosity's dissipation rate per unit mass, ½ Σ_j m_j Π_ij v_ij·∇_i W_ij (≥ 0).
+    pub dissipation: R,
+}
+
+impl<R: Real, D: TensorOps<R>> LaneSum for PairSums<R, D> {
+    /// Component-wise self + o.
+    #[inline(always)]
+    fn add(&self, o: &Self) -> Self {
+        let words = size_of::<Self>() / size_of::<R>();
+        let mut out = *self;
+        // SAFETY: PairSums is repr(C) of R-arrays only (Grad and Vec are arrays of R).
+        let (x, y) = unsafe {
+            (
+                core::slice::from_raw_parts_mut(&mut out as *mut Self as *mut R, words),
+                core::slice::from_raw_parts(o as *const Self as *const R, words),
+            )
+        };
+        let mut k = 0;
+        while k < x.len() && k < y.len() {
+            x[k] += y[k];
+            k += 1;
+        }
+        out
+    }
+}
+
+/// What a pair term needs of particle i.
+#[derive(Clone, Copy)]
+struct Own<R: Real, D: TensorOps<R>> {
+    x: D::Vec<R>,
+    v: D::Vec<R>,
+    rho: R,
+    sig: D::Sym<R>,
+    art: D::Sym<R>,
+    c: R,
+}
+
+#[inline(always)]
+unsafe fn own<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool>(a: &Arrays<R, D>, i: u32) -> Own<R, D> {
+    let iu = i as usize;
+    unsafe {
+        Own {
+            x: *a.pos.add(iu),
+            v: *a.vel.add(iu),
+            rho: *a.rho.add(iu),
+            sig: *a.sig.add(iu),
+            art: if AS { *a.art.add(iu) } else { Default::default() },
+            c: if AV { *a.sound.add(iu) } else { R::ZERO },
+        }
+    }
+}
+
+/// Adds the term of pair (i, j) to `sums` (nothing for j = i or beyond the support).
+#[inline(always)]
+unsafe fn add_pair<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool>(
+    p: &SphParams<R>,
+    a: &Arrays<R, D>,
+    o: &Own<R, D>,
+    i: u32,
+    j: u32,
+    sums: &mut PairSums<R, D>,
+) {
+    let (xi, vi, rhoi, sigi, arti, ci) = (o.x, o.v, o.rho, o.sig, o.art, o.c);
+    let k = &p.kernel;
+    let half = R::from_f64(0.5);
+    unsafe {
+        let ju = j as usize;
+        let xj = *a.pos.add(ju);
+        let xij = sub(&xi, &xj);
+        let r2 = dot(&xij, &xij);
+        if j == i || r2 >= k.support2 || r2 < p.min_r2 {
+            return;
+        }
+        let r = r2.sqrt();
+        let gw = {
+            let f = k.dw_dr(r) / r;
+            D::Vec::<R>::new([f * xij.get(0), f * xij.get(1), f * xij.get(2)])
+        };
+        let (vj, rhoj, mj) = (*a.vel.add(ju), *a.rho.add(ju), *a.mass.add(ju));
+        let dv = sub(&vj, &vi);
+        D::outer_add(&mut sums.l, mj / rhoj, &dv, &gw);
+        let w = if AS || XSPH { k.w(r) } else { R::ZERO };
+        let fan = if AS {
+            let f = w * p.as_inv_w_dx;
+            let mut fnn = R::ONE;
+            let mut e = 0;
+            while e < p.as_exponent {
+                fnn *= f;
+                e += 1;
+            }
+            fnn
+        } else {
+            R::ZERO
+        };
+        let artj = if AS { *a.art.add(ju) } else { Default::default() };
+        let rho_bar = half * (rhoi + rhoj);
+        let pi = if AV {
+            let vx = -dot(&dv, &xij); // v_ij · x_ij with v_ij = v_i − v_j
+            if vx < R::ZERO {
+                let mu = k.h * vx / (r2 + p.av_eta2h2);
+                let c_bar = half * (ci + *a.sound.add(ju));
+                (-p.av_alpha * c_bar * mu + p.av_beta * mu * mu) / rho_bar
+            } else {
+                R::ZERO
+            }
+        } else {
+            R::ZERO
+        };
+        if AV {
+            // v_ij·∇W with v_ij = v_i − v_j = −dv: the energy the viscous pair force takes out of the motion.
+            sums.dissipation -= half * mj * pi * dot(&dv, &gw);
+        }
+        let f = D::pair_force(&sigi, &*a.sig.add(ju), fan, &arti, &artj, pi, &gw);
+        axpy(&mut sums.acc, mj, &f);
+        if XSPH {
+            axpy(&mut sums.xsph, mj / rho_bar * w, &dv);
+        }
+    }
+}
+
+/// Lane `lane` of `lanes`' share of the pair sums of sorted particle i ([`for_each_neighbour_strided`]).
 ///
 /// # Safety
-/// All arrays hold the sorted particles of the cell list `starts`/`grid`; `i` is in range; `art` and `sound`
-/// are valid when AS and AV are on.
+/// As [`rates`]; `lane < lanes`.
 #[inline(always)]
-pub unsafe fn rates<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool>(
+pub unsafe fn pair_sums<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool>(
     p: &SphParams<R>,
     grid: &GridParams,
     starts: *const u32,
     a: &Arrays<R, D>,
     i: u32,
+    lane: u32,
+    lanes: u32,
+) -> PairSums<R, D> {
+    let mut sums = PairSums::<R, D>::default();
+    unsafe {
+        let o = own::<R, D, AV, AS>(a, i);
+        for_each_neighbour_strided::<R, D::Vec<R>, _>(grid, starts, &o.x, lane, lanes, |j| {
+            add_pair::<R, D, AV, AS, XSPH>(p, a, &o, i, j, &mut sums)
+        });
+    }
+    sums
+}
+
+/// The rates of sorted particle i from its pair sums. The tool's contact forces of the previous step's contact
+/// pass add v̇ += (f_c + f_t)/m_i (roethlin-solver.md §5.2 step 9). Boundary conditions are imposed here: a fixed
+/// particle gets ẋ = v̇ = 0, a prescribed-velocity particle ẋ = v_bc and v̇ = 0 (its velocity was set to v_bc at
+/// the start); a thermal-only particle moves likewise and keeps its density and stress (ρ̇ = 0, Ṡ = 0).
+///
+/// # Safety
+/// As [`rates`].
+#[inline(always)]
+pub unsafe fn finish_rates<R: Real, D: TensorOps<R>, const XSPH: bool>(
+    p: &SphParams<R>,
+    a: &Arrays<R, D>,
+    i: u32,
+    sums: &PairSums<R, D>,
 ) -> Rates<R, D> {
     let iu = i as usize;
-    let (xi, vi, rhoi) = unsafe { (*a.pos.add(iu), *a.vel.add(iu), *a.rho.add(iu)) };
-    let sigi = unsafe { *a.sig.add(iu) };
-    let arti = if AS { unsafe { *a.art.add(iu) } } else { Default::default() };
-    let ci = if AV { unsafe { *a.sound.add(iu) } } else { R::ZERO };
-    let k = &p.kernel;
-    let half = R::from_f64(0.5);
-    let mut l = D::Grad::default();
-    let mut acc = D::Vec::<R>::default();
-    let mut xsph = D::Vec::<R>::default();
-    unsafe {
-        for_each_neighbour::<R, D::Vec<R>, _>(grid, starts, &xi, |j| {
-            let ju = j as usize;
-            let xj = *a.pos.add(ju);
-            let xij = sub(&xi, &xj);
-            let r2 = dot(&xij, &xij);
-            if j == i || r2 >= k.support2 || r2 < p.min_r2 {
-                return;
-            }
-            let r = r2.sqrt();
-            let gw = {
-                let f = k.dw_dr(r) / r;
-                D::Vec::<R>::new([f * xij.get(0), f * xij.get(1), f * xij.get(2)])
-            };
-            let (vj, rhoj, mj) = (*a.vel.add(ju), *a.rho.add(ju), *a.mass.add(ju));
-            let dv = sub(&vj, &vi);
-            D::outer_add(&mut l, mj / rhoj, &dv, &gw);
-            let w = if AS || XSPH { k.w(r) } else { R::ZERO };
-            let fan = if AS {
-                let f = w * p.as_inv_w_dx;
-                let mut fnn = R::ONE;
-                let mut e = 0;
-                while e < p.as_exponent {
-                    fnn *= f;
-                    e += 1;
-                }
-                fnn
-            } else {
-                R::ZERO
-            };
-            let artj = if AS { *a.art.add(ju) } else { Default::default() };
-            let rho_bar = half * (rhoi + rhoj);
-            let pi = if AV {
-                let vx = -dot(&dv, &xij); // v_ij · x_ij with v_ij = v_i − v_j
-                if vx < R::ZERO {
-                    let mu = k.h * vx / (r2 + p.av_eta2h2);
-                    let c_bar = half * (ci + *a.sound.add(ju));
-                    (-p.av_alpha * c_bar * mu + p.av_beta * mu * mu) / rho_bar
-                } else {
-                    R::ZERO
-                }
-            } else {
-                R::ZERO
-            };
-            let f = D::pair_force(&sigi, &*a.sig.add(ju), fan, &arti, &artj, pi, &gw);
-            axpy(&mut acc, mj, &f);
-            if XSPH {
-                axpy(&mut xsph, mj / rho_bar * w, &dv);
-            }
-        })
-    };
+    let (vi, rhoi) = unsafe { (*a.vel.add(iu), *a.rho.add(iu)) };
+    let (l, mut acc, xsph) = (sums.l, sums.acc, sums.xsph);
     let fl = unsafe { *a.flags.add(iu) };
     let kind = fl & flags::KIND_MASK;
     if !a.normal.is_null() && fl & flags::THERMAL_ONLY == 0 {
@@ -201,8 +296,13 @@ pub unsafe fn rates<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, co
         axpy(&mut acc, inv_m, &f_t);
     }
     let si = unsafe { *a.stress.add(iu) };
-    let mut out =
-        Rates::<R, D> { pos_t: vi, vel_t: acc, rho_t: -rhoi * D::trace(&l), stress_t: D::jaumann(&l, &si, p.shear) };
+    let mut out = Rates::<R, D> {
+        pos_t: vi,
+        vel_t: acc,
+        rho_t: -rhoi * D::trace(&l),
+        stress_t: D::jaumann(&l, &si, p.shear),
+        dissipation_t: sums.dissipation,
+    };
     if XSPH {
         axpy(&mut out.pos_t, p.xsph_eps, &xsph);
     }
@@ -219,4 +319,34 @@ pub unsafe fn rates<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, co
         out.vel_t = Default::default();
     }
     out
+}
+
+/// The rates of sorted particle i, summed by `lanes` lanes combined as the GPU combines them (`sph::lanes`).
+///
+/// # Safety
+/// All arrays hold the sorted particles of the cell list `starts`/`grid`; `i` is in range; `art` and `sound`
+/// are valid when AS and AV are on.
+#[inline(always)]
+pub unsafe fn rates<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool>(
+    p: &SphParams<R>,
+    grid: &GridParams,
+    starts: *const u32,
+    a: &Arrays<R, D>,
+    i: u32,
+    lanes: u32,
+) -> Rates<R, D> {
+    let mut parts = [PairSums::<R, D>::default(); MAX_LANES];
+    let lanes = clamp_lanes(lanes);
+    // One pass over the candidates, candidate k to lane k mod lanes: each lane's sum is built in the order
+    // `pair_sums` builds it on that lane.
+    let mut k = 0u32;
+    unsafe {
+        let o = own::<R, D, AV, AS>(a, i);
+        for_each_neighbour::<R, D::Vec<R>, _>(grid, starts, &o.x, |j| {
+            add_pair::<R, D, AV, AS, XSPH>(p, a, &o, i, j, &mut parts[(k % lanes) as usize]);
+            k += 1;
+        });
+    }
+    let sums = combine(&mut parts[..lanes as usize]);
+    unsafe { finish_rates::<R, D, XSPH>(p, a, i, &sums) }
 }

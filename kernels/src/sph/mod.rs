@@ -7,8 +7,10 @@ pub mod heat;
 pub mod integrate;
 pub mod interact;
 pub mod kernel;
+pub mod lanes;
 pub mod params;
 pub mod plastic;
+pub mod step;
 pub mod tensor;
 
 pub use kernel::CubicSpline;

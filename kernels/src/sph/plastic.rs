@@ -107,6 +107,8 @@ pub struct PlasticArrays<R: Real, S> {
     pub materials: *const ThermalMaterial,
     /// The flow stress σ_y(ε̄, ε̄̇, T) after the update (null unless the contact's friction cap needs it).
     pub yield_stress: *mut f64,
+    /// Accumulated specific plastic work w = Σ σ_y Δε̄ / ρ [J/kg] (null unless the run balances its energy).
+    pub work: *mut f64,
 }
 
 /// The plastic update of sorted particle i, reading and writing the arrays.
@@ -127,8 +129,14 @@ pub unsafe fn plastic_particle<R: Real, D: TensorOps<R>, M: FlowStress>(
         } else {
             1.0
         };
-        let (mut e, mut r, mut t) = (*a.eps.add(i), *a.rate.add(i), *a.temp.add(i));
-        plastic_update::<R, D, M>(model, c, &mut *a.stress.add(i), &mut e, &mut r, &mut t, *a.rho.add(i), fl, cp);
+        let (e0, t0) = (*a.eps.add(i), *a.temp.add(i));
+        let (mut e, mut r, mut t) = (e0, *a.rate.add(i), t0);
+        let rho = *a.rho.add(i);
+        plastic_update::<R, D, M>(model, c, &mut *a.stress.add(i), &mut e, &mut r, &mut t, rho, fl, cp);
+        if !a.work.is_null() && e > e0 {
+            // The dissipation of the step, σ_y Δε̄ per unit volume, at the flow stress the plastic heating uses.
+            *a.work.add(i) += model.sigma_y(e, r, t0) * (e - e0) / rho.to_f64();
+        }
         *a.eps.add(i) = e;
         *a.rate.add(i) = r;
         *a.temp.add(i) = t;

@@ -1,0 +1,308 @@
+//! `swarf bench step`: the whole step of a scene, as a run takes it (captured batches where the backend has
+//! graphs), with the time of each phase, the interactions it computes, the bytes it must move against the device's
+//! measured copy bandwidth, and the step cost of each physics option switched off (docs/performance.md).
+
+use crate::Result;
+use crate::backend::Backend;
+use crate::kernels::Real;
+use crate::kernels::sph::TensorOps;
+use crate::kernels::sph::params::flags;
+use crate::solver::{GRAPH_STEPS, Phase, Setup, Solver};
+
+/// One configuration's figures.
+#[derive(Clone, Debug)]
+pub struct StepTimes {
+    pub label: String,
+    pub particles: usize,
+    pub precision: &'static str,
+    /// Mean step time over the timed batches, as a run takes them.
+    pub ms_per_step: f64,
+    /// Mean time of each phase of [`Phase::ALL`] over the profiled steps (each phase waited for).
+    pub phases_ms: [f64; 8],
+    /// Directed neighbour pairs within the kernel support (i ≠ j) at the start of the timing.
+    pub pairs: u64,
+    /// Bytes a step must move at least (every array read or written once per pass that touches it).
+    pub bytes_per_step: f64,
+}
+
+impl StepTimes {
+    /// Pair interactions per second of the interaction phase.
+    pub fn interactions_per_s(&self) -> f64 {
+        self.pairs as f64 / (self.phases_ms[4] * 1e-3)
+    }
+    pub fn particle_steps_per_s(&self) -> f64 {
+        self.particles as f64 / (self.ms_per_step * 1e-3)
+    }
+    /// Achieved bandwidth of the whole step on its compulsory traffic [GB/s].
+    pub fn bandwidth_gb_s(&self) -> f64 {
+        self.bytes_per_step / (self.ms_per_step * 1e-3) / 1e9
+    }
+}
+
+/// Times `steps` steps (rounded up to whole graph batches) of `setup` after a warm-up that captures the graphs,
+/// then profiles `profiled` single steps phase by phase.
+pub fn step<B: Backend, R: Real, D: TensorOps<R>>(
+    b: &B,
+    setup: &Setup<R, D>,
+    label: &str,
+    steps: usize,
+    profiled: usize,
+    lanes: Option<u32>,
+) -> Result<StepTimes> {
+    let mut sv = Solver::<B, R, D>::new(b, setup)?;
+    if let Some(l) = lanes {
+        sv.lanes = l;
+    }
+    let dt = setup.dt;
+    // Two plain steps prepare the reorder tables; two batches capture the graphs of both buffer parities.
+    sv.advance(b, dt, 2 + 2 * GRAPH_STEPS)?;
+    b.synchronize()?;
+    let pairs = {
+        let counts = sv.cells.csr_neighbours::<R, D>(b, &sv.particles.pos.cur, setup.params.kernel.support2)?.0;
+        counts.iter().map(|&c| c as u64).sum()
+    };
+    let batches = steps.div_ceil(GRAPH_STEPS).max(1);
+    let ms = b.time_ms(&mut || sv.advance(b, dt, batches * GRAPH_STEPS))?;
+    let mut phases = [0.0; 8];
+    for _ in 0..profiled.max(1) {
+        let p = sv.profile_step(b, dt)?;
+        for (a, x) in phases.iter_mut().zip(p) {
+            *a += x / profiled.max(1) as f64;
+        }
+    }
+    Ok(StepTimes {
+        label: label.to_string(),
+        particles: sv.n,
+        precision: R::NAME,
+        ms_per_step: ms / (batches * GRAPH_STEPS) as f64,
+        phases_ms: phases,
+        pairs,
+        bytes_per_step: compulsory_bytes(setup, sv.n),
+    })
+}
+
+/// The least traffic of one step, per pass: predictor (reads y and ẏ, writes y and y0, key and slot), cell list
+/// (keys, slots, permutation), reorder (reads and writes every stateful field), pre-pass (ρ, S in; σ/ρ² and the
+/// stabilisers' fields out), interaction (every input once, the rates out), conduction, corrector with the
+/// plastic fields, contact. Neighbour data re-read from cache is not counted: this is the bound a perfect cache
+/// reaches.
+pub fn compulsory_bytes<R: Real, D: TensorOps<R>>(s: &Setup<R, D>, n: usize) -> f64 {
+    let (v, r, sym) = (size_of::<D::Vec<R>>(), size_of::<R>(), size_of::<D::Sym<R>>());
+    let y = 2 * v + r + sym; // x, v, ρ, S
+    let stab = s.stabilisers.switches();
+    let heat = s.temperature.is_some();
+    let cond = s.thermal.as_ref().is_some_and(|t| t.conduction.is_some());
+    let plastic = s.plastic.is_some();
+    let contact = s.contact.is_some();
+    let mut per = 0;
+    per += 4 * y + 8 + if cond { 4 * 8 } else { 0 }; // predict
+    per += 3 * 4 + 4; // scatter reads key + slot, writes perm; sort re-reads perm
+    let staged = 4 + 4 + y + r + y // id, flags, state, mass, start copies
+        + if heat { 8 } else { 0 }
+        + if cond { 8 } else { 0 }
+        + if plastic { 3 * 8 } else { 0 }
+        + if contact { 2 * v } else { 0 };
+    per += 2 * staged + 4;
+    per += r + sym + sym + if stab.stress { sym } else { 0 } + if stab.viscosity { r } else { 0 };
+    per += y + r + sym + 4 + if stab.stress { sym } else { 0 } + if stab.viscosity { r } else { 0 };
+    per += if contact { 2 * v } else { 0 } + y; // contact forces in, rates out
+    if cond {
+        per += v + 2 * r + 8 + 4 + 8;
+    }
+    per += 3 * y + if cond { 3 * 8 } else { 0 } + if plastic { 2 * (3 * 8) + 8 } else { 0 };
+    if contact {
+        per += 2 * v + 2 * r + 4 + 2 * 2 * v + if heat { 2 * 8 } else { 0 };
+    }
+    (per * n) as f64
+}
+
+/// The device's copy bandwidth [GB/s]: a gather through the identity permutation of 2²⁴ 16-byte elements (reads
+/// 16 + 4 bytes and writes 16 per element), best of five.
+pub fn copy_bandwidth<B: Backend>(b: &B) -> Result<f64> {
+    let n = 1 << 24;
+    let perm: Vec<u32> = (0..n as u32).collect();
+    let perm = b.upload(&perm, "identity permutation")?;
+    let src = b.alloc::<[u32; 4]>(n, "copy source")?;
+    let mut dst = b.alloc::<[u32; 4]>(n, "copy destination")?;
+    b.gather(n, &perm, &src, &mut dst)?;
+    let mut best = f64::INFINITY;
+    for _ in 0..5 {
+        best = best.min(b.time_ms(&mut || b.gather(n, &perm, &src, &mut dst))?);
+    }
+    Ok(36.0 * n as f64 / (best * 1e-3) / 1e9)
+}
+
+/// The setup with one physics option switched off, for the step cost of each option; None where the scene does
+/// not model it.
+pub fn without<R: Real, D: TensorOps<R>>(s: &Setup<R, D>, option: &str) -> Option<Setup<R, D>> {
+    let mut o = clone_setup(s);
+    match option {
+        "artificial viscosity" => o.stabilisers.viscosity.take().map(|_| ())?,
+        "artificial stress" => o.stabilisers.stress.take().map(|_| ())?,
+        "XSPH" => o.stabilisers.xsph.take().map(|_| ())?,
+        "heat conduction" => o.thermal.as_mut()?.conduction.take().map(|_| ())?,
+        "friction" => {
+            let c = o.contact.as_mut()?;
+            (c.params.friction > 0.0).then_some(())?;
+            c.params.friction = 0.0;
+        }
+        "plasticity" => {
+            o.plastic.take()?;
+            if let Some(c) = o.contact.as_mut() {
+                // The current-yield cap reads the plastic pass' yield stress: fall back to the static cap.
+                if c.params.cap_mode == crate::kernels::contact::penalty::cap::CURRENT {
+                    c.params.cap_mode = crate::kernels::contact::penalty::cap::STATIC;
+                }
+            }
+        }
+        "thermal tool" => {
+            let keep: Vec<bool> = o.particles.flags.iter().map(|f| f & flags::THERMAL_ONLY == 0).collect();
+            keep.iter().any(|k| !k).then_some(())?;
+            let p = &mut o.particles;
+            macro_rules! filter {
+                ($v:expr) => {{
+                    let mut k = keep.iter();
+                    $v.retain(|_| *k.next().unwrap_or(&true));
+                }};
+            }
+            filter!(p.id);
+            filter!(p.flags);
+            filter!(p.pos);
+            filter!(p.vel);
+            filter!(p.mass);
+            filter!(p.rho);
+            filter!(p.stress);
+            if let Some(t) = o.temperature.as_mut() {
+                filter!(t);
+            }
+            // Renumber so that ids stay a permutation of 0..n.
+            for (k, id) in o.particles.id.iter_mut().enumerate() {
+                *id = k as u32;
+            }
+        }
+        _ => return None,
+    }
+    Some(o)
+}
+
+/// The options `without` knows, in report order.
+pub const OPTIONS: [&str; 7] =
+    ["heat conduction", "thermal tool", "artificial stress", "XSPH", "artificial viscosity", "friction", "plasticity"];
+
+fn clone_setup<R: Real, D: TensorOps<R>>(s: &Setup<R, D>) -> Setup<R, D> {
+    Setup {
+        particles: s.particles.clone(),
+        params: s.params,
+        stabilisers: s.stabilisers,
+        bc_velocities: s.bc_velocities.clone(),
+        grid: s.grid,
+        dt: s.dt,
+        c0: s.c0,
+        h: s.h,
+        shear: s.shear,
+        temperature: s.temperature.clone(),
+        thermal: s.thermal.clone(),
+        plastic: s.plastic.clone(),
+        contact: s.contact.clone(),
+        warnings: s.warnings.clone(),
+    }
+}
+
+pub fn header(peak_gb_s: f64) -> String {
+    // The first row of a workload is its default lanes per particle (`solver::default_lanes`).
+    let phases: Vec<&str> = Phase::ALL.iter().map(|p| p.name()).collect();
+    format!(
+        "copy bandwidth (measured): {peak_gb_s:.0} GB/s\n\n| workload | N | prec | ms/step | particle-steps/s | \
+         interactions/s | compulsory MB/step | GB/s (% of copy) | {} |\n|---|---|---|---|---|---|---|---|{}",
+        phases.iter().map(|p| format!("{p} ms")).collect::<Vec<_>>().join(" | "),
+        "---|".repeat(phases.len())
+    )
+}
+
+pub fn row(t: &StepTimes, peak_gb_s: f64) -> String {
+    format!(
+        "| {} | {} | {} | {:.4} | {:.3e} | {:.3e} | {:.2} | {:.0} ({:.0} %) | {} |",
+        t.label,
+        t.particles,
+        t.precision,
+        t.ms_per_step,
+        t.particle_steps_per_s(),
+        t.interactions_per_s(),
+        t.bytes_per_step / 1e6,
+        t.bandwidth_gb_s(),
+        100.0 * t.bandwidth_gb_s() / peak_gb_s,
+        t.phases_ms.iter().map(|m| format!("{m:.4}")).collect::<Vec<_>>().join(" | ")
+    )
+}
+
+/// Benchmarks each scene at each precision and prints the table; with `options`, also the step cost of each
+/// physics option the scene models, switched off one at a time, measured side by side in the same process.
+pub fn scenes<B: Backend>(
+    b: &B,
+    paths: &[std::path::PathBuf],
+    precisions: &[&str],
+    steps: usize,
+    options: bool,
+) -> Result<()> {
+    let peak = copy_bandwidth(b)?;
+    println!("{}", header(peak));
+    let mut costs = Vec::new();
+    for path in paths {
+        let scene = crate::scene::Scene::load(path, &[])
+            .map_err(|e| crate::Error::Scene(format!("{}: {e}", path.display())))?;
+        let label = scene.name.clone();
+        for &p in precisions {
+            let r = match (scene.dim, p) {
+                (3, "f32") => one::<B, f32, crate::kernels::Dim3>(b, &scene, &label, steps, options, peak)?,
+                (3, _) => one::<B, f64, crate::kernels::Dim3>(b, &scene, &label, steps, options, peak)?,
+                (_, "f32") => one::<B, f32, crate::kernels::Dim2>(b, &scene, &label, steps, options, peak)?,
+                _ => one::<B, f64, crate::kernels::Dim2>(b, &scene, &label, steps, options, peak)?,
+            };
+            costs.extend(r);
+        }
+    }
+    if options {
+        println!("\n| workload | prec | switched off | N | ms/step | base ms/step | step cost of the option |");
+        println!("|---|---|---|---|---|---|---|");
+        for c in costs {
+            println!("{c}");
+        }
+    }
+    Ok(())
+}
+
+fn one<B: Backend, R: Real, D: TensorOps<R>>(
+    b: &B,
+    scene: &crate::scene::Scene,
+    label: &str,
+    steps: usize,
+    options: bool,
+    peak: f64,
+) -> Result<Vec<String>> {
+    let s = crate::run::setup::<R, D>(scene)?;
+    // The default lanes per particle, then every other choice side by side.
+    let base = step::<B, R, D>(b, &s, label, steps, 5, None)?;
+    println!("{}", row(&base, peak));
+    let default = crate::solver::default_lanes(s.particles.len());
+    for l in [1, 2, 4, 8].into_iter().filter(|&l| l != default) {
+        let alt = step::<B, R, D>(b, &s, &format!("{label}, {l} lane(s)"), steps, 5, Some(l))?;
+        println!("{}", row(&alt, peak));
+    }
+    let mut out = Vec::new();
+    if options {
+        for o in OPTIONS {
+            if let Some(v) = without(&s, o) {
+                let t = step::<B, R, D>(b, &v, label, steps, 1, None)?;
+                out.push(format!(
+                    "| {label} | {} | {o} | {} | {:.4} | {:.4} | {:+.1} % |",
+                    R::NAME,
+                    t.particles,
+                    t.ms_per_step,
+                    base.ms_per_step,
+                    100.0 * (base.ms_per_step - t.ms_per_step) / t.ms_per_step
+                ));
+            }
+        }
+    }
+    Ok(out)
+}
