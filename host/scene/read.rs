@@ -448,7 +448,7 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
 
     // [tool]
     let tool = match root.table("tool", "tool", "a table [tool]")? {
-        Some(t) => Some(tool(&t, doc, dim, dx, &physics)?),
+        Some(t) => Some(tool(&t, doc, dim, dx, &physics, &bodies)?),
         None => None,
     };
 
@@ -483,7 +483,7 @@ fn library_material(t: &Tab<'_>, doc: &Doc, k: &str) -> Result<crate::material::
 }
 
 /// The `[tool]` table.
-fn tool(t: &Tab<'_>, doc: &Doc, dim: usize, dx: f64, physics: &Physics) -> Result<Tool> {
+fn tool(t: &Tab<'_>, doc: &Doc, dim: usize, dx: f64, physics: &Physics, bodies: &[Body]) -> Result<Tool> {
     t.check_keys(
         &[
             "rake_angle",
@@ -492,6 +492,8 @@ fn tool(t: &Tab<'_>, doc: &Doc, dim: usize, dx: f64, physics: &Physics) -> Resul
             "length",
             "height",
             "position",
+            "depth_of_cut",
+            "body",
             "velocity",
             "ramp",
             "contact_stiffness",
@@ -519,8 +521,7 @@ fn tool(t: &Tab<'_>, doc: &Doc, dim: usize, dx: f64, physics: &Physics) -> Resul
     let e = "a positive length in m";
     let length = t.required("length", e, t.number("length", e, positive)?)?;
     let height = t.required("height", e, t.number("height", e, positive)?)?;
-    let e = point_text("the edge's lowest point at t = 0", 2, "m");
-    let position = t.required("position", &e, t.vector("position", 2, &e)?)?;
+    let (position, depth_of_cut, body) = tool_position(t, dx, bodies)?;
     let e = "the cutting velocity [vx, vy] in m/s";
     let velocity = t.required("velocity", e, t.vector("velocity", 2, e)?)?;
     let ramp = t.number("ramp", "a non-negative time in s", non_negative)?.unwrap_or(0.0);
@@ -614,7 +615,9 @@ fn tool(t: &Tab<'_>, doc: &Doc, dim: usize, dx: f64, physics: &Physics) -> Resul
         edge_radius,
         length,
         height,
-        position: [position[0], position[1]],
+        position,
+        depth_of_cut,
+        body,
         velocity: [velocity[0], velocity[1]],
         ramp,
         contact_stiffness,
@@ -627,6 +630,57 @@ fn tool(t: &Tab<'_>, doc: &Doc, dim: usize, dx: f64, physics: &Physics) -> Resul
         chip_station,
         thermal,
     })
+}
+
+/// The tool's `position`, resolved: `[x, y]` as given, or `[x]` with `depth_of_cut`, y then placed depth_of_cut
+/// below the uncut surface of the workpiece body (`body`, default the first): its top particle row + dx/2. Also
+/// returns the depth and the body index when given.
+fn tool_position(t: &Tab<'_>, dx: f64, bodies: &[Body]) -> Result<([f64; 2], Option<f64>, Option<usize>)> {
+    let depth = t.number("depth_of_cut", "a positive depth in m below the workpiece's uncut surface", positive)?;
+    let names = bodies.iter().map(|b| format!("'{}'", b.name)).collect::<Vec<_>>().join(", ");
+    let body_expected = format!("the name of the workpiece body depth_of_cut is measured from (one of: {names})");
+    let body = match t.string("body", &body_expected, |_| true)? {
+        Some(name) => match bodies.iter().position(|b| b.name == name) {
+            Some(i) => Some(i),
+            None => return Err(t.invalid("body", t.get("body"), body_expected)),
+        },
+        None => None,
+    };
+    let Some(depth) = depth else {
+        if body.is_some() {
+            return Err(t.invalid(
+                "body",
+                t.get("body"),
+                "no body without depth_of_cut (it names the surface the depth is measured from)",
+            ));
+        }
+        let e = format!("{} (or [x] with depth_of_cut)", point_text("the edge's lowest point at t = 0", 2, "m"));
+        let p = t.required("position", &e, t.vector("position", 2, &e)?)?;
+        return Ok(([p[0], p[1]], None, None));
+    };
+    if let Some(node @ Node { val: Val::Array(items), .. }) = t.get("position")
+        && items.len() == 2
+    {
+        return Err(t.invalid(
+            "position",
+            Some(node),
+            "[x] only: depth_of_cut places the edge's y (give position = [x, y] or depth_of_cut, not both)",
+        ));
+    }
+    let e = "[x] of the edge's lowest point at t = 0 in m (depth_of_cut places y)";
+    let x = t.required("position", e, t.vector("position", 1, e)?)?[0];
+    let k = body.unwrap_or(0);
+    let b = &bodies[k];
+    let top = super::generate::top_row(&b.shape, b.lattice, dx).ok_or_else(|| {
+        t.invalid(
+            "depth_of_cut",
+            t.get("depth_of_cut"),
+            format!("a workpiece with particles: body '{}' holds no lattice point at dx = {dx} m", b.name),
+        )
+    })?;
+    // top + (dx/2 − depth), in this order: it rounds V0060's 2.9e-4 + (5e-6 − 1e-4) to exactly the 1.95e-4 the
+    // scene gave before depth_of_cut existed, so its runs are unchanged bit for bit.
+    Ok(([x, top + (0.5 * dx - depth)], Some(depth), body))
 }
 
 /// Number of lattice points on an axis of length `extent`.
