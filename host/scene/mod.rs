@@ -84,6 +84,21 @@ pub struct Scene {
     pub physics: Physics,
     /// `[tool]` (optional, 2D): a rigid cutting tool with penalty contact and friction.
     pub tool: Option<Tool>,
+    /// `[experiment]` (optional): measured values of the scene's observables ([`crate::study::observe`]), the
+    /// reference `swarf study` reports its error against; in the order of the scene's observables.
+    pub experiment: Vec<Measurement>,
+}
+
+/// One entry of `[experiment]`: `<observable> = { value = v, uncertainty = u }` (or `<observable> = v`).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Measurement {
+    /// The observable's name, as in summary.json and study.csv (e.g. `fc_n_per_mm`).
+    pub name: String,
+    /// `value` (required; the observable's unit), finite and non-zero: the measured value. Errors are relative
+    /// to it, so it cannot be zero.
+    pub value: f64,
+    /// `uncertainty` (optional; the same unit), ≥ 0: the measurement's standard uncertainty, as published.
+    pub uncertainty: Option<f64>,
 }
 
 /// `[tool]`: the rigid 2D cutting tool (roethlin-solver.md §5.4; klippel-constitutive.md §1.3). Its outline is

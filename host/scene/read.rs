@@ -23,6 +23,7 @@ const ROOT_KEYS: &[&str] = &[
     "output",
     "physics",
     "tool",
+    "experiment",
 ];
 const BODY_KEYS: &[&str] = &["name", "shape", "velocity", "angular_velocity", "lattice", "material", "temperature"];
 const SHAPES: &[(&str, &[&str])] = &[
@@ -452,6 +453,12 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
         None => None,
     };
 
+    // [experiment]
+    let experiment = match root.table("experiment", "experiment", "a table [experiment] of measured observables")? {
+        Some(t) => experiment(&t, &crate::study::observe::catalogue(dim, tool.is_some(), &bodies))?,
+        None => Vec::new(),
+    };
+
     Ok(Scene {
         origin: doc.file.clone(),
         name: name.to_string(),
@@ -466,7 +473,39 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
         output,
         physics,
         tool,
+        experiment,
     })
+}
+
+/// The `[experiment]` table: each key names an observable of the scene (`catalogue`), each value is
+/// `{ value, uncertainty }` or a bare number.
+fn experiment(t: &Tab<'_>, catalogue: &[crate::study::observe::Observable]) -> Result<Vec<Measurement>> {
+    let names: Vec<&str> = catalogue.iter().map(|o| o.name.as_str()).collect();
+    t.check_keys(&names, &[], "")?;
+    let value_expected = "a finite, non-zero measured value (errors are relative to it)";
+    let entry_expected = "a measured value: { value = v, uncertainty = u } or a number";
+    let paths: Vec<String> = t.entries.iter().map(|e| t.key(&e.key)).collect();
+    let mut out = Vec::new();
+    for (e, path) in t.entries.iter().zip(&paths) {
+        let (value, uncertainty) = match &e.node.val {
+            Val::Table(entries) => {
+                let m = Tab { doc: t.doc, path, node: &e.node, entries };
+                m.check_keys(&["value", "uncertainty"], &[], "")?;
+                let value = m.required("value", value_expected, m.number("value", value_expected, |x| x != 0.0)?)?;
+                let uncertainty =
+                    m.number("uncertainty", "a non-negative standard uncertainty in the value's unit", non_negative)?;
+                (value, uncertainty)
+            }
+            _ => match as_number(&e.node) {
+                Some(v) if v.is_finite() && v != 0.0 => (v, None),
+                _ => return Err(t.invalid(&e.key, Some(&e.node), entry_expected)),
+            },
+        };
+        out.push(Measurement { name: e.key.clone(), value, uncertainty });
+    }
+    // The catalogue's order (the parser's is not the file's).
+    out.sort_by_key(|m| names.iter().position(|n| *n == m.name));
+    Ok(out)
 }
 
 /// A library material by `name` for the key `k` of table `t`.
