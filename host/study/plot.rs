@@ -47,13 +47,14 @@ pub fn draw(study: &Study, path: &Path) -> Result<(), String> {
     let against_ref = points(&|e| e.max_reference);
     let against_exp = if study.experiment.is_empty() { Vec::new() } else { points(&|e| e.max_experiment) };
     let r = &study.runs[study.reference];
+    // Titles short enough for the panel's width at the default size (about 60 characters).
     let ref_title = format!(
-        "{}: largest relative error against the finest {} run (dx = {} m)",
+        "{}: error against the finest {} run (Δx = {} m)",
         study.scene,
         r.precision.as_str(),
-        table::sig(r.dx, 4)
+        table::sig(r.dx, 3)
     );
-    let exp_title = format!("{}: largest relative error against the experiment", study.scene);
+    let exp_title = format!("{}: error against the experiment", study.scene);
     let mut charts = Vec::new();
     for (title, data) in [(&ref_title, &against_ref), (&exp_title, &against_exp)] {
         if data.is_empty() {
@@ -62,7 +63,7 @@ pub fn draw(study: &Study, path: &Path) -> Result<(), String> {
         charts.push(Chart {
             title,
             x_label: "wall time (s)",
-            y_label: "relative error",
+            y_label: "largest relative error over the observables",
             series: data.iter().map(|(label, x, y)| Series { label, x, y }).collect(),
         });
     }
