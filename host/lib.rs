@@ -22,6 +22,7 @@ pub mod run;
 pub mod scene;
 pub mod solver;
 pub mod state;
+pub mod study;
 
 pub use error::{Error, Result};
 pub use swarf_kernels as kernels;

@@ -46,6 +46,9 @@ enum Cmd {
         #[arg(long, default_value = "cases/materials")]
         library: std::path::PathBuf,
     },
+    /// Run a scene over resolutions × precisions (× backends) and report wall time against error (study.csv,
+    /// study.md, study.png in the output folder).
+    Study(StudyArgs),
     /// Draw the PNG plots of a run folder (energies, momenta; forces and temperatures where recorded).
     Plot {
         /// The run folder (holds energy.csv).
@@ -89,6 +92,40 @@ struct RunArgs {
 enum PrecisionChoice {
     F32,
     F64,
+}
+
+impl PrecisionChoice {
+    fn precision(self) -> swarf::scene::Precision {
+        match self {
+            PrecisionChoice::F32 => swarf::scene::Precision::F32,
+            PrecisionChoice::F64 => swarf::scene::Precision::F64,
+        }
+    }
+}
+
+#[derive(clap::Args)]
+struct StudyArgs {
+    /// The scene file (TOML), e.g. cases/cutting/v0060.toml.
+    scene: std::path::PathBuf,
+    /// Resolution levels: factors on the scene's dx, comma separated; fractions allowed (1,1/2,1/3). The finest
+    /// level's f64 run is the reference of the errors.
+    #[arg(long, value_delimiter = ',', default_value = "1,1/2")]
+    levels: Vec<String>,
+    /// Precisions, comma separated.
+    #[arg(long, value_enum, value_delimiter = ',', default_value = "f64,f32")]
+    precisions: Vec<PrecisionChoice>,
+    /// Backends, comma separated (default: the one --backend selects); the first holds the reference run.
+    #[arg(long, value_enum, value_delimiter = ',')]
+    backends: Vec<BackendChoice>,
+    /// Override a scene key for every run (repeatable), as for `run`; each level then sets discretisation.dx.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<String>,
+    /// Output folder (default runs/study-<scene name>).
+    #[arg(long)]
+    out: Option<std::path::PathBuf>,
+    /// Print nothing but errors.
+    #[arg(long)]
+    quiet: bool,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -289,6 +326,53 @@ fn run(cli: Cli) -> Result<()> {
                     r.backend,
                     r.precision,
                     opts.out_dir.display()
+                );
+            }
+            Ok(())
+        }
+        Cmd::Study(a) => {
+            let mut levels = Vec::new();
+            for l in &a.levels {
+                match swarf::study::Level::parse(l) {
+                    Ok(level) => levels.push(level),
+                    Err(e) => {
+                        eprintln!("error: --levels: {e}");
+                        std::process::exit(2);
+                    }
+                }
+            }
+            // Validate the scene (and name its output folder) before a backend is started.
+            let sc = swarf::scene::Scene::load(&a.scene, &a.set).map_err(|e| swarf::Error::Scene(e.to_string()))?;
+            let out =
+                a.out.clone().unwrap_or_else(|| std::path::PathBuf::from("runs").join(format!("study-{}", sc.name)));
+            let choices = if a.backends.is_empty() { vec![cli.backend] } else { a.backends.clone() };
+            let mut backends = Vec::new();
+            for c in choices {
+                let (any, line) = AnyBackend::select(c)?;
+                if !a.quiet {
+                    eprintln!("{line}");
+                }
+                backends.push(any);
+            }
+            let _ = ctrlc::set_handler(|| {
+                if swarf::run::INTERRUPTED.swap(true, std::sync::atomic::Ordering::Relaxed) {
+                    std::process::exit(130);
+                }
+            });
+            let opts = swarf::study::StudyOptions {
+                scene: a.scene.clone(),
+                overrides: a.set.clone(),
+                levels,
+                precisions: a.precisions.iter().map(|p| p.precision()).collect(),
+                out_dir: out.clone(),
+                quiet: a.quiet,
+            };
+            swarf::study::study(&backends, &opts)?;
+            if !a.quiet {
+                eprintln!(
+                    "study: {} written in {}",
+                    [swarf::study::CSV, swarf::study::MARKDOWN, swarf::study::PNG].join(", "),
+                    out.display()
                 );
             }
             Ok(())

@@ -105,7 +105,8 @@ fn short_coarse_cut_has_forces_of_the_right_sign_and_order() {
         "body.0.max=[1.0e-3,2.8e-4]",
         "boundary.1.max=[1.0e-9,1.4e-4]",
         "boundary.2.min=[0.9999e-3,-1.0]",
-        "tool.position=[-3.6e-5,2.0e-4]",
+        "tool.position=[-3.6e-5]",
+        "tool.depth_of_cut=0.9e-4",
         "time.end=2.4e-5",
         "output.every=2.4e-6",
     ]
@@ -182,7 +183,7 @@ fn thermal_tool_heats_near_the_contact_and_holds_its_far_boundary() {
 /// the file and the key.
 #[test]
 fn misplaced_tools_are_refused() {
-    let inside = Scene::load("cases/cutting/v0060.toml", &["tool.position=[2.0e-4,1.95e-4]".into()]).expect("scene");
+    let inside = Scene::load("cases/cutting/v0060.toml", &["tool.position=[2.0e-4]".into()]).expect("scene");
     let e = swarf::run::setup::<f64, swarf::kernels::Dim2>(&inside).err().expect("refused").to_string();
     assert!(e.contains("cases/cutting/v0060.toml") && e.contains("tool.position"), "{e}");
     let away = Scene::load("cases/cutting/v0060.toml", &["tool.velocity=[-6.355,0.0]".into()]).expect("scene");

@@ -332,3 +332,42 @@ fn refused_input_is_a_typed_error_and_writes_nothing() {
 
     assert!(entries(&dir).is_empty(), "{:?}", entries(&dir));
 }
+
+/// Log–log panels (`plot::draw_log_log`, a study's wall time against error): a PNG of the requested size with
+/// content, values ≤ 0 skipped and counted (they have no place on a log axis), a range within one decade drawn
+/// too, and no scratch file left; a chart with nothing positive to draw is refused.
+#[test]
+fn log_log_panels_skip_non_positive_values() {
+    let dir = test_dir("log_log");
+    let (wall, err) = ([0.5, 2.0, 30.0, 400.0], [0.3, 0.0, 2e-3, 1e-5]);
+    let (narrow_x, narrow_y) = ([0.818, 0.905], [1.97, 2.5e-5]);
+    let charts = [
+        Chart {
+            title: "decades",
+            x_label: "wall time (s)",
+            y_label: "relative error",
+            series: vec![Series { label: "f64", x: &wall, y: &err }],
+        },
+        Chart {
+            title: "one decade of x",
+            x_label: "wall time (s)",
+            y_label: "relative error",
+            series: vec![Series { label: "f32", x: &narrow_x, y: &narrow_y }],
+        },
+    ];
+    let path = dir.join("study.png");
+    let drawn = plot::draw_log_log(&path, &charts, (900, 1200)).expect("drawn");
+    assert_eq!(drawn.skipped, 1, "the zero error is skipped");
+    assert_drawn(&path, (900, 1200));
+    assert_no_leftovers(&dir);
+    let zeros = [0.0, -1.0];
+    let nothing = [Chart {
+        title: "nothing",
+        x_label: "x",
+        y_label: "y",
+        series: vec![Series { label: "z", x: &wall[..2], y: &zeros }],
+    }];
+    let e = plot::draw_log_log(&dir.join("none.png"), &nothing, (900, 600)).expect_err("refused");
+    assert!(matches!(e, PlotError::NoFiniteData { .. }), "{e}");
+    assert!(!dir.join("none.png").exists());
+}

@@ -22,6 +22,7 @@
 //! - **Refused input** ([`PlotError`], never a panic): no series, an empty series, x and y of different lengths,
 //!   an image size outside [`MIN_SIZE`]..=[`MAX_SIDE`]. Every error names the file it concerns.
 
+mod loglog;
 pub mod run;
 
 use std::fs;
@@ -37,6 +38,7 @@ use thiserror::Error;
 
 use crate::output::write_atomic;
 
+pub use loglog::draw_log_log;
 pub use run::{plot_run, plot_run_sized};
 
 /// The embedded font: DejaVu Sans 2.37, subset to Latin-1, Greek and common math symbols (see

@@ -82,13 +82,28 @@ fn offsets(r: f64, dx: f64, lattice: Lattice) -> Vec<f64> {
 
 /// Appends the lattice points inside `shape` to `out`, z slowest, x fastest.
 fn fill(shape: &Shape, lattice: Lattice, dx: f64, out: &mut Vec<[f64; 3]>) {
+    visit(shape, lattice, dx, &mut |p| out.push(p));
+}
+
+/// The largest y of the lattice points of a body of `shape` (its top particle row), `None` when the shape holds
+/// no lattice point. Computed from the same lattice as the particles ([`visit`]), so it is exactly the y of the
+/// generated top row: `tool.depth_of_cut` measures from it (read.rs).
+pub(super) fn top_row(shape: &Shape, lattice: Lattice, dx: f64) -> Option<f64> {
+    let mut top: Option<f64> = None;
+    visit(shape, lattice, dx, &mut |p| top = Some(top.map_or(p[1], |t| t.max(p[1]))));
+    top
+}
+
+/// Calls `emit` with each lattice point inside `shape`, z slowest, x fastest: the one place that decides which
+/// points a body has (the particles, and the top row `tool.depth_of_cut` refers to).
+fn visit(shape: &Shape, lattice: Lattice, dx: f64, emit: &mut dyn FnMut([f64; 3])) {
     let mut push_round = |c: [f64; 3], r: f64, zs: &[f64], keep: &dyn Fn(f64, f64, f64) -> bool| {
         let o = offsets(r, dx, lattice);
         for &z in zs {
             for &y in &o {
                 for &x in &o {
                     if keep(x, y, z) {
-                        out.push([c[0] + x, c[1] + y, c[2] + z]);
+                        emit([c[0] + x, c[1] + y, c[2] + z]);
                     }
                 }
             }
@@ -100,7 +115,7 @@ fn fill(shape: &Shape, lattice: Lattice, dx: f64, out: &mut Vec<[f64; 3]>) {
             let ys = axis(min[1], max[1] - min[1], dx, lattice);
             for &y in &ys {
                 for &x in &xs {
-                    out.push([x, y, 0.0]);
+                    emit([x, y, 0.0]);
                 }
             }
         }
@@ -111,7 +126,7 @@ fn fill(shape: &Shape, lattice: Lattice, dx: f64, out: &mut Vec<[f64; 3]>) {
             for &z in &zs {
                 for &y in &ys {
                     for &x in &xs {
-                        out.push([x, y, z]);
+                        emit([x, y, z]);
                     }
                 }
             }

@@ -84,6 +84,21 @@ pub struct Scene {
     pub physics: Physics,
     /// `[tool]` (optional, 2D): a rigid cutting tool with penalty contact and friction.
     pub tool: Option<Tool>,
+    /// `[experiment]` (optional): measured values of the scene's observables ([`crate::study::observe`]), the
+    /// reference `swarf study` reports its error against; in the order of the scene's observables.
+    pub experiment: Vec<Measurement>,
+}
+
+/// One entry of `[experiment]`: `<observable> = { value = v, uncertainty = u }` (or `<observable> = v`).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Measurement {
+    /// The observable's name, as in summary.json and study.csv (e.g. `fc_n_per_mm`).
+    pub name: String,
+    /// `value` (required; the observable's unit), finite and non-zero: the measured value. Errors are relative
+    /// to it, so it cannot be zero.
+    pub value: f64,
+    /// `uncertainty` (optional; the same unit), ≥ 0: the measurement's standard uncertainty, as published.
+    pub uncertainty: Option<f64>,
 }
 
 /// `[tool]`: the rigid 2D cutting tool (roethlin-solver.md §5.4; klippel-constitutive.md §1.3). Its outline is
@@ -101,8 +116,17 @@ pub struct Tool {
     pub length: f64,
     /// `height` (required; unit m), > 0: its extent above the edge's lowest point.
     pub height: f64,
-    /// `position` (required; unit m) `[x, y]`: where the edge's lowest point is at t = 0.
+    /// `position` (required; unit m) `[x, y]`: where the edge's lowest point is at t = 0. With `depth_of_cut` the
+    /// file gives `[x]` only and y is resolved when the scene is read: y = y_top + dx/2 − depth_of_cut, y_top the
+    /// highest particle row of the workpiece body (`body`, default the first `[[body]]`). Always resolved here.
     pub position: [f64; 2],
+    /// `depth_of_cut` (optional; unit m), > 0: the edge's lowest point lies this far below the workpiece's uncut
+    /// surface (top particle row + dx/2). Keeps the cut's geometry when dx changes (`--set discretisation.dx`);
+    /// excludes a y in `position`.
+    pub depth_of_cut: Option<f64>,
+    /// `body` (optional, only with `depth_of_cut`; default the first `[[body]]`): the workpiece body whose top
+    /// surface `depth_of_cut` is measured from, as an index into [`Scene::bodies`].
+    pub body: Option<usize>,
     /// `velocity` (required; unit m/s) `[vx, vy]`: the cutting velocity (zero: a resting tool, e.g. a contact test).
     pub velocity: [f64; 2],
     /// `ramp` (optional, default 0; unit s), ≥ 0: the velocity is reached linearly over this time.

@@ -23,6 +23,7 @@ const ROOT_KEYS: &[&str] = &[
     "output",
     "physics",
     "tool",
+    "experiment",
 ];
 const BODY_KEYS: &[&str] = &["name", "shape", "velocity", "angular_velocity", "lattice", "material", "temperature"];
 const SHAPES: &[(&str, &[&str])] = &[
@@ -448,8 +449,14 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
 
     // [tool]
     let tool = match root.table("tool", "tool", "a table [tool]")? {
-        Some(t) => Some(tool(&t, doc, dim, dx, &physics)?),
+        Some(t) => Some(tool(&t, doc, dim, dx, &physics, &bodies)?),
         None => None,
+    };
+
+    // [experiment]
+    let experiment = match root.table("experiment", "experiment", "a table [experiment] of measured observables")? {
+        Some(t) => experiment(&t, &crate::study::observe::catalogue(dim, tool.is_some(), &bodies))?,
+        None => Vec::new(),
     };
 
     Ok(Scene {
@@ -466,7 +473,39 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
         output,
         physics,
         tool,
+        experiment,
     })
+}
+
+/// The `[experiment]` table: each key names an observable of the scene (`catalogue`), each value is
+/// `{ value, uncertainty }` or a bare number.
+fn experiment(t: &Tab<'_>, catalogue: &[crate::study::observe::Observable]) -> Result<Vec<Measurement>> {
+    let names: Vec<&str> = catalogue.iter().map(|o| o.name.as_str()).collect();
+    t.check_keys(&names, &[], "")?;
+    let value_expected = "a finite, non-zero measured value (errors are relative to it)";
+    let entry_expected = "a measured value: { value = v, uncertainty = u } or a number";
+    let paths: Vec<String> = t.entries.iter().map(|e| t.key(&e.key)).collect();
+    let mut out = Vec::new();
+    for (e, path) in t.entries.iter().zip(&paths) {
+        let (value, uncertainty) = match &e.node.val {
+            Val::Table(entries) => {
+                let m = Tab { doc: t.doc, path, node: &e.node, entries };
+                m.check_keys(&["value", "uncertainty"], &[], "")?;
+                let value = m.required("value", value_expected, m.number("value", value_expected, |x| x != 0.0)?)?;
+                let uncertainty =
+                    m.number("uncertainty", "a non-negative standard uncertainty in the value's unit", non_negative)?;
+                (value, uncertainty)
+            }
+            _ => match as_number(&e.node) {
+                Some(v) if v.is_finite() && v != 0.0 => (v, None),
+                _ => return Err(t.invalid(&e.key, Some(&e.node), entry_expected)),
+            },
+        };
+        out.push(Measurement { name: e.key.clone(), value, uncertainty });
+    }
+    // The catalogue's order (the parser's is not the file's).
+    out.sort_by_key(|m| names.iter().position(|n| *n == m.name));
+    Ok(out)
 }
 
 /// A library material by `name` for the key `k` of table `t`.
@@ -483,7 +522,7 @@ fn library_material(t: &Tab<'_>, doc: &Doc, k: &str) -> Result<crate::material::
 }
 
 /// The `[tool]` table.
-fn tool(t: &Tab<'_>, doc: &Doc, dim: usize, dx: f64, physics: &Physics) -> Result<Tool> {
+fn tool(t: &Tab<'_>, doc: &Doc, dim: usize, dx: f64, physics: &Physics, bodies: &[Body]) -> Result<Tool> {
     t.check_keys(
         &[
             "rake_angle",
@@ -492,6 +531,8 @@ fn tool(t: &Tab<'_>, doc: &Doc, dim: usize, dx: f64, physics: &Physics) -> Resul
             "length",
             "height",
             "position",
+            "depth_of_cut",
+            "body",
             "velocity",
             "ramp",
             "contact_stiffness",
@@ -519,8 +560,7 @@ fn tool(t: &Tab<'_>, doc: &Doc, dim: usize, dx: f64, physics: &Physics) -> Resul
     let e = "a positive length in m";
     let length = t.required("length", e, t.number("length", e, positive)?)?;
     let height = t.required("height", e, t.number("height", e, positive)?)?;
-    let e = point_text("the edge's lowest point at t = 0", 2, "m");
-    let position = t.required("position", &e, t.vector("position", 2, &e)?)?;
+    let (position, depth_of_cut, body) = tool_position(t, dx, bodies)?;
     let e = "the cutting velocity [vx, vy] in m/s";
     let velocity = t.required("velocity", e, t.vector("velocity", 2, e)?)?;
     let ramp = t.number("ramp", "a non-negative time in s", non_negative)?.unwrap_or(0.0);
@@ -614,7 +654,9 @@ fn tool(t: &Tab<'_>, doc: &Doc, dim: usize, dx: f64, physics: &Physics) -> Resul
         edge_radius,
         length,
         height,
-        position: [position[0], position[1]],
+        position,
+        depth_of_cut,
+        body,
         velocity: [velocity[0], velocity[1]],
         ramp,
         contact_stiffness,
@@ -627,6 +669,57 @@ fn tool(t: &Tab<'_>, doc: &Doc, dim: usize, dx: f64, physics: &Physics) -> Resul
         chip_station,
         thermal,
     })
+}
+
+/// The tool's `position`, resolved: `[x, y]` as given, or `[x]` with `depth_of_cut`, y then placed depth_of_cut
+/// below the uncut surface of the workpiece body (`body`, default the first): its top particle row + dx/2. Also
+/// returns the depth and the body index when given.
+fn tool_position(t: &Tab<'_>, dx: f64, bodies: &[Body]) -> Result<([f64; 2], Option<f64>, Option<usize>)> {
+    let depth = t.number("depth_of_cut", "a positive depth in m below the workpiece's uncut surface", positive)?;
+    let names = bodies.iter().map(|b| format!("'{}'", b.name)).collect::<Vec<_>>().join(", ");
+    let body_expected = format!("the name of the workpiece body depth_of_cut is measured from (one of: {names})");
+    let body = match t.string("body", &body_expected, |_| true)? {
+        Some(name) => match bodies.iter().position(|b| b.name == name) {
+            Some(i) => Some(i),
+            None => return Err(t.invalid("body", t.get("body"), body_expected)),
+        },
+        None => None,
+    };
+    let Some(depth) = depth else {
+        if body.is_some() {
+            return Err(t.invalid(
+                "body",
+                t.get("body"),
+                "no body without depth_of_cut (it names the surface the depth is measured from)",
+            ));
+        }
+        let e = format!("{} (or [x] with depth_of_cut)", point_text("the edge's lowest point at t = 0", 2, "m"));
+        let p = t.required("position", &e, t.vector("position", 2, &e)?)?;
+        return Ok(([p[0], p[1]], None, None));
+    };
+    if let Some(node @ Node { val: Val::Array(items), .. }) = t.get("position")
+        && items.len() == 2
+    {
+        return Err(t.invalid(
+            "position",
+            Some(node),
+            "[x] only: depth_of_cut places the edge's y (give position = [x, y] or depth_of_cut, not both)",
+        ));
+    }
+    let e = "[x] of the edge's lowest point at t = 0 in m (depth_of_cut places y)";
+    let x = t.required("position", e, t.vector("position", 1, e)?)?[0];
+    let k = body.unwrap_or(0);
+    let b = &bodies[k];
+    let top = super::generate::top_row(&b.shape, b.lattice, dx).ok_or_else(|| {
+        t.invalid(
+            "depth_of_cut",
+            t.get("depth_of_cut"),
+            format!("a workpiece with particles: body '{}' holds no lattice point at dx = {dx} m", b.name),
+        )
+    })?;
+    // top + (dx/2 − depth), in this order: it rounds V0060's 2.9e-4 + (5e-6 − 1e-4) to exactly the 1.95e-4 the
+    // scene gave before depth_of_cut existed, so its runs are unchanged bit for bit.
+    Ok(([x, top + (0.5 * dx - depth)], Some(depth), body))
 }
 
 /// Number of lattice points on an axis of length `extent`.
