@@ -64,14 +64,30 @@ for p in $parts; do
                          && cut v0300-f64 cases/cutting/v0300.toml && cut reference-cut-f64 cases/cutting/reference-cut.toml
                  }
                  run cutting cuts ;;
+        study) # issue 7: wall time against error over resolutions × precisions (swarf study), the published studies
+               studies() {
+                   "$here/swarf" --backend gpu study cases/rings.toml --levels 1,1/2,1/4 --precisions f64,f32 \
+                       --out /tmp/swarf-study/rings --quiet && cat /tmp/swarf-study/rings/study.md \
+                   && "$here/swarf" --backend gpu study cases/impact.toml --levels 2,1,1/2 --precisions f64,f32 \
+                       --out /tmp/swarf-study/impact --quiet && cat /tmp/swarf-study/impact/study.md \
+                   && "$here/swarf" --backend gpu study cases/cutting/v0060.toml --levels 1,1/2,1/3 --precisions f64,f32 \
+                       --set time.end=7.868e-5 --out /tmp/swarf-study/v0060 --quiet && cat /tmp/swarf-study/v0060/study.md
+                   local ok=$?
+                   for s in rings impact v0060; do
+                       cp "/tmp/swarf-study/$s/study.md" "$out/study-$s.md" 2>/dev/null
+                       cp "/tmp/swarf-study/$s/study.png" "$out/study-$s.png" 2>/dev/null
+                   done
+                   return $ok
+               }
+               run study studies ;;
         ladder) # H9 / C9: V0060 at about 65k and 127k particles (0.5 mm of cut)
                 ladder() {
                     cut v0060-6k cases/cutting/v0060.toml --set time.end=7.868e-5 \
                     && cut v0060-65k cases/cutting/v0060.toml --set discretisation.dx=2.9e-6 \
-                        --set 'boundary.2.min=[1.8675e-3,-1.0]' --set 'tool.position=[-3.6e-5,1.9145e-4]' \
+                        --set 'boundary.2.min=[1.8675e-3,-1.0]' \
                         --set time.end=7.868e-5 --set output.every=1.5736e-6 \
                     && cut v0060-127k cases/cutting/v0060.toml --set discretisation.dx=2.07e-6 \
-                        --set 'boundary.2.min=[1.8691e-3,-1.0]' --set 'tool.position=[-3.6e-5,1.90835e-4]' \
+                        --set 'boundary.2.min=[1.8691e-3,-1.0]' \
                         --set time.end=7.868e-5 --set output.every=1.5736e-6
                 }
                 run ladder ladder ;;
