@@ -64,6 +64,14 @@ for p in $parts; do
                          && cut v0300-f64 cases/cutting/v0300.toml && cut reference-cut-f64 cases/cutting/reference-cut.toml
                  }
                  run cutting cuts ;;
+        longcut) # issue 8: chip self-contact in a 4 mm cut (cases/hard/long-cut.toml): min pair and contact distances
+                 longcut() {
+                     cut long-cut cases/hard/long-cut.toml || return 1
+                     cp /tmp/swarf-cut/long-cut/energy.csv "$out/long-cut-energy.csv"
+                     cp /tmp/swarf-cut/long-cut/forces.csv "$out/long-cut-forces.csv"
+                     awk -F, 'NR == 1 || NR % 10 == 1' /tmp/swarf-cut/long-cut/energy.csv
+                 }
+                 run longcut longcut ;;
         study) # issue 7: wall time against error over resolutions × precisions (swarf study), the published studies
                studies() {
                    "$here/swarf" --backend gpu study cases/rings.toml --levels 1,1/2,1/4 --precisions f64,f32 \

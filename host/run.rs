@@ -80,6 +80,8 @@ pub const ENERGY_COLUMNS: &[&str] = &[
     "plastic_work",
     "viscous_dissipation",
     "balance",
+    "min_pair_distance",
+    "min_contact_distance",
 ];
 
 /// The built-in default scene, `swarf run` without a scene: the V0060 orthogonal cut (cases/cutting/v0060.toml),
@@ -420,6 +422,17 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
     let mut next_ckpt = opts.checkpoint_every.unwrap_or(f64::INFINITY);
     let ckpt_path = opts.out_dir.join("checkpoint.bin");
     let mut history = Vec::new();
+    // Every particle's position at t = 0 by id, for the contact distance of the diagnostics.
+    let initial: Vec<[f64; 3]> = {
+        let p = crate::analysis::positions_f64::<R, _>(&s.particles.pos);
+        let mut v = vec![[0.0; 3]; p.len()];
+        for (k, &id) in s.particles.id.iter().enumerate() {
+            if let Some(slot) = v.get_mut(id as usize) {
+                *slot = p[k];
+            }
+        }
+        v
+    };
     let t0 = Instant::now();
     let end = scene.time.end;
     let every = scene.output.every;
@@ -495,6 +508,14 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
             crate::solver::diagnostics::internal(&mut d, &host.id, temp.as_deref(), eps.as_deref());
             let (work, diss) = solver.download_dissipated(b)?;
             crate::solver::diagnostics::dissipated(&mut d, &host, work.as_deref(), diss.as_deref());
+            // Closest approach of two mechanical particles (within 2h): pairing and interpenetration show here.
+            // Of pairs that started at least 2h apart: contact between material that was apart (chip self-contact).
+            let mech: Vec<bool> = host.flags.iter().map(|f| f & flags::THERMAL_ONLY == 0).collect();
+            let now = crate::analysis::positions_f64::<R, _>(&host.pos);
+            let start: Vec<[f64; 3]> = host.id.iter().map(|&i| initial[i as usize]).collect();
+            d.min_pair_distance = crate::analysis::min_pair_distance(&now, &mech, 2.0 * s.h, None)?.unwrap_or(f64::NAN);
+            d.min_contact_distance =
+                crate::analysis::min_pair_distance(&now, &mech, 2.0 * s.h, Some(&start))?.unwrap_or(f64::NAN);
             if let Some((id, field)) = d.non_finite {
                 return Err(Error::NonFinite { id, field, time: solver.time, step: solver.steps });
             }
@@ -516,6 +537,8 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
                 d.plastic_work,
                 d.viscous_dissipation,
                 d.balance(),
+                d.min_pair_distance,
+                d.min_contact_distance,
             ])
             .map_err(|e| io_err(csv.path(), e))?;
             csv.write().map_err(|e| io_err(csv.path(), e))?;

@@ -131,7 +131,7 @@ fn write_energy(dir: &Path, rows: usize) {
         let kinetic = 2.0 * (t * 2e5).cos().powi(2);
         let elastic = 2.0 - kinetic;
         let noise = 1e-12 * ((i * 7919) % 13) as f64;
-        let row = [
+        let first = [
             t,
             (i * 10) as f64,
             kinetic,
@@ -147,6 +147,9 @@ fn write_energy(dir: &Path, rows: usize) {
             300.0,
             0.0,
         ];
+        // The energy-balance and pair-distance columns after these are not plotted: zeros.
+        let mut row = vec![0.0; ENERGY_HEADER.len()];
+        row[..first.len()].copy_from_slice(&first);
         csv.push(&row).expect("push");
     }
     csv.write().expect("write energy.csv");

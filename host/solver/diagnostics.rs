@@ -30,6 +30,10 @@ pub struct Diagnostics {
     /// Energy the artificial viscosity has taken out of the motion so far, Σ m_i ∫ ½ Σ_j m_j Π_ij v_ij·∇W dt
     /// (0 without it).
     pub viscous_dissipation: f64,
+    /// Smallest distance between two mechanical particles [m] (NaN when none are within 2h; set by the run loop).
+    pub min_pair_distance: f64,
+    /// The same over pairs that started at least 2h apart: contact of material that was apart (NaN when none).
+    pub min_contact_distance: f64,
     /// First non-finite value: (particle id, field).
     pub non_finite: Option<(u32, &'static str)>,
 }
@@ -54,8 +58,15 @@ pub fn compute<R: Real, D: TensorOps<R>>(
     step: u64,
     temp: Option<&[f64]>,
 ) -> Diagnostics {
-    let mut d =
-        Diagnostics { time, step, temperature_max: f64::NAN, plastic_strain_max: f64::NAN, ..Default::default() };
+    let mut d = Diagnostics {
+        time,
+        step,
+        temperature_max: f64::NAN,
+        plastic_strain_max: f64::NAN,
+        min_pair_distance: f64::NAN,
+        min_contact_distance: f64::NAN,
+        ..Default::default()
+    };
     for i in 0..p.len() {
         let (x, v, m, rho) = (&p.pos[i], &p.vel[i], p.mass[i], p.rho[i]);
         let vals: [(&'static str, bool); 4] = [
