@@ -142,12 +142,36 @@ struct Start<B: Backend, R: Real, D: Dim> {
     stress: Field<B, D::Sym<R>>,
 }
 
+impl<B: Backend, R: Real, D: Dim> Start<B, R, D> {
+    fn fields(&mut self) -> FieldsMut<'_, B, R, D> {
+        FieldsMut {
+            pos: &mut self.pos.cur,
+            vel: &mut self.vel.cur,
+            rho: &mut self.rho.cur,
+            stress: &mut self.stress.cur,
+        }
+    }
+}
+
+/// The integrated fields x, v, ρ, S of a `Particles` (a macro: the caller keeps its other fields borrowable).
+macro_rules! state_mut {
+    ($p:expr) => {
+        FieldsMut { pos: &mut $p.pos.cur, vel: &mut $p.vel.cur, rho: &mut $p.rho.cur, stress: &mut $p.stress.cur }
+    };
+}
+
 /// Rates ẏ (in the order of the last interaction).
 pub struct Rates<B: Backend, R: Real, D: Dim> {
     pub pos: B::Buf<D::Vec<R>>,
     pub vel: B::Buf<D::Vec<R>>,
     pub rho: B::Buf<R>,
     pub stress: B::Buf<D::Sym<R>>,
+}
+
+impl<B: Backend, R: Real, D: Dim> Rates<B, R, D> {
+    fn fields(&self) -> FieldsRef<'_, B, R, D> {
+        FieldsRef { pos: &self.pos, vel: &self.vel, rho: &self.rho, stress: &self.stress }
+    }
 }
 
 pub struct Solver<B: Backend, R: Real, D: TensorOps<R>> {
@@ -512,19 +536,9 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                     n,
                     ScalarsAt { buf: &self.scalars, index: j },
                     StepFields {
-                        y: FieldsMut {
-                            pos: &mut p.pos.cur,
-                            vel: &mut p.vel.cur,
-                            rho: &mut p.rho.cur,
-                            stress: &mut p.stress.cur,
-                        },
-                        y0: FieldsMut {
-                            pos: &mut s.pos.cur,
-                            vel: &mut s.vel.cur,
-                            rho: &mut s.rho.cur,
-                            stress: &mut s.stress.cur,
-                        },
-                        rates: FieldsRef { pos: &r.pos, vel: &r.vel, rho: &r.rho, stress: &r.stress },
+                        y: state_mut!(p),
+                        y0: s.fields(),
+                        rates: r.fields(),
                         temp: if conduction.is_some() { self.temp.as_mut().map(|t| &mut t.cur) } else { None },
                         conduction,
                         dissipation: None,
@@ -662,19 +676,9 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                     n,
                     ScalarsAt { buf: &self.scalars, index: j },
                     StepFields {
-                        y: FieldsMut {
-                            pos: &mut p.pos.cur,
-                            vel: &mut p.vel.cur,
-                            rho: &mut p.rho.cur,
-                            stress: &mut p.stress.cur,
-                        },
-                        y0: FieldsMut {
-                            pos: &mut s.pos.cur,
-                            vel: &mut s.vel.cur,
-                            rho: &mut s.rho.cur,
-                            stress: &mut s.stress.cur,
-                        },
-                        rates: FieldsRef { pos: &r.pos, vel: &r.vel, rho: &r.rho, stress: &r.stress },
+                        y: state_mut!(p),
+                        y0: s.fields(),
+                        rates: r.fields(),
                         temp: self.temp.as_mut().map(|t| &mut t.cur),
                         conduction,
                         dissipation: self.dissipation.as_mut().map(|(d, rate)| (&mut d.cur, &*rate)),

@@ -6,14 +6,15 @@ use super::grid::GridParams;
 use crate::real::Real;
 use crate::vector::Vector;
 
-/// Calls `f(j)` for every sorted particle `j` in the stencil of cells around position `p` (including the
-/// particle itself if it is in `pos`). `starts` is the prefix array of the sorted keys: cell `c` holds
-/// particles `starts[c] .. starts[c + 1]`; it has `n_cells + 2` entries (the last bucket is the void bucket).
+/// Calls `f(a, b)` for each row of the (2s+1)^d stencil cells around position `p`, in a fixed order (z, then y):
+/// the cells x0..=x1 of one row are consecutive keys, so their particles are the one contiguous range a..b.
+/// `starts` is the prefix array of the sorted keys: cell `c` holds particles `starts[c] .. starts[c + 1]`; it has
+/// `n_cells + 2` entries (the last bucket is the void bucket). A non-finite position has no rows.
 ///
 /// # Safety
 /// `starts` must be the cell prefix array built for `grid` (length `n_cells + 2`, non-decreasing).
 #[inline(always)]
-pub unsafe fn for_each_neighbour<R: Real, V: Vector<R>, F: FnMut(u32)>(
+pub unsafe fn for_each_row<R: Real, V: Vector<R>, F: FnMut(u32, u32)>(
     grid: &GridParams,
     starts: *const u32,
     p: &V,
@@ -36,16 +37,35 @@ pub unsafe fn for_each_neighbour<R: Real, V: Vector<R>, F: FnMut(u32)>(
         let mut y = y0;
         while y <= y1 {
             let row = (z * ny + y) * nx;
-            // Cells x0..=x1 of one row are consecutive keys, so their particles are one contiguous range.
             let (a, b) = unsafe { (*starts.add((row + x0) as usize), *starts.add((row + x1 + 1) as usize)) };
+            f(a, b);
+            y += 1;
+        }
+        z += 1;
+    }
+}
+
+/// Calls `f(j)` for every sorted particle `j` in the stencil of cells around position `p` (including the
+/// particle itself if it is in `pos`), in the order of [`for_each_row`], so that sums over neighbours are
+/// evaluated in the same order on the host and the GPU.
+///
+/// # Safety
+/// As [`for_each_row`].
+#[inline(always)]
+pub unsafe fn for_each_neighbour<R: Real, V: Vector<R>, F: FnMut(u32)>(
+    grid: &GridParams,
+    starts: *const u32,
+    p: &V,
+    mut f: F,
+) {
+    unsafe {
+        for_each_row::<R, V, _>(grid, starts, p, |a, b| {
             let mut j = a;
             while j < b {
                 f(j);
                 j += 1;
             }
-            y += 1;
-        }
-        z += 1;
+        })
     }
 }
 
@@ -99,26 +119,13 @@ pub unsafe fn for_each_neighbour_strided<R: Real, V: Vector<R>, F: FnMut(u32)>(
     lanes: u32,
     mut f: F,
 ) {
-    let c = grid.coords::<R, V>(p);
-    if c[0] == u32::MAX || lanes == 0 {
+    if lanes == 0 {
         return;
     }
-    let s = grid.stencil;
-    let [nx, ny, nz] = grid.dims;
-    let x0 = c[0].saturating_sub(s);
-    let x1 = if c[0] + s < nx { c[0] + s } else { nx - 1 };
-    let y0 = c[1].saturating_sub(s);
-    let y1 = if c[1] + s < ny { c[1] + s } else { ny - 1 };
-    let (z0, z1) =
-        if V::DIM == 3 { (c[2].saturating_sub(s), if c[2] + s < nz { c[2] + s } else { nz - 1 }) } else { (0, 0) };
     // `skip`: how many candidates of the next row precede this lane's first one.
     let mut skip = lane;
-    let mut z = z0;
-    while z <= z1 {
-        let mut y = y0;
-        while y <= y1 {
-            let row = (z * ny + y) * nx;
-            let (a, b) = unsafe { (*starts.add((row + x0) as usize), *starts.add((row + x1 + 1) as usize)) };
+    unsafe {
+        for_each_row::<R, V, _>(grid, starts, p, |a, b| {
             let len = b - a;
             if skip >= len {
                 skip -= len;
@@ -131,8 +138,6 @@ pub unsafe fn for_each_neighbour_strided<R: Real, V: Vector<R>, F: FnMut(u32)>(
                 // j − b candidates of the next row belong to earlier lanes' turns before ours.
                 skip = j - b;
             }
-            y += 1;
-        }
-        z += 1;
+        })
     }
 }
