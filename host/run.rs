@@ -513,9 +513,9 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
             let mech: Vec<bool> = host.flags.iter().map(|f| f & flags::THERMAL_ONLY == 0).collect();
             let now = crate::analysis::positions_f64::<R, _>(&host.pos);
             let start: Vec<[f64; 3]> = host.id.iter().map(|&i| initial[i as usize]).collect();
-            d.min_pair_distance = crate::analysis::min_pair_distance(&now, &mech, 2.0 * s.h, None)?.unwrap_or(f64::NAN);
-            d.min_contact_distance =
-                crate::analysis::min_pair_distance(&now, &mech, 2.0 * s.h, Some(&start))?.unwrap_or(f64::NAN);
+            let (all, apart) = crate::analysis::min_pair_distances(&now, &mech, 2.0 * s.h, &start)?;
+            d.min_pair_distance = all.unwrap_or(f64::NAN);
+            d.min_contact_distance = apart.unwrap_or(f64::NAN);
             if let Some((id, field)) = d.non_finite {
                 return Err(Error::NonFinite { id, field, time: solver.time, step: solver.steps });
             }
@@ -623,7 +623,7 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
                 Some(f) => f(&Snapshot {
                     diagnostics: &d,
                     id: &host.id,
-                    pos: crate::analysis::positions_f64::<R, _>(&host.pos),
+                    pos: now.clone(),
                     vel: crate::analysis::positions_f64::<R, _>(&host.vel),
                     body: host.flags.iter().map(|f| f >> flags::BODY_SHIFT).collect(),
                     temperature: temp.as_deref(),
@@ -634,7 +634,7 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
             history.push(d);
             if !keep_going || solver.time >= end - 1e-9 * dt {
                 b.synchronize()?;
-                let pos = crate::analysis::positions_f64::<R, _>(&host.pos);
+                let pos = now;
                 let body: Vec<u32> = host.flags.iter().map(|f| f >> flags::BODY_SHIFT).collect();
                 let wall = t0.elapsed().as_secs_f64();
                 let cutting = cut.as_ref().map(|c| c.analysis());

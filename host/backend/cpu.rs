@@ -178,6 +178,62 @@ fn step_arrays<R: Real, D: Dim>(n: usize, f: StepFields<'_, CpuBackend, R, D>) -
     }))
 }
 
+/// Runs `$body` with `$m` bound to the concrete flow-stress model of `$model` and `$t` naming its type.
+macro_rules! with_model {
+    ($model:expr, $t:ident, $m:ident => $body:expr) => {{
+        use crate::kernels::material as km;
+        match $model {
+            FlowModel::JohnsonCook($m) => {
+                type $t = km::JohnsonCook;
+                $body
+            }
+            FlowModel::Calamaz2008($m) => {
+                type $t = km::Calamaz2008;
+                $body
+            }
+            FlowModel::Calamaz2010($m) => {
+                type $t = km::Calamaz2010;
+                $body
+            }
+            FlowModel::Calamaz2011($m) => {
+                type $t = km::Calamaz2011;
+                $body
+            }
+            FlowModel::SimaOzel1($m) => {
+                type $t = km::SimaOzel1;
+                $body
+            }
+            FlowModel::SimaOzel2($m) => {
+                type $t = km::SimaOzel2;
+                $body
+            }
+            FlowModel::SimaOzel3($m) => {
+                type $t = km::SimaOzel3;
+                $body
+            }
+            FlowModel::Scgl($m) => {
+                type $t = km::Scgl;
+                $body
+            }
+            FlowModel::Bilinear($m) => {
+                type $t = km::Bilinear;
+                $body
+            }
+        }
+    }};
+}
+
+/// The address of an optional per-particle output, checked to hold n values (null when absent).
+fn out_ptr(b: Option<&mut Vec<f64>>, what: &'static str, n: usize) -> Result<*mut f64> {
+    match b {
+        Some(y) => {
+            check(what, n, y.len())?;
+            Ok(y.as_mut_ptr())
+        }
+        None => Ok(std::ptr::null_mut()),
+    }
+}
+
 fn check(op: &'static str, expected: usize, got: usize) -> Result<()> {
     if got < expected { Err(Error::Length { op, expected, got }) } else { Ok(()) }
 }
@@ -621,15 +677,6 @@ impl Backend for CpuBackend {
         if p.taylor_quinney > 0.0 {
             check_bodies("step_finish materials", &p.flags[..n], p.materials.map_or(0, |m| m.len()))?;
         }
-        let opt = |b: Option<&mut Vec<f64>>, what: &'static str| -> Result<*mut f64> {
-            match b {
-                Some(y) => {
-                    check(what, n, y.len())?;
-                    Ok(y.as_mut_ptr())
-                }
-                None => Ok(std::ptr::null_mut()),
-            }
-        };
         let arr = SendPlastic(PlasticArrays::<R, D::Sym<R>> {
             stress,
             rho,
@@ -638,34 +685,18 @@ impl Backend for CpuBackend {
             temp,
             flags: p.flags.as_ptr(),
             materials: p.materials.map_or(std::ptr::null(), |m| m.as_ptr()),
-            yield_stress: opt(p.yield_stress, "yield_stress")?,
-            work: opt(p.work, "plastic work")?,
+            yield_stress: out_ptr(p.yield_stress, "yield_stress", n)?,
+            work: out_ptr(p.work, "plastic work", n)?,
         });
         let c = PlasticConsts { shear: p.shear, dt, taylor_quinney: p.taylor_quinney, _pad: 0.0 };
-        macro_rules! go {
-            ($m:expr, $t:ty) => {{
-                let m: &$t = $m;
-                (0..n).into_par_iter().for_each(|i| {
-                    let (a, arr) = (&a, &arr);
-                    // SAFETY: lengths checked above; each particle i is touched by one task only.
-                    unsafe {
-                        correct_particle(&a.0, dt, i);
-                        plastic_particle::<R, D, $t>(m, &c, &arr.0, i)
-                    }
-                })
-            }};
-        }
-        match p.model {
-            FlowModel::JohnsonCook(m) => go!(m, crate::kernels::material::JohnsonCook),
-            FlowModel::Calamaz2008(m) => go!(m, crate::kernels::material::Calamaz2008),
-            FlowModel::Calamaz2010(m) => go!(m, crate::kernels::material::Calamaz2010),
-            FlowModel::Calamaz2011(m) => go!(m, crate::kernels::material::Calamaz2011),
-            FlowModel::SimaOzel1(m) => go!(m, crate::kernels::material::SimaOzel1),
-            FlowModel::SimaOzel2(m) => go!(m, crate::kernels::material::SimaOzel2),
-            FlowModel::SimaOzel3(m) => go!(m, crate::kernels::material::SimaOzel3),
-            FlowModel::Scgl(m) => go!(m, crate::kernels::material::Scgl),
-            FlowModel::Bilinear(m) => go!(m, crate::kernels::material::Bilinear),
-        }
+        with_model!(p.model, M, m => (0..n).into_par_iter().for_each(|i| {
+            let (a, arr) = (&a, &arr);
+            // SAFETY: lengths checked above; each particle i is touched by one task only.
+            unsafe {
+                correct_particle(&a.0, dt, i);
+                plastic_particle::<R, D, M>(m, &c, &arr.0, i)
+            }
+        }));
         Ok(())
     }
 
@@ -789,42 +820,14 @@ impl Backend for CpuBackend {
             temp: a.temp.as_mut_ptr(),
             flags: a.flags.as_ptr(),
             materials: a.materials.map_or(std::ptr::null(), |m| m.as_ptr()),
-            yield_stress: match a.yield_stress {
-                Some(y) => {
-                    check("yield_stress", n, y.len())?;
-                    y.as_mut_ptr()
-                }
-                None => std::ptr::null_mut(),
-            },
-            work: match a.work {
-                Some(w) => {
-                    check("plastic work", n, w.len())?;
-                    w.as_mut_ptr()
-                }
-                None => std::ptr::null_mut(),
-            },
+            yield_stress: out_ptr(a.yield_stress, "yield_stress", n)?,
+            work: out_ptr(a.work, "plastic work", n)?,
         });
-        macro_rules! go {
-            ($m:expr, $t:ty) => {{
-                let m: &$t = $m;
-                (0..n).into_par_iter().for_each(|i| {
-                    let arr = &arr;
-                    // SAFETY: lengths checked above; each particle i is touched by one task only.
-                    unsafe { plastic_particle::<R, D, $t>(m, &c, &arr.0, i) }
-                })
-            }};
-        }
-        match model {
-            FlowModel::JohnsonCook(m) => go!(m, crate::kernels::material::JohnsonCook),
-            FlowModel::Calamaz2008(m) => go!(m, crate::kernels::material::Calamaz2008),
-            FlowModel::Calamaz2010(m) => go!(m, crate::kernels::material::Calamaz2010),
-            FlowModel::Calamaz2011(m) => go!(m, crate::kernels::material::Calamaz2011),
-            FlowModel::SimaOzel1(m) => go!(m, crate::kernels::material::SimaOzel1),
-            FlowModel::SimaOzel2(m) => go!(m, crate::kernels::material::SimaOzel2),
-            FlowModel::SimaOzel3(m) => go!(m, crate::kernels::material::SimaOzel3),
-            FlowModel::Scgl(m) => go!(m, crate::kernels::material::Scgl),
-            FlowModel::Bilinear(m) => go!(m, crate::kernels::material::Bilinear),
-        }
+        with_model!(model, M, m => (0..n).into_par_iter().for_each(|i| {
+            let arr = &arr;
+            // SAFETY: lengths checked above; each particle i is touched by one task only.
+            unsafe { plastic_particle::<R, D, M>(m, &c, &arr.0, i) }
+        }));
         Ok(())
     }
 }

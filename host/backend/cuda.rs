@@ -859,18 +859,22 @@ impl Backend for CudaBackend {
             expected: 0,
             got: 0,
         })?;
-        if !tables.contains_key(fields) {
-            if self.capturing.load(Ordering::Relaxed) {
-                return Err(Error::Length {
-                    op: "gather_fields (new table while capturing a graph)",
-                    expected: 0,
-                    got: 1,
-                });
+        let table = match tables.get(fields) {
+            Some(t) => self.ptr(t),
+            None => {
+                if self.capturing.load(Ordering::Relaxed) {
+                    return Err(Error::Length {
+                        op: "gather_fields (new table while capturing a graph)",
+                        expected: 0,
+                        got: 1,
+                    });
+                }
+                let t = self.upload(fields, "reorder table")?;
+                let p = self.ptr(&t);
+                tables.insert(fields.to_vec(), t);
+                p
             }
-            let t = self.upload(fields, "reorder table")?;
-            tables.insert(fields.to_vec(), t);
-        }
-        let table = self.ptr(&tables[fields]);
+        };
         let args = [Arg::U32(n as u32), Arg::U64(self.ptr(perm)), Arg::U64(table)];
         self.launch_rows(&self.k.gather_fields, n, fields.len() as u32, BLOCK, &args)
     }

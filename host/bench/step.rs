@@ -135,7 +135,7 @@ pub fn copy_bandwidth<B: Backend>(b: &B) -> Result<f64> {
 /// The setup with one physics option switched off, for the step cost of each option; None where the scene does
 /// not model it.
 pub fn without<R: Real, D: TensorOps<R>>(s: &Setup<R, D>, option: &str) -> Option<Setup<R, D>> {
-    let mut o = clone_setup(s);
+    let mut o = s.clone();
     match option {
         "artificial viscosity" => o.stabilisers.viscosity.take().map(|_| ())?,
         "artificial stress" => o.stabilisers.stress.take().map(|_| ())?,
@@ -188,25 +188,6 @@ pub fn without<R: Real, D: TensorOps<R>>(s: &Setup<R, D>, option: &str) -> Optio
 /// The options `without` knows, in report order.
 pub const OPTIONS: [&str; 7] =
     ["heat conduction", "thermal tool", "artificial stress", "XSPH", "artificial viscosity", "friction", "plasticity"];
-
-fn clone_setup<R: Real, D: TensorOps<R>>(s: &Setup<R, D>) -> Setup<R, D> {
-    Setup {
-        particles: s.particles.clone(),
-        params: s.params,
-        stabilisers: s.stabilisers,
-        bc_velocities: s.bc_velocities.clone(),
-        grid: s.grid,
-        dt: s.dt,
-        c0: s.c0,
-        h: s.h,
-        shear: s.shear,
-        temperature: s.temperature.clone(),
-        thermal: s.thermal.clone(),
-        plastic: s.plastic.clone(),
-        contact: s.contact.clone(),
-        warnings: s.warnings.clone(),
-    }
-}
 
 pub fn header(peak_gb_s: f64) -> String {
     // The first row of a workload is its default lanes per particle (`solver::default_lanes`).

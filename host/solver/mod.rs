@@ -65,6 +65,7 @@ pub struct ContactSetup {
 }
 
 /// Everything a solver needs, in the run's precision (built from a scene by `run::setup`).
+#[derive(Clone)]
 pub struct Setup<R: Real, D: TensorOps<R>> {
     pub particles: HostParticles<R, D>,
     pub params: SphParams<R>,
@@ -275,11 +276,20 @@ pub const LANES_8_BELOW: usize = 50_000;
 /// Steps per captured graph (even: a batch then leaves every double buffer as it found it).
 pub const GRAPH_STEPS: usize = 32;
 
-/// The conduction predictor–corrector's (T0, Ṫ) of a thermal state, when it conducts.
-fn conduction_fields<B: Backend>(th: Option<&mut ThermalState<B>>) -> Option<Conduction<'_, B>> {
+/// The thermal materials of a thermal state, and its conduction predictor–corrector's (T0, Ṫ) when it conducts.
+#[allow(clippy::type_complexity)]
+fn thermal_views<B: Backend>(
+    th: Option<&mut ThermalState<B>>,
+) -> (Option<&B::Buf<ThermalMaterial>>, Option<Conduction<'_, B>>) {
     match th {
-        Some(ThermalState { temp0: Some(t0), temp_t: Some(tt), .. }) => Some((&mut t0.cur, &*tt)),
-        _ => None,
+        Some(ThermalState { materials, temp0, temp_t, .. }) => (
+            Some(&*materials),
+            match (temp0.as_mut(), temp_t.as_ref()) {
+                (Some(t0), Some(tt)) => Some((&mut t0.cur, tt)),
+                _ => None,
+            },
+        ),
+        None => (None, None),
     }
 }
 
@@ -444,22 +454,17 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                 }
                 self.steps += GRAPH_STEPS as u64;
             } else {
-                let (t0, s0) = (self.time, self.steps);
                 let mut run = || -> Result<()> {
                     for j in 0..GRAPH_STEPS {
                         self.step_at(b, dt, j)?;
                     }
                     Ok(())
                 };
-                match b.capture(&mut run)? {
-                    Some(g) => {
-                        // Capturing recorded the steps (and advanced the host's bookkeeping) without running them.
-                        b.replay(&g)?;
-                        self.graphs.push((key, g));
-                    }
-                    None => {
-                        debug_assert!(self.steps == s0 + GRAPH_STEPS as u64 && self.time > t0);
-                    }
+                // A backend without graphs ran the steps; a capture only recorded them (and advanced the host's
+                // bookkeeping), so the graph runs them now.
+                if let Some(g) = b.capture(&mut run)? {
+                    b.replay(&g)?;
+                    self.graphs.push((key, g));
                 }
                 if b.address(&self.particles.pos.cur) != key {
                     return Err(crate::Error::Grid("a captured batch must leave the buffers as it found them".into()));
@@ -498,7 +503,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         let mut t = self.time;
         for s in self.host_scalars[..count].iter_mut() {
             t += dt;
-            *s = StepScalars { dt, time: t, tool: Default::default() };
+            *s = StepScalars { dt, tool: Default::default() };
             if let Some(c) = &self.contact {
                 s.tool = ToolState {
                     offset: c.motion.offset_at(t),
@@ -531,7 +536,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             Phase::Predict => {
                 let r = &self.rates;
                 self.cells.begin(b)?;
-                let conduction = conduction_fields(self.thermal.as_mut());
+                let (_, conduction) = thermal_views(self.thermal.as_mut());
                 b.step_predict::<R, D>(
                     n,
                     ScalarsAt { buf: &self.scalars, index: j },
@@ -648,16 +653,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             }
             Phase::Correct => {
                 let yield_stress = self.contact.as_mut().and_then(|c| c.yield_stress.as_mut());
-                let (materials, conduction) = match self.thermal.as_mut() {
-                    Some(ThermalState { materials, temp0, temp_t, .. }) => (
-                        Some(&*materials),
-                        match (temp0.as_mut(), temp_t.as_ref()) {
-                            (Some(t0), Some(tt)) => Some((&mut t0.cur, tt)),
-                            _ => None,
-                        },
-                    ),
-                    None => (None, None),
-                };
+                let (materials, conduction) = thermal_views(self.thermal.as_mut());
                 let shear = self.shear;
                 let plastic = self.plastic.as_mut().map(|pl| PlasticPass {
                     model: &pl.model,

@@ -20,8 +20,6 @@ use crate::real::Real;
 pub struct StepScalars {
     /// The length of this step Δt [s].
     pub dt: f64,
-    /// The step's time t + Δt [s] (diagnostic; the kernels do not read it).
-    pub time: f64,
     /// The tool at the end of the step (zero without a tool).
     pub tool: ToolState,
 }
