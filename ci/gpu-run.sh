@@ -32,7 +32,7 @@ echo "commit $(cat "$here/COMMIT")"
 nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.max.sm --format=csv,noheader 2>/dev/null | tee "$out/nvidia-smi.log"
 for p in $parts; do
     case $p in
-        info) run info "$here/swarf" --backend gpu info ;;
+        info) run info "$here/swarf" --backend gpu info --kernels ;;
         tests) run test-gpu "$here/test-gpu" --test-threads=1 --nocapture
                run test-ptx "$here/test-ptx" ;;
         bench) run bench "$here/swarf" --backend gpu bench neighbours --sizes 1e6,4e6,16e6 --dims 2,3 --precision both ;;

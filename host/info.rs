@@ -4,7 +4,8 @@ use crate::Result;
 use crate::backend::{AnyBackend, BackendChoice};
 use std::fmt::Write;
 
-pub fn report(choice: BackendChoice) -> Result<String> {
+/// The report of `swarf info`; with `kernels`, the GPU compiler's report of every kernel.
+pub fn report(choice: BackendChoice, kernels: bool) -> Result<String> {
     let mut s = String::new();
     let _ = writeln!(s, "swarf {}", env!("CARGO_PKG_VERSION"));
     let (b, line) = AnyBackend::select(choice)?;
@@ -35,5 +36,35 @@ pub fn report(choice: BackendChoice) -> Result<String> {
         let _ = writeln!(s);
     }
     let _ = writeln!(s, "precisions:    f64 (reference), f32");
+    if kernels {
+        match &b {
+            AnyBackend::Cuda(c) => s.push_str(&kernel_table(&c.kernel_report()?)),
+            AnyBackend::Cpu(_) => {
+                let _ = writeln!(s, "kernels:       no compiler report on the CPU backend");
+            }
+        }
+    }
     Ok(s)
+}
+
+/// The compiler report as a Markdown table, spilling kernels first noted.
+fn kernel_table(rows: &[crate::backend::cuda::KernelReport]) -> String {
+    let mut s = String::from(
+        "\n| kernel | registers | local bytes (spills) | shared bytes | blocks/SM | occupancy |\n|---|---|---|---|---|---|\n",
+    );
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {} | {:.0} % |",
+            r.name,
+            r.registers,
+            r.local_bytes,
+            r.shared_bytes,
+            r.blocks_per_sm,
+            100.0 * r.occupancy
+        );
+    }
+    let spilling = rows.iter().filter(|r| r.local_bytes > 0).count();
+    let _ = writeln!(s, "\n{} kernels, {spilling} with local memory (spills or stack arrays)", rows.len());
+    s
 }

@@ -18,7 +18,11 @@ struct Cli {
 #[derive(Subcommand)]
 enum Cmd {
     /// Version, backend, device, driver, embedded PTX targets and precisions.
-    Info,
+    Info {
+        /// Also the GPU compiler's report of every kernel: registers, spills (local memory), occupancy.
+        #[arg(long)]
+        kernels: bool,
+    },
     /// Run a scene: particle frames (VTU + PVD) and energies (CSV) in the output folder.
     Run(RunArgs),
     /// Validate a scene and print particles, h, c0, dt, steps, memory and the expected run time on this backend.
@@ -267,8 +271,8 @@ fn main() {
 
 fn run(cli: Cli) -> Result<()> {
     match cli.cmd {
-        Cmd::Info => {
-            print!("{}", swarf::info::report(cli.backend)?);
+        Cmd::Info { kernels } => {
+            print!("{}", swarf::info::report(cli.backend, kernels)?);
             Ok(())
         }
         Cmd::Run(a) => {

@@ -557,3 +557,41 @@ fn cutting_force_trace_equals_cpu() {
         assert!(worst <= 1e-9, "{file}: GPU force trace differs from the CPU by {worst:e}");
     }
 }
+
+/// Issue 7 on the GPU: the interaction fused with the Brookshaw conduction (`swarf_sph_rates_heat_*`) ends bit
+/// for bit where the separate conduction pass ends, and where the CPU ends, on the thermal-tool reference cut with
+/// a temperature gradient across tool and workpiece, with one and eight lanes (tests/cutting.rs checks the CPU).
+#[test]
+fn fused_conduction_equals_separate_pass_and_cpu() {
+    let Some(g) = gpu() else { return };
+    use swarf::kernels::{Dim2, Vector};
+    use swarf::run::setup;
+    use swarf::scene::Scene;
+    use swarf::solver::{GRAPH_STEPS, Solver};
+    let scene = Scene::load("cases/cutting/reference-cut.toml", &[]).expect("scene");
+    let mut s = setup::<f64, Dim2>(&scene).expect("setup");
+    s.temperature = Some(s.particles.pos.iter().map(|p| 300.0 + 2.0e6 * (p.get(0) + p.get(1))).collect());
+    let count = 2 + GRAPH_STEPS + 5;
+    fn run<B: Backend>(
+        b: &B,
+        s: &swarf::solver::Setup<f64, Dim2>,
+        fuse: bool,
+        lanes: u32,
+        count: usize,
+    ) -> (HostParticles<f64, Dim2>, Vec<f64>) {
+        let mut sv = Solver::<B, f64, Dim2>::new(b, s).expect("solver");
+        sv.fuse_conduction = fuse;
+        sv.lanes = lanes;
+        sv.advance(b, s.dt, count).expect("advance");
+        let (t, _, _) = sv.download_internal(b).expect("internal");
+        (sv.download(b).expect("state"), t.expect("temperature"))
+    }
+    for lanes in [1, 8] {
+        let (a, ta) = run(&CpuBackend::new(), &s, true, lanes, count);
+        let (f, tf) = run(&g, &s, true, lanes, count);
+        let (u, tu) = run(&g, &s, false, lanes, count);
+        assert!(f.bitwise_eq(&u) && tf == tu, "{lanes} lanes: fused GPU pass differs from the separate one");
+        assert!(a.bitwise_eq(&f) && ta == tf, "{lanes} lanes: fused GPU pass differs from the CPU");
+        eprintln!("{lanes} lanes, {count} steps: fused conduction bitwise equal to the separate pass and the CPU");
+    }
+}

@@ -32,5 +32,12 @@ fn ptx_has_no_extern_and_every_entry() {
         for name in &names {
             assert!(entries.contains(&name.as_str()), "{target}: entry point {name} missing (have {entries:?})");
         }
+        // No entry may reach a trap: a Rust panic path (a bounds check, an unwrap) or code LLVM proved undefined
+        // (it once turned a shuffle over struct padding into a trap). The brief: no panics in kernels.
+        for body in ptx.split(".visible .entry ").skip(1) {
+            let name = body.split('(').next().unwrap_or("?").trim();
+            let end = body.find("\n}\n").unwrap_or(body.len());
+            assert!(!body[..end].contains("trap;"), "{target}: entry point {name} can trap (a panic path or UB)");
+        }
     }
 }

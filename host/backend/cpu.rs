@@ -3,14 +3,14 @@
 //! the stable one by construction (the GPU restores the same order with `sort_cells`).
 
 use super::{
-    Backend, Buffer, ContactInputs, CountPass, DeviceInfo, Element, FieldsMut, HeatInputs, PlasticInputs, PlasticPass,
-    ScalarsAt, SphInputs, StepFields,
+    Backend, Buffer, ContactInputs, CountPass, DeviceInfo, Element, FieldsMut, FusedHeat, HeatInputs, PlasticInputs,
+    PlasticPass, ScalarsAt, SphInputs, StepFields,
 };
 use crate::kernels::contact::penalty::{ContactArrays, ContactParams, contact_particle};
 use crate::kernels::neighbour::search::neighbour_row;
 use crate::kernels::neighbour::{GatherField, GridParams, sort::sort_cell};
 use crate::kernels::sph::heat::{HeatArrays, HeatParams, heat_rate};
-use crate::kernels::sph::interact::{Arrays, prepare, rates};
+use crate::kernels::sph::interact::{Arrays, prepare, rates, rates_heat};
 use crate::kernels::sph::plastic::{PlasticArrays, PlasticConsts, plastic_particle};
 use crate::kernels::sph::step::{StepArrays, StepScalars, correct_particle, predict_particle};
 use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers, TensorOps, density::density_sum};
@@ -46,6 +46,34 @@ impl CpuBackend {
                 ..Default::default()
             },
         }
+    }
+
+    /// The conduction inputs as kernel views, after checking that each holds `n` particles and that every
+    /// body has a material.
+    fn heat_arrays<R: Real, D: Dim>(
+        &self,
+        n: usize,
+        input: &HeatInputs<'_, Self, R, D>,
+        op: &'static str,
+    ) -> Result<SendHeat<R, D::Vec<R>>> {
+        for (what, len) in [
+            ("pos", input.pos.len()),
+            ("rho", input.rho.len()),
+            ("mass", input.mass.len()),
+            ("temp", input.temp.len()),
+            ("flags", input.flags.len()),
+        ] {
+            check(what, n, len)?;
+        }
+        check_bodies(op, &input.flags[..n], input.materials.len())?;
+        Ok(SendHeat(HeatArrays::<R, D::Vec<R>> {
+            pos: input.pos.as_ptr(),
+            rho: input.rho.as_ptr(),
+            mass: input.mass.as_ptr(),
+            temp: input.temp.as_ptr(),
+            flags: input.flags.as_ptr(),
+            materials: input.materials.as_ptr(),
+        }))
     }
 }
 
@@ -498,6 +526,7 @@ impl Backend for CpuBackend {
         input: &SphInputs<'_, Self, R, D>,
         out: FieldsMut<'_, Self, R, D>,
         dissipation: Option<&mut Vec<R>>,
+        heat: Option<FusedHeat<'_, Self, R, D>>,
     ) -> Result<()> {
         for (what, len) in [
             ("pos", input.pos.len()),
@@ -549,6 +578,14 @@ impl Backend for CpuBackend {
             }
             None => SendPtr(std::ptr::null_mut()),
         };
+        let fused = match heat {
+            Some(f) => {
+                check("sph_rates temp_t", n, f.temp_t.len())?;
+                let a = self.heat_arrays::<R, D>(n, &f.input, "sph_rates (fused conduction)")?;
+                Some((f.params[0], a, SendPtr(f.temp_t.as_mut_ptr() as *mut u32)))
+            }
+            None => None,
+        };
         macro_rules! go {
             ($av:literal, $as:literal, $xs:literal) => {
                 out.pos[..n].par_iter_mut().enumerate().for_each(|(i, pt)| {
@@ -556,7 +593,23 @@ impl Backend for CpuBackend {
                     // SAFETY: every array was checked to hold n sorted particles, starts belongs to the grid, and
                     // each index i is written by one task only.
                     unsafe {
-                        let o = rates::<R, D, $av, $as, $xs>(&p, &g, st.get(), &a.0, i as u32, lanes);
+                        let o = match &fused {
+                            Some((hp, h, temp_t)) => {
+                                let (o, tt) = rates_heat::<R, D, $av, $as, $xs>(
+                                    &p,
+                                    hp,
+                                    &g,
+                                    st.get(),
+                                    &a.0,
+                                    &h.0,
+                                    i as u32,
+                                    lanes,
+                                );
+                                *(temp_t.get() as *mut f64).add(i) = tt;
+                                o
+                            }
+                            None => rates::<R, D, $av, $as, $xs>(&p, &g, st.get(), &a.0, i as u32, lanes),
+                        };
                         *pt = o.pos_t;
                         *(vel_t.get() as *mut D::Vec<R>).add(i) = o.vel_t;
                         *(rho_t.get() as *mut R).add(i) = o.rho_t;
@@ -593,27 +646,10 @@ impl Backend for CpuBackend {
         input: &HeatInputs<'_, Self, R, D>,
         temp_t: &mut Vec<f64>,
     ) -> Result<()> {
-        for (what, len) in [
-            ("pos", input.pos.len()),
-            ("rho", input.rho.len()),
-            ("mass", input.mass.len()),
-            ("temp", input.temp.len()),
-            ("flags", input.flags.len()),
-            ("temp_t", temp_t.len()),
-        ] {
-            check(what, n, len)?;
-        }
+        check("heat_rates temp_t", n, temp_t.len())?;
         check("heat_rates starts", grid[0].n_cells as usize + 2, starts.len())?;
-        check_bodies("heat_rates materials", &input.flags[..n], input.materials.len())?;
         let (h, k, g) = (hp[0], params[0].kernel, grid[0]);
-        let a = SendHeat(HeatArrays::<R, D::Vec<R>> {
-            pos: input.pos.as_ptr(),
-            rho: input.rho.as_ptr(),
-            mass: input.mass.as_ptr(),
-            temp: input.temp.as_ptr(),
-            flags: input.flags.as_ptr(),
-            materials: input.materials.as_ptr(),
-        });
+        let a = self.heat_arrays::<R, D>(n, input, "heat_rates materials")?;
         let st = SendPtr(starts.as_ptr() as *mut u32);
         temp_t[..n].par_iter_mut().enumerate().for_each(|(i, t)| {
             let a = &a;

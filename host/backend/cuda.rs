@@ -3,8 +3,8 @@
 //! One stream, no event tracking: every launch is ordered after the previous one.
 
 use super::{
-    Backend, Buffer, ContactInputs, CountPass, DeviceInfo, Element, FieldsMut, HeatInputs, PlasticInputs, PlasticPass,
-    SCAN_TILE, ScalarsAt, SphInputs, StepFields,
+    Backend, Buffer, ContactInputs, CountPass, DeviceInfo, Element, FieldsMut, FusedHeat, HeatInputs, PlasticInputs,
+    PlasticPass, SCAN_TILE, ScalarsAt, SphInputs, StepFields,
 };
 use crate::kernels::neighbour::GatherField;
 use crate::kernels::neighbour::GridParams;
@@ -64,6 +64,7 @@ pub fn kernel_names() -> Vec<String> {
         }
         for c in 0..8 {
             v.push(format!("swarf_sph_rates_{var}_{}", rates_suffix(c)));
+            v.push(format!("swarf_sph_rates_heat_{var}_{}", rates_suffix(c)));
         }
     }
     v
@@ -157,6 +158,8 @@ struct Kernels {
     heat_pse: Variants,
     sph_prepare: Vec<Variants>,
     sph_rates: Vec<Variants>,
+    /// The interaction fused with the Brookshaw conduction.
+    sph_rates_heat: Vec<Variants>,
     step_predict: Variants,
     step_finish: Variants,
     /// The corrector fused with each flow-stress model's plastic update.
@@ -177,6 +180,8 @@ struct Kernels {
 
 pub struct CudaBackend {
     ctx: Arc<CudaContext>,
+    /// The loaded PTX module (for the compiler report of [`CudaBackend::kernel_report`]).
+    module: Arc<cudarc::driver::CudaModule>,
     stream: Arc<CudaStream>,
     k: Kernels,
     info: DeviceInfo,
@@ -184,6 +189,23 @@ pub struct CudaBackend {
     gather_tables: Mutex<HashMap<Vec<GatherField>, CudaBuf<GatherField>>>,
     /// A graph is being captured: nothing may be uploaded or synchronised.
     capturing: AtomicBool,
+}
+
+/// What the driver's JIT compiler made of one entry point (`cuFuncGetAttribute`,
+/// `cuOccupancyMaxActiveBlocksPerMultiprocessor` at the backend's block size).
+#[derive(Clone, Debug)]
+pub struct KernelReport {
+    pub name: String,
+    /// Registers per thread.
+    pub registers: i32,
+    /// Local memory per thread in bytes: register spills and stack arrays.
+    pub local_bytes: i32,
+    /// Static shared memory per block in bytes.
+    pub shared_bytes: i32,
+    /// Resident blocks of [`BLOCK`] threads per multiprocessor.
+    pub blocks_per_sm: u32,
+    /// Resident threads against the multiprocessor's maximum.
+    pub occupancy: f64,
 }
 
 /// A captured CUDA graph.
@@ -194,6 +216,31 @@ fn cuda(op: &'static str) -> impl FnOnce(DriverError) -> Error {
 }
 
 impl CudaBackend {
+    /// The compiler report of every entry point in [`kernel_names`] order: registers, local memory (spills),
+    /// shared memory and the occupancy at the launch block size.
+    pub fn kernel_report(&self) -> Result<Vec<KernelReport>> {
+        let max_threads = self
+            .ctx
+            .attribute(CUdevice_attribute::CU_DEVICE_ATTRIBUTE_MAX_THREADS_PER_MULTIPROCESSOR)
+            .map_err(cuda("device attribute"))?;
+        kernel_names()
+            .into_iter()
+            .map(|name| {
+                let f = self.module.load_function(&name).map_err(cuda("loading a kernel"))?;
+                let blocks =
+                    f.occupancy_max_active_blocks_per_multiprocessor(BLOCK, 0, None).map_err(cuda("occupancy"))?;
+                Ok(KernelReport {
+                    registers: f.num_regs().map_err(cuda("function attribute"))?,
+                    local_bytes: f.local_size_bytes().map_err(cuda("function attribute"))?,
+                    shared_bytes: f.shared_size_bytes().map_err(cuda("function attribute"))?,
+                    blocks_per_sm: blocks,
+                    occupancy: (blocks * BLOCK) as f64 / max_threads.max(1) as f64,
+                    name,
+                })
+            })
+            .collect()
+    }
+
     /// Opens device `ordinal` and loads the embedded PTX; says why if that is impossible.
     pub fn new(ordinal: usize) -> Result<Self> {
         if crate::ptx::PTX.is_empty() {
@@ -240,6 +287,7 @@ impl CudaBackend {
             heat_pse: v("swarf_heat_pse", "")?,
             sph_prepare: (0..4).map(|c| v("swarf_sph_prepare", &prepare_suffix(c))).collect::<Result<_>>()?,
             sph_rates: (0..8).map(|c| v("swarf_sph_rates", &rates_suffix(c))).collect::<Result<_>>()?,
+            sph_rates_heat: (0..8).map(|c| v("swarf_sph_rates_heat", &rates_suffix(c))).collect::<Result<_>>()?,
             step_predict: v("swarf_step_predict", "")?,
             step_finish: v("swarf_step_finish", "")?,
             step_finish_plastic: PLASTIC_MODELS
@@ -274,6 +322,7 @@ impl CudaBackend {
             ptx_target: Some(target),
         };
         Ok(CudaBackend {
+            module: module.clone(),
             ctx,
             stream,
             k,
@@ -706,6 +755,7 @@ impl Backend for CudaBackend {
         i: &SphInputs<'_, Self, R, D>,
         out: FieldsMut<'_, Self, R, D>,
         dissipation: Option<&mut CudaBuf<R>>,
+        heat: Option<FusedHeat<'_, Self, R, D>>,
     ) -> Result<()> {
         let art = if stab.stress { i.art.map(|a| self.ptr(a)).unwrap_or(0) } else { 0 };
         let sound = if stab.viscosity { i.sound.map(|c| self.ptr(c)).unwrap_or(0) } else { 0 };
@@ -713,6 +763,7 @@ impl Backend for CudaBackend {
             return Err(Error::Length { op: "sph_rates (stabiliser buffer missing)", expected: n, got: 0 });
         }
         let c = (stab.viscosity as usize) << 2 | (stab.stress as usize) << 1 | stab.xsph as usize;
+        let heat_on = heat.is_some();
         let args = [
             Arg::U32(n as u32),
             Arg::U32(lanes),
@@ -736,9 +787,15 @@ impl Backend for CudaBackend {
             Arg::U64(self.ptr_mut(out.rho)),
             Arg::U64(self.ptr_mut(out.stress)),
             Arg::U64(dissipation.map_or(0, |d| self.ptr_mut(d))),
+            Arg::U64(heat.as_ref().map_or(0, |h| self.ptr(h.params))),
+            Arg::U64(heat.as_ref().map_or(0, |h| self.ptr(h.input.mass))),
+            Arg::U64(heat.as_ref().map_or(0, |h| self.ptr(h.input.temp))),
+            Arg::U64(heat.as_ref().map_or(0, |h| self.ptr(h.input.materials))),
+            Arg::U64(heat.map_or(0, |h| self.ptr_mut(h.temp_t))),
         ];
         check_lanes(lanes)?;
-        self.launch(&self.k.sph_rates[c].0[variant::<R, D>()], n * lanes as usize, BLOCK, &args)
+        let f = if heat_on { &self.k.sph_rates_heat[c] } else { &self.k.sph_rates[c] };
+        self.launch(&f.0[variant::<R, D>()], n * lanes as usize, BLOCK, &args)
     }
 
     fn heat_rates<R: Real, D: Dim>(

@@ -147,7 +147,9 @@ pub trait Backend: Sized + Send + Sync {
         temp: Option<&Self::Buf<f64>>,
     ) -> Result<()>;
     /// SPH pair interaction (`sph::interact::rates`): the rates of every sorted particle, each summed by `lanes`
-    /// lanes (1, 2, 4 or 8; the sums' order depends on it, equally on every backend).
+    /// lanes (1, 2, 4 or 8; the sums' order depends on it, equally on every backend). With `heat`, the same
+    /// neighbour walk also sums the Brookshaw conduction (`sph::interact::rates_heat`), equal bit for bit to
+    /// [`Backend::heat_rates`] on this cell list.
     #[allow(clippy::too_many_arguments)]
     fn sph_rates<R: Real, D: TensorOps<R>>(
         &self,
@@ -160,6 +162,7 @@ pub trait Backend: Sized + Send + Sync {
         input: &SphInputs<'_, Self, R, D>,
         out: FieldsMut<'_, Self, R, D>,
         dissipation: Option<&mut Self::Buf<R>>,
+        heat: Option<FusedHeat<'_, Self, R, D>>,
     ) -> Result<()>;
     /// The fused predictor and counting pass (`sph::step::predict_particle`): y0 ← y, y ← y0 + ½Δt ẏ (x, v, ρ, S
     /// and, with conduction, T), then the predicted position's cell key, its slot and the cell's count
@@ -280,6 +283,14 @@ pub struct HeatInputs<'a, B: Backend, R: Real, D: Dim> {
     pub temp: &'a B::Buf<f64>,
     pub flags: &'a B::Buf<u32>,
     pub materials: &'a B::Buf<ThermalMaterial>,
+}
+
+/// The Brookshaw conduction of the fused interaction: its constants, inputs (with the full masses, the tool's
+/// included) and the Ṫ it writes.
+pub struct FusedHeat<'a, B: Backend, R: Real, D: Dim> {
+    pub params: &'a B::Buf<HeatParams>,
+    pub input: HeatInputs<'a, B, R, D>,
+    pub temp_t: &'a mut B::Buf<f64>,
 }
 
 /// Per-particle state of the plastic pass, sorted order.

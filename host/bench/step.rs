@@ -19,14 +19,16 @@ pub struct StepTimes {
     pub ms_per_step: f64,
     /// Mean time of each phase of [`Phase::ALL`] over the profiled steps (each phase waited for).
     pub phases_ms: [f64; 8],
-    /// Directed neighbour pairs within the kernel support (i ≠ j) at the start of the timing.
+    /// Directed mechanical pairs within the kernel support (i ≠ j, neither a thermal-only tool particle: the
+    /// pair terms the interaction evaluates) at the start of the timing.
     pub pairs: u64,
     /// Bytes a step must move at least (every array read or written once per pass that touches it).
     pub bytes_per_step: f64,
 }
 
 impl StepTimes {
-    /// Pair interactions per second of the interaction phase.
+    /// Mechanical pair terms per second of the interaction phase (which, with fused conduction, also sums the
+    /// conduction of every pair).
     pub fn interactions_per_s(&self) -> f64 {
         self.pairs as f64 / (self.phases_ms[4] * 1e-3)
     }
@@ -48,18 +50,26 @@ pub fn step<B: Backend, R: Real, D: TensorOps<R>>(
     steps: usize,
     profiled: usize,
     lanes: Option<u32>,
+    fuse: bool,
 ) -> Result<StepTimes> {
     let mut sv = Solver::<B, R, D>::new(b, setup)?;
     if let Some(l) = lanes {
         sv.lanes = l;
     }
+    sv.fuse_conduction = fuse;
     let dt = setup.dt;
     // Two plain steps prepare the reorder tables; two batches capture the graphs of both buffer parities.
     sv.advance(b, dt, 2 + 2 * GRAPH_STEPS)?;
     b.synchronize()?;
     let pairs = {
-        let counts = sv.cells.csr_neighbours::<R, D>(b, &sv.particles.pos.cur, setup.params.kernel.support2)?.0;
-        counts.iter().map(|&c| c as u64).sum()
+        let (counts, offsets, list) =
+            sv.cells.csr_neighbours::<R, D>(b, &sv.particles.pos.cur, setup.params.kernel.support2)?;
+        let fl = b.read(&sv.particles.flags.cur)?;
+        let mech = |i: usize| fl[i] & flags::THERMAL_ONLY == 0;
+        (0..counts.len())
+            .filter(|&i| mech(i))
+            .map(|i| list[offsets[i] as usize..offsets[i + 1] as usize].iter().filter(|&&j| mech(j as usize)).count())
+            .sum::<usize>() as u64
     };
     let batches = steps.div_ceil(GRAPH_STEPS).max(1);
     let ms = b.time_ms(&mut || sv.advance(b, dt, batches * GRAPH_STEPS))?;
@@ -77,7 +87,7 @@ pub fn step<B: Backend, R: Real, D: TensorOps<R>>(
         ms_per_step: ms / (batches * GRAPH_STEPS) as f64,
         phases_ms: phases,
         pairs,
-        bytes_per_step: compulsory_bytes(setup, sv.n),
+        bytes_per_step: compulsory_bytes(setup, sv.n, fuse),
     })
 }
 
@@ -85,8 +95,9 @@ pub fn step<B: Backend, R: Real, D: TensorOps<R>>(
 /// (keys, slots, permutation), reorder (reads and writes every stateful field), pre-pass (ρ, S in; σ/ρ² and the
 /// stabilisers' fields out), interaction (every input once, the rates out), conduction, corrector with the
 /// plastic fields, contact. Neighbour data re-read from cache is not counted: this is the bound a perfect cache
-/// reaches.
-pub fn compulsory_bytes<R: Real, D: TensorOps<R>>(s: &Setup<R, D>, n: usize) -> f64 {
+/// reaches. With `fused` conduction the interaction reads T and the full masses and writes Ṫ, and the conduction
+/// pass is gone.
+pub fn compulsory_bytes<R: Real, D: TensorOps<R>>(s: &Setup<R, D>, n: usize, fused: bool) -> f64 {
     let (v, r, sym) = (size_of::<D::Vec<R>>(), size_of::<R>(), size_of::<D::Sym<R>>());
     let y = 2 * v + r + sym; // x, v, ρ, S
     let stab = s.stabilisers.switches();
@@ -106,7 +117,10 @@ pub fn compulsory_bytes<R: Real, D: TensorOps<R>>(s: &Setup<R, D>, n: usize) -> 
     per += r + sym + sym + if stab.stress { sym } else { 0 } + if stab.viscosity { r } else { 0 };
     per += y + r + sym + 4 + if stab.stress { sym } else { 0 } + if stab.viscosity { r } else { 0 };
     per += if contact { 2 * v } else { 0 } + y; // contact forces in, rates out
-    if cond {
+    let brookshaw = s.thermal.as_ref().is_some_and(|t| t.conduction == Some(false));
+    if cond && fused && brookshaw {
+        per += 8 + r + 8;
+    } else if cond {
         per += v + 2 * r + 8 + 4 + 8;
     }
     per += 3 * y + if cond { 3 * 8 } else { 0 } + if plastic { 2 * (3 * 8) + 8 } else { 0 };
@@ -262,18 +276,22 @@ fn one<B: Backend, R: Real, D: TensorOps<R>>(
 ) -> Result<Vec<String>> {
     let s = crate::run::setup::<R, D>(scene)?;
     // The default lanes per particle, then every other choice side by side.
-    let base = step::<B, R, D>(b, &s, label, steps, 5, None)?;
+    let base = step::<B, R, D>(b, &s, label, steps, 5, None, true)?;
     println!("{}", row(&base, peak));
     let default = crate::solver::default_lanes(s.particles.len());
     for l in [1, 2, 4, 8].into_iter().filter(|&l| l != default) {
-        let alt = step::<B, R, D>(b, &s, &format!("{label}, {l} lane(s)"), steps, 5, Some(l))?;
+        let alt = step::<B, R, D>(b, &s, &format!("{label}, {l} lane(s)"), steps, 5, Some(l), true)?;
         println!("{}", row(&alt, peak));
+    }
+    if s.thermal.as_ref().is_some_and(|t| t.conduction == Some(false)) {
+        let sep = step::<B, R, D>(b, &s, &format!("{label}, separate conduction pass"), steps, 5, None, false)?;
+        println!("{}", row(&sep, peak));
     }
     let mut out = Vec::new();
     if options {
         for o in OPTIONS {
             if let Some(v) = without(&s, o) {
-                let t = step::<B, R, D>(b, &v, label, steps, 1, None)?;
+                let t = step::<B, R, D>(b, &v, label, steps, 1, None, true)?;
                 out.push(format!(
                     "| {label} | {} | {o} | {} | {:.4} | {:.4} | {:+.1} % |",
                     R::NAME,

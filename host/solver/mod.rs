@@ -22,7 +22,8 @@ pub use crate::cutting::motion::ToolMotion;
 
 use crate::Result;
 use crate::backend::{
-    Backend, Conduction, ContactInputs, FieldsMut, FieldsRef, PlasticPass, ScalarsAt, SphInputs, StepFields,
+    Backend, Conduction, ContactInputs, FieldsMut, FieldsRef, FusedHeat, HeatInputs, PlasticPass, ScalarsAt, SphInputs,
+    StepFields,
 };
 use crate::kernels::contact::{ContactParams, ToolState, penalty::cap};
 use crate::kernels::neighbour::GridParams;
@@ -211,6 +212,9 @@ pub struct Solver<B: Backend, R: Real, D: TensorOps<R>> {
     /// Threads (lanes) per particle in the pair interaction and the conduction pass: 1, 2, 4 or 8
     /// ([`default_lanes`]; `SWARF_LANES`). The order of the sums depends on it, the same on every backend.
     pub lanes: u32,
+    /// Sum the Brookshaw conduction in the interaction's neighbour walk (`sph::interact::rates_heat`) instead of a
+    /// pass of its own; the results are bitwise the same. On unless `SWARF_NO_FUSE=1` (benchmarks compare both).
+    pub fuse_conduction: bool,
     pub n: usize,
     pub time: f64,
     pub steps: u64,
@@ -416,6 +420,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             graphs: Vec::new(),
             plain_steps: 0,
             use_graphs: std::env::var("SWARF_NO_GRAPHS").map_or(true, |v| v != "1"),
+            fuse_conduction: std::env::var("SWARF_NO_FUSE").map_or(true, |v| v != "1"),
             lanes: match std::env::var("SWARF_LANES").ok().and_then(|v| v.parse().ok()) {
                 Some(l @ (1 | 2 | 4 | 8)) => l,
                 _ => default_lanes(n),
@@ -424,6 +429,12 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             time: 0.0,
             steps: 0,
         })
+    }
+
+    /// Whether the interaction pass sums the conduction: Brookshaw conduction (on the interaction's own cell
+    /// list; PSE needs the wider stencil) and fusion on.
+    fn fused_conduction(&self) -> bool {
+        self.fuse_conduction && self.thermal.as_ref().is_some_and(|th| th.conduction == Some(false))
     }
 
     /// One step of length `dt`.
@@ -530,6 +541,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
     /// Submits one phase of the step whose scalars are entry `j`.
     fn phase(&mut self, b: &B, ph: Phase, j: usize) -> Result<()> {
         let n = self.n;
+        let fused = self.fused_conduction();
         let p = &mut self.particles;
         let s = &mut self.start;
         match ph {
@@ -612,6 +624,21 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                     contact: self.contact.as_ref().map(|c| (&c.normal.cur, &c.friction.cur)),
                 };
                 let r = &mut self.rates;
+                let heat = match (fused, self.temp.as_ref(), self.thermal.as_mut()) {
+                    (true, Some(t), Some(th)) => th.temp_t.as_mut().map(|tt| FusedHeat {
+                        params: &th.heat,
+                        input: HeatInputs {
+                            pos: &p.pos.cur,
+                            rho: &p.rho.cur,
+                            mass: &p.mass.cur,
+                            temp: &t.cur,
+                            flags: &p.flags.cur,
+                            materials: &th.materials,
+                        },
+                        temp_t: tt,
+                    }),
+                    _ => None,
+                };
                 b.sph_rates::<R, D>(
                     n,
                     self.lanes,
@@ -622,10 +649,14 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                     &input,
                     FieldsMut { pos: &mut r.pos, vel: &mut r.vel, rho: &mut r.rho, stress: &mut r.stress },
                     self.dissipation.as_mut().map(|(_, rate)| rate),
+                    heat,
                 )?;
             }
             Phase::Conduction => {
                 let _ = s;
+                if fused {
+                    return Ok(());
+                }
                 if let (Some(t), Some(th)) = (self.temp.as_ref(), self.thermal.as_mut())
                     && let (Some(pse), Some(tt)) = (th.conduction, th.temp_t.as_mut())
                 {

@@ -50,7 +50,8 @@ density_entry!(swarf_density_3d_f32, f32, V3f32);
 density_entry!(swarf_density_3d_f64, f64, V3f64);
 
 use super::intrinsics::{atomic_add_u32, shfl_xor};
-use crate::sph::interact::{Arrays, PairSums, finish_rates, pair_sums, prepare};
+use crate::sph::heat::{HeatArrays, HeatParams, ThermalMaterial, heat_finish, heat_sum};
+use crate::sph::interact::{Arrays, HeatPairSums, PairSums, finish_rates, pair_sums, pair_sums_heat, prepare};
 use crate::sph::lanes::{LaneSum, clamp_lanes};
 use crate::sph::params::SphParams;
 use crate::sph::step::{StepArrays, StepScalars, correct_particle, predict_particle};
@@ -93,9 +94,11 @@ macro_rules! prepare_entry {
 
 /// The pair interaction: rates of every sorted particle, `$lanes` threads per particle, each summing its share of
 /// the neighbours (sph::interact::pair_sums); the shares are combined by a shuffle butterfly in the order of
-/// sph::interact::combine_lanes and the particle's first lane writes the rates (sph::interact::finish_rates).
+/// sph::lanes::combine and the particle's first lane writes the rates (sph::interact::finish_rates). With `$heat`
+/// the same walk also sums the Brookshaw conduction (sph::interact::pair_sums_heat) and writes Ṫ to `temp_t`
+/// (`heat_mass`, `temp`, `materials`, `hp` are its inputs; the plain entries ignore them).
 macro_rules! rates_entry {
-    ($name:ident, $r:ty, $d:ty, $av:literal, $as:literal, $xs:literal) => {
+    ($name:ident, $r:ty, $d:ty, $av:literal, $as:literal, $xs:literal, $heat:literal) => {
         #[unsafe(no_mangle)]
         pub unsafe extern "ptx-kernel" fn $name(
             n: u32,
@@ -120,26 +123,38 @@ macro_rules! rates_entry {
             rho_t: *mut $r,
             stress_t: *mut Sym_<$r, $d>,
             dissipation_t: *mut $r,
+            hp: *const HeatParams,
+            heat_mass: *const $r,
+            temp: *const f64,
+            materials: *const ThermalMaterial,
+            temp_t: *mut f64,
         ) {
             let t = global_index();
             let lanes = clamp_lanes(lanes);
             let (i, lane) = (t / lanes, t % lanes);
             let a = Arrays::<$r, $d> { pos, vel, rho, mass, stress, sig, art, sound, flags, bc_vel, normal, friction };
+            let h = HeatArrays::<$r, Vec_<$r, $d>> { pos, rho, mass: heat_mass, temp, flags, materials };
             // Every lane takes part in the shuffles, also past the last particle.
             let live = i < n;
             unsafe {
-                let mut sums = if live {
-                    pair_sums::<$r, $d, $av, $as, $xs>(&*params, &*grid, starts, &a, i, lane, lanes)
+                let (mech, heat) = if $heat {
+                    let s = if live {
+                        pair_sums_heat::<$r, $d, $av, $as, $xs>(&*params, &*hp, &*grid, starts, &a, &h, i, lane, lanes)
+                    } else {
+                        HeatPairSums::default()
+                    };
+                    let s = butterfly(s, lanes);
+                    (s.mech, s.heat)
                 } else {
-                    PairSums::default()
+                    let s = if live {
+                        pair_sums::<$r, $d, $av, $as, $xs>(&*params, &*grid, starts, &a, i, lane, lanes)
+                    } else {
+                        PairSums::default()
+                    };
+                    (butterfly(s, lanes), 0.0)
                 };
-                let mut s = 1;
-                while s < lanes {
-                    sums = sums.add(&shuffle_xor(&sums, s));
-                    s <<= 1;
-                }
                 if live && lane == 0 {
-                    let o = finish_rates::<$r, $d, $xs>(&*params, &a, i, &sums);
+                    let o = finish_rates::<$r, $d, $xs>(&*params, &a, i, &mech);
                     let iu = i as usize;
                     *pos_t.add(iu) = o.pos_t;
                     *vel_t.add(iu) = o.vel_t;
@@ -148,25 +163,30 @@ macro_rules! rates_entry {
                     if !dissipation_t.is_null() {
                         *dissipation_t.add(iu) = o.dissipation_t;
                     }
+                    if $heat {
+                        *temp_t.add(iu) = heat_finish(&h, i, heat);
+                    }
                 }
             }
         }
     };
 }
 
-/// The value of lane (lane ^ mask), word by word (T is plain data of 4- or 8-byte reals).
+/// Every lane's `x` combined by the shuffle butterfly (sph::lanes::combine's order; every lane gets the result).
 #[inline(always)]
-fn shuffle_xor<T: Copy>(x: &T, mask: u32) -> T {
-    let mut o = *x;
-    let words = size_of::<T>() / 4;
-    let (src, dst) = (x as *const T as *const u32, &mut o as *mut T as *mut u32);
-    let mut k = 0;
-    while k < words {
-        // SAFETY: k < the size of T in words.
-        unsafe { *dst.add(k) = shfl_xor(*src.add(k), mask) };
-        k += 1;
+fn butterfly<T: LaneSum>(mut x: T, lanes: u32) -> T {
+    let mut s = 1;
+    while s < lanes {
+        x = x.add(&shuffle_xor(&x, s));
+        s <<= 1;
     }
-    o
+    x
+}
+
+/// The value of lane (lane ^ mask), word by word (`LaneSum::map_words`: never the padding).
+#[inline(always)]
+fn shuffle_xor<T: LaneSum>(x: &T, mask: u32) -> T {
+    x.map_words(&mut |w| shfl_xor(w, mask))
 }
 
 /// The fused predictor (sph::step::predict_particle) and the cell list's counting pass on the predicted position:
@@ -363,60 +383,90 @@ prepare_entry!(swarf_sph_prepare_2d_f32_v0s0, f32, Dim2, false, false);
 prepare_entry!(swarf_sph_prepare_2d_f32_v0s1, f32, Dim2, false, true);
 prepare_entry!(swarf_sph_prepare_2d_f32_v1s0, f32, Dim2, true, false);
 prepare_entry!(swarf_sph_prepare_2d_f32_v1s1, f32, Dim2, true, true);
-rates_entry!(swarf_sph_rates_2d_f32_v0s0x0, f32, Dim2, false, false, false);
-rates_entry!(swarf_sph_rates_2d_f32_v0s0x1, f32, Dim2, false, false, true);
-rates_entry!(swarf_sph_rates_2d_f32_v0s1x0, f32, Dim2, false, true, false);
-rates_entry!(swarf_sph_rates_2d_f32_v0s1x1, f32, Dim2, false, true, true);
-rates_entry!(swarf_sph_rates_2d_f32_v1s0x0, f32, Dim2, true, false, false);
-rates_entry!(swarf_sph_rates_2d_f32_v1s0x1, f32, Dim2, true, false, true);
-rates_entry!(swarf_sph_rates_2d_f32_v1s1x0, f32, Dim2, true, true, false);
-rates_entry!(swarf_sph_rates_2d_f32_v1s1x1, f32, Dim2, true, true, true);
+rates_entry!(swarf_sph_rates_2d_f32_v0s0x0, f32, Dim2, false, false, false, false);
+rates_entry!(swarf_sph_rates_heat_2d_f32_v0s0x0, f32, Dim2, false, false, false, true);
+rates_entry!(swarf_sph_rates_2d_f32_v0s0x1, f32, Dim2, false, false, true, false);
+rates_entry!(swarf_sph_rates_heat_2d_f32_v0s0x1, f32, Dim2, false, false, true, true);
+rates_entry!(swarf_sph_rates_2d_f32_v0s1x0, f32, Dim2, false, true, false, false);
+rates_entry!(swarf_sph_rates_heat_2d_f32_v0s1x0, f32, Dim2, false, true, false, true);
+rates_entry!(swarf_sph_rates_2d_f32_v0s1x1, f32, Dim2, false, true, true, false);
+rates_entry!(swarf_sph_rates_heat_2d_f32_v0s1x1, f32, Dim2, false, true, true, true);
+rates_entry!(swarf_sph_rates_2d_f32_v1s0x0, f32, Dim2, true, false, false, false);
+rates_entry!(swarf_sph_rates_heat_2d_f32_v1s0x0, f32, Dim2, true, false, false, true);
+rates_entry!(swarf_sph_rates_2d_f32_v1s0x1, f32, Dim2, true, false, true, false);
+rates_entry!(swarf_sph_rates_heat_2d_f32_v1s0x1, f32, Dim2, true, false, true, true);
+rates_entry!(swarf_sph_rates_2d_f32_v1s1x0, f32, Dim2, true, true, false, false);
+rates_entry!(swarf_sph_rates_heat_2d_f32_v1s1x0, f32, Dim2, true, true, false, true);
+rates_entry!(swarf_sph_rates_2d_f32_v1s1x1, f32, Dim2, true, true, true, false);
+rates_entry!(swarf_sph_rates_heat_2d_f32_v1s1x1, f32, Dim2, true, true, true, true);
 predict_entry!(swarf_step_predict_2d_f32, f32, Dim2);
 finish_entry!(swarf_step_finish_2d_f32, f32, Dim2);
 prepare_entry!(swarf_sph_prepare_2d_f64_v0s0, f64, Dim2, false, false);
 prepare_entry!(swarf_sph_prepare_2d_f64_v0s1, f64, Dim2, false, true);
 prepare_entry!(swarf_sph_prepare_2d_f64_v1s0, f64, Dim2, true, false);
 prepare_entry!(swarf_sph_prepare_2d_f64_v1s1, f64, Dim2, true, true);
-rates_entry!(swarf_sph_rates_2d_f64_v0s0x0, f64, Dim2, false, false, false);
-rates_entry!(swarf_sph_rates_2d_f64_v0s0x1, f64, Dim2, false, false, true);
-rates_entry!(swarf_sph_rates_2d_f64_v0s1x0, f64, Dim2, false, true, false);
-rates_entry!(swarf_sph_rates_2d_f64_v0s1x1, f64, Dim2, false, true, true);
-rates_entry!(swarf_sph_rates_2d_f64_v1s0x0, f64, Dim2, true, false, false);
-rates_entry!(swarf_sph_rates_2d_f64_v1s0x1, f64, Dim2, true, false, true);
-rates_entry!(swarf_sph_rates_2d_f64_v1s1x0, f64, Dim2, true, true, false);
-rates_entry!(swarf_sph_rates_2d_f64_v1s1x1, f64, Dim2, true, true, true);
+rates_entry!(swarf_sph_rates_2d_f64_v0s0x0, f64, Dim2, false, false, false, false);
+rates_entry!(swarf_sph_rates_heat_2d_f64_v0s0x0, f64, Dim2, false, false, false, true);
+rates_entry!(swarf_sph_rates_2d_f64_v0s0x1, f64, Dim2, false, false, true, false);
+rates_entry!(swarf_sph_rates_heat_2d_f64_v0s0x1, f64, Dim2, false, false, true, true);
+rates_entry!(swarf_sph_rates_2d_f64_v0s1x0, f64, Dim2, false, true, false, false);
+rates_entry!(swarf_sph_rates_heat_2d_f64_v0s1x0, f64, Dim2, false, true, false, true);
+rates_entry!(swarf_sph_rates_2d_f64_v0s1x1, f64, Dim2, false, true, true, false);
+rates_entry!(swarf_sph_rates_heat_2d_f64_v0s1x1, f64, Dim2, false, true, true, true);
+rates_entry!(swarf_sph_rates_2d_f64_v1s0x0, f64, Dim2, true, false, false, false);
+rates_entry!(swarf_sph_rates_heat_2d_f64_v1s0x0, f64, Dim2, true, false, false, true);
+rates_entry!(swarf_sph_rates_2d_f64_v1s0x1, f64, Dim2, true, false, true, false);
+rates_entry!(swarf_sph_rates_heat_2d_f64_v1s0x1, f64, Dim2, true, false, true, true);
+rates_entry!(swarf_sph_rates_2d_f64_v1s1x0, f64, Dim2, true, true, false, false);
+rates_entry!(swarf_sph_rates_heat_2d_f64_v1s1x0, f64, Dim2, true, true, false, true);
+rates_entry!(swarf_sph_rates_2d_f64_v1s1x1, f64, Dim2, true, true, true, false);
+rates_entry!(swarf_sph_rates_heat_2d_f64_v1s1x1, f64, Dim2, true, true, true, true);
 predict_entry!(swarf_step_predict_2d_f64, f64, Dim2);
 finish_entry!(swarf_step_finish_2d_f64, f64, Dim2);
 prepare_entry!(swarf_sph_prepare_3d_f32_v0s0, f32, Dim3, false, false);
 prepare_entry!(swarf_sph_prepare_3d_f32_v0s1, f32, Dim3, false, true);
 prepare_entry!(swarf_sph_prepare_3d_f32_v1s0, f32, Dim3, true, false);
 prepare_entry!(swarf_sph_prepare_3d_f32_v1s1, f32, Dim3, true, true);
-rates_entry!(swarf_sph_rates_3d_f32_v0s0x0, f32, Dim3, false, false, false);
-rates_entry!(swarf_sph_rates_3d_f32_v0s0x1, f32, Dim3, false, false, true);
-rates_entry!(swarf_sph_rates_3d_f32_v0s1x0, f32, Dim3, false, true, false);
-rates_entry!(swarf_sph_rates_3d_f32_v0s1x1, f32, Dim3, false, true, true);
-rates_entry!(swarf_sph_rates_3d_f32_v1s0x0, f32, Dim3, true, false, false);
-rates_entry!(swarf_sph_rates_3d_f32_v1s0x1, f32, Dim3, true, false, true);
-rates_entry!(swarf_sph_rates_3d_f32_v1s1x0, f32, Dim3, true, true, false);
-rates_entry!(swarf_sph_rates_3d_f32_v1s1x1, f32, Dim3, true, true, true);
+rates_entry!(swarf_sph_rates_3d_f32_v0s0x0, f32, Dim3, false, false, false, false);
+rates_entry!(swarf_sph_rates_heat_3d_f32_v0s0x0, f32, Dim3, false, false, false, true);
+rates_entry!(swarf_sph_rates_3d_f32_v0s0x1, f32, Dim3, false, false, true, false);
+rates_entry!(swarf_sph_rates_heat_3d_f32_v0s0x1, f32, Dim3, false, false, true, true);
+rates_entry!(swarf_sph_rates_3d_f32_v0s1x0, f32, Dim3, false, true, false, false);
+rates_entry!(swarf_sph_rates_heat_3d_f32_v0s1x0, f32, Dim3, false, true, false, true);
+rates_entry!(swarf_sph_rates_3d_f32_v0s1x1, f32, Dim3, false, true, true, false);
+rates_entry!(swarf_sph_rates_heat_3d_f32_v0s1x1, f32, Dim3, false, true, true, true);
+rates_entry!(swarf_sph_rates_3d_f32_v1s0x0, f32, Dim3, true, false, false, false);
+rates_entry!(swarf_sph_rates_heat_3d_f32_v1s0x0, f32, Dim3, true, false, false, true);
+rates_entry!(swarf_sph_rates_3d_f32_v1s0x1, f32, Dim3, true, false, true, false);
+rates_entry!(swarf_sph_rates_heat_3d_f32_v1s0x1, f32, Dim3, true, false, true, true);
+rates_entry!(swarf_sph_rates_3d_f32_v1s1x0, f32, Dim3, true, true, false, false);
+rates_entry!(swarf_sph_rates_heat_3d_f32_v1s1x0, f32, Dim3, true, true, false, true);
+rates_entry!(swarf_sph_rates_3d_f32_v1s1x1, f32, Dim3, true, true, true, false);
+rates_entry!(swarf_sph_rates_heat_3d_f32_v1s1x1, f32, Dim3, true, true, true, true);
 predict_entry!(swarf_step_predict_3d_f32, f32, Dim3);
 finish_entry!(swarf_step_finish_3d_f32, f32, Dim3);
 prepare_entry!(swarf_sph_prepare_3d_f64_v0s0, f64, Dim3, false, false);
 prepare_entry!(swarf_sph_prepare_3d_f64_v0s1, f64, Dim3, false, true);
 prepare_entry!(swarf_sph_prepare_3d_f64_v1s0, f64, Dim3, true, false);
 prepare_entry!(swarf_sph_prepare_3d_f64_v1s1, f64, Dim3, true, true);
-rates_entry!(swarf_sph_rates_3d_f64_v0s0x0, f64, Dim3, false, false, false);
-rates_entry!(swarf_sph_rates_3d_f64_v0s0x1, f64, Dim3, false, false, true);
-rates_entry!(swarf_sph_rates_3d_f64_v0s1x0, f64, Dim3, false, true, false);
-rates_entry!(swarf_sph_rates_3d_f64_v0s1x1, f64, Dim3, false, true, true);
-rates_entry!(swarf_sph_rates_3d_f64_v1s0x0, f64, Dim3, true, false, false);
-rates_entry!(swarf_sph_rates_3d_f64_v1s0x1, f64, Dim3, true, false, true);
-rates_entry!(swarf_sph_rates_3d_f64_v1s1x0, f64, Dim3, true, true, false);
-rates_entry!(swarf_sph_rates_3d_f64_v1s1x1, f64, Dim3, true, true, true);
+rates_entry!(swarf_sph_rates_3d_f64_v0s0x0, f64, Dim3, false, false, false, false);
+rates_entry!(swarf_sph_rates_heat_3d_f64_v0s0x0, f64, Dim3, false, false, false, true);
+rates_entry!(swarf_sph_rates_3d_f64_v0s0x1, f64, Dim3, false, false, true, false);
+rates_entry!(swarf_sph_rates_heat_3d_f64_v0s0x1, f64, Dim3, false, false, true, true);
+rates_entry!(swarf_sph_rates_3d_f64_v0s1x0, f64, Dim3, false, true, false, false);
+rates_entry!(swarf_sph_rates_heat_3d_f64_v0s1x0, f64, Dim3, false, true, false, true);
+rates_entry!(swarf_sph_rates_3d_f64_v0s1x1, f64, Dim3, false, true, true, false);
+rates_entry!(swarf_sph_rates_heat_3d_f64_v0s1x1, f64, Dim3, false, true, true, true);
+rates_entry!(swarf_sph_rates_3d_f64_v1s0x0, f64, Dim3, true, false, false, false);
+rates_entry!(swarf_sph_rates_heat_3d_f64_v1s0x0, f64, Dim3, true, false, false, true);
+rates_entry!(swarf_sph_rates_3d_f64_v1s0x1, f64, Dim3, true, false, true, false);
+rates_entry!(swarf_sph_rates_heat_3d_f64_v1s0x1, f64, Dim3, true, false, true, true);
+rates_entry!(swarf_sph_rates_3d_f64_v1s1x0, f64, Dim3, true, true, false, false);
+rates_entry!(swarf_sph_rates_heat_3d_f64_v1s1x0, f64, Dim3, true, true, false, true);
+rates_entry!(swarf_sph_rates_3d_f64_v1s1x1, f64, Dim3, true, true, true, false);
+rates_entry!(swarf_sph_rates_heat_3d_f64_v1s1x1, f64, Dim3, true, true, true, true);
 predict_entry!(swarf_step_predict_3d_f64, f64, Dim3);
 finish_entry!(swarf_step_finish_3d_f64, f64, Dim3);
-
-use crate::sph::heat::{HeatArrays, HeatParams, ThermalMaterial, heat_finish, heat_sum};
 
 /// Conduction: temp_t[i] = Ṫ_i (sph::heat::heat_rate), Brookshaw or PSE.
 macro_rules! heat_entry {
@@ -449,11 +499,7 @@ macro_rules! heat_entry {
                 } else {
                     0.0
                 };
-                let mut s = 1;
-                while s < lanes {
-                    sum = sum.add(&shuffle_xor(&sum, s));
-                    s <<= 1;
-                }
+                sum = butterfly(sum, lanes);
                 if live && lane == 0 {
                     *temp_t.add(i as usize) = heat_finish(&a, i, sum);
                 }

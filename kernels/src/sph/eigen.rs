@@ -18,38 +18,45 @@ pub fn sym3_eigen<R: Real>(s: [R; 6]) -> ([R; 3], [[R; 3]; 3]) {
         if off <= R::EPSILON * R::EPSILON * diag || off == R::ZERO {
             break;
         }
-        for (p, r) in [(0usize, 1usize), (0, 2), (1, 2)] {
-            let apr = a[p][r];
-            if apr == R::ZERO {
-                continue;
-            }
-            // Rotation angle from tan 2φ = 2 a_pr / (a_rr − a_pp), with the small root t = tan φ.
-            let theta = half * (a[r][r] - a[p][p]) / apr;
-            let t = {
-                let root = (theta * theta + R::ONE).sqrt();
-                let t = R::ONE / (theta.abs() + root);
-                if theta < R::ZERO { -t } else { t }
-            };
-            let c = R::ONE / (t * t + R::ONE).sqrt();
-            let sn = t * c;
-            // A ← Jᵀ A J on rows/columns p and r.
-            for k in 0..3 {
-                let (akp, akr) = (a[k][p], a[k][r]);
-                a[k][p] = c * akp - sn * akr;
-                a[k][r] = sn * akp + c * akr;
-            }
-            for k in 0..3 {
-                let (apk, ark) = (a[p][k], a[r][k]);
-                a[p][k] = c * apk - sn * ark;
-                a[r][k] = sn * apk + c * ark;
-            }
-            for k in 0..3 {
-                let (qkp, qkr) = (q[k][p], q[k][r]);
-                q[k][p] = c * qkp - sn * qkr;
-                q[k][r] = sn * qkp + c * qkr;
-            }
-        }
+        // Constant pairs: the indices are known at compile time, so no bounds check (and no panic path) is left
+        // in the kernels.
+        rotate::<R, 0, 1>(&mut a, &mut q, half);
+        rotate::<R, 0, 2>(&mut a, &mut q, half);
+        rotate::<R, 1, 2>(&mut a, &mut q, half);
         sweep += 1;
     }
     ([a[0][0], a[1][1], a[2][2]], q)
+}
+
+/// One Jacobi rotation zeroing a_pr: A ← Jᵀ A J, Q ← Q J.
+#[inline(always)]
+fn rotate<R: Real, const P: usize, const Q: usize>(a: &mut [[R; 3]; 3], q: &mut [[R; 3]; 3], half: R) {
+    let apr = a[P][Q];
+    if apr == R::ZERO {
+        return;
+    }
+    // Rotation angle from tan 2φ = 2 a_pr / (a_rr − a_pp), with the small root t = tan φ.
+    let theta = half * (a[Q][Q] - a[P][P]) / apr;
+    let t = {
+        let root = (theta * theta + R::ONE).sqrt();
+        let t = R::ONE / (theta.abs() + root);
+        if theta < R::ZERO { -t } else { t }
+    };
+    let c = R::ONE / (t * t + R::ONE).sqrt();
+    let sn = t * c;
+    for row in a.iter_mut() {
+        let (akp, akr) = (row[P], row[Q]);
+        row[P] = c * akp - sn * akr;
+        row[Q] = sn * akp + c * akr;
+    }
+    let (ap, ar) = (a[P], a[Q]);
+    for k in 0..3 {
+        a[P][k] = c * ap[k] - sn * ar[k];
+        a[Q][k] = sn * ap[k] + c * ar[k];
+    }
+    for row in q.iter_mut() {
+        let (qkp, qkr) = (row[P], row[Q]);
+        row[P] = c * qkp - sn * qkr;
+        row[Q] = sn * qkp + c * qkr;
+    }
 }

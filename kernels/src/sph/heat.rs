@@ -12,8 +12,8 @@
 //! Temperatures are f64 in every precision (with the plastic state: the constitutive layer is f64).
 
 use super::kernel::CubicSpline;
-use super::lanes::{MAX_LANES, clamp_lanes, combine};
-use crate::neighbour::{GridParams, for_each_neighbour, for_each_neighbour_strided};
+use super::lanes::{all_lanes, lane_share};
+use crate::neighbour::GridParams;
 use crate::real::Real;
 use crate::vector::Vector;
 use bytemuck::{Pod, Zeroable};
@@ -80,27 +80,26 @@ pub unsafe fn heat_sum<R: Real, V: Vector<R>, const PSE: bool>(
     lane: u32,
     lanes: u32,
 ) -> f64 {
-    let mut sum = 0.0;
     unsafe {
-        if let Some(o) = heat_own(a, i) {
-            for_each_neighbour_strided::<R, V, _>(grid, starts, &o.x, lane, lanes, |j| {
-                sum += heat_pair::<R, V, PSE>(hp, k, a, &o, i, j)
-            });
+        match heat_own(a, i) {
+            Some(o) => lane_share::<R, V, f64, _>(grid, starts, &o.x, lane, lanes, |j, s| {
+                *s += heat_pair::<R, V, PSE>(hp, k, a, &o, i, j)
+            }),
+            None => 0.0,
         }
     }
-    sum
 }
 
 /// What a conduction term needs of particle i; None for a particle with a fixed temperature.
 #[derive(Clone, Copy)]
 pub struct HeatOwn<V> {
-    x: V,
+    pub(crate) x: V,
     t: f64,
     material: ThermalMaterial,
 }
 
 #[inline(always)]
-unsafe fn heat_own<R: Real, V: Vector<R>>(a: &HeatArrays<R, V>, i: u32) -> Option<HeatOwn<V>> {
+pub(crate) unsafe fn heat_own<R: Real, V: Vector<R>>(a: &HeatArrays<R, V>, i: u32) -> Option<HeatOwn<V>> {
     use super::params::flags;
     let iu = i as usize;
     unsafe {
@@ -118,7 +117,7 @@ unsafe fn heat_own<R: Real, V: Vector<R>>(a: &HeatArrays<R, V>, i: u32) -> Optio
 
 /// The term of pair (i, j) (0 for j = i or beyond the cutoff).
 #[inline(always)]
-unsafe fn heat_pair<R: Real, V: Vector<R>, const PSE: bool>(
+pub(crate) unsafe fn heat_pair<R: Real, V: Vector<R>, const PSE: bool>(
     hp: &HeatParams,
     k: &CubicSpline<R>,
     a: &HeatArrays<R, V>,
@@ -178,17 +177,13 @@ pub unsafe fn heat_rate<R: Real, V: Vector<R>, const PSE: bool>(
     i: u32,
     lanes: u32,
 ) -> f64 {
-    let lanes = clamp_lanes(lanes);
-    let mut parts = [0.0f64; MAX_LANES];
     unsafe {
-        if let Some(o) = heat_own(a, i) {
-            // One pass, candidate k to lane k mod lanes (each lane's sum in `heat_sum`'s order).
-            let mut c = 0u32;
-            for_each_neighbour::<R, V, _>(grid, starts, &o.x, |j| {
-                parts[(c % lanes) as usize] += heat_pair::<R, V, PSE>(hp, k, a, &o, i, j);
-                c += 1;
-            });
-        }
-        heat_finish(a, i, combine(&mut parts[..lanes as usize]))
+        let sum = match heat_own(a, i) {
+            Some(o) => all_lanes::<R, V, f64, _>(grid, starts, &o.x, lanes, |j, s| {
+                *s += heat_pair::<R, V, PSE>(hp, k, a, &o, i, j)
+            }),
+            None => 0.0,
+        };
+        heat_finish(a, i, sum)
     }
 }

@@ -12,10 +12,11 @@
 //! with Π_ij = (−α c̄ μ + β μ²)/ρ̄ for v_ij·x_ij < 0 (else 0), μ = h v_ij·x_ij/(r² + η²h²).
 //! Every pair term is evaluated in the same order on CPU and GPU (the cell-list gather order).
 
-use super::lanes::{LaneSum, MAX_LANES, clamp_lanes, combine};
+use super::heat::{HeatArrays, HeatParams, heat_finish, heat_own, heat_pair};
+use super::lanes::{LaneSum, all_lanes, lane_share, map_real, map_vector};
 use super::params::{SphParams, flags};
 use super::tensor::TensorOps;
-use crate::neighbour::{GridParams, for_each_neighbour, for_each_neighbour_strided};
+use crate::neighbour::GridParams;
 use crate::real::Real;
 use crate::vector::{Dim, Vector};
 
@@ -134,20 +135,24 @@ impl<R: Real, D: TensorOps<R>> LaneSum for PairSums<R, D> {
     /// Component-wise self + o.
     #[inline(always)]
     fn add(&self, o: &Self) -> Self {
-        let words = size_of::<Self>() / size_of::<R>();
         let mut out = *self;
-        // SAFETY: PairSums is repr(C) of R-arrays only (Grad and Vec are arrays of R).
-        let (x, y) = unsafe {
-            (
-                core::slice::from_raw_parts_mut(&mut out as *mut Self as *mut R, words),
-                core::slice::from_raw_parts(o as *const Self as *const R, words),
-            )
-        };
-        let mut k = 0;
-        while k < x.len() && k < y.len() {
-            x[k] += y[k];
-            k += 1;
+        for (a, b) in out.l.as_mut().iter_mut().zip(o.l.as_ref()) {
+            *a += *b;
         }
+        axpy(&mut out.acc, R::ONE, &o.acc);
+        axpy(&mut out.xsph, R::ONE, &o.xsph);
+        out.dissipation += o.dissipation;
+        out
+    }
+    #[inline(always)]
+    fn map_words<F: FnMut(u32) -> u32>(&self, f: &mut F) -> Self {
+        let mut out = *self;
+        for a in out.l.as_mut() {
+            *a = map_real(*a, f);
+        }
+        out.acc = map_vector(&self.acc, f);
+        out.xsph = map_vector(&self.xsph, f);
+        out.dissipation = map_real(self.dissipation, f);
         out
     }
 }
@@ -155,6 +160,9 @@ impl<R: Real, D: TensorOps<R>> LaneSum for PairSums<R, D> {
 /// What a pair term needs of particle i.
 #[derive(Clone, Copy)]
 struct Own<R: Real, D: TensorOps<R>> {
+    /// False for the tool's thermal-only particles: their mechanical rates are discarded (`finish_rates`), so
+    /// their pair loop is skipped.
+    mech: bool,
     x: D::Vec<R>,
     v: D::Vec<R>,
     rho: R,
@@ -168,6 +176,7 @@ unsafe fn own<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool>(a: &Arra
     let iu = i as usize;
     unsafe {
         Own {
+            mech: *a.flags.add(iu) & flags::THERMAL_ONLY == 0,
             x: *a.pos.add(iu),
             v: *a.vel.add(iu),
             rho: *a.rho.add(iu),
@@ -178,7 +187,8 @@ unsafe fn own<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool>(a: &Arra
     }
 }
 
-/// Adds the term of pair (i, j) to `sums` (nothing for j = i or beyond the support).
+/// Adds the term of pair (i, j) to `sums` (nothing for j = i, beyond the support, or a massless j: every term
+/// carries m_j, and the tool's thermal-only particles have zero mechanical mass).
 #[inline(always)]
 unsafe fn add_pair<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool>(
     p: &SphParams<R>,
@@ -204,7 +214,11 @@ unsafe fn add_pair<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, con
             let f = k.dw_dr(r) / r;
             D::Vec::<R>::new([f * xij.get(0), f * xij.get(1), f * xij.get(2)])
         };
-        let (vj, rhoj, mj) = (*a.vel.add(ju), *a.rho.add(ju), *a.mass.add(ju));
+        let mj = *a.mass.add(ju);
+        if mj == R::ZERO {
+            return;
+        }
+        let (vj, rhoj) = (*a.vel.add(ju), *a.rho.add(ju));
         let dv = sub(&vj, &vi);
         D::outer_add(&mut sums.l, mj / rhoj, &dv, &gw);
         let w = if AS || XSPH { k.w(r) } else { R::ZERO };
@@ -260,14 +274,122 @@ pub unsafe fn pair_sums<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool
     lane: u32,
     lanes: u32,
 ) -> PairSums<R, D> {
-    let mut sums = PairSums::<R, D>::default();
     unsafe {
         let o = own::<R, D, AV, AS>(a, i);
-        for_each_neighbour_strided::<R, D::Vec<R>, _>(grid, starts, &o.x, lane, lanes, |j| {
-            add_pair::<R, D, AV, AS, XSPH>(p, a, &o, i, j, &mut sums)
-        });
+        if !o.mech {
+            return PairSums::default();
+        }
+        lane_share::<R, D::Vec<R>, _, _>(grid, starts, &o.x, lane, lanes, |j, s| {
+            add_pair::<R, D, AV, AS, XSPH>(p, a, &o, i, j, s)
+        })
     }
-    sums
+}
+
+/// The pair sums of one particle with its Brookshaw conduction sum over the same candidates (sph::heat): the
+/// fused pass of a conducting run, one neighbour walk where there were two.
+#[repr(C)]
+#[derive(Clone, Copy, Default)]
+pub struct HeatPairSums<R: Real, D: TensorOps<R>> {
+    pub mech: PairSums<R, D>,
+    /// Σ_j V_j k_ij L_ij (`heat::heat_sum`).
+    pub heat: f64,
+}
+
+impl<R: Real, D: TensorOps<R>> LaneSum for HeatPairSums<R, D> {
+    #[inline(always)]
+    fn add(&self, o: &Self) -> Self {
+        HeatPairSums { mech: self.mech.add(&o.mech), heat: self.heat + o.heat }
+    }
+    #[inline(always)]
+    fn map_words<F: FnMut(u32) -> u32>(&self, f: &mut F) -> Self {
+        HeatPairSums { mech: self.mech.map_words(f), heat: map_real(self.heat, f) }
+    }
+}
+
+/// Lane `lane` of `lanes`' share of [`HeatPairSums`] of sorted particle i: each candidate adds its conduction
+/// term (unless i has a fixed temperature) and its mechanical term (unless i is thermal-only), in the order of
+/// [`pair_sums`] and `heat::heat_sum`, so both parts equal the separate passes bit for bit.
+///
+/// # Safety
+/// As [`rates`]; `h` holds the same sorted particles (with the full masses), every body index has a material.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub unsafe fn pair_sums_heat<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool>(
+    p: &SphParams<R>,
+    hp: &HeatParams,
+    grid: &GridParams,
+    starts: *const u32,
+    a: &Arrays<R, D>,
+    h: &HeatArrays<R, D::Vec<R>>,
+    i: u32,
+    lane: u32,
+    lanes: u32,
+) -> HeatPairSums<R, D> {
+    unsafe {
+        let o = own::<R, D, AV, AS>(a, i);
+        let ho = heat_own(h, i);
+        if !o.mech && ho.is_none() {
+            return HeatPairSums::default();
+        }
+        lane_share::<R, D::Vec<R>, _, _>(grid, starts, &o.x, lane, lanes, |j, s: &mut HeatPairSums<R, D>| {
+            heat_and_pair::<R, D, AV, AS, XSPH>(p, hp, a, h, &o, ho.as_ref(), i, j, s)
+        })
+    }
+}
+
+/// The conduction and mechanical terms of pair (i, j) of the fused pass.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+unsafe fn heat_and_pair<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool>(
+    p: &SphParams<R>,
+    hp: &HeatParams,
+    a: &Arrays<R, D>,
+    h: &HeatArrays<R, D::Vec<R>>,
+    o: &Own<R, D>,
+    ho: Option<&super::heat::HeatOwn<D::Vec<R>>>,
+    i: u32,
+    j: u32,
+    s: &mut HeatPairSums<R, D>,
+) {
+    unsafe {
+        if let Some(ho) = ho {
+            s.heat += heat_pair::<R, D::Vec<R>, false>(hp, &p.kernel, h, ho, i, j);
+        }
+        if o.mech {
+            add_pair::<R, D, AV, AS, XSPH>(p, a, o, i, j, &mut s.mech);
+        }
+    }
+}
+
+/// The rates and Ṫ of sorted particle i from the fused pass, summed by `lanes` lanes combined as the GPU
+/// combines them: equal to [`rates`] and `heat::heat_rate` (Brookshaw) bit for bit.
+///
+/// # Safety
+/// As [`pair_sums_heat`].
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub unsafe fn rates_heat<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool>(
+    p: &SphParams<R>,
+    hp: &HeatParams,
+    grid: &GridParams,
+    starts: *const u32,
+    a: &Arrays<R, D>,
+    h: &HeatArrays<R, D::Vec<R>>,
+    i: u32,
+    lanes: u32,
+) -> (Rates<R, D>, f64) {
+    unsafe {
+        let o = own::<R, D, AV, AS>(a, i);
+        let ho = heat_own(h, i);
+        let sums = if !o.mech && ho.is_none() {
+            HeatPairSums::default()
+        } else {
+            all_lanes::<R, D::Vec<R>, _, _>(grid, starts, &o.x, lanes, |j, s: &mut HeatPairSums<R, D>| {
+                heat_and_pair::<R, D, AV, AS, XSPH>(p, hp, a, h, &o, ho.as_ref(), i, j, s)
+            })
+        };
+        (finish_rates::<R, D, XSPH>(p, a, i, &sums.mech), heat_finish(h, i, sums.heat))
+    }
 }
 
 /// The rates of sorted particle i from its pair sums. The tool's contact forces of the previous step's contact
@@ -335,18 +457,15 @@ pub unsafe fn rates<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, co
     i: u32,
     lanes: u32,
 ) -> Rates<R, D> {
-    let mut parts = [PairSums::<R, D>::default(); MAX_LANES];
-    let lanes = clamp_lanes(lanes);
-    // One pass over the candidates, candidate k to lane k mod lanes: each lane's sum is built in the order
-    // `pair_sums` builds it on that lane.
-    let mut k = 0u32;
     unsafe {
         let o = own::<R, D, AV, AS>(a, i);
-        for_each_neighbour::<R, D::Vec<R>, _>(grid, starts, &o.x, |j| {
-            add_pair::<R, D, AV, AS, XSPH>(p, a, &o, i, j, &mut parts[(k % lanes) as usize]);
-            k += 1;
-        });
+        let sums = if o.mech {
+            all_lanes::<R, D::Vec<R>, _, _>(grid, starts, &o.x, lanes, |j, s| {
+                add_pair::<R, D, AV, AS, XSPH>(p, a, &o, i, j, s)
+            })
+        } else {
+            PairSums::default()
+        };
+        finish_rates::<R, D, XSPH>(p, a, i, &sums)
     }
-    let sums = combine(&mut parts[..lanes as usize]);
-    unsafe { finish_rates::<R, D, XSPH>(p, a, i, &sums) }
 }

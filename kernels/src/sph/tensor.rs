@@ -10,7 +10,7 @@ use crate::vector::{Dim, Dim2, Dim3, SymTensor, Vector};
 /// Tensor operations of one spatial dimension.
 pub trait TensorOps<R: Real>: Dim {
     /// The velocity gradient L, row-major (2D: 4 entries, 3D: 9).
-    type Grad: Copy + Default;
+    type Grad: Copy + Default + AsRef<[R]> + AsMut<[R]>;
 
     /// L += w · (a ⊗ b).
     fn outer_add(l: &mut Self::Grad, w: R, a: &Self::Vec<R>, b: &Self::Vec<R>);
