@@ -80,31 +80,61 @@ fn for_each_close_pair(pos: &[[f64; 3]], radius: f64, mut f: impl FnMut(usize, u
     Ok(())
 }
 
+/// The closest pair of particles that started apart (see [`min_pair_distances`]): where the contact is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ClosestPair {
+    /// Their distance.
+    pub distance: f64,
+    /// Their stable ids (`HostParticles::id`), the smaller first.
+    pub ids: [u32; 2],
+    /// The midpoint of the two (z = 0 in 2D): locates the contact (tool face, chip back, fixed boundary, ...).
+    pub midpoint: [f64; 3],
+}
+
 /// The smallest distances between two distinct particles among those with `include[i]`, searched within
 /// `radius` (None when no two included particles are that close), in one pass:
 /// - over all pairs: pairing and interpenetration show as pairs far closer than the lattice spacing;
 /// - over the pairs that started at least `radius` apart (`initial`: every particle's position at t = 0, in the
 ///   order of `pos`): the closest approach of material that was not in contact at the start, i.e. a chip touching
-///   itself, the workpiece or another body (issue 8, chip self-contact).
+///   itself, the workpiece or another body (issue 8, chip self-contact), with the pair's ids (`id`, in the order
+///   of `pos`) and midpoint so that the output says where. Equal distances go to the smaller ids, so the pair
+///   does not depend on the particles' order or the search's.
 pub fn min_pair_distances(
     pos: &[[f64; 3]],
     include: &[bool],
     radius: f64,
     initial: &[[f64; 3]],
-) -> Result<(Option<f64>, Option<f64>)> {
-    if pos.len() != include.len() || initial.len() != pos.len() {
-        return Err(Error::Length { op: "min_pair_distances", expected: pos.len(), got: include.len() });
+    id: &[u32],
+) -> Result<(Option<f64>, Option<ClosestPair>)> {
+    for (op, got) in [
+        ("min_pair_distances: include", include.len()),
+        ("min_pair_distances: initial", initial.len()),
+        ("min_pair_distances: id", id.len()),
+    ] {
+        if got != pos.len() {
+            return Err(Error::Length { op, expected: pos.len(), got });
+        }
     }
     let idx: Vec<usize> = (0..pos.len()).filter(|&i| include[i]).collect();
     let p: Vec<[f64; 3]> = idx.iter().map(|&i| pos[i]).collect();
     let d2 = |a: &[f64; 3], c: &[f64; 3]| (a[0] - c[0]).powi(2) + (a[1] - c[1]).powi(2) + (a[2] - c[2]).powi(2);
-    let (mut all, mut apart) = (f64::INFINITY, f64::INFINITY);
+    let mut all = f64::INFINITY;
+    // (r², ids, index into pos of each) of the closest pair that started apart.
+    let mut apart: Option<(f64, [u32; 2], [usize; 2])> = None;
     for_each_close_pair(&p, radius, |i, j, r2| {
         all = all.min(r2);
-        if d2(&initial[idx[i]], &initial[idx[j]]) >= radius * radius {
-            apart = apart.min(r2);
+        let (a, c) = (idx[i], idx[j]);
+        if d2(&initial[a], &initial[c]) >= radius * radius {
+            let (ids, at) = if id[a] <= id[c] { ([id[a], id[c]], [a, c]) } else { ([id[c], id[a]], [c, a]) };
+            if apart.is_none_or(|(best, best_ids, _)| (r2, ids) < (best, best_ids)) {
+                apart = Some((r2, ids, at));
+            }
         }
     })?;
-    let root = |x: f64| x.is_finite().then(|| x.sqrt());
-    Ok((root(all), root(apart)))
+    let closest = apart.map(|(r2, ids, [a, c])| ClosestPair {
+        distance: r2.sqrt(),
+        ids,
+        midpoint: std::array::from_fn(|k| 0.5 * (pos[a][k] + pos[c][k])),
+    });
+    Ok((all.is_finite().then(|| all.sqrt()), closest))
 }

@@ -82,6 +82,11 @@ pub const ENERGY_COLUMNS: &[&str] = &[
     "balance",
     "min_pair_distance",
     "min_contact_distance",
+    "min_contact_x",
+    "min_contact_y",
+    "min_contact_z",
+    "min_contact_id_a",
+    "min_contact_id_b",
 ];
 
 /// The built-in default scene, `swarf run` without a scene: the V0060 orthogonal cut (cases/cutting/v0060.toml),
@@ -509,13 +514,18 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
             let (work, diss) = solver.download_dissipated(b)?;
             crate::solver::diagnostics::dissipated(&mut d, &host, work.as_deref(), diss.as_deref());
             // Closest approach of two mechanical particles (within 2h): pairing and interpenetration show here.
-            // Of pairs that started at least 2h apart: contact between material that was apart (chip self-contact).
+            // Of pairs that started at least 2h apart: contact between material that was apart (chip self-contact),
+            // with where it is and which particles, to tell the tool face from the chip's back or the boundary.
             let mech: Vec<bool> = host.flags.iter().map(|f| f & flags::THERMAL_ONLY == 0).collect();
             let now = crate::analysis::positions_f64::<R, _>(&host.pos);
             let start: Vec<[f64; 3]> = host.id.iter().map(|&i| initial[i as usize]).collect();
-            let (all, apart) = crate::analysis::min_pair_distances(&now, &mech, 2.0 * s.h, &start)?;
+            let (all, apart) = crate::analysis::min_pair_distances(&now, &mech, 2.0 * s.h, &start, &host.id)?;
             d.min_pair_distance = all.unwrap_or(f64::NAN);
-            d.min_contact_distance = apart.unwrap_or(f64::NAN);
+            if let Some(c) = apart {
+                d.min_contact_distance = c.distance;
+                d.min_contact_midpoint = c.midpoint;
+                d.min_contact_ids = Some(c.ids);
+            }
             if let Some((id, field)) = d.non_finite {
                 return Err(Error::NonFinite { id, field, time: solver.time, step: solver.steps });
             }
@@ -539,6 +549,11 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
                 d.balance(),
                 d.min_pair_distance,
                 d.min_contact_distance,
+                d.min_contact_midpoint[0],
+                d.min_contact_midpoint[1],
+                d.min_contact_midpoint[2],
+                d.min_contact_ids.map_or(f64::NAN, |p| f64::from(p[0])),
+                d.min_contact_ids.map_or(f64::NAN, |p| f64::from(p[1])),
             ])
             .map_err(|e| io_err(csv.path(), e))?;
             csv.write().map_err(|e| io_err(csv.path(), e))?;

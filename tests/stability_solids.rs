@@ -3,7 +3,7 @@
 //! the checkerboard (zero-energy) mode of a free elastic block (klippel-constitutive.md §8 H3;
 //! cases/hard/checkerboard-block.toml). Each test prints its measurements (`--nocapture`).
 
-use swarf::analysis::components_per_group;
+use swarf::analysis::{components_per_group, min_pair_distances};
 use swarf::backend::{AnyBackend, BackendChoice, CpuBackend};
 use swarf::kernels::{Dim, Dim2, Vector};
 use swarf::run::{RunOptions, Snapshot, run_observed, setup};
@@ -228,4 +228,74 @@ fn checkerboard_without_stabilisers_is_not_energy_conserving() {
     assert!(grown.is_some(), "the unstabilised checkerboard no longer blows up: update H3 (max E/E0 {})", {
         et.iter().fold(0.0f64, |m, &e| m.max(e / et[0]))
     });
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Where the closest contact is (issue 8, chip self-contact): analysis::min_pair_distances on hand-built particles
+
+/// Relative difference.
+fn rel(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs().max(f64::MIN_POSITIVE)
+}
+
+/// The closest pair of particles that started at least 2h apart, on a configuration built by hand so that the
+/// answer is known by construction (2h = `R` = 1; every group lies more than 1 from the others):
+/// - ids 11 and 3 started 5 apart and are now D_A = 0.3 apart about the midpoint M_A = (1.25, −0.5, 0.75), along
+///   (3, 0, 4)/5 (offsets ±(0.09, 0, 0.12)): the expected pair, distance and midpoint;
+/// - ids 7 and 5 started 0.5 apart (within 2h: one piece of material) and are now 0.1 apart: the closest pair
+///   over all pairs (the first value), ignored for the contact;
+/// - ids 2 and 9 started 3 apart and are now 0.6 apart: in contact, but farther than 11 and 3;
+/// - id 4 is excluded (`include` false, as the tool's thermal-only particles) and lies 0.05 from id 3: ignored.
+///
+/// The ids are not the indices, so the test tells the stable ids from positions in the arrays.
+#[test]
+fn closest_contact_pair_is_located_by_ids_and_midpoint() {
+    const R: f64 = 1.0;
+    const D_A: f64 = 0.3;
+    const M_A: [f64; 3] = [1.25, -0.5, 0.75];
+    // (position now, position at t = 0, id, included)
+    let particles = [
+        ([10.0, 10.0, 10.0], [10.0, 10.0, 10.0], 7, true),
+        ([M_A[0] + 0.09, M_A[1], M_A[2] + 0.12], [0.0, 0.0, 0.0], 11, true),
+        ([-10.0, 0.0, 0.0], [-10.0, 0.0, 0.0], 2, true),
+        ([10.1, 10.0, 10.0], [10.5, 10.0, 10.0], 5, true),
+        ([M_A[0] - 0.09, M_A[1], M_A[2] - 0.12], [5.0, 0.0, 0.0], 3, true),
+        ([-9.4, 0.0, 0.0], [-7.0, 0.0, 0.0], 9, true),
+        ([M_A[0] - 0.09 + 0.05, M_A[1], M_A[2] - 0.12], [20.0, 0.0, 0.0], 4, false),
+    ];
+    let pos: Vec<[f64; 3]> = particles.iter().map(|p| p.0).collect();
+    let initial: Vec<[f64; 3]> = particles.iter().map(|p| p.1).collect();
+    let id: Vec<u32> = particles.iter().map(|p| p.2).collect();
+    let include: Vec<bool> = particles.iter().map(|p| p.3).collect();
+    let (all, contact) = min_pair_distances(&pos, &include, R, &initial, &id).expect("min_pair_distances");
+    let all = all.expect("pairs within 2h");
+    let c = contact.expect("a pair that started apart within 2h");
+    eprintln!("  all pairs: {all:.15}; contact: {c:?}");
+    assert!(rel(all, 0.1) < 1e-12, "closest pair over all: {all}, expected 0.1 (ids 7 and 5)");
+    assert_eq!(c.ids, [3, 11], "the contact pair's ids, smaller first");
+    assert!(rel(c.distance, D_A) < 1e-12, "contact distance {}, expected {D_A}", c.distance);
+    let off = c.midpoint.iter().zip(M_A).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    assert!(off <= 1e-12 * 1.25, "midpoint {:?}, expected {M_A:?}", c.midpoint);
+}
+
+/// No pair that started apart: the contact is None (energy.csv writes NaN) while the pair distance is not; two
+/// contact pairs at the same distance (exact binary values: 0.25 apart) give the smaller ids whatever their order;
+/// arrays of the wrong length are an error, not a panic.
+#[test]
+fn closest_contact_pair_none_ties_and_lengths() {
+    // Two particles that started 0.5 apart (< 2h = 1), now 0.25 apart.
+    let pos = [[0.0, 0.0, 0.0], [0.25, 0.0, 0.0]];
+    let (all, contact) = min_pair_distances(&pos, &[true; 2], 1.0, &[[0.0; 3], [0.5, 0.0, 0.0]], &[0, 1]).unwrap();
+    assert_eq!((all, contact), (Some(0.25), None));
+    // Two pairs that started 4 apart, both now exactly 0.25 apart; listed with the larger ids first.
+    let pos = [[0.0, 0.0, 0.0], [0.25, 0.0, 0.0], [5.0, 0.0, 0.0], [5.25, 0.0, 0.0]];
+    let initial = [[0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [10.0, 0.0, 0.0], [14.0, 0.0, 0.0]];
+    for (id, expected) in [([8, 9, 1, 2], [1, 2]), ([1, 2, 8, 9], [1, 2])] {
+        let c = min_pair_distances(&pos, &[true; 4], 1.0, &initial, &id).unwrap().1.expect("contact");
+        assert_eq!((c.distance, c.ids), (0.25, expected), "ids {id:?}");
+        let mid = if expected == [id[0], id[1]] { [0.125, 0.0, 0.0] } else { [5.125, 0.0, 0.0] };
+        assert_eq!(c.midpoint, mid, "ids {id:?}");
+    }
+    let err = min_pair_distances(&pos, &[true; 4], 1.0, &initial, &[1, 2, 3]).expect_err("3 ids for 4 particles");
+    assert!(matches!(err, swarf::Error::Length { expected: 4, got: 3, .. }), "{err:?}");
 }

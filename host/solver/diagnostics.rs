@@ -34,6 +34,10 @@ pub struct Diagnostics {
     pub min_pair_distance: f64,
     /// The same over pairs that started at least 2h apart: contact of material that was apart (NaN when none).
     pub min_contact_distance: f64,
+    /// Where that pair is: its midpoint [m] (z = 0 in 2D; NaN when none).
+    pub min_contact_midpoint: [f64; 3],
+    /// Its particles' stable ids, the smaller first (None when none).
+    pub min_contact_ids: Option<[u32; 2]>,
     /// First non-finite value: (particle id, field).
     pub non_finite: Option<(u32, &'static str)>,
 }
@@ -65,6 +69,7 @@ pub fn compute<R: Real, D: TensorOps<R>>(
         plastic_strain_max: f64::NAN,
         min_pair_distance: f64::NAN,
         min_contact_distance: f64::NAN,
+        min_contact_midpoint: [f64::NAN; 3],
         ..Default::default()
     };
     for i in 0..p.len() {
