@@ -18,7 +18,7 @@ for l in sys.stdin:
     m = json.loads(l)
     if m.get("reason") == "compiler-artifact" and m.get("executable") and m["target"]["name"] == sys.argv[1]:
         print(m["executable"])' "$1"; }
-for t in gpu ptx; do
+for t in gpu ptx stability_solids stability_energy stability_thermal stability_contact; do
     f=$(cargo test --release --no-run --test "$t" --message-format=json 2>/dev/null | exe "$t" | tail -1)
     cp "$f" "$pack/test-$t"
 done
@@ -26,6 +26,8 @@ f=$(cargo bench --no-run --bench neighbours --message-format=json 2>/dev/null | 
 cp "$f" "$pack/bench-neighbours"
 
 strip "$pack"/swarf "$pack"/test-* "$pack"/bench-*
+# Compressed: the tree sent to the device is limited to 64 MiB (gpu-run.sh unpacks).
+gzip -9 "$pack"/swarf "$pack"/test-* "$pack"/bench-*
 cp ci/gpu-run.sh "$pack/gpu-run.sh"
 git rev-parse --short HEAD > "$pack/COMMIT" 2>/dev/null || echo unknown > "$pack/COMMIT"
 du -sh "$pack"

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
-# Arguments select parts: info tests bench step rings ptx plasticity runs criterion cutting ladder sweep fine
+# Arguments select parts: info tests hard bench step rings ptx plasticity runs criterion cutting ladder sweep fine
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -28,6 +28,7 @@ cut() { # a cutting run on the GPU: out-name, scene, extra args; prints its summ
     echo "== $name"; cat "/tmp/swarf-cut/$name/summary.json"; tail -n 3 "/tmp/swarf-cut/$name/run.log"
     awk 'NR == 1 || NR % 10 == 0' "/tmp/swarf-cut/$name/forces.csv"
 }
+for z in "$here"/*.gz; do [ -e "$z" ] && gunzip -f "$z" && chmod +x "${z%.gz}"; done
 echo "commit $(cat "$here/COMMIT")"
 nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.max.sm --format=csv,noheader 2>/dev/null | tee "$out/nvidia-smi.log"
 for p in $parts; do
@@ -35,6 +36,10 @@ for p in $parts; do
         info) run info "$here/swarf" --backend gpu info --kernels ;;
         tests) run test-gpu "$here/test-gpu" --test-threads=1 --nocapture
                run test-ptx "$here/test-ptx" ;;
+        hard) # issue 8: the stability suite's tests, the same criteria, on the GPU backend
+              for t in stability_solids stability_energy stability_thermal stability_contact; do
+                  SWARF_TEST_BACKEND=gpu run "hard-$t" "$here/test-$t" --test-threads=1 --nocapture
+              done ;;
         bench) run bench "$here/swarf" --backend gpu bench neighbours --sizes 1e6,4e6,16e6 --dims 2,3 --precision both ;;
         rings) run rings-gpu "$here/swarf" --backend gpu bench rings --precision both
                run rings-cpu "$here/swarf" --backend cpu bench rings --precision both --steps 20 ;;
@@ -70,6 +75,15 @@ for p in $parts; do
                      cp /tmp/swarf-cut/long-cut/energy.csv "$out/long-cut-energy.csv"
                      cp /tmp/swarf-cut/long-cut/forces.csv "$out/long-cut-forces.csv"
                      awk -F, 'NR == 1 || NR % 10 == 1' /tmp/swarf-cut/long-cut/energy.csv
+                     # The frame of the closest contact (energy rows and frames are written at the same outputs)
+                     # and the last frame, to see where the chip meets itself or the workpiece.
+                     local f=/tmp/swarf-cut/long-cut/frames
+                     local k=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == "min_contact_distance") c = i }
+                         NR > 2 && $c != "NaN" && (best == "" || $c + 0 < best) { best = $c + 0; row = NR - 2 }
+                         END { print row + 0 }' /tmp/swarf-cut/long-cut/energy.csv)
+                     ls "$f" | head -3; ls "$f" | wc -l
+                     cp "$f/$(printf 'frame_%05d.vtu' "$k")" "$out/long-cut-closest.vtu" 2>/dev/null || echo "no frame $k"
+                     cp "$(ls "$f"/*.vtu | tail -1)" "$out/long-cut-last.vtu"
                  }
                  run longcut longcut ;;
         study) # issue 7: wall time against error over resolutions × precisions (swarf study), the published studies

@@ -15,9 +15,10 @@
 //! 0.0248 Δx, no sign change, E/E0 never above 1 (0.991 / 0.720 / 0.363 at the end), momentum balance exact to
 //! 3e-15.
 
+mod common;
+
 use std::path::PathBuf;
 
-use swarf::backend::{AnyBackend, BackendChoice};
 use swarf::run::{RunOptions, RunReport, Snapshot, run_observed};
 use swarf::scene::Scene;
 
@@ -30,8 +31,8 @@ fn opts(tag: &str) -> RunOptions {
     RunOptions::quiet(base.join(format!("swarf-test-stability-contact-{tag}-{}", std::process::id())))
 }
 
-fn cpu() -> AnyBackend {
-    AnyBackend::select(BackendChoice::Cpu).expect("cpu").0
+fn cpu() -> swarf::backend::AnyBackend {
+    common::test_backend()
 }
 
 /// The friction coefficients of issue 8's contact cases.

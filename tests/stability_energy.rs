@@ -6,7 +6,8 @@
 //! when Δt does (the convergence that shows it is integration error, not a missing term). Measured values in
 //! docs/stability.md.
 
-use swarf::backend::{AnyBackend, BackendChoice};
+mod common;
+
 use swarf::run::{RunOptions, run};
 use swarf::scene::Scene;
 
@@ -17,7 +18,7 @@ fn balance_gap(path: &str, overrides: &[&str], tag: &str) -> f64 {
     let ov: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
     let scene = Scene::load(path, &ov).expect("scene");
     let opts = RunOptions::quiet(std::env::temp_dir().join(format!("swarf-test-energy-{tag}-{}", std::process::id())));
-    let any = AnyBackend::select(BackendChoice::Cpu).expect("cpu").0;
+    let any = common::test_backend();
     let report = run(&any, &scene, &opts).expect("the impact runs to its end");
     let h = &report.history;
     let e0 = h[0].balance();

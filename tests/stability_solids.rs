@@ -3,8 +3,10 @@
 //! the checkerboard (zero-energy) mode of a free elastic block (klippel-constitutive.md §8 H3;
 //! cases/hard/checkerboard-block.toml). Each test prints its measurements (`--nocapture`).
 
+mod common;
+
 use swarf::analysis::{components_per_group, min_pair_distances};
-use swarf::backend::{AnyBackend, BackendChoice, CpuBackend};
+use swarf::backend::{AnyBackend, Backend};
 use swarf::kernels::{Dim, Dim2, Vector};
 use swarf::run::{RunOptions, Snapshot, run_observed, setup};
 use swarf::scene::Scene;
@@ -15,7 +17,7 @@ const BAR: &str = "cases/hard/tensile-notched-bar.toml";
 const BLOCK: &str = "cases/hard/checkerboard-block.toml";
 
 fn cpu() -> AnyBackend {
-    AnyBackend::select(BackendChoice::Cpu).expect("cpu backend").0
+    common::test_backend()
 }
 
 fn opts(name: &str) -> RunOptions {
@@ -142,6 +144,10 @@ fn notched_bar_without_artificial_stress_pairs_and_breaks() {
 /// kinetic and total (kinetic + elastic) energies after every step, the first at t = 0, and the largest
 /// |Σ m v| / Σ m|v|.
 fn checkerboard(overrides: &[String], steps: usize) -> (Vec<f64>, Vec<f64>, f64) {
+    on_test_backend!(checkerboard_on(overrides, steps))
+}
+
+fn checkerboard_on<B: Backend>(b: &B, overrides: &[String], steps: usize) -> (Vec<f64>, Vec<f64>, f64) {
     let scene = Scene::load(BLOCK, overrides).expect("scene");
     let dx = scene.discretisation.dx;
     let mut s = setup::<f64, Dim2>(&scene).expect("setup");
@@ -153,18 +159,17 @@ fn checkerboard(overrides: &[String], steps: usize) -> (Vec<f64>, Vec<f64>, f64)
         let sign = if (ix + iy) % 2 == 0 { 1.0 } else { -1.0 };
         *v = <Dim2 as Dim>::Vec::<f64>::new([sign * amp, 0.0, 0.0]);
     }
-    let b = CpuBackend::new();
-    let mut solver = Solver::<_, f64, Dim2>::new(&b, &s).expect("solver");
+    let mut solver = Solver::<_, f64, Dim2>::new(b, &s).expect("solver");
     let (mut ek, mut et, mut worst_p) = (Vec::new(), Vec::new(), 0.0f64);
     for k in 0..=steps {
-        let p = solver.download(&b).expect("download");
+        let p = solver.download(b).expect("download");
         let d = compute(&p, &solver.host_params, solver.time, solver.steps, None);
         assert!(d.non_finite.is_none(), "non-finite {:?} at step {k}", d.non_finite);
         ek.push(d.kinetic);
         et.push(d.total());
         worst_p = worst_p.max(d.momentum[0].hypot(d.momentum[1]) / d.momentum_scale);
         if k < steps {
-            solver.step(&b, s.dt).expect("step");
+            solver.step(b, s.dt).expect("step");
         }
     }
     (ek, et, worst_p)

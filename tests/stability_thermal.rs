@@ -3,7 +3,8 @@
 //! towards its melt temperature; the temperature must stay at or below T_m, the flow stress non-negative and the
 //! stress finite (a non-finite value stops a run with an error) — cases/hard/adiabatic-shear.toml.
 
-use swarf::backend::{AnyBackend, BackendChoice};
+mod common;
+
 use swarf::run::{RunOptions, Snapshot, run_observed};
 use swarf::scene::Scene;
 
@@ -28,7 +29,7 @@ fn adiabatic_shear_stays_below_melt_with_non_negative_flow_stress() {
         eps_max = eps_max.max(e.iter().copied().fold(0.0, f64::max));
         true
     };
-    let any = AnyBackend::select(BackendChoice::Cpu).expect("cpu").0;
+    let any = common::test_backend();
     run_observed(&any, &scene, &opts, Some(&mut obs)).expect("the shear runs to its end without a non-finite value");
     eprintln!(
         "adiabatic shear: T_max = {t_max:.1} K (T_m = {melt} K), ε̄_max = {eps_max:.2}, min σ_y = {sy_min:.3e} Pa"
@@ -48,16 +49,25 @@ fn impact_at_1000_m_per_s_stays_physical() {
     let melt = lib.thermal.and_then(|t| t.melt_temperature).expect("melt temperature");
     let rho0 = scene.material.density;
     let set = swarf::run::setup::<f64, swarf::kernels::Dim2>(&scene).expect("setup");
+    // Densities are not in the snapshot: the run is observed through its state by a solver of our own.
+    on_test_backend!(impact_on(&scene, &set, melt, rho0))
+}
+
+fn impact_on<B: swarf::backend::Backend>(
+    b: &B,
+    scene: &Scene,
+    set: &swarf::solver::Setup<f64, swarf::kernels::Dim2>,
+    melt: f64,
+    rho0: f64,
+) {
+    let mut solver = swarf::solver::Solver::<_, f64, swarf::kernels::Dim2>::new(b, set).expect("solver");
     let mut e0 = None;
     let (mut rho_min, mut t_max, mut e_max) = (f64::INFINITY, 0.0f64, 0.0f64);
-    // Densities are not in the snapshot: the run is observed through its state by a solver of our own.
-    let b = swarf::backend::CpuBackend::new();
-    let mut solver = swarf::solver::Solver::<_, f64, swarf::kernels::Dim2>::new(&b, &set).expect("solver");
     let steps = (scene.time.end / set.dt).ceil() as u64;
     for k in 0..=steps {
         if k % 50 == 0 || k == steps {
-            let h = solver.download(&b).expect("download");
-            let (temp, eps, _) = solver.download_internal(&b).expect("internal");
+            let h = solver.download(b).expect("download");
+            let (temp, eps, _) = solver.download_internal(b).expect("internal");
             let d = swarf::solver::diagnostics::compute(&h, &solver.host_params, solver.time, solver.steps, None);
             assert!(d.non_finite.is_none(), "non-finite {:?} at step {k}", d.non_finite);
             let e0 = *e0.get_or_insert(d.total());
@@ -69,7 +79,7 @@ fn impact_at_1000_m_per_s_stays_physical() {
             t_max = t_max.max(t.iter().copied().fold(0.0, f64::max));
         }
         if k < steps {
-            solver.step(&b, set.dt).expect("step");
+            solver.step(b, set.dt).expect("step");
         }
     }
     eprintln!(

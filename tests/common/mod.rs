@@ -122,3 +122,26 @@ pub fn assert_same_pairs(a: &[Vec<u32>], b: &[Vec<u32>], what: &str) {
     }
     assert!(total > 0 || a.is_empty(), "{what}: no pairs at all, the test is vacuous");
 }
+
+/// The backend of the physics suites (tests/stability_*.rs): the CPU, or the GPU with `SWARF_TEST_BACKEND=gpu`
+/// (ci/gpu-run.sh part `hard` runs the same tests, with the same criteria, on a GPU).
+pub fn test_backend() -> swarf::backend::AnyBackend {
+    use swarf::backend::{AnyBackend, BackendChoice};
+    let choice = match std::env::var("SWARF_TEST_BACKEND").as_deref() {
+        Ok("gpu") => BackendChoice::Gpu,
+        _ => BackendChoice::Cpu,
+    };
+    AnyBackend::select(choice).expect("the test backend (SWARF_TEST_BACKEND)").0
+}
+
+/// `$f(&backend, args…)` on [`test_backend`]'s backend, for tests that drive a `Solver` of their own (generic
+/// over the backend).
+#[macro_export]
+macro_rules! on_test_backend {
+    ($f:ident($($a:expr),*)) => {
+        match common::test_backend() {
+            swarf::backend::AnyBackend::Cpu(b) => $f(&b, $($a),*),
+            swarf::backend::AnyBackend::Cuda(b) => $f(&*b, $($a),*),
+        }
+    };
+}
