@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
-# Arguments select parts: info tests hard bench step rings ptx plasticity runs criterion cutting ladder sweep fine
+# Arguments select parts: info tests hard regs bench step rings ptx plasticity runs criterion cutting ladder sweep fine
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -36,6 +36,13 @@ for p in $parts; do
         info) run info "$here/swarf" --backend gpu info --kernels ;;
         tests) run test-gpu "$here/test-gpu" --test-threads=1 --nocapture
                run test-ptx "$here/test-ptx" ;;
+        regs) # issue 7: the register cap of the neighbour kernels (SWARF_MAXNREG) against the compiler's choice
+              sc=cases/cutting/reference-cut.toml,cases/cutting/reference-cut-150k.toml
+              run regs-none "$here/swarf" --backend gpu bench step --scenes $sc --precision both
+              for r in 64 80 96; do
+                  SWARF_MAXNREG=$r run "regs-$r" "$here/swarf" --backend gpu bench step --scenes $sc --precision both
+                  SWARF_MAXNREG=$r run "regs-info-$r" "$here/swarf" --backend gpu info --kernels
+              done ;;
         hard) # issue 8: the stability suite's tests, the same criteria, on the GPU backend
               for t in stability_solids stability_energy stability_thermal stability_contact; do
                   SWARF_TEST_BACKEND=gpu run "hard-$t" "$here/test-$t" --test-threads=1 --nocapture
@@ -77,11 +84,11 @@ for p in $parts; do
                      awk -F, 'NR == 1 || NR % 10 == 1' /tmp/swarf-cut/long-cut/energy.csv
                      # The frame of the closest contact (energy rows and frames are written at the same outputs)
                      # and the last frame, to see where the chip meets itself or the workpiece.
-                     local f=/tmp/swarf-cut/long-cut/frames
+                     local f=/tmp/swarf-cut/long-cut
                      local k=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == "min_contact_distance") c = i }
                          NR > 2 && $c != "NaN" && (best == "" || $c + 0 < best) { best = $c + 0; row = NR - 2 }
                          END { print row + 0 }' /tmp/swarf-cut/long-cut/energy.csv)
-                     ls "$f" | head -3; ls "$f" | wc -l
+                     ls "$f"/*.vtu | wc -l
                      cp "$f/$(printf 'frame_%05d.vtu' "$k")" "$out/long-cut-closest.vtu" 2>/dev/null || echo "no frame $k"
                      cp "$(ls "$f"/*.vtu | tail -1)" "$out/long-cut-last.vtu"
                  }
@@ -156,4 +163,7 @@ for p in $parts; do
 done
 echo "== summary =="
 printf '%s\n' "${summary[@]}" | tee "$out/summary.log"
+# At most 8 files come back from a device call: everything but the summary goes into one archive.
+( cd "$out" && find . -maxdepth 1 -type f ! -name summary.log ! -name logs.tgz -printf '%P\n' \
+    | tar czf logs.tgz --remove-files -T - ) || echo "could not archive the logs"
 exit $status

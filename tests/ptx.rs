@@ -41,3 +41,24 @@ fn ptx_has_no_extern_and_every_entry() {
         }
     }
 }
+
+/// `SWARF_MAXNREG` (host/backend/cuda.rs `cap_registers`): a `.maxnreg` directive right after the parameter list
+/// of every neighbour-walking entry point, and on no other entry.
+#[test]
+fn register_cap_marks_exactly_the_neighbour_kernels() {
+    use swarf::backend::cuda::cap_registers;
+    for (target, ptx) in swarf::ptx::PTX {
+        let capped = cap_registers(ptx, &["swarf_sph_rates_", "swarf_heat_"], 72);
+        let mut marked = 0;
+        for body in capped.split(".visible .entry ").skip(1) {
+            let name = body.split('(').next().unwrap_or("?").trim();
+            let want = name.starts_with("swarf_sph_rates_") || name.starts_with("swarf_heat_");
+            let params_end = body.find("\n)\n").map(|e| e + 3).expect("parameter list");
+            let has = body[params_end..].starts_with(".maxnreg 72\n");
+            assert_eq!(has, want, "{target}: {name}: .maxnreg {}", if has { "present" } else { "missing" });
+            marked += has as usize;
+        }
+        assert!(marked >= 40, "{target}: only {marked} entries capped");
+        assert_eq!(capped.matches(".maxnreg").count(), marked, "{target}: a directive outside an entry's head");
+    }
+}

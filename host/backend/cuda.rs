@@ -269,6 +269,10 @@ impl CudaBackend {
                 crate::ptx::targets()
             ))
         })?;
+        let ptx = match std::env::var("SWARF_MAXNREG").ok().and_then(|v| v.parse::<u32>().ok()) {
+            Some(cap) => cap_registers(ptx, &NEIGHBOUR_KERNELS, cap),
+            None => ptx.to_string(),
+        };
         let module = ctx.load_module(cudarc::nvrtc::Ptx::from_src(ptx)).map_err(cuda("loading the PTX module"))?;
         let f = |name: &str| module.load_function(name).map_err(cuda("loading a kernel"));
         let v = |base: &str, suffix: &str| -> Result<Variants> {
@@ -438,6 +442,38 @@ impl ArgList {
     fn get(&self) -> Result<&[Arg]> {
         self.a.get(..self.len).ok_or(Error::Length { op: "kernel arguments", expected: MAX_ARGS, got: self.len })
     }
+}
+
+/// The entry points that walk the neighbours (register-heavy, latency-bound): the ones `SWARF_MAXNREG` caps.
+const NEIGHBOUR_KERNELS: [&str; 2] = ["swarf_sph_rates_", "swarf_heat_"];
+
+/// `ptx` with a `.maxnreg cap` directive on every entry whose name starts with one of `prefixes` (PTX ISA
+/// "Performance-tuning directives": between the parameter list and the body). Fewer registers allow more
+/// resident warps, at the price of spills; `swarf info --kernels` and `swarf bench step` measure both.
+pub fn cap_registers(ptx: &str, prefixes: &[&str], cap: u32) -> String {
+    let mut out = String::with_capacity(ptx.len() + 4096);
+    let mut rest = ptx;
+    while let Some(at) = rest.find(".entry ") {
+        let (head, tail) = rest.split_at(at);
+        out.push_str(head);
+        let name = tail[".entry ".len()..].split('(').next().unwrap_or("");
+        let capped = prefixes.iter().any(|p| name.starts_with(p));
+        // The parameter list ends at the first line that is a lone ")".
+        match (capped, tail.find("\n)\n")) {
+            (true, Some(end)) => {
+                let end = end + "\n)\n".len();
+                out.push_str(&tail[..end]);
+                out.push_str(&format!(".maxnreg {cap}\n"));
+                rest = &tail[end..];
+            }
+            _ => {
+                out.push_str(&tail[..".entry ".len()]);
+                rest = &tail[".entry ".len()..];
+            }
+        }
+    }
+    out.push_str(rest);
+    out
 }
 
 fn first_line(s: &str) -> &str {

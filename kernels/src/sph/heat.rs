@@ -96,6 +96,8 @@ pub struct HeatOwn<V> {
     pub(crate) x: V,
     t: f64,
     material: ThermalMaterial,
+    /// The body index of the flags (its material's index).
+    body: u32,
 }
 
 #[inline(always)]
@@ -107,11 +109,8 @@ pub(crate) unsafe fn heat_own<R: Real, V: Vector<R>>(a: &HeatArrays<R, V>, i: u3
         if fl & flags::FIXED_TEMPERATURE != 0 {
             return None;
         }
-        Some(HeatOwn {
-            x: *a.pos.add(iu),
-            t: *a.temp.add(iu),
-            material: *a.materials.add((fl >> flags::BODY_SHIFT) as usize),
-        })
+        let body = fl >> flags::BODY_SHIFT;
+        Some(HeatOwn { x: *a.pos.add(iu), t: *a.temp.add(iu), material: *a.materials.add(body as usize), body })
     }
 }
 
@@ -134,9 +133,14 @@ pub(crate) unsafe fn heat_pair<R: Real, V: Vector<R>, const PSE: bool>(
             return 0.0;
         }
         let (mi, ti) = (o.material, o.t);
-        let fj = *a.flags.add(ju);
-        let mj = *a.materials.add((fj >> flags::BODY_SHIFT) as usize);
-        let kij = 2.0 * mi.conductivity * mj.conductivity / (mi.conductivity + mj.conductivity);
+        let bj = *a.flags.add(ju) >> flags::BODY_SHIFT;
+        // One material: k_ij = k exactly (the harmonic mean would round it), without the second table load.
+        let kij = if bj == o.body {
+            mi.conductivity
+        } else {
+            let mj = *a.materials.add(bj as usize);
+            2.0 * mi.conductivity * mj.conductivity / (mi.conductivity + mj.conductivity)
+        };
         let vj = (*a.mass.add(ju) / *a.rho.add(ju)).to_f64();
         let tj = *a.temp.add(ju);
         if PSE {
