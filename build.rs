@@ -12,6 +12,11 @@ const NIGHTLY: &str = "nightly-2026-05-20";
 /// Embedded targets: sm_80 runs on Ampere and newer (the driver JIT-compiles it for Hopper). An sm_90 build
 /// measured no faster on an H200 (docs/performance.md), so it is not embedded; add it here to build both.
 const TARGETS: &[&str] = &["sm_80"];
+/// The f32 LLVM flags of ../shared/GPU.md ("Floating point"): approximate f32 division and square root, and FMA
+/// contraction (in every precision). Embedded as `<target>-fast`, loaded with `swarf --fast-math`
+/// (docs/performance.md measures what they change).
+const FAST_FLAGS: &str =
+    "-C llvm-args=-nvptx-prec-divf32=0 -C llvm-args=-nvptx-prec-sqrtf32=0 -C llvm-args=-fp-contract=fast";
 
 fn main() {
     println!("cargo:rerun-if-changed=kernels/src");
@@ -63,11 +68,13 @@ fn build_all(out: &Path) -> Result<Vec<(String, PathBuf)>, String> {
     let target_root = out.ancestors().nth(4).map(|p| p.join("ptx")).unwrap_or_else(|| manifest.join("target/ptx"));
     let mut files = Vec::new();
     for t in TARGETS {
-        let dir = target_root.join(t);
-        let ptx = build_one(&manifest, &dir, t)?;
-        let dst = out.join(format!("swarf_{t}.ptx"));
-        fs::copy(&ptx, &dst).map_err(|e| format!("copy {}: {e}", ptx.display()))?;
-        files.push((t.to_string(), dst));
+        for (name, flags) in [(t.to_string(), ""), (format!("{t}-fast"), FAST_FLAGS)] {
+            let dir = target_root.join(&name);
+            let ptx = build_one(&manifest, &dir, t, flags)?;
+            let dst = out.join(format!("swarf_{name}.ptx"));
+            fs::copy(&ptx, &dst).map_err(|e| format!("copy {}: {e}", ptx.display()))?;
+            files.push((name, dst));
+        }
     }
     Ok(files)
 }
@@ -121,10 +128,10 @@ fn ensure_nightly() -> Result<(), String> {
     Ok(())
 }
 
-fn build_one(manifest: &Path, target_dir: &Path, sm: &str) -> Result<PathBuf, String> {
+fn build_one(manifest: &Path, target_dir: &Path, sm: &str, flags: &str) -> Result<PathBuf, String> {
     let o = clean_command("rustup")
         .current_dir(manifest)
-        .env("RUSTFLAGS", "-Zcross-crate-inline-threshold=always -C panic=abort")
+        .env("RUSTFLAGS", format!("-Zcross-crate-inline-threshold=always -C panic=abort {flags}").trim())
         .args(["run", NIGHTLY, "cargo", "rustc", "--release", "--locked", "-p", "swarf-kernels"])
         .args(["--target", "nvptx64-nvidia-cuda", "-Zbuild-std=core", "--target-dir"])
         .arg(target_dir)

@@ -22,8 +22,10 @@ for t in gpu ptx stability_solids stability_energy stability_thermal stability_c
     f=$(cargo test --release --no-run --test "$t" --message-format=json 2>/dev/null | exe "$t" | tail -1)
     cp "$f" "$pack/test-$t"
 done
-f=$(cargo bench --no-run --bench neighbours --message-format=json 2>/dev/null | exe neighbours | tail -1)
-cp "$f" "$pack/bench-neighbours"
+for bn in neighbours step; do
+    f=$(cargo bench --no-run --bench "$bn" --message-format=json 2>/dev/null | exe "$bn" | tail -1)
+    cp "$f" "$pack/bench-$bn"
+done
 
 strip "$pack"/swarf "$pack"/test-* "$pack"/bench-*
 # Compressed: the tree sent to the device is limited to 64 MiB (gpu-run.sh unpacks).

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
-# Arguments select parts: info tests hard regs bench step rings ptx plasticity runs criterion cutting ladder sweep fine
+# Arguments select parts: info tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -69,7 +69,22 @@ for p in $parts; do
                   done
               }
               run runs runs_log ;;
-        criterion) run criterion "$here/bench-neighbours" --bench --noplot ;;
+        criterion) run criterion "$here/bench-neighbours" --bench --noplot
+                   run criterion-step "$here/bench-step" --bench --noplot ;;
+        fast) # issue 7: the f32 LLVM flags (--fast-math): V0060 cut observables and the step time, against default
+              fastcmp() {
+                  for p in f32 f64; do
+                      for m in default fast; do
+                          local flag=; [ $m = fast ] && flag=--fast-math
+                          "$here/swarf" --backend gpu $flag run cases/cutting/v0060.toml --precision $p --quiet \
+                              --out "/tmp/swarf-fast/$p-$m" || return 1
+                          echo "== v0060 $p $m"; cat "/tmp/swarf-fast/$p-$m/summary.json"
+                      done
+                  done
+              }
+              run fast-v0060 fastcmp
+              run fast-step "$here/swarf" --backend gpu --fast-math bench step --precision both \
+                  --scenes cases/rings.toml,cases/impact.toml,cases/cutting/reference-cut.toml,cases/cutting/reference-cut-150k.toml ;;
         cutting) # issue 5: the validation cuts, whole (1 mm), with wall time; summary and a thinned force trace
                  cuts() {
                      cut v0060-f64 cases/cutting/v0060.toml && cut v0060-f32 cases/cutting/v0060.toml --precision f32 \

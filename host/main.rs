@@ -11,6 +11,10 @@ struct Cli {
     /// Where to run: the GPU if a CUDA driver and device are present (auto), or force one.
     #[arg(long, value_enum, default_value = "auto", global = true)]
     backend: BackendChoice,
+    /// GPU kernels built with the f32 LLVM flags (approximate f32 division and square root, FMA contraction in
+    /// every precision): faster, not bitwise equal to the CPU; docs/performance.md gives the error they add.
+    #[arg(long, global = true)]
+    fast_math: bool,
     #[command(subcommand)]
     cmd: Cmd,
 }
@@ -255,6 +259,10 @@ fn one<B: Backend, R: Real, D: Dim>(b: &B, n: usize, repeats: usize) -> Result<b
 
 fn main() {
     let cli = Cli::parse();
+    if cli.fast_math {
+        // SAFETY: set before any other thread exists (the backend reads it when it loads the PTX).
+        unsafe { std::env::set_var("SWARF_FAST_MATH", "1") };
+    }
     let code = match run(cli) {
         Ok(()) => 0,
         Err(e @ swarf::Error::Interrupted { .. }) => {

@@ -261,7 +261,8 @@ impl CudaBackend {
         // A stream of its own: the legacy default stream cannot be captured into a graph.
         let stream = ctx.new_stream().map_err(cuda("cuStreamCreate"))?;
         let cc = ctx.compute_capability().map_err(cuda("compute capability"))?;
-        let (target, ptx) = crate::ptx::select(cc.0, cc.1).ok_or_else(|| {
+        let fast = crate::ptx::fast_math();
+        let (target, ptx) = crate::ptx::select(cc.0, cc.1, fast).ok_or_else(|| {
             Error::GpuUnavailable(format!(
                 "no embedded PTX target runs on compute capability {}.{} (embedded: {:?})",
                 cc.0,

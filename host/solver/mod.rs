@@ -740,6 +740,12 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         Ok(())
     }
 
+    /// Submits phase `ph` once more with the scalars of the last step (for kernel benchmarks: `benches/step.rs`);
+    /// the state moves as that phase moves it, without the rest of the step.
+    pub fn bench_phase(&mut self, b: &B, ph: Phase) -> Result<()> {
+        self.phase(b, ph, 0)
+    }
+
     /// One step of length `dt` with each phase timed by the backend (CUDA events around each phase on the GPU);
     /// returns the milliseconds of each phase of [`Phase::ALL`]. Slower than [`Solver::step`] (it waits after
     /// every phase) and equal to it in its results.

@@ -124,7 +124,6 @@ pub(crate) unsafe fn heat_pair<R: Real, V: Vector<R>, const PSE: bool>(
     i: u32,
     j: u32,
 ) -> f64 {
-    use super::params::flags;
     let cut2 = if PSE { R::from_f64(hp.pse_cut2) } else { k.support2 };
     let ju = j as usize;
     unsafe {
@@ -132,7 +131,40 @@ pub(crate) unsafe fn heat_pair<R: Real, V: Vector<R>, const PSE: bool>(
         if j == i || r2 >= cut2 || r2 < R::from_f64(hp.min_r2) {
             return 0.0;
         }
-        let (mi, ti) = (o.material, o.t);
+        if PSE {
+            let (kij, vj, tj) = conductance(a, o, j);
+            let r2f = r2.to_f64();
+            vj * kij * (tj - o.t) * hp.pse_norm * libm::exp(-r2f * hp.inv_h2)
+        } else {
+            let r = r2.sqrt();
+            brookshaw_term(a, o, j, (k.dw_dr(r) / r).to_f64())
+        }
+    }
+}
+
+/// The Brookshaw term V_j k_ij 2 (T_i − T_j) W'(r)/r of pair (i, j) within the support, with `dw` = W'(r)/r
+/// (shared with the momentum term in the fused pass).
+///
+/// # Safety
+/// As [`heat_sum`]; `j` is in range.
+#[inline(always)]
+pub(crate) unsafe fn brookshaw_term<R: Real, V: Vector<R>>(
+    a: &HeatArrays<R, V>,
+    o: &HeatOwn<V>,
+    j: u32,
+    dw: f64,
+) -> f64 {
+    let (kij, vj, tj) = unsafe { conductance(a, o, j) };
+    vj * kij * 2.0 * (o.t - tj) * dw
+}
+
+/// k_ij, V_j and T_j of pair (i, j).
+#[inline(always)]
+unsafe fn conductance<R: Real, V: Vector<R>>(a: &HeatArrays<R, V>, o: &HeatOwn<V>, j: u32) -> (f64, f64, f64) {
+    use super::params::flags;
+    let ju = j as usize;
+    unsafe {
+        let mi = o.material;
         let bj = *a.flags.add(ju) >> flags::BODY_SHIFT;
         // One material: k_ij = k exactly (the harmonic mean would round it), without the second table load.
         let kij = if bj == o.body {
@@ -142,15 +174,7 @@ pub(crate) unsafe fn heat_pair<R: Real, V: Vector<R>, const PSE: bool>(
             2.0 * mi.conductivity * mj.conductivity / (mi.conductivity + mj.conductivity)
         };
         let vj = (*a.mass.add(ju) / *a.rho.add(ju)).to_f64();
-        let tj = *a.temp.add(ju);
-        if PSE {
-            let r2f = r2.to_f64();
-            vj * kij * (tj - ti) * hp.pse_norm * libm::exp(-r2f * hp.inv_h2)
-        } else {
-            let r = r2.sqrt();
-            let f = (k.dw_dr(r) / r).to_f64();
-            vj * kij * 2.0 * (ti - tj) * f
-        }
+        (kij, vj, *a.temp.add(ju))
     }
 }
 

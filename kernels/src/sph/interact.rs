@@ -12,7 +12,7 @@
 //! with Π_ij = (−α c̄ μ + β μ²)/ρ̄ for v_ij·x_ij < 0 (else 0), μ = h v_ij·x_ij/(r² + η²h²).
 //! Every pair term is evaluated in the same order on CPU and GPU (the cell-list gather order).
 
-use super::heat::{HeatArrays, HeatParams, heat_finish, heat_own, heat_pair};
+use super::heat::{HeatArrays, HeatParams, brookshaw_term, heat_finish, heat_own};
 use super::lanes::{LaneSum, all_lanes, lane_share, map_real, map_vector};
 use super::params::{SphParams, flags};
 use super::tensor::TensorOps;
@@ -187,6 +187,35 @@ unsafe fn own<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool>(a: &Arra
     }
 }
 
+/// The geometry of a pair within the support: x_ij, r², r and W'(r)/r (∇W_ij = W'(r)/r x_ij), computed once for the
+/// momentum and the conduction terms of the fused pass.
+#[derive(Clone, Copy)]
+struct Geometry<R: Real, V: Vector<R>> {
+    xij: V,
+    r2: R,
+    r: R,
+    dw: R,
+}
+
+/// The geometry of pair (i, j); None for j = i, beyond the support or closer than the skip distance.
+#[inline(always)]
+unsafe fn geometry<R: Real, D: TensorOps<R>>(
+    p: &SphParams<R>,
+    a: &Arrays<R, D>,
+    o: &Own<R, D>,
+    i: u32,
+    j: u32,
+) -> Option<Geometry<R, D::Vec<R>>> {
+    let k = &p.kernel;
+    let xij = sub(&o.x, unsafe { &*a.pos.add(j as usize) });
+    let r2 = dot(&xij, &xij);
+    if j == i || r2 >= k.support2 || r2 < p.min_r2 {
+        return None;
+    }
+    let r = r2.sqrt();
+    Some(Geometry { xij, r2, r, dw: k.dw_dr(r) / r })
+}
+
 /// Adds the term of pair (i, j) to `sums` (nothing for j = i, beyond the support, or a massless j: every term
 /// carries m_j, and the tool's thermal-only particles have zero mechanical mass).
 #[inline(always)]
@@ -198,20 +227,31 @@ unsafe fn add_pair<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, con
     j: u32,
     sums: &mut PairSums<R, D>,
 ) {
-    let (xi, vi, rhoi, sigi, arti, ci) = (o.x, o.v, o.rho, o.sig, o.art, o.c);
+    unsafe {
+        if let Some(g) = geometry(p, a, o, i, j) {
+            pair_term::<R, D, AV, AS, XSPH>(p, a, o, j, &g, sums)
+        }
+    }
+}
+
+/// The momentum, velocity-gradient, XSPH and dissipation terms of pair (i, j) with its geometry `g`.
+#[inline(always)]
+unsafe fn pair_term<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool>(
+    p: &SphParams<R>,
+    a: &Arrays<R, D>,
+    o: &Own<R, D>,
+    j: u32,
+    g: &Geometry<R, D::Vec<R>>,
+    sums: &mut PairSums<R, D>,
+) {
+    let (vi, rhoi, sigi, arti, ci) = (o.v, o.rho, o.sig, o.art, o.c);
     let k = &p.kernel;
     let half = R::from_f64(0.5);
+    let (xij, r2, r) = (g.xij, g.r2, g.r);
     unsafe {
         let ju = j as usize;
-        let xj = *a.pos.add(ju);
-        let xij = sub(&xi, &xj);
-        let r2 = dot(&xij, &xij);
-        if j == i || r2 >= k.support2 || r2 < p.min_r2 {
-            return;
-        }
-        let r = r2.sqrt();
         let gw = {
-            let f = k.dw_dr(r) / r;
+            let f = g.dw;
             D::Vec::<R>::new([f * xij.get(0), f * xij.get(1), f * xij.get(2)])
         };
         let mj = *a.mass.add(ju);
@@ -352,11 +392,15 @@ unsafe fn heat_and_pair<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool
     s: &mut HeatPairSums<R, D>,
 ) {
     unsafe {
-        if let Some(ho) = ho {
-            s.heat += heat_pair::<R, D::Vec<R>, false>(hp, &p.kernel, h, ho, i, j);
+        // One geometry for both terms (the separate passes compute the same r², r and W'(r)/r, bit for bit).
+        let Some(g) = geometry(p, a, o, i, j) else { return };
+        if let Some(ho) = ho
+            && g.r2 >= R::from_f64(hp.min_r2)
+        {
+            s.heat += brookshaw_term(h, ho, j, g.dw.to_f64());
         }
         if o.mech {
-            add_pair::<R, D, AV, AS, XSPH>(p, a, o, i, j, &mut s.mech);
+            pair_term::<R, D, AV, AS, XSPH>(p, a, o, j, &g, &mut s.mech);
         }
     }
 }
