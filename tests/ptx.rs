@@ -13,12 +13,22 @@ fn ptx_is_embedded_for_every_target() {
     );
     let targets = swarf::ptx::targets();
     assert!(targets.contains(&"sm_80"), "the portable sm_80 target must be embedded, got {targets:?}");
+    // --fast-math: the same kernels with the f32 LLVM flags (build.rs FAST_FLAGS): approximate f32 division and
+    // FMA contraction, which the default build never emits (IEEE div.rn, no contraction: ../shared/GPU.md).
+    let get = |t: &str| swarf::ptx::PTX.iter().find(|(n, _)| *n == t).map(|(_, p)| *p).expect(t);
+    let (plain, fast) = (get("sm_80"), get("sm_80-fast"));
+    for op in ["div.approx.f32", "div.full.f32", "fma.rn.f64", "fma.rn.f32"] {
+        assert!(!plain.contains(op), "the default PTX has {op}");
+    }
+    assert!(fast.contains("fma.rn.f64") && fast.contains("fma.rn.f32"), "the fast PTX has no contracted FMA");
+    assert!(fast.contains("div.approx.f32") || fast.contains("div.full.f32"), "the fast PTX divides exactly");
 }
 
 #[test]
 fn ptx_has_no_extern_and_every_entry() {
     for (target, ptx) in swarf::ptx::PTX {
-        assert!(ptx.contains(&format!(".target {target}")), "{target}: wrong .target line");
+        let sm = target.trim_end_matches("-fast");
+        assert!(ptx.contains(&format!(".target {sm}")), "{target}: wrong .target line");
         if let Some(line) = ptx.lines().find(|l| l.contains(".extern")) {
             panic!("{target}: PTX has an unresolved symbol: {line}");
         }
