@@ -257,6 +257,27 @@ fn one<B: Backend, R: Real, D: Dim>(b: &B, n: usize, repeats: usize) -> Result<b
     bench::neighbours::<B, R, D>(b, n, repeats)
 }
 
+/// Ctrl-C (SIGINT): the run checkpoints before its next step and stops; a second Ctrl-C at least a second later
+/// stops at once. Signals closer together count once: `timeout -s INT` sends its signal to the command and to its
+/// process group, so one timeout delivers two, which must not cost the checkpoint.
+fn on_interrupt() {
+    use std::sync::atomic::{AtomicU64, Ordering};
+    static FIRST_MS: AtomicU64 = AtomicU64::new(0);
+    let now_ms = || {
+        std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(1, |d| d.as_millis() as u64).max(1)
+    };
+    let _ = ctrlc::set_handler(move || {
+        let now = now_ms();
+        let first = FIRST_MS.load(Ordering::Relaxed);
+        if first == 0 {
+            FIRST_MS.store(now, Ordering::Relaxed);
+            swarf::run::INTERRUPTED.store(true, Ordering::Relaxed);
+        } else if now.saturating_sub(first) >= 1000 {
+            std::process::exit(130);
+        }
+    });
+}
+
 fn main() {
     let cli = Cli::parse();
     if cli.fast_math {
@@ -308,11 +329,7 @@ fn run(cli: Cli) -> Result<()> {
                 eprintln!("{line}");
             }
             // Ctrl-C: checkpoint before the next step and stop; a second Ctrl-C stops at once.
-            let _ = ctrlc::set_handler(|| {
-                if swarf::run::INTERRUPTED.swap(true, std::sync::atomic::Ordering::Relaxed) {
-                    std::process::exit(130);
-                }
-            });
+            on_interrupt();
             let opts = swarf::run::RunOptions {
                 out_dir: out,
                 precision: a.precision.map(|p| match p {
@@ -366,11 +383,7 @@ fn run(cli: Cli) -> Result<()> {
                 }
                 backends.push(any);
             }
-            let _ = ctrlc::set_handler(|| {
-                if swarf::run::INTERRUPTED.swap(true, std::sync::atomic::Ordering::Relaxed) {
-                    std::process::exit(130);
-                }
-            });
+            on_interrupt();
             let opts = swarf::study::StudyOptions {
                 scene: a.scene.clone(),
                 overrides: a.set.clone(),

@@ -78,7 +78,8 @@ fn resumed_run_equals_uninterrupted() {
 }
 
 /// Ctrl-C (SIGINT) writes a checkpoint and exits with 130; `swarf run --resume` finishes the run, and its last
-/// frame file equals the uninterrupted run's byte for byte.
+/// frame file equals the uninterrupted run's byte for byte. The signal is sent twice back to back, as `timeout -s
+/// INT` delivers it (to the command and to its process group): that must still count as one Ctrl-C.
 #[test]
 fn ctrl_c_checkpoints_and_resume_finishes_bitwise() {
     let bin = env!("CARGO_BIN_EXE_swarf");
@@ -101,6 +102,7 @@ fn ctrl_c_checkpoints_and_resume_finishes_bitwise() {
         .spawn()
         .unwrap();
     std::thread::sleep(std::time::Duration::from_millis(800));
+    let _ = Command::new("kill").args(["-INT", &child.id().to_string()]).status();
     let _ = Command::new("kill").args(["-INT", &child.id().to_string()]).status();
     let code = child.wait().unwrap().code();
     if code == Some(0) {
