@@ -47,34 +47,33 @@ impl CpuBackend {
             },
         }
     }
+}
 
-    /// The conduction inputs as kernel views, after checking that each holds `n` particles and that every
-    /// body has a material.
-    fn heat_arrays<R: Real, D: Dim>(
-        &self,
-        n: usize,
-        input: &HeatInputs<'_, Self, R, D>,
-        op: &'static str,
-    ) -> Result<SendHeat<R, D::Vec<R>>> {
-        for (what, len) in [
-            ("pos", input.pos.len()),
-            ("rho", input.rho.len()),
-            ("mass", input.mass.len()),
-            ("temp", input.temp.len()),
-            ("flags", input.flags.len()),
-        ] {
-            check(what, n, len)?;
-        }
-        check_bodies(op, &input.flags[..n], input.materials.len())?;
-        Ok(SendHeat(HeatArrays::<R, D::Vec<R>> {
-            pos: input.pos.as_ptr(),
-            rho: input.rho.as_ptr(),
-            mass: input.mass.as_ptr(),
-            temp: input.temp.as_ptr(),
-            flags: input.flags.as_ptr(),
-            materials: input.materials.as_ptr(),
-        }))
+/// The conduction inputs as kernel views, after checking that each holds `n` particles and that every
+/// body has a material.
+fn heat_arrays<R: Real, D: Dim>(
+    n: usize,
+    input: &HeatInputs<'_, CpuBackend, R, D>,
+    op: &'static str,
+) -> Result<SendHeat<R, D::Vec<R>>> {
+    for (what, len) in [
+        ("pos", input.pos.len()),
+        ("rho", input.rho.len()),
+        ("mass", input.mass.len()),
+        ("temp", input.temp.len()),
+        ("flags", input.flags.len()),
+    ] {
+        check(what, n, len)?;
     }
+    check_bodies(op, &input.flags[..n], input.materials.len())?;
+    Ok(SendHeat(HeatArrays::<R, D::Vec<R>> {
+        pos: input.pos.as_ptr(),
+        rho: input.rho.as_ptr(),
+        mass: input.mass.as_ptr(),
+        temp: input.temp.as_ptr(),
+        flags: input.flags.as_ptr(),
+        materials: input.materials.as_ptr(),
+    }))
 }
 
 fn cpu_model() -> String {
@@ -581,7 +580,7 @@ impl Backend for CpuBackend {
         let fused = match heat {
             Some(f) => {
                 check("sph_rates temp_t", n, f.temp_t.len())?;
-                let a = self.heat_arrays::<R, D>(n, &f.input, "sph_rates (fused conduction)")?;
+                let a = heat_arrays::<R, D>(n, &f.input, "sph_rates (fused conduction)")?;
                 Some((f.params[0], a, SendPtr(f.temp_t.as_mut_ptr() as *mut u32)))
             }
             None => None,
@@ -649,7 +648,7 @@ impl Backend for CpuBackend {
         check("heat_rates temp_t", n, temp_t.len())?;
         check("heat_rates starts", grid[0].n_cells as usize + 2, starts.len())?;
         let (h, k, g) = (hp[0], params[0].kernel, grid[0]);
-        let a = self.heat_arrays::<R, D>(n, input, "heat_rates materials")?;
+        let a = heat_arrays::<R, D>(n, input, "heat_rates materials")?;
         let st = SendPtr(starts.as_ptr() as *mut u32);
         temp_t[..n].par_iter_mut().enumerate().for_each(|(i, t)| {
             let a = &a;

@@ -297,6 +297,15 @@ fn thermal_views<B: Backend>(
     }
 }
 
+/// The conduction inputs (full masses: the tool's particles conduct) of the separate and the fused pass.
+fn heat_inputs<'a, B: Backend, R: Real, D: TensorOps<R>>(
+    p: &'a Particles<B, R, D>,
+    temp: &'a B::Buf<f64>,
+    materials: &'a B::Buf<ThermalMaterial>,
+) -> HeatInputs<'a, B, R, D> {
+    HeatInputs { pos: &p.pos.cur, rho: &p.rho.cur, mass: &p.mass.cur, temp, flags: &p.flags.cur, materials }
+}
+
 impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
     /// Uploads the particles and allocates what the chosen physics needs.
     pub fn new(b: &B, setup: &Setup<R, D>) -> Result<Self> {
@@ -627,14 +636,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                 let heat = match (fused, self.temp.as_ref(), self.thermal.as_mut()) {
                     (true, Some(t), Some(th)) => th.temp_t.as_mut().map(|tt| FusedHeat {
                         params: &th.heat,
-                        input: HeatInputs {
-                            pos: &p.pos.cur,
-                            rho: &p.rho.cur,
-                            mass: &p.mass.cur,
-                            temp: &t.cur,
-                            flags: &p.flags.cur,
-                            materials: &th.materials,
-                        },
+                        input: heat_inputs(p, &t.cur, &th.materials),
                         temp_t: tt,
                     }),
                     _ => None,
@@ -661,14 +663,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                     && let (Some(pse), Some(tt)) = (th.conduction, th.temp_t.as_mut())
                 {
                     let grid = if pse { &th.grid_pse } else { &self.cells.grid_buf };
-                    let hin = crate::backend::HeatInputs::<B, R, D> {
-                        pos: &p.pos.cur,
-                        rho: &p.rho.cur,
-                        mass: &p.mass.cur,
-                        temp: &t.cur,
-                        flags: &p.flags.cur,
-                        materials: &th.materials,
-                    };
+                    let hin = heat_inputs(p, &t.cur, &th.materials);
                     b.heat_rates::<R, D>(
                         n,
                         self.lanes,
