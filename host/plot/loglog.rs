@@ -3,18 +3,15 @@
 //! hides the fewest data), with two differences: every point gets a marker (a point is a run, not a sample of a
 //! curve), and a value ≤ 0 has no place on a log axis, so it is skipped and counted like a non-finite one.
 
-use std::fs;
-use std::io;
 use std::path::Path;
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::{
-    Chart, Drawn, FAMILY, MAX_SIDE, MIN_SIZE, Metrics, PALETTE, PlotError, Prepared, Scratch, Series, legend_place,
-    pad, register_embedded_font,
+    Chart, Drawn, FAMILY, MAX_SIDE, MIN_SIZE, Metrics, PALETTE, PlotError, Prepared, Series, draw_atomic, legend_place,
+    pad,
 };
-use crate::output::write_atomic;
 
 /// Draws `charts` stacked top to bottom on log–log axes in one PNG of `size` pixels at `path`, atomically. Returns
 /// the path and the number of points skipped (non-finite or ≤ 0).
@@ -50,22 +47,7 @@ pub fn draw_log_log(path: &Path, charts: &[Chart], size: (u32, u32)) -> Result<D
         p.x_range = pad(p.x_range, 0.05);
     }
     let skipped = prepared.iter().map(|p| p.skipped).sum();
-    register_embedded_font(path)?;
-    let scratch = Scratch::new(path)?;
-    render(&scratch.path, &prepared, size).map_err(|message| PlotError::Draw {
-        path: path.to_path_buf(),
-        message: format!("{message} (scratch file {})", scratch.path.display()),
-    })?;
-    let bytes = fs::read(&scratch.path).map_err(|e| PlotError::Write {
-        path: path.to_path_buf(),
-        error: io::Error::new(
-            e.kind(),
-            format!("{}: reading scratch file {}: {e}", path.display(), scratch.path.display()),
-        ),
-    })?;
-    write_atomic(path, &bytes).map_err(|error| PlotError::Write { path: path.to_path_buf(), error })?;
-    drop(scratch);
-    Ok(Drawn { path: path.to_path_buf(), skipped })
+    draw_atomic(path, skipped, |target| render(target, &prepared, size))
 }
 
 /// Tick positions of a log axis over [lo, hi] (both > 0): powers of ten when the range spans three or more of them

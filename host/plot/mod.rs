@@ -167,10 +167,20 @@ pub fn draw_panels(path: &Path, charts: &[Chart], size: (u32, u32)) -> Result<Dr
     }
     let prepared = charts.iter().map(|c| Prepared::new(path, c)).collect::<Result<Vec<_>, _>>()?;
     let skipped = prepared.iter().map(|p| p.skipped).sum();
-    register_embedded_font(path)?;
+    draw_atomic(path, skipped, |target| render(target, &prepared, size))
+}
 
+/// Draws with `render` into a scratch file beside `path` (the embedded font registered first) and moves the
+/// finished PNG to `path` atomically: a failed or interrupted plot leaves no half-written file. Shared by the
+/// run plots and the study's log–log plot.
+pub(crate) fn draw_atomic(
+    path: &Path,
+    skipped: usize,
+    render: impl FnOnce(&Path) -> Result<(), String>,
+) -> Result<Drawn, PlotError> {
+    register_embedded_font(path)?;
     let scratch = Scratch::new(path)?;
-    render(&scratch.path, &prepared, size).map_err(|message| PlotError::Draw {
+    render(&scratch.path).map_err(|message| PlotError::Draw {
         path: path.to_path_buf(),
         message: format!("{message} (scratch file {})", scratch.path.display()),
     })?;
