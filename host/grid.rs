@@ -42,6 +42,7 @@ pub fn grid_with_cell(lo: [f64; 3], hi: [f64; 3], dim: usize, cell: f64, stencil
         origin: [lo[0], lo[1], if dim == 3 { lo[2] } else { 0.0 }],
         cell_size: cell,
         inv_cell: 1.0 / cell,
+        skin: 0.0,
         dims,
         n_cells: total as u32,
         stencil,
@@ -62,6 +63,17 @@ pub fn grid_for_support(
         return Err(Error::Grid(format!("support radius must be positive and finite, got {support_radius}")));
     }
     grid_with_cell(lo, hi, dim, GridParams::cell_for(support_radius, stencil.max(1)), stencil)
+}
+
+/// The solver's grid: the ±2 stencil over cells sized for the support radius plus the skin s, so that the cell
+/// list stays exact until some particle has moved s from where it was binned (`GridParams::beyond_skin`).
+pub fn grid_with_skin(lo: [f64; 3], hi: [f64; 3], dim: usize, support_radius: f64, skin: f64) -> Result<GridParams> {
+    if !(skin.is_finite() && skin >= 0.0) {
+        return Err(Error::Grid(format!("the skin must be finite and non-negative, got {skin}")));
+    }
+    let mut g = grid_for_support(lo, hi, dim, support_radius + skin, 2)?;
+    g.skin = skin;
+    Ok(g)
 }
 
 /// Bounding box of the finite positions (zero box if there are none).

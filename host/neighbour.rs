@@ -2,7 +2,7 @@
 //! stable sort of the particles by cell key, identical on every backend (docs/neighbour-search.md).
 
 use crate::Result;
-use crate::backend::{Backend, CountPass, scan_levels};
+use crate::backend::{Backend, CellBuffers, ScalarsAt, scan_levels};
 use crate::kernels::neighbour::GridParams;
 use crate::kernels::{Dim, Real};
 
@@ -18,6 +18,8 @@ pub struct CellList<B: Backend> {
     /// perm[i] = the old index of the particle that sorts to position i.
     pub perm: B::Buf<u32>,
     scan: Vec<B::Buf<u32>>,
+    /// rebuilds[0]: how many gated rebuilds ran (`CellList::rebuild`).
+    pub rebuilds: B::Buf<u32>,
     n: usize,
 }
 
@@ -32,6 +34,7 @@ impl<B: Backend> CellList<B> {
             starts: b.alloc(buckets, "cell starts")?,
             perm: b.alloc(n, "permutation")?,
             scan: scan_levels(b, buckets)?,
+            rebuilds: b.alloc(1, "rebuild count")?,
             n,
         })
     }
@@ -54,23 +57,35 @@ impl<B: Backend> CellList<B> {
         self.finish(b)
     }
 
-    /// Zeroes the cell counts before a counting pass (`build`'s, or the one fused into the predictor).
-    pub fn begin(&mut self, b: &B) -> Result<()> {
+    /// Zeroes the cell counts before a counting pass.
+    fn begin(&mut self, b: &B) -> Result<()> {
         b.fill_zero(&mut self.starts, self.grid.n_cells as usize + 2)
     }
 
-    /// The buffers of the counting pass, for a kernel that fuses it (`Backend::step_predict`).
-    pub fn count_pass(&mut self) -> CountPass<'_, B> {
-        CountPass { grid: &self.grid_buf, keys: &mut self.keys, counts: &mut self.starts, slots: &mut self.slots }
-    }
-
     /// Completes the build after the counting pass: prefix sum of the counts, scatter, per-cell sort.
-    pub fn finish(&mut self, b: &B) -> Result<()> {
+    fn finish(&mut self, b: &B) -> Result<()> {
         let n = self.n;
         let n_buckets = self.grid.n_cells as usize + 1;
         b.exclusive_scan(n_buckets + 1, &mut self.starts, &mut self.scan)?;
         b.scatter(n, &self.keys, &self.slots, &self.starts, &mut self.perm)?;
         b.sort_cells(n_buckets, &self.starts, &mut self.perm)
+    }
+
+    /// The build of [`CellList::build`] inside the step loop, run only when the step's rebuild flag `gate` is set
+    /// (by the host, or by the predictor's skin test); every launch is submitted either way, so that a captured
+    /// step replays with each step's decision.
+    pub fn rebuild<R: Real, D: Dim>(&mut self, b: &B, pos: &B::Buf<D::Vec<R>>, gate: ScalarsAt<'_, B>) -> Result<()> {
+        let cells = CellBuffers {
+            grid: &self.grid_buf,
+            n_buckets: self.grid.n_cells as usize + 1,
+            keys: &mut self.keys,
+            slots: &mut self.slots,
+            starts: &mut self.starts,
+            perm: &mut self.perm,
+            scan: &mut self.scan,
+            rebuilds: &mut self.rebuilds,
+        };
+        b.rebuild_cells::<R, D>(self.n, gate, pos, cells)
     }
 }
 

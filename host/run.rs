@@ -3,7 +3,7 @@
 //! non-finite value stops the run with its particle, field, time and step, after the last good frame.
 
 use crate::backend::{AnyBackend, Backend};
-use crate::grid::grid_for_support;
+use crate::grid::grid_with_skin;
 use crate::kernels::sph::heat::{HeatParams, ThermalMaterial};
 use crate::kernels::sph::params::flags;
 use crate::kernels::sph::{SphParams, TensorOps};
@@ -288,7 +288,7 @@ pub fn setup<R: Real, D: TensorOps<R>>(scene: &Scene) -> Result<Setup<R, D>> {
         glo[k] = lo[k] - margin;
         ghi[k] = hi[k] + margin;
     }
-    let grid = grid_for_support(glo, ghi, scene.dim, 2.0 * h, 2)?;
+    let grid = grid_with_skin(glo, ghi, scene.dim, 2.0 * h, scene.discretisation.skin_over_h * h)?;
     let vmax0 = vel.iter().map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()).fold(0.0, f64::max);
     let c0 = elastic.sound_speed();
     let mut limit = cfl_time_step(scene.time.cfl, h, c0, vmax0);
@@ -666,7 +666,7 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
                     b.info(),
                     R::NAME,
                     n,
-                    solver.steps,
+                    (solver.steps, solver.cell_rebuilds(b)?),
                     s.dt,
                     wall,
                     &pos,
@@ -913,7 +913,8 @@ fn set_centres(scene: &Scene) -> Vec<[f64; 3]> {
     scene.bodies.iter().map(|b| b.shape.centre()).collect()
 }
 
-/// `summary.json` of the run folder: what ran, on what, how long, and each body's final extent (bounding box,
+/// `summary.json` of the run folder: what ran, on what, how long (steps, and cell-list rebuilds since the run or
+/// its last resume started), and each body's final extent (bounding box,
 /// and the largest distance from the body's initial centre axis in the x–y plane: a Taylor bar's footprint
 /// radius).
 #[allow(clippy::too_many_arguments)]
@@ -924,7 +925,7 @@ fn write_summary(
     info: &crate::backend::DeviceInfo,
     precision: &str,
     particles: usize,
-    steps: u64,
+    (steps, rebuilds): (u64, u32),
     dt: f64,
     wall: f64,
     pos: &[[f64; 3]],
@@ -962,6 +963,7 @@ fn write_summary(
         "overrides": overrides,
         "particles": particles,
         "steps": steps,
+        "cell_list_rebuilds": rebuilds,
         "dt_s": dt,
         "end_time_s": scene.time.end,
         "wall_time_s": wall,

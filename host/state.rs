@@ -4,12 +4,13 @@
 //! when its physics is on.
 
 use crate::Result;
-use crate::backend::{Backend, Element};
+use crate::backend::{Backend, Element, ScalarsAt};
 use crate::kernels::neighbour::GatherField;
 use crate::kernels::{Dim, Real};
 
-/// A field in backend memory with a spare buffer, so that a reorder is one gather and a swap (Green's
-/// double-buffering, roethlin-solver.md §6.4: fastest while memory allows).
+/// A field in backend memory with a spare buffer: a reorder gathers into the spare (Green's double-buffering,
+/// roethlin-solver.md §6.4), then swaps (`Field::reorder`) or, inside the step loop, copies back
+/// (`Field::stage`), which keeps the addresses a captured step was recorded with.
 pub struct Field<B: Backend, T: Element> {
     pub cur: B::Buf<T>,
     spare: B::Buf<T>,
@@ -27,16 +28,12 @@ impl<B: Backend, T: Element> Field<B, T> {
         Ok(())
     }
 
-    /// Adds this field to a batch reordered by one launch (`ReorderBatch::run`) and swaps its buffers now: the
-    /// batch keeps the addresses, so `cur` names the reordered copy once the batch has run.
+    /// Adds this field to a batch reordered in place (`ReorderBatch::run`): gathered into the spare buffer, then
+    /// copied back, so that `cur` keeps its address and a captured step stays valid whether or not it rebuilds.
     pub fn stage(&mut self, b: &B, batch: &mut ReorderBatch) {
-        batch.push(GatherField {
-            src: b.address(&self.cur),
-            dst: b.address_mut(&mut self.spare),
-            bytes: size_of::<T>() as u32,
-            _pad: 0,
-        });
-        std::mem::swap(&mut self.cur, &mut self.spare);
+        let (cur, spare) = (b.address(&self.cur), b.address_mut(&mut self.spare));
+        let bytes = size_of::<T>() as u32;
+        batch.push(GatherField { src: cur, dst: spare, bytes, _pad: 0 }, true);
     }
 
     pub fn read(&self, b: &B) -> Result<Vec<T>> {
@@ -52,36 +49,62 @@ impl<B: Backend, T: Element> Field<B, T> {
 /// Most fields one reorder launch moves.
 pub const MAX_REORDER: usize = 32;
 
-/// Fields staged for one fused reorder (fixed capacity: the step loop allocates nothing).
+/// Fields staged for one fused in-place reorder (fixed capacity: the step loop allocates nothing): one launch
+/// gathers every field into its spare buffer, a second copies the spares back.
 pub struct ReorderBatch {
-    fields: [GatherField; MAX_REORDER],
+    gather: [GatherField; MAX_REORDER],
+    copy: [GatherField; MAX_REORDER],
     len: usize,
+    copies: usize,
 }
 
 impl Default for ReorderBatch {
     fn default() -> Self {
-        ReorderBatch { fields: [GatherField::default(); MAX_REORDER], len: 0 }
+        ReorderBatch {
+            gather: [GatherField::default(); MAX_REORDER],
+            copy: [GatherField::default(); MAX_REORDER],
+            len: 0,
+            copies: 0,
+        }
     }
 }
 
 impl ReorderBatch {
-    fn push(&mut self, f: GatherField) {
+    /// Stages the gather `f` (and, with `copy_back`, the copy of its destination back to its source).
+    fn push(&mut self, f: GatherField, copy_back: bool) {
         if self.len < MAX_REORDER {
-            self.fields[self.len] = f;
+            self.gather[self.len] = f;
         }
         self.len += 1;
+        if copy_back {
+            if self.copies < MAX_REORDER {
+                self.copy[self.copies] = GatherField { src: f.dst, dst: f.src, ..f };
+            }
+            self.copies += 1;
+        }
     }
 
-    /// Gathers every staged field through `perm` in one launch and empties the batch.
-    pub fn run<B: Backend>(&mut self, b: &B, n: usize, perm: &B::Buf<u32>) -> Result<()> {
-        let len = std::mem::take(&mut self.len);
-        let fields = self.fields.get(..len).ok_or(crate::Error::Length {
-            op: "reorder batch (too many fields)",
-            expected: MAX_REORDER,
-            got: len,
-        })?;
-        // SAFETY: every entry was staged from a Field's two distinct live buffers of at least n elements.
-        unsafe { b.gather_fields(n, perm, fields) }
+    /// Stages the gather of `src` into `dst` without a copy back: `dst` receives the reordered `src` (the
+    /// positions where the cell list binned each particle).
+    pub fn snapshot<B: Backend, T: Element>(&mut self, b: &B, src: &B::Buf<T>, dst: &mut B::Buf<T>) {
+        let bytes = size_of::<T>() as u32;
+        self.push(GatherField { src: b.address(src), dst: b.address_mut(dst), bytes, _pad: 0 }, false);
+    }
+
+    /// Reorders every staged field through `perm` in place, when the step `gate` rebuilds (two launches), and
+    /// empties the batch.
+    pub fn run<B: Backend>(&mut self, b: &B, n: usize, perm: &B::Buf<u32>, gate: ScalarsAt<'_, B>) -> Result<()> {
+        let (len, copies) = (std::mem::take(&mut self.len), std::mem::take(&mut self.copies));
+        let too_many = |got| crate::Error::Length { op: "reorder batch (too many fields)", expected: MAX_REORDER, got };
+        let gather = self.gather.get(..len).ok_or(too_many(len))?;
+        let copy = self.copy.get(..copies).ok_or(too_many(copies))?;
+        let again = ScalarsAt { buf: gate.buf, index: gate.index };
+        // SAFETY: every entry was staged from two distinct live buffers of at least n elements (a Field's pair,
+        // or a snapshot's source and destination); the copies run after the gathers complete.
+        unsafe {
+            b.gather_fields(n, Some(perm), gather, Some(gate))?;
+            b.gather_fields(n, None, copy, Some(again))
+        }
     }
 }
 
@@ -167,7 +190,7 @@ macro_rules! particle_fields {
                 Ok(())
             }
 
-            /// Stages every field for a fused reorder ([`Field::stage`]).
+            /// Stages every field for a fused in-place reorder ([`Field::stage`]).
             pub fn stage(&mut self, b: &B, batch: &mut ReorderBatch) {
                 $( self.$name.stage(b, batch); )*
             }

@@ -3,8 +3,8 @@
 //! the stable one by construction (the GPU restores the same order with `sort_cells`).
 
 use super::{
-    Backend, Buffer, ContactInputs, CountPass, DeviceInfo, Element, FieldsMut, FusedHeat, HeatInputs, PlasticInputs,
-    PlasticPass, ScalarsAt, SphInputs, StepFields,
+    Backend, Buffer, CellBuffers, ContactInputs, DeviceInfo, Element, FieldsMut, FusedHeat, HeatInputs, PlasticInputs,
+    PlasticPass, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields,
 };
 use crate::kernels::contact::penalty::{ContactArrays, ContactParams, contact_particle};
 use crate::kernels::neighbour::search::neighbour_row;
@@ -667,21 +667,48 @@ impl Backend for CpuBackend {
     fn step_predict<R: Real, D: TensorOps<R>>(
         &self,
         n: usize,
-        s: ScalarsAt<'_, Self>,
+        s: ScalarsMut<'_, Self>,
         f: StepFields<'_, Self, R, D>,
-        cells: CountPass<'_, Self>,
+        skin: SkinTest<'_, Self, R, D>,
     ) -> Result<()> {
-        let dt = scalars(&s)?.dt;
+        let entry =
+            s.buf.get_mut(s.index).ok_or(Error::Length { op: "step scalars", expected: s.index + 1, got: 0 })?;
+        let dt = entry.dt;
         let a = step_arrays::<R, D>(n, f)?;
-        check("step_predict keys", n, cells.keys.len())?;
-        let g = cells.grid[0];
-        cells.keys[..n].par_iter_mut().enumerate().for_each(|(i, k)| {
+        check("step_predict pos_ref", n, skin.pos_ref.len())?;
+        check("step_predict grid", 1, skin.grid.len())?;
+        let g = skin.grid[0];
+        let moved = skin.pos_ref[..n].par_iter().enumerate().map(|(i, xr)| {
             let a = &a;
             // SAFETY: lengths checked by step_arrays; each particle i is touched by one task only.
             let x = unsafe { predict_particle(&a.0, dt, i) };
-            *k = g.key::<R, D::Vec<R>>(&x);
+            g.beyond_skin::<R, D::Vec<R>>(&x, xr)
         });
-        self.count_cells(n, cells.keys, cells.counts, cells.slots)
+        // Every particle is predicted (no short-circuit), as on the GPU.
+        if moved.filter(|&m| m).count() > 0 {
+            entry.rebuild = 1;
+        }
+        Ok(())
+    }
+
+    fn rebuild_cells<R: Real, D: Dim>(
+        &self,
+        n: usize,
+        gate: ScalarsAt<'_, Self>,
+        pos: &Vec<D::Vec<R>>,
+        c: CellBuffers<'_, Self>,
+    ) -> Result<()> {
+        if scalars(&gate)?.rebuild == 0 {
+            return Ok(());
+        }
+        check("rebuild_cells rebuilds", 1, c.rebuilds.len())?;
+        c.rebuilds[0] += 1;
+        self.fill_zero(c.starts, c.n_buckets + 1)?;
+        self.hash::<R, D>(n, pos, c.grid, c.keys)?;
+        self.count_cells(n, c.keys, c.starts, c.slots)?;
+        self.exclusive_scan(c.n_buckets + 1, c.starts, c.scan)?;
+        self.scatter(n, c.keys, c.slots, c.starts, c.perm)?;
+        self.sort_cells(c.n_buckets, c.starts, c.perm)
     }
 
     fn step_finish<R: Real, D: TensorOps<R>>(
@@ -743,8 +770,21 @@ impl Backend for CpuBackend {
         buf.as_mut_ptr() as u64
     }
 
-    unsafe fn gather_fields(&self, n: usize, perm: &Vec<u32>, fields: &[GatherField]) -> Result<()> {
-        check("gather_fields perm", n, perm.len())?;
+    unsafe fn gather_fields(
+        &self,
+        n: usize,
+        perm: Option<&Vec<u32>>,
+        fields: &[GatherField],
+        gate: Option<ScalarsAt<'_, Self>>,
+    ) -> Result<()> {
+        if let Some(g) = gate
+            && scalars(&g)?.rebuild == 0
+        {
+            return Ok(());
+        }
+        if let Some(p) = perm {
+            check("gather_fields perm", n, p.len())?;
+        }
         for f in fields {
             let b = f.bytes as usize;
             if b == 0 || !b.is_multiple_of(4) {
@@ -752,7 +792,7 @@ impl Backend for CpuBackend {
             }
             let (src, dst) = (f.src as usize, f.dst as usize);
             (0..n).into_par_iter().for_each(|i| {
-                let j = perm[i] as usize;
+                let j = perm.map_or(i, |p| p[i] as usize);
                 // SAFETY: the caller guarantees distinct live buffers of at least n elements of b bytes; each
                 // destination element i is written by one task only.
                 unsafe { std::ptr::copy_nonoverlapping((src + j * b) as *const u8, (dst + i * b) as *mut u8, b) };

@@ -3,8 +3,8 @@
 //! One stream, no event tracking: every launch is ordered after the previous one.
 
 use super::{
-    Backend, Buffer, ContactInputs, CountPass, DeviceInfo, Element, FieldsMut, FusedHeat, HeatInputs, PlasticInputs,
-    PlasticPass, SCAN_TILE, ScalarsAt, SphInputs, StepFields,
+    Backend, Buffer, CellBuffers, ContactInputs, DeviceInfo, Element, FieldsMut, FusedHeat, HeatInputs, PlasticInputs,
+    PlasticPass, SCAN_TILE, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields,
 };
 use crate::kernels::neighbour::GatherField;
 use crate::kernels::neighbour::GridParams;
@@ -29,6 +29,7 @@ const VARIANTS: [&str; 4] = ["2d_f32", "2d_f64", "3d_f32", "3d_f64"];
 pub fn kernel_names() -> Vec<String> {
     let mut v: Vec<String> = [
         "swarf_count_cells",
+        "swarf_zero_gated",
         "swarf_scan_reduce",
         "swarf_scan_apply",
         "swarf_scatter",
@@ -46,6 +47,7 @@ pub fn kernel_names() -> Vec<String> {
     for var in VARIANTS {
         for base in [
             "swarf_hash",
+            "swarf_hash_count",
             "swarf_neighbour_list",
             "swarf_density",
             "swarf_step_predict",
@@ -165,9 +167,12 @@ struct Kernels {
     /// The corrector fused with each flow-stress model's plastic update.
     step_finish_plastic: Vec<Variants>,
     hash: Variants,
+    /// The gated rebuild's hash and count.
+    hash_count: Variants,
     neighbour_list: Variants,
     density: Variants,
     count_cells: CudaFunction,
+    zero_gated: CudaFunction,
     scan_reduce: CudaFunction,
     scan_apply: CudaFunction,
     scatter: CudaFunction,
@@ -300,9 +305,11 @@ impl CudaBackend {
                 .map(|m| v(&format!("swarf_step_finish_{m}"), ""))
                 .collect::<Result<_>>()?,
             hash: v("swarf_hash", "")?,
+            hash_count: v("swarf_hash_count", "")?,
             neighbour_list: v("swarf_neighbour_list", "")?,
             density: v("swarf_density", "")?,
             count_cells: f("swarf_count_cells")?,
+            zero_gated: f("swarf_zero_gated")?,
             scan_reduce: f("swarf_scan_reduce")?,
             scan_apply: f("swarf_scan_apply")?,
             scatter: f("swarf_scatter")?,
@@ -490,6 +497,76 @@ impl CudaBackend {
         Ok(Arg::U64(self.ptr(s.buf) + (s.index * size_of::<StepScalars>()) as u64))
     }
 
+    /// The device address of the step's rebuild flag (`StepScalars::rebuild`), the gate of a rebuild's launches.
+    fn gate(&self, s: &ScalarsAt<'_, Self>) -> Result<u64> {
+        match self.scalars(s)? {
+            Arg::U64(a) => Ok(a + std::mem::offset_of!(StepScalars, rebuild) as u64),
+            _ => Err(Error::Length { op: "step scalars", expected: 1, got: 0 }),
+        }
+    }
+
+    /// The exclusive scan of `Backend::exclusive_scan` with a gate (0: always).
+    fn scan_gated(&self, gate: u64, n: usize, data: &mut CudaBuf<u32>, levels: &mut [CudaBuf<u32>]) -> Result<()> {
+        let tiles = n.div_ceil(SCAN_TILE);
+        if tiles == 0 {
+            return Ok(());
+        }
+        let Some((sums, rest)) = levels.split_first_mut() else {
+            return Err(Error::Length { op: "exclusive_scan workspace", expected: 1, got: 0 });
+        };
+        if sums.len < tiles {
+            return Err(Error::Length { op: "exclusive_scan workspace", expected: tiles, got: sums.len });
+        }
+        let (g, d) = (Arg::U64(gate), self.ptr_mut(data));
+        if tiles == 1 {
+            // One tile: the apply pass alone, with offset 0 (no reduction, no memset).
+            return self.launch(
+                &self.k.scan_apply,
+                32,
+                128,
+                &[g, Arg::U32(n as u32), Arg::U64(d), Arg::U64(d), Arg::U64(0)],
+            );
+        }
+        let s = self.ptr_mut(sums);
+        // One warp per tile, four warps per block.
+        self.launch(&self.k.scan_reduce, tiles * 32, 128, &[g, Arg::U32(n as u32), Arg::U64(d), Arg::U64(s)])?;
+        self.scan_gated(gate, tiles, sums, rest)?;
+        self.launch(
+            &self.k.scan_apply,
+            tiles * 32,
+            128,
+            &[g, Arg::U32(n as u32), Arg::U64(d), Arg::U64(d), Arg::U64(s)],
+        )
+    }
+
+    /// The scatter of `Backend::scatter` with a gate (0: always).
+    fn scatter_gated(
+        &self,
+        gate: u64,
+        n: usize,
+        keys: &CudaBuf<u32>,
+        slots: &CudaBuf<u32>,
+        starts: &CudaBuf<u32>,
+        perm: &mut CudaBuf<u32>,
+    ) -> Result<()> {
+        let args = [
+            Arg::U64(gate),
+            Arg::U32(n as u32),
+            Arg::U64(self.ptr(keys)),
+            Arg::U64(self.ptr(slots)),
+            Arg::U64(self.ptr(starts)),
+            Arg::U64(self.ptr_mut(perm)),
+        ];
+        self.launch(&self.k.scatter, n, BLOCK, &args)
+    }
+
+    /// The per-cell sort of `Backend::sort_cells` with a gate (0: always).
+    fn sort_gated(&self, gate: u64, n_buckets: usize, starts: &CudaBuf<u32>, perm: &mut CudaBuf<u32>) -> Result<()> {
+        let args =
+            [Arg::U64(gate), Arg::U32(n_buckets as u32), Arg::U64(self.ptr(starts)), Arg::U64(self.ptr_mut(perm))];
+        self.launch(&self.k.sort_cells, n_buckets, BLOCK, &args)
+    }
+
     /// The 15 field arguments of the step kernels (y, y0, ẏ, then T, T0, Ṫ or nulls) and the two of the
     /// dissipation (the corrector's only).
     fn step_args<R: Real, D: Dim>(&self, n: usize, f: StepFields<'_, Self, R, D>) -> Result<([Arg; 15], [Arg; 2])> {
@@ -628,31 +705,7 @@ impl Backend for CudaBackend {
     }
 
     fn exclusive_scan(&self, n: usize, data: &mut CudaBuf<u32>, levels: &mut [CudaBuf<u32>]) -> Result<()> {
-        let tiles = n.div_ceil(SCAN_TILE);
-        if tiles == 0 {
-            return Ok(());
-        }
-        let Some((sums, rest)) = levels.split_first_mut() else {
-            return Err(Error::Length { op: "exclusive_scan workspace", expected: 1, got: 0 });
-        };
-        if sums.len < tiles {
-            return Err(Error::Length { op: "exclusive_scan workspace", expected: tiles, got: sums.len });
-        }
-        let d = self.ptr_mut(data);
-        if tiles == 1 {
-            // One tile: the apply pass alone, with offset 0 (no reduction, no memset).
-            return self.launch(
-                &self.k.scan_apply,
-                32,
-                128,
-                &[Arg::U32(n as u32), Arg::U64(d), Arg::U64(d), Arg::U64(0)],
-            );
-        }
-        let s = self.ptr_mut(sums);
-        // One warp per tile, four warps per block.
-        self.launch(&self.k.scan_reduce, tiles * 32, 128, &[Arg::U32(n as u32), Arg::U64(d), Arg::U64(s)])?;
-        self.exclusive_scan(tiles, sums, rest)?;
-        self.launch(&self.k.scan_apply, tiles * 32, 128, &[Arg::U32(n as u32), Arg::U64(d), Arg::U64(d), Arg::U64(s)])
+        self.scan_gated(0, n, data, levels)
     }
 
     fn scatter(
@@ -663,19 +716,11 @@ impl Backend for CudaBackend {
         starts: &CudaBuf<u32>,
         perm: &mut CudaBuf<u32>,
     ) -> Result<()> {
-        let args = [
-            Arg::U32(n as u32),
-            Arg::U64(self.ptr(keys)),
-            Arg::U64(self.ptr(slots)),
-            Arg::U64(self.ptr(starts)),
-            Arg::U64(self.ptr_mut(perm)),
-        ];
-        self.launch(&self.k.scatter, n, BLOCK, &args)
+        self.scatter_gated(0, n, keys, slots, starts, perm)
     }
 
     fn sort_cells(&self, n_buckets: usize, starts: &CudaBuf<u32>, perm: &mut CudaBuf<u32>) -> Result<()> {
-        let args = [Arg::U32(n_buckets as u32), Arg::U64(self.ptr(starts)), Arg::U64(self.ptr_mut(perm))];
-        self.launch(&self.k.sort_cells, n_buckets, BLOCK, &args)
+        self.sort_gated(0, n_buckets, starts, perm)
     }
 
     fn gather<T: Element>(&self, n: usize, perm: &CudaBuf<u32>, src: &CudaBuf<T>, dst: &mut CudaBuf<T>) -> Result<()> {
@@ -870,25 +915,57 @@ impl Backend for CudaBackend {
     fn step_predict<R: Real, D: TensorOps<R>>(
         &self,
         n: usize,
-        s: ScalarsAt<'_, Self>,
+        s: ScalarsMut<'_, Self>,
         f: StepFields<'_, Self, R, D>,
-        cells: CountPass<'_, Self>,
+        skin: SkinTest<'_, Self, R, D>,
     ) -> Result<()> {
-        if cells.keys.len < n || cells.slots.len < n {
-            return Err(Error::Length {
-                op: "step_predict keys",
-                expected: n,
-                got: cells.keys.len.min(cells.slots.len),
-            });
+        if skin.pos_ref.len < n {
+            return Err(Error::Length { op: "step_predict pos_ref", expected: n, got: skin.pos_ref.len });
         }
-        let mut args = vec_args(&[Arg::U32(n as u32), self.scalars(&s)?, Arg::U64(self.ptr(cells.grid))]);
+        let at = self.scalars(&ScalarsAt { buf: &*s.buf, index: s.index })?;
+        let mut args = vec_args(&[Arg::U32(n as u32), at, Arg::U64(self.ptr(skin.grid))]);
         args.extend_from_slice(&self.step_args(n, f)?.0);
-        args.extend_from_slice(&[
-            Arg::U64(self.ptr_mut(cells.keys)),
-            Arg::U64(self.ptr_mut(cells.counts)),
-            Arg::U64(self.ptr_mut(cells.slots)),
-        ]);
+        args.extend_from_slice(&[Arg::U64(self.ptr(skin.pos_ref))]);
         self.launch(&self.k.step_predict.0[variant::<R, D>()], n, BLOCK, args.get()?)
+    }
+
+    fn rebuild_cells<R: Real, D: Dim>(
+        &self,
+        n: usize,
+        gate: ScalarsAt<'_, Self>,
+        pos: &CudaBuf<D::Vec<R>>,
+        c: CellBuffers<'_, Self>,
+    ) -> Result<()> {
+        let lens = [pos.len, c.keys.len, c.slots.len, c.perm.len];
+        if lens.iter().any(|&l| l < n) || c.starts.len < c.n_buckets + 1 || c.rebuilds.len < 1 {
+            return Err(Error::Length { op: "rebuild_cells", expected: n, got: lens.into_iter().min().unwrap_or(0) });
+        }
+        let g = self.gate(&gate)?;
+        let buckets = c.n_buckets + 1;
+        self.launch(
+            &self.k.zero_gated,
+            buckets,
+            BLOCK,
+            &[
+                Arg::U64(g),
+                Arg::U32(buckets as u32),
+                Arg::U64(self.ptr_mut(c.starts)),
+                Arg::U64(self.ptr_mut(c.rebuilds)),
+            ],
+        )?;
+        let args = [
+            Arg::U64(g),
+            Arg::U32(n as u32),
+            Arg::U64(self.ptr(pos)),
+            Arg::U64(self.ptr(c.grid)),
+            Arg::U64(self.ptr_mut(c.keys)),
+            Arg::U64(self.ptr_mut(c.starts)),
+            Arg::U64(self.ptr_mut(c.slots)),
+        ];
+        self.launch(&self.k.hash_count.0[variant::<R, D>()], n, BLOCK, &args)?;
+        self.scan_gated(g, buckets, c.starts, c.scan)?;
+        self.scatter_gated(g, n, c.keys, c.slots, c.starts, c.perm)?;
+        self.sort_gated(g, c.n_buckets, c.starts, c.perm)
     }
 
     fn step_finish<R: Real, D: TensorOps<R>>(
@@ -941,10 +1018,22 @@ impl Backend for CudaBackend {
         self.ptr_mut(buf)
     }
 
-    unsafe fn gather_fields(&self, n: usize, perm: &CudaBuf<u32>, fields: &[GatherField]) -> Result<()> {
-        if perm.len < n {
-            return Err(Error::Length { op: "gather_fields perm", expected: n, got: perm.len });
+    unsafe fn gather_fields(
+        &self,
+        n: usize,
+        perm: Option<&CudaBuf<u32>>,
+        fields: &[GatherField],
+        gate: Option<ScalarsAt<'_, Self>>,
+    ) -> Result<()> {
+        if let Some(p) = perm
+            && p.len < n
+        {
+            return Err(Error::Length { op: "gather_fields perm", expected: n, got: p.len });
         }
+        let gate = match gate {
+            Some(g) => self.gate(&g)?,
+            None => 0,
+        };
         if let Some(f) = fields.iter().find(|f| f.bytes == 0 || !f.bytes.is_multiple_of(4)) {
             return Err(Error::Length { op: "gather_fields (element size)", expected: 4, got: f.bytes as usize });
         }
@@ -969,7 +1058,8 @@ impl Backend for CudaBackend {
                 p
             }
         };
-        let args = [Arg::U32(n as u32), Arg::U64(self.ptr(perm)), Arg::U64(table)];
+        let perm = perm.map_or(0, |p| self.ptr(p));
+        let args = [Arg::U64(gate), Arg::U32(n as u32), Arg::U64(perm), Arg::U64(table)];
         self.launch_rows(&self.k.gather_fields, n, fields.len() as u32, BLOCK, &args)
     }
 

@@ -164,15 +164,25 @@ pub trait Backend: Sized + Send + Sync {
         dissipation: Option<&mut Self::Buf<R>>,
         heat: Option<FusedHeat<'_, Self, R, D>>,
     ) -> Result<()>;
-    /// The fused predictor and counting pass (`sph::step::predict_particle`): y0 ← y, y ← y0 + ½Δt ẏ (x, v, ρ, S
-    /// and, with conduction, T), then the predicted position's cell key, its slot and the cell's count
-    /// (`counts` zeroed before).
+    /// The predictor (`sph::step::predict_particle`): y0 ← y, y ← y0 + ½Δt ẏ (x, v, ρ, S and, with conduction,
+    /// T), with the skin test of each predicted position: a particle farther than the grid's skin from where the
+    /// cell list binned it (`GridParams::beyond_skin`) sets the step's rebuild flag.
     fn step_predict<R: Real, D: TensorOps<R>>(
         &self,
         n: usize,
-        s: ScalarsAt<'_, Self>,
+        s: ScalarsMut<'_, Self>,
         f: StepFields<'_, Self, R, D>,
-        cells: CountPass<'_, Self>,
+        skin: SkinTest<'_, Self, R, D>,
+    ) -> Result<()>;
+    /// The cell list's rebuild inside the step loop, gated by the step's rebuild flag: counts zeroed (with
+    /// `rebuilds[0] += 1`), hash and count, prefix sum, scatter and per-cell sort, as `CellList::build`; each
+    /// launch does nothing when the flag is 0 (a captured step holds every launch).
+    fn rebuild_cells<R: Real, D: Dim>(
+        &self,
+        n: usize,
+        gate: ScalarsAt<'_, Self>,
+        pos: &Self::Buf<D::Vec<R>>,
+        cells: CellBuffers<'_, Self>,
     ) -> Result<()>;
     /// The fused corrector (`sph::step::correct_particle`) y ← y0 + Δt ẏ, followed by the plastic update of the
     /// same particle when `plastic` is given (`sph::plastic::plastic_particle`).
@@ -187,13 +197,20 @@ pub trait Backend: Sized + Send + Sync {
     fn address<T: Element>(&self, buf: &Self::Buf<T>) -> u64;
     /// The same for a buffer that will be written.
     fn address_mut<T: Element>(&self, buf: &mut Self::Buf<T>) -> u64;
-    /// dst_f[i] = src_f[perm[i]] for every field f, i < n, in one pass.
+    /// dst_f[i] = src_f[perm[i]] for every field f, i < n, in one pass (src_f[i] without a permutation); with a
+    /// gate, only when that step rebuilds.
     ///
     /// # Safety
     /// Each field names two distinct live buffers of this backend (addresses from [`Backend::address`] and
     /// [`Backend::address_mut`]) of at least n elements of `bytes` bytes (a multiple of 4), and no destination
     /// appears twice or as a source.
-    unsafe fn gather_fields(&self, n: usize, perm: &Self::Buf<u32>, fields: &[GatherField]) -> Result<()>;
+    unsafe fn gather_fields(
+        &self,
+        n: usize,
+        perm: Option<&Self::Buf<u32>>,
+        fields: &[GatherField],
+        gate: Option<ScalarsAt<'_, Self>>,
+    ) -> Result<()>;
     /// Records the work that `f` submits as a replayable graph without running it; None where the backend has no
     /// graphs, and then the work has run.
     fn capture(&self, f: &mut dyn FnMut() -> Result<()>) -> Result<Option<Self::Graph>>;
@@ -334,12 +351,31 @@ pub type Dissipation<'a, B, R> = (&'a mut <B as Backend>::Buf<f64>, &'a <B as Ba
 /// The conduction predictor–corrector's start copy T0 and rate Ṫ.
 pub type Conduction<'a, B> = (&'a mut <B as Backend>::Buf<f64>, &'a <B as Backend>::Buf<f64>);
 
-/// The cell list's counting pass, fused into the predictor.
-pub struct CountPass<'a, B: Backend> {
+/// Where a step's scalars are, for a kernel that sets their rebuild flag (the predictor).
+pub struct ScalarsMut<'a, B: Backend> {
+    pub buf: &'a mut B::Buf<StepScalars>,
+    pub index: usize,
+}
+
+/// The predictor's skin test: the grid (with its skin) and each particle's position when the cell list was built.
+pub struct SkinTest<'a, B: Backend, R: Real, D: Dim> {
     pub grid: &'a B::Buf<GridParams>,
+    pub pos_ref: &'a B::Buf<D::Vec<R>>,
+}
+
+/// The buffers of a cell list's build (`neighbour::CellList`).
+pub struct CellBuffers<'a, B: Backend> {
+    pub grid: &'a B::Buf<GridParams>,
+    /// The grid's cells plus the void bucket.
+    pub n_buckets: usize,
     pub keys: &'a mut B::Buf<u32>,
-    pub counts: &'a mut B::Buf<u32>,
     pub slots: &'a mut B::Buf<u32>,
+    /// Counts, then (scanned) the cell starts: n_buckets + 1 entries.
+    pub starts: &'a mut B::Buf<u32>,
+    pub perm: &'a mut B::Buf<u32>,
+    pub scan: &'a mut [B::Buf<u32>],
+    /// rebuilds[0] counts the gated rebuilds that ran.
+    pub rebuilds: &'a mut B::Buf<u32>,
 }
 
 /// The plastic update fused into the corrector (stress, density and temperature come from [`StepFields`]).

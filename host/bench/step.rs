@@ -24,6 +24,8 @@ pub struct StepTimes {
     pub pairs: u64,
     /// Bytes a step must move at least (every array read or written once per pass that touches it).
     pub bytes_per_step: f64,
+    /// Cell-list rebuilds per step over the timed batches (1 without a skin).
+    pub rebuilds_per_step: f64,
 }
 
 impl StepTimes {
@@ -72,7 +74,9 @@ pub fn step<B: Backend, R: Real, D: TensorOps<R>>(
             .sum::<usize>() as u64
     };
     let batches = steps.div_ceil(GRAPH_STEPS).max(1);
+    let rebuilds0 = sv.cell_rebuilds(b)?;
     let ms = b.time_ms(&mut || sv.advance(b, dt, batches * GRAPH_STEPS))?;
+    let rebuilds = (sv.cell_rebuilds(b)? - rebuilds0) as f64 / (batches * GRAPH_STEPS) as f64;
     let mut phases = [0.0; 8];
     for _ in 0..profiled.max(1) {
         let p = sv.profile_step(b, dt)?;
@@ -87,17 +91,19 @@ pub fn step<B: Backend, R: Real, D: TensorOps<R>>(
         ms_per_step: ms / (batches * GRAPH_STEPS) as f64,
         phases_ms: phases,
         pairs,
-        bytes_per_step: compulsory_bytes(setup, sv.n, fuse),
+        bytes_per_step: compulsory_bytes(setup, sv.n, fuse, rebuilds),
+        rebuilds_per_step: rebuilds,
     })
 }
 
-/// The least traffic of one step, per pass: predictor (reads y and ẏ, writes y and y0, key and slot), cell list
-/// (keys, slots, permutation), reorder (reads and writes every stateful field), pre-pass (ρ, S in; σ/ρ² and the
+/// The least traffic of one step, per pass: predictor (reads y, ẏ and the binned positions, writes y and y0); on
+/// a fraction `rebuilds` of the steps the cell list (positions, keys, slots, permutation) and the in-place reorder
+/// (every stateful field read and written twice: the gather and the copy back); pre-pass (ρ, S in; σ/ρ² and the
 /// stabilisers' fields out), interaction (every input once, the rates out), conduction, corrector with the
 /// plastic fields, contact. Neighbour data re-read from cache is not counted: this is the bound a perfect cache
 /// reaches. With `fused` conduction the interaction reads T and the full masses and writes Ṫ, and the conduction
 /// pass is gone.
-pub fn compulsory_bytes<R: Real, D: TensorOps<R>>(s: &Setup<R, D>, n: usize, fused: bool) -> f64 {
+pub fn compulsory_bytes<R: Real, D: TensorOps<R>>(s: &Setup<R, D>, n: usize, fused: bool, rebuilds: f64) -> f64 {
     let (v, r, sym) = (size_of::<D::Vec<R>>(), size_of::<R>(), size_of::<D::Sym<R>>());
     let y = 2 * v + r + sym; // x, v, ρ, S
     let stab = s.stabilisers.switches();
@@ -106,14 +112,15 @@ pub fn compulsory_bytes<R: Real, D: TensorOps<R>>(s: &Setup<R, D>, n: usize, fus
     let plastic = s.plastic.is_some();
     let contact = s.contact.is_some();
     let mut per = 0;
-    per += 4 * y + 8 + if cond { 4 * 8 } else { 0 }; // predict
-    per += 3 * 4 + 4; // scatter reads key + slot, writes perm; sort re-reads perm
+    per += 4 * y + v + if cond { 4 * 8 } else { 0 }; // predict
     let staged = 4 + 4 + y + r + y // id, flags, state, mass, start copies
         + if heat { 8 } else { 0 }
         + if cond { 8 } else { 0 }
         + if plastic { 3 * 8 } else { 0 }
         + if contact { 2 * v } else { 0 };
-    per += 2 * staged + 4;
+    // Hash and count (x in, key and slot out), scatter (key, slot in, perm out), sort (perm), gather (perm, every
+    // field in and out, the binned positions out), copy back (every field in and out).
+    let rebuild = v + 8 + 3 * 4 + 4 + (2 * staged + 4 + v) + 2 * staged;
     per += r + sym + sym + if stab.stress { sym } else { 0 } + if stab.viscosity { r } else { 0 };
     per += y + r + sym + 4 + if stab.stress { sym } else { 0 } + if stab.viscosity { r } else { 0 };
     per += if contact { 2 * v } else { 0 } + y; // contact forces in, rates out
@@ -127,7 +134,7 @@ pub fn compulsory_bytes<R: Real, D: TensorOps<R>>(s: &Setup<R, D>, n: usize, fus
     if contact {
         per += 2 * v + 2 * r + 4 + 2 * 2 * v + if heat { 2 * 8 } else { 0 };
     }
-    (per * n) as f64
+    (per as f64 + rebuilds * rebuild as f64) * n as f64
 }
 
 /// The device's copy bandwidth [GB/s]: a gather through the identity permutation of 2²⁴ 16-byte elements (reads
@@ -208,7 +215,7 @@ pub fn header(peak_gb_s: f64) -> String {
     let phases: Vec<&str> = Phase::ALL.iter().map(|p| p.name()).collect();
     format!(
         "copy bandwidth (measured): {peak_gb_s:.0} GB/s\n\n| workload | N | prec | ms/step | particle-steps/s | \
-         interactions/s | compulsory MB/step | GB/s (% of copy) | {} |\n|---|---|---|---|---|---|---|---|{}",
+         interactions/s | compulsory MB/step | GB/s (% of copy) | steps per rebuild | {} |\n|---|---|---|---|---|---|---|---|---|{}",
         phases.iter().map(|p| format!("{p} ms")).collect::<Vec<_>>().join(" | "),
         "---|".repeat(phases.len())
     )
@@ -216,7 +223,7 @@ pub fn header(peak_gb_s: f64) -> String {
 
 pub fn row(t: &StepTimes, peak_gb_s: f64) -> String {
     format!(
-        "| {} | {} | {} | {:.4} | {:.3e} | {:.3e} | {:.2} | {:.0} ({:.0} %) | {} |",
+        "| {} | {} | {} | {:.4} | {:.3e} | {:.3e} | {:.2} | {:.0} ({:.0} %) | {:.1} | {} |",
         t.label,
         t.particles,
         t.precision,
@@ -226,6 +233,7 @@ pub fn row(t: &StepTimes, peak_gb_s: f64) -> String {
         t.bytes_per_step / 1e6,
         t.bandwidth_gb_s(),
         100.0 * t.bandwidth_gb_s() / peak_gb_s,
+        1.0 / t.rebuilds_per_step.max(1e-9),
         t.phases_ms.iter().map(|m| format!("{m:.4}")).collect::<Vec<_>>().join(" | ")
     )
 }
@@ -286,6 +294,16 @@ fn one<B: Backend, R: Real, D: TensorOps<R>>(
     if s.thermal.as_ref().is_some_and(|t| t.conduction == Some(false)) {
         let sep = step::<B, R, D>(b, &s, &format!("{label}, separate conduction pass"), steps, 5, None, false)?;
         println!("{}", row(&sep, peak));
+    }
+    // The skin (docs/neighbour-search.md, "Skin"): none (a rebuild whenever anything moved) and others beside
+    // the scene's, side by side.
+    let skin = scene.discretisation.skin_over_h;
+    for alt in [0.0, 0.05, 0.2].into_iter().filter(|&k| k != skin) {
+        let mut sc = scene.clone();
+        sc.discretisation.skin_over_h = alt;
+        let sa = crate::run::setup::<R, D>(&sc)?;
+        let t = step::<B, R, D>(b, &sa, &format!("{label}, skin {alt} h (scene: {skin} h)"), steps, 5, None, true)?;
+        println!("{}", row(&t, peak));
     }
     let mut out = Vec::new();
     if options {

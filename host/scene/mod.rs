@@ -238,6 +238,11 @@ pub struct Discretisation {
     pub dx: f64,
     /// `h_over_dx` (optional, default 1.7), in [1, 3]: the smoothing length h in units of dx.
     pub h_over_dx: f64,
+    /// `skin_over_h` (optional, default 0.1), in [0, 1]: the cell list's skin in units of h. The list is rebuilt
+    /// (and the particles reordered) only when a particle has moved farther than the skin since the last build;
+    /// the cells grow from h to h + skin/2. 0 rebuilds every step in which anything moved. The results do not
+    /// depend on it beyond round-off (the order of the neighbour sums).
+    pub skin_over_h: f64,
 }
 
 /// `[material]`: linear elasticity (for now the only material; a library by name comes later).
@@ -541,10 +546,11 @@ impl Scene {
         );
         let _ = writeln!(
             s,
-            "lattice        dx = {} m, h = {}·dx = {} m",
+            "lattice        dx = {} m, h = {}·dx = {} m, cell-list skin {}·h",
             num(dx),
             num(self.discretisation.h_over_dx),
-            num(self.h())
+            num(self.h()),
+            num(self.discretisation.skin_over_h)
         );
         let _ = writeln!(
             s,

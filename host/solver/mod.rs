@@ -1,8 +1,11 @@
 //! The SPH solver loop, written once against [`Backend`]. One step (roethlin-solver.md §5.2, reordered so that
 //! the neighbour search is exact at the positions where the rates are evaluated):
 //!
-//! 1. predictor: y0 ← y, y ← y0 + ½Δt ẏ (ẏ from the previous step's midpoint; zero at the first step);
-//! 2. cell list on the predicted positions; reorder y, y0 and the per-particle constants (mass, id, flags);
+//! 1. predictor: y0 ← y, y ← y0 + ½Δt ẏ (ẏ from the previous step's midpoint; zero at the first step), with the
+//!    skin test: a particle farther than the grid's skin from where the cell list binned it flags a rebuild;
+//! 2. when flagged (or forced: the first step), the cell list on the predicted positions and the reorder of y,
+//!    y0 and the per-particle constants (mass, id, flags), in place; otherwise the last list stays exact, since
+//!    its cells are sized for the support plus the skin (docs/neighbour-search.md, "Skin");
 //! 3. pre-pass: σ/ρ², artificial stress, sound speed (the last two only when their stabiliser is on);
 //! 4. pair interaction: ẏ at the midpoint, with the boundary conditions imposed on the rates;
 //! 5. corrector: y ← y0 + Δt ẏ;
@@ -22,8 +25,8 @@ pub use crate::cutting::motion::ToolMotion;
 
 use crate::Result;
 use crate::backend::{
-    Backend, Conduction, ContactInputs, FieldsMut, FieldsRef, FusedHeat, HeatInputs, PlasticPass, ScalarsAt, SphInputs,
-    StepFields,
+    Backend, Conduction, ContactInputs, FieldsMut, FieldsRef, FusedHeat, HeatInputs, PlasticPass, ScalarsAt,
+    ScalarsMut, SkinTest, SphInputs, StepFields,
 };
 use crate::kernels::contact::{ContactParams, ToolState, penalty::cap};
 use crate::kernels::neighbour::GridParams;
@@ -184,6 +187,11 @@ pub struct Solver<B: Backend, R: Real, D: TensorOps<R>> {
     art: Option<B::Buf<D::Sym<R>>>,
     sound: Option<B::Buf<R>>,
     pub cells: CellList<B>,
+    /// Each particle's predicted position when the cell list was last built (sorted order), for the skin test.
+    pos_ref: B::Buf<D::Vec<R>>,
+    /// The next step rebuilds the cell list whatever the skin test says (the first step, a restored state
+    /// without its reference positions).
+    force_rebuild: bool,
     params: B::Buf<SphParams<R>>,
     pub host_params: SphParams<R>,
     bc_vel: B::Buf<D::Vec<R>>,
@@ -223,11 +231,11 @@ pub struct Solver<B: Backend, R: Real, D: TensorOps<R>> {
 /// The phases of a step, in order (`Solver::profile_step` times each).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Phase {
-    /// Predictor fused with the cell count.
+    /// Predictor with the skin test.
     Predict,
-    /// Scan, scatter and per-cell sort.
+    /// The cell list's gated rebuild: count, scan, scatter and per-cell sort (when the step rebuilds).
     CellList,
-    /// Every per-particle field gathered in one launch.
+    /// Every per-particle field gathered and copied back, two launches (when the step rebuilds).
     Reorder,
     /// σ/ρ², artificial stress, sound speed.
     Prepare,
@@ -255,7 +263,7 @@ impl Phase {
 
     pub fn name(self) -> &'static str {
         match self {
-            Phase::Predict => "predict+count",
+            Phase::Predict => "predict",
             Phase::CellList => "cell list",
             Phase::Reorder => "reorder",
             Phase::Prepare => "pre-pass",
@@ -408,6 +416,8 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             art: if stab.stress { Some(b.alloc(n, "artificial stress")?) } else { None },
             sound: if stab.viscosity { Some(b.alloc(n, "sound speed")?) } else { None },
             cells: CellList::new(b, setup.grid, n)?,
+            pos_ref: b.alloc(n, "cell-list reference positions")?,
+            force_rebuild: true,
             params: b.upload(&[setup.params], "SPH parameters")?,
             host_params: setup.params,
             bc_vel: b.upload(&table, "boundary velocities")?,
@@ -523,7 +533,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         let mut t = self.time;
         for s in self.host_scalars[..count].iter_mut() {
             t += dt;
-            *s = StepScalars { dt, tool: Default::default() };
+            *s = StepScalars { dt, ..Default::default() };
             if let Some(c) = &self.contact {
                 s.tool = ToolState {
                     offset: c.motion.offset_at(t),
@@ -532,6 +542,9 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                     step: dt,
                 };
             }
+        }
+        if let Some(first) = self.host_scalars.first_mut() {
+            first.rebuild = std::mem::take(&mut self.force_rebuild) as u32;
         }
         b.write(&mut self.scalars, &self.host_scalars[..count])
     }
@@ -556,11 +569,10 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         match ph {
             Phase::Predict => {
                 let r = &self.rates;
-                self.cells.begin(b)?;
                 let (_, conduction) = thermal_views(self.thermal.as_mut());
                 b.step_predict::<R, D>(
                     n,
-                    ScalarsAt { buf: &self.scalars, index: j },
+                    ScalarsMut { buf: &mut self.scalars, index: j },
                     StepFields {
                         y: state_mut!(p),
                         y0: s.fields(),
@@ -569,11 +581,11 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                         conduction,
                         dissipation: None,
                     },
-                    self.cells.count_pass(),
+                    SkinTest { grid: &self.cells.grid_buf, pos_ref: &self.pos_ref },
                 )?;
             }
             Phase::CellList => {
-                self.cells.finish(b)?;
+                self.cells.rebuild::<R, D>(b, &p.pos.cur, ScalarsAt { buf: &self.scalars, index: j })?;
             }
             Phase::Reorder => {
                 let batch = &mut self.batch;
@@ -603,7 +615,9 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                 if let Some((d, _)) = self.dissipation.as_mut() {
                     d.stage(b, batch);
                 }
-                batch.run(b, n, &self.cells.perm)?;
+                // The binned positions: the skin test's reference until the next rebuild.
+                batch.snapshot(b, &p.pos.cur, &mut self.pos_ref);
+                batch.run(b, n, &self.cells.perm, ScalarsAt { buf: &self.scalars, index: j })?;
             }
             Phase::Prepare => {
                 b.sph_prepare::<R, D>(
@@ -783,6 +797,12 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         Ok(Some(s))
     }
 
+    /// How many times the cell list was rebuilt (and the particles reordered) so far: once per step without a
+    /// skin, once per skin's worth of motion with one.
+    pub fn cell_rebuilds(&self, b: &B) -> Result<u32> {
+        Ok(b.read(&self.cells.rebuilds)?.first().copied().unwrap_or(0))
+    }
+
     /// Sets the run's time step, which scales the contact stiffness (after a CFL reduction).
     pub fn set_nominal_dt(&mut self, dt: f64) {
         if let Some(c) = self.contact.as_mut() {
@@ -843,8 +863,8 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
 }
 
 /// Named raw copies of every buffer that carries state from one step to the next (the particle state, the
-/// start-of-step copies, the rates the next predictor uses, temperature and plastic fields). Scratch buffers
-/// (pre-pass outputs, cell list) are rebuilt every step and are not included.
+/// start-of-step copies, the rates the next predictor uses, temperature and plastic fields, the cell list's
+/// binned positions). Scratch buffers (pre-pass outputs, the cell list itself) are rebuilt and not included.
 pub type StateBlobs = Vec<(String, Vec<u8>)>;
 
 fn dump<B: Backend, T: crate::backend::Element>(
@@ -863,6 +883,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         let mut o = Vec::new();
         self.particles.save(b, &mut o)?;
         dump(b, "pos0", &self.start.pos.cur, &mut o)?;
+        dump(b, "pos_ref", &self.pos_ref, &mut o)?;
         dump(b, "vel0", &self.start.vel.cur, &mut o)?;
         dump(b, "rho0", &self.start.rho.cur, &mut o)?;
         dump(b, "stress0", &self.start.stress.cur, &mut o)?;
@@ -903,6 +924,16 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
     pub fn load_state(&mut self, b: &B, s: &StateBlobs) -> Result<()> {
         self.particles.load(b, s)?;
         crate::state::load_blob(b, "pos0", &mut self.start.pos.cur, s)?;
+        // The cell list of the saved state: the particles are in the order of its last build, so building it
+        // again on the binned positions gives the same cells and the identity permutation, and the run goes on
+        // bit for bit. A state saved without them rebuilds at the next step.
+        if s.iter().any(|(name, _)| name == "pos_ref") {
+            crate::state::load_blob(b, "pos_ref", &mut self.pos_ref, s)?;
+            self.cells.build::<R, D>(b, &self.pos_ref)?;
+            self.force_rebuild = false;
+        } else {
+            self.force_rebuild = true;
+        }
         crate::state::load_blob(b, "vel0", &mut self.start.vel.cur, s)?;
         crate::state::load_blob(b, "rho0", &mut self.start.rho.cur, s)?;
         crate::state::load_blob(b, "stress0", &mut self.start.stress.cur, s)?;

@@ -17,6 +17,11 @@ pub struct GridParams {
     /// Edge length of a cell; at least (support radius)/stencil, see `GridParams::cell_for`.
     pub cell_size: f64,
     pub inv_cell: f64,
+    /// The skin s: how far a particle may move from where the cell list binned it before the list must be
+    /// rebuilt (`GridParams::beyond_skin`). The solver's grid has cells of (2h + s)/2 for its ±2 stencil, so
+    /// that every pair within 2h of the current positions stays within the stencil of the binned ones.
+    /// 0 rebuilds whenever a particle moved at all.
+    pub skin: f64,
     /// Cells along x, y, z (z = 1 in 2D).
     pub dims: [u32; 3],
     pub n_cells: u32,
@@ -35,6 +40,24 @@ impl GridParams {
     #[inline]
     pub fn cell_for(support_radius: f64, stencil: u32) -> f64 {
         support_radius / stencil as f64 * (1.0 + CELL_MARGIN)
+    }
+
+    /// Whether a particle at `x`, binned at `x_ref` when the cell list was built, has moved farther than the
+    /// skin, so that the list must be rebuilt before it is searched again. For a pair at r < 2h now,
+    /// |x_i − x_j,ref| ≤ 2h + |x_j − x_j,ref|, which the stencil covers while every displacement is ≤ s
+    /// (docs/neighbour-search.md, "Skin"). In f64 (positions widen exactly); a non-finite position counts as
+    /// moved, so that the rebuild sends it to the void bucket.
+    #[inline(always)]
+    pub fn beyond_skin<R: Real, V: Vector<R>>(&self, x: &V, x_ref: &V) -> bool {
+        let mut d2 = 0.0;
+        let mut k = 0;
+        while k < V::DIM {
+            let d = x.get(k).to_f64() - x_ref.get(k).to_f64();
+            d2 += d * d;
+            k += 1;
+        }
+        // NaN compares false: a non-finite position is beyond every skin.
+        d2.is_nan() || d2 > self.skin * self.skin
     }
 
     /// Cell coordinate along axis `k`, clamped into the grid. Clamping keeps the search exact: it never increases

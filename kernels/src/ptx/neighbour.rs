@@ -9,6 +9,13 @@ use crate::real::Real;
 use crate::vector::{V2f32, V2f64, V3f32, V3f64, Vector};
 use core::num::NonZeroU32;
 
+/// False when a gated launch has nothing to do: `gate` points at a step's rebuild flag
+/// (`sph::step::StepScalars::rebuild`) and it is 0. A null gate always runs (a build outside the step loop).
+#[inline(always)]
+pub(crate) unsafe fn open(gate: *const u32) -> bool {
+    gate.is_null() || unsafe { core::ptr::read_volatile(gate) } != 0
+}
+
 #[inline(always)]
 unsafe fn hash<R: Real, V: Vector<R>>(n: u32, pos: *const V, grid: *const GridParams, keys: *mut u32) {
     let i = global_index();
@@ -40,7 +47,28 @@ unsafe fn neighbour_list<R: Real, V: Vector<R>>(
 }
 
 macro_rules! per_vector {
-    ($hash:ident, $list:ident, $r:ty, $v:ty) => {
+    ($hash:ident, $hash_count:ident, $list:ident, $r:ty, $v:ty) => {
+        /// The counting pass of a gated rebuild: keys[i] = cell key of pos[i], slots[i] = its arrival order in
+        /// the cell, counts[cell] += 1 (counts zeroed before), when the gate is open.
+        #[unsafe(no_mangle)]
+        pub unsafe extern "ptx-kernel" fn $hash_count(
+            gate: *const u32,
+            n: u32,
+            pos: *const $v,
+            grid: *const GridParams,
+            keys: *mut u32,
+            counts: *mut u32,
+            slots: *mut u32,
+        ) {
+            let i = global_index();
+            if i < n && unsafe { open(gate) } {
+                unsafe {
+                    let k = (*grid).key::<$r, $v>(&*pos.add(i as usize));
+                    *keys.add(i as usize) = k;
+                    *slots.add(i as usize) = atomic_add_u32(counts.add(k as usize), 1);
+                }
+            }
+        }
         /// keys[i] = cell key of pos[i] (`GridParams::key`).
         #[unsafe(no_mangle)]
         pub unsafe extern "ptx-kernel" fn $hash(n: u32, pos: *const $v, grid: *const GridParams, keys: *mut u32) {
@@ -64,10 +92,25 @@ macro_rules! per_vector {
     };
 }
 
-per_vector!(swarf_hash_2d_f32, swarf_neighbour_list_2d_f32, f32, V2f32);
-per_vector!(swarf_hash_2d_f64, swarf_neighbour_list_2d_f64, f64, V2f64);
-per_vector!(swarf_hash_3d_f32, swarf_neighbour_list_3d_f32, f32, V3f32);
-per_vector!(swarf_hash_3d_f64, swarf_neighbour_list_3d_f64, f64, V3f64);
+per_vector!(swarf_hash_2d_f32, swarf_hash_count_2d_f32, swarf_neighbour_list_2d_f32, f32, V2f32);
+per_vector!(swarf_hash_2d_f64, swarf_hash_count_2d_f64, swarf_neighbour_list_2d_f64, f64, V2f64);
+per_vector!(swarf_hash_3d_f32, swarf_hash_count_3d_f32, swarf_neighbour_list_3d_f32, f32, V3f32);
+per_vector!(swarf_hash_3d_f64, swarf_hash_count_3d_f64, swarf_neighbour_list_3d_f64, f64, V3f64);
+
+/// data[i] = 0 for i < n when the gate is open (the cell counts before a gated rebuild); the first thread also
+/// counts the rebuild in rebuilds[0] (null: not counted).
+#[unsafe(no_mangle)]
+pub unsafe extern "ptx-kernel" fn swarf_zero_gated(gate: *const u32, n: u32, data: *mut u32, rebuilds: *mut u32) {
+    let i = global_index();
+    if i < n && unsafe { open(gate) } {
+        unsafe {
+            *data.add(i as usize) = 0;
+            if i == 0 && !rebuilds.is_null() {
+                *rebuilds += 1;
+            }
+        }
+    }
+}
 
 /// counts[keys[i]] += 1; slots[i] = the particle's arrival order in its bucket (arbitrary, fixed by sort_cells).
 #[unsafe(no_mangle)]
@@ -81,9 +124,10 @@ pub unsafe extern "ptx-kernel" fn swarf_count_cells(n: u32, keys: *const u32, co
     }
 }
 
-/// perm[starts[keys[i]] + slots[i]] = i.
+/// perm[starts[keys[i]] + slots[i]] = i (when the gate is open).
 #[unsafe(no_mangle)]
 pub unsafe extern "ptx-kernel" fn swarf_scatter(
+    gate: *const u32,
     n: u32,
     keys: *const u32,
     slots: *const u32,
@@ -91,7 +135,7 @@ pub unsafe extern "ptx-kernel" fn swarf_scatter(
     perm: *mut u32,
 ) {
     let i = global_index();
-    if i < n {
+    if i < n && unsafe { open(gate) } {
         unsafe {
             let k = *keys.add(i as usize);
             let dst = *starts.add(k as usize) + *slots.add(i as usize);
@@ -100,11 +144,17 @@ pub unsafe extern "ptx-kernel" fn swarf_scatter(
     }
 }
 
-/// Sorts each bucket's slice of `perm` ascending (one thread per bucket), making the permutation the stable one.
+/// Sorts each bucket's slice of `perm` ascending (one thread per bucket), making the permutation the stable one
+/// (when the gate is open).
 #[unsafe(no_mangle)]
-pub unsafe extern "ptx-kernel" fn swarf_sort_cells(n_buckets: u32, starts: *const u32, perm: *mut u32) {
+pub unsafe extern "ptx-kernel" fn swarf_sort_cells(
+    gate: *const u32,
+    n_buckets: u32,
+    starts: *const u32,
+    perm: *mut u32,
+) {
     let c = global_index();
-    if c < n_buckets {
+    if c < n_buckets && unsafe { open(gate) } {
         unsafe {
             let a = *starts.add(c as usize);
             let b = *starts.add(c as usize + 1);
@@ -146,14 +196,20 @@ gather!(swarf_gather_b16, B16);
 /// dst_f[i] = src_f[perm[i]] for every field f of `table` (block row y = field, one thread per particle), the
 /// whole particle state reordered in one launch. Each element is copied in the widest unit its size allows.
 #[unsafe(no_mangle)]
-pub unsafe extern "ptx-kernel" fn swarf_gather_fields(n: u32, perm: *const u32, table: *const GatherField) {
+pub unsafe extern "ptx-kernel" fn swarf_gather_fields(
+    gate: *const u32,
+    n: u32,
+    perm: *const u32,
+    table: *const GatherField,
+) {
     let i = global_index();
-    if i >= n {
+    if i >= n || !unsafe { open(gate) } {
         return;
     }
     unsafe {
         let f = *table.add(core::arch::nvptx::_block_idx_y() as usize);
-        let j = *perm.add(i as usize) as usize;
+        // A null permutation copies (the copy-back of an in-place reorder).
+        let j = if perm.is_null() { i as usize } else { *perm.add(i as usize) as usize };
         let (i, b) = (i as usize, f.bytes as usize);
         if b.is_multiple_of(16) {
             copy_units::<B16>(f, b / 16, i, j);

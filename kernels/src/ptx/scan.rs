@@ -4,6 +4,7 @@
 //! recursively with the same kernels. CPU twin: `swarf::backend::cpu::exclusive_scan`.
 
 use super::intrinsics::{lane_id, shfl_idx, warp_inclusive_scan};
+use super::neighbour::open;
 use core::arch::nvptx::*;
 
 /// Elements per warp tile.
@@ -14,12 +15,14 @@ fn warp_tile() -> u32 {
     unsafe { (_block_idx_x() * _block_dim_x() + _thread_idx_x()) / 32 }
 }
 
+/// Both passes take a gate (`ptx::neighbour::open`): a gated rebuild's scan runs only when its step rebuilds.
+///
 /// tile_sums[t] = Σ input[t·TILE .. (t+1)·TILE] (wrapping u32 arithmetic).
 #[unsafe(no_mangle)]
-pub unsafe extern "ptx-kernel" fn swarf_scan_reduce(n: u32, input: *const u32, tile_sums: *mut u32) {
+pub unsafe extern "ptx-kernel" fn swarf_scan_reduce(gate: *const u32, n: u32, input: *const u32, tile_sums: *mut u32) {
     let tile = warp_tile();
     let base = tile as u64 * TILE as u64;
-    if base >= n as u64 {
+    if base >= n as u64 || !unsafe { open(gate) } {
         return;
     }
     let lane = lane_id();
@@ -41,6 +44,7 @@ pub unsafe extern "ptx-kernel" fn swarf_scan_reduce(n: u32, input: *const u32, t
 /// output[i] = tile_offsets[t] + Σ input[t·TILE .. i] (exclusive within the tile). `output` may alias `input`.
 #[unsafe(no_mangle)]
 pub unsafe extern "ptx-kernel" fn swarf_scan_apply(
+    gate: *const u32,
     n: u32,
     input: *const u32,
     output: *mut u32,
@@ -48,7 +52,7 @@ pub unsafe extern "ptx-kernel" fn swarf_scan_apply(
 ) {
     let tile = warp_tile();
     let base = tile as u64 * TILE as u64;
-    if base >= n as u64 {
+    if base >= n as u64 || !unsafe { open(gate) } {
         return;
     }
     let lane = lane_id();

@@ -49,7 +49,7 @@ density_entry!(swarf_density_2d_f64, f64, V2f64);
 density_entry!(swarf_density_3d_f32, f32, V3f32);
 density_entry!(swarf_density_3d_f64, f64, V3f64);
 
-use super::intrinsics::{atomic_add_u32, shfl_xor};
+use super::intrinsics::shfl_xor;
 use crate::sph::heat::{HeatArrays, HeatParams, ThermalMaterial, heat_finish, heat_sum};
 use crate::sph::interact::{Arrays, HeatPairSums, PairSums, finish_rates, pair_sums, pair_sums_heat, prepare};
 use crate::sph::lanes::{LaneSum, clamp_lanes};
@@ -189,14 +189,15 @@ fn shuffle_xor<T: LaneSum>(x: &T, mask: u32) -> T {
     x.map_words(&mut |w| shfl_xor(w, mask))
 }
 
-/// The fused predictor (sph::step::predict_particle) and the cell list's counting pass on the predicted position:
-/// keys[i] = its cell, slots[i] = its arrival order in the cell, counts[cell] += 1 (counts zeroed before).
+/// The predictor (sph::step::predict_particle) with the skin test of the predicted position against where the
+/// cell list binned it (`GridParams::beyond_skin`): a particle beyond the skin sets the step's rebuild flag (every
+/// such thread stores the same 1).
 macro_rules! predict_entry {
     ($name:ident, $r:ty, $d:ty) => {
         #[unsafe(no_mangle)]
         pub unsafe extern "ptx-kernel" fn $name(
             n: u32,
-            scalars: *const StepScalars,
+            scalars: *mut StepScalars,
             grid: *const GridParams,
             pos: *mut Vec_<$r, $d>,
             vel: *mut Vec_<$r, $d>,
@@ -213,9 +214,7 @@ macro_rules! predict_entry {
             temp: *mut f64,
             temp0: *mut f64,
             temp_t: *const f64,
-            keys: *mut u32,
-            counts: *mut u32,
-            slots: *mut u32,
+            pos_ref: *const Vec_<$r, $d>,
         ) {
             let i = global_index();
             if i < n {
@@ -240,9 +239,9 @@ macro_rules! predict_entry {
                 };
                 unsafe {
                     let x = predict_particle(&a, (*scalars).dt, i as usize);
-                    let k = (*grid).key::<$r, Vec_<$r, $d>>(&x);
-                    *keys.add(i as usize) = k;
-                    *slots.add(i as usize) = atomic_add_u32(counts.add(k as usize), 1);
+                    if (*grid).beyond_skin::<$r, Vec_<$r, $d>>(&x, &*pos_ref.add(i as usize)) {
+                        core::ptr::write_volatile(core::ptr::addr_of_mut!((*scalars).rebuild), 1);
+                    }
                 }
             }
         }

@@ -22,6 +22,11 @@ pub struct StepScalars {
     pub dt: f64,
     /// The tool at the end of the step (zero without a tool).
     pub tool: ToolState,
+    /// Nonzero when this step rebuilds the cell list and reorders the particles: written by the host (0, or 1
+    /// to force a rebuild), set to 1 by the predictor when a particle moved beyond the grid's skin. The
+    /// rebuild's kernels run only when it is set (a captured step holds every launch; the flag decides).
+    pub rebuild: u32,
+    pub _pad: u32,
 }
 
 /// The integrated fields of sorted particles: the state y, its start-of-step copy y0 and the rates ẏ. The
