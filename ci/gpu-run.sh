@@ -2,6 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
+# whole150k bg150k wait150k ncu
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -179,6 +180,48 @@ for p in $parts; do
                   tar czf - -C runs --exclude='*.vtu' "whole-150k-$prec" | split -b 15m - "$out/whole-150k-$prec.tgz.part"
                   ls -la "$out"/whole-150k-$prec.tgz.part*
               done ;;
+        bg150k) # issue 8: the whole 150k reference cut (1 mm) in the background, one precision per GPU
+                # (SWARF_CUT_GPUS, default "f64:0"; e.g. "f64:1 f32:0" on two GPUs): started in its own session
+                # (setsid), so that it runs on after this call returns while the machine is held; part wait150k
+                # waits for it and returns its summary, force trace and energies. Resumes from a checkpoint where
+                # the run folder has one (a carried carry150k/ is unpacked first, as in whole150k).
+                for pg in ${SWARF_CUT_GPUS:-f64:0}; do
+                    prec=${pg%%:*} gpu=${pg##*:} d=runs/whole-150k-${pg%%:*}
+                    mkdir -p runs
+                    if [ ! -f "$d/checkpoint.bin" ] && [ -e "carry150k/whole-150k-$prec.tgz.partaa" ]; then
+                        cat carry150k/whole-150k-$prec.tgz.part* | tar xzf - -C runs
+                    fi
+                    if [ -f "$d/checkpoint.bin" ]; then args=(run --resume "$d" --quiet)
+                    else args=(run cases/cutting/reference-cut-150k.toml --precision "$prec" --out "$d" --quiet \
+                               --checkpoint-every 5e-5); fi
+                    CUDA_VISIBLE_DEVICES=$gpu setsid nohup "$here/swarf" --backend gpu "${args[@]}" \
+                        > "runs/whole-150k-$prec.out" 2>&1 < /dev/null &
+                    echo "started the 150k cut in $prec on GPU $gpu (pid $!) at $(date +%T)"
+                done
+                sleep 20; nvidia-smi --query-gpu=index,utilization.gpu,memory.used --format=csv ;;
+        wait150k) # waits (at most SWARF_WAIT_LIMIT s, default 540) for the background 150k cuts of bg150k and
+                  # returns what they wrote so far: summary, run log, forces and energies (no frames, no checkpoint)
+                  t0=$(date +%s)
+                  while pgrep -f "reference-cut-150k|whole-150k" > /dev/null \
+                        && [ $(( $(date +%s) - t0 )) -lt "${SWARF_WAIT_LIMIT:-540}" ]; do sleep 5; done
+                  for d in runs/whole-150k-*; do
+                      [ -d "$d" ] || continue
+                      b=$(basename "$d")
+                      echo "== $b"; cat "$d/../$b.out" 2>/dev/null | tail -n 5; tail -n 3 "$d/run.log"
+                      cat "$d/summary.json" 2>/dev/null || echo "(running: no summary yet)"
+                      for f in run.log summary.json forces.csv energy.csv; do cp "$d/$f" "$out/$b-$f" 2>/dev/null; done
+                  done
+                  pgrep -af "whole-150k" || echo "no 150k cut running" ;;
+        ncu) # issue 7: the FLOP side of the roofline: hardware counters of one launch of the 150k interaction kernel
+             ncu_once() {
+                 local prec=$1
+                 ncu --kernel-name regex:swarf_sph_rates --launch-count 1 --metrics \
+gpu__time_duration.sum,sm__sass_thread_inst_executed_op_dfma_pred_on.sum,sm__sass_thread_inst_executed_op_dmul_pred_on.sum,sm__sass_thread_inst_executed_op_dadd_pred_on.sum,sm__sass_thread_inst_executed_op_ffma_pred_on.sum,sm__sass_thread_inst_executed_op_fmul_pred_on.sum,sm__sass_thread_inst_executed_op_fadd_pred_on.sum,dram__bytes_read.sum,dram__bytes_write.sum,lts__t_bytes.sum,l1tex__t_bytes.sum,sm__warps_active.avg.pct_of_peak_sustained_active,sm__inst_executed_pipe_fp64.avg.pct_of_peak_sustained_active,sm__throughput.avg.pct_of_peak_sustained_elapsed,smsp__inst_executed.sum \
+                     "$here/swarf" --backend gpu bench step --scenes cases/cutting/reference-cut-150k.toml \
+                     --precision "$prec" --step-count 32
+             }
+             run ncu-f64 ncu_once f64
+             run ncu-f32 ncu_once f32 ;;
         fine) # the 150k reference cut: the first 0.5 % of the cut (about 15 000 steps), for the step time
               run fine "$here/swarf" --backend gpu run cases/cutting/reference-cut-150k.toml --verbose \
                   --set time.end=4.2857e-6 --set output.every=1.0714e-6 --out /tmp/swarf-cut/fine ;;
