@@ -11,7 +11,7 @@ use swarf::kernels::{Dim, Dim2, Dim3, Vector};
 use swarf::neighbour::CellList;
 use swarf::rng::SplitMix64;
 
-/// A particle set sorted for conduction: positions, masses (ρ = 1, V = Δx^d), fixed flags.
+/// A particle set sorted for conduction: positions, volumes (ρ = 1, V = m = Δx^d), fixed flags.
 struct Set<D: Dim> {
     pos: Vec<D::Vec<f64>>,
     flags: Vec<u32>,
@@ -45,13 +45,14 @@ fn laplacian<D: Dim>(s: &Set<D>, t: &[f64], pse: bool) -> Vec<f64> {
     let n = s.pos.len();
     let params = SphParams::<f64> { kernel: CubicSpline::new(s.h, D::D), ..Default::default() };
     let rho = vec![1.0; n];
-    let mass = vec![s.vol; n];
+    // V = m/ρ as the pre-pass writes it (ρ = 1).
+    let vol = vec![s.vol; n];
     let mats = vec![ThermalMaterial { conductivity: 1.0, specific_heat: 1.0 }];
     let mut out = vec![0.0; n];
     let input = HeatInputs::<CpuBackend, f64, D> {
         pos: &s.pos,
         rho: &rho,
-        mass: &mass,
+        vol: &vol,
         temp: &t.to_vec(),
         flags: &s.flags,
         materials: &mats,

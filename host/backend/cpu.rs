@@ -59,7 +59,7 @@ fn heat_arrays<R: Real, D: Dim>(
     for (what, len) in [
         ("pos", input.pos.len()),
         ("rho", input.rho.len()),
-        ("mass", input.mass.len()),
+        ("vol", input.vol.len()),
         ("temp", input.temp.len()),
         ("flags", input.flags.len()),
     ] {
@@ -69,7 +69,7 @@ fn heat_arrays<R: Real, D: Dim>(
     Ok(SendHeat(HeatArrays::<R, D::Vec<R>> {
         pos: input.pos.as_ptr(),
         rho: input.rho.as_ptr(),
-        mass: input.mass.as_ptr(),
+        vol: input.vol.as_ptr(),
         temp: input.temp.as_ptr(),
         flags: input.flags.as_ptr(),
         materials: input.materials.as_ptr(),
@@ -463,13 +463,17 @@ impl Backend for CpuBackend {
         stab: Stabilisers,
         params: &Vec<SphParams<R>>,
         rho: &Vec<R>,
+        mass: &Vec<R>,
         stress: &Vec<D::Sym<R>>,
         sig: &mut Vec<D::Sym<R>>,
         art: Option<&mut Vec<D::Sym<R>>>,
         sound: Option<&mut Vec<R>>,
+        vol: &mut Vec<R>,
         temp: Option<&Vec<f64>>,
     ) -> Result<()> {
         check("sph_prepare rho", n, rho.len())?;
+        check("sph_prepare mass", n, mass.len())?;
+        check("sph_prepare vol", n, vol.len())?;
         if let Some(t) = temp {
             check("sph_prepare temp", n, t.len())?;
         }
@@ -489,9 +493,10 @@ impl Backend for CpuBackend {
         let sound = SendPtr::from_opt(sound.map(|c| c.as_mut_ptr() as *mut u32));
         macro_rules! go {
             ($av:literal, $as:literal) => {
-                sig[..n].par_iter_mut().enumerate().for_each(|(i, sg)| {
-                    let q = prepare::<R, D, $av, $as>(&p, rho[i], &stress[i], temp.map(|t| t[i]));
+                sig[..n].par_iter_mut().zip(vol[..n].par_iter_mut()).enumerate().for_each(|(i, (sg, v))| {
+                    let q = prepare::<R, D, $av, $as>(&p, rho[i], mass[i], &stress[i], temp.map(|t| t[i]));
                     *sg = q.sig;
+                    *v = q.vol;
                     // SAFETY: the buffers exist when their stabiliser is on and hold n elements (checked by the
                     // solver, which allocates them); each index is written by one task.
                     unsafe {
@@ -532,6 +537,7 @@ impl Backend for CpuBackend {
             ("vel", input.vel.len()),
             ("rho", input.rho.len()),
             ("mass", input.mass.len()),
+            ("vol", input.vol.len()),
             ("stress", input.stress.len()),
             ("sig", input.sig.len()),
             ("flags", input.flags.len()),
@@ -555,6 +561,7 @@ impl Backend for CpuBackend {
             vel: input.vel.as_ptr(),
             rho: input.rho.as_ptr(),
             mass: input.mass.as_ptr(),
+            vol: input.vol.as_ptr(),
             stress: input.stress.as_ptr(),
             sig: input.sig.as_ptr(),
             art: input.art.map_or(std::ptr::null(), |v| v.as_ptr()),

@@ -132,7 +132,8 @@ pub trait Backend: Sized + Send + Sync {
     ) -> Result<()>;
 
     /// SPH pre-pass (`sph::interact::prepare`): sig = σ/ρ², art = artificial stress (if on), sound = √(K/ρ)
-    /// (if the viscosity is on); `temp` is given when the EOS has thermal expansion.
+    /// (if the viscosity is on), vol = m/ρ with `mass` the particles' full masses (the thermal-only ones
+    /// included: they conduct); `temp` is given when the EOS has thermal expansion.
     #[allow(clippy::too_many_arguments)]
     fn sph_prepare<R: Real, D: TensorOps<R>>(
         &self,
@@ -140,10 +141,12 @@ pub trait Backend: Sized + Send + Sync {
         stab: Stabilisers,
         params: &Self::Buf<SphParams<R>>,
         rho: &Self::Buf<R>,
+        mass: &Self::Buf<R>,
         stress: &Self::Buf<D::Sym<R>>,
         sig: &mut Self::Buf<D::Sym<R>>,
         art: Option<&mut Self::Buf<D::Sym<R>>>,
         sound: Option<&mut Self::Buf<R>>,
+        vol: &mut Self::Buf<R>,
         temp: Option<&Self::Buf<f64>>,
     ) -> Result<()>;
     /// SPH pair interaction (`sph::interact::rates`): the rates of every sorted particle, each summed by `lanes`
@@ -273,7 +276,10 @@ pub struct SphInputs<'a, B: Backend, R: Real, D: Dim> {
     pub pos: &'a B::Buf<D::Vec<R>>,
     pub vel: &'a B::Buf<D::Vec<R>>,
     pub rho: &'a B::Buf<R>,
+    /// Mechanical masses (zero for the tool's thermal-only particles).
     pub mass: &'a B::Buf<R>,
+    /// V = m/ρ from the pre-pass (full masses).
+    pub vol: &'a B::Buf<R>,
     pub stress: &'a B::Buf<D::Sym<R>>,
     /// σ/ρ² from the pre-pass.
     pub sig: &'a B::Buf<D::Sym<R>>,
@@ -296,14 +302,15 @@ pub type ContactForces<'a, B, R, D> =
 pub struct HeatInputs<'a, B: Backend, R: Real, D: Dim> {
     pub pos: &'a B::Buf<D::Vec<R>>,
     pub rho: &'a B::Buf<R>,
-    pub mass: &'a B::Buf<R>,
+    /// V = m/ρ from the pre-pass, with the full masses (the tool's particles conduct).
+    pub vol: &'a B::Buf<R>,
     pub temp: &'a B::Buf<f64>,
     pub flags: &'a B::Buf<u32>,
     pub materials: &'a B::Buf<ThermalMaterial>,
 }
 
-/// The Brookshaw conduction of the fused interaction: its constants, inputs (with the full masses, the tool's
-/// included) and the Ṫ it writes.
+/// The Brookshaw conduction of the fused interaction: its constants, inputs (volumes from the full masses, the
+/// tool's included) and the Ṫ it writes.
 pub struct FusedHeat<'a, B: Backend, R: Real, D: Dim> {
     pub params: &'a B::Buf<HeatParams>,
     pub input: HeatInputs<'a, B, R, D>,

@@ -6,7 +6,7 @@
 //! 2. when flagged (or forced: the first step), the cell list on the predicted positions and the reorder of y,
 //!    y0 and the per-particle constants (mass, id, flags), in place; otherwise the last list stays exact, since
 //!    its cells are sized for the support plus the skin (docs/neighbour-search.md, "Skin");
-//! 3. pre-pass: σ/ρ², artificial stress, sound speed (the last two only when their stabiliser is on);
+//! 3. pre-pass: σ/ρ², artificial stress, sound speed (these two only when their stabiliser is on), volume m/ρ;
 //! 4. pair interaction: ẏ at the midpoint, with the boundary conditions imposed on the rates;
 //! 5. corrector: y ← y0 + Δt ẏ;
 //! 6. plasticity (if on): radial return of S with ε̄, ε̄̇, T and plastic heating (operator split, §5.2 step 13).
@@ -186,6 +186,9 @@ pub struct Solver<B: Backend, R: Real, D: TensorOps<R>> {
     sig: B::Buf<D::Sym<R>>,
     art: Option<B::Buf<D::Sym<R>>>,
     sound: Option<B::Buf<R>>,
+    /// V = m/ρ of the pre-pass with the full masses, read by the interaction and the conduction instead of a
+    /// division per pair.
+    vol: B::Buf<R>,
     pub cells: CellList<B>,
     /// Each particle's predicted position when the cell list was last built (sorted order), for the skin test.
     pos_ref: B::Buf<D::Vec<R>>,
@@ -237,7 +240,7 @@ pub enum Phase {
     CellList,
     /// Every per-particle field gathered and copied back, two launches (when the step rebuilds).
     Reorder,
-    /// σ/ρ², artificial stress, sound speed.
+    /// σ/ρ², artificial stress, sound speed, volume.
     Prepare,
     /// The pair interaction.
     Interact,
@@ -305,13 +308,15 @@ fn thermal_views<B: Backend>(
     }
 }
 
-/// The conduction inputs (full masses: the tool's particles conduct) of the separate and the fused pass.
+/// The conduction inputs of the separate and the fused pass; `vol` from the pre-pass (full masses: the tool's
+/// particles conduct).
 fn heat_inputs<'a, B: Backend, R: Real, D: TensorOps<R>>(
     p: &'a Particles<B, R, D>,
+    vol: &'a B::Buf<R>,
     temp: &'a B::Buf<f64>,
     materials: &'a B::Buf<ThermalMaterial>,
 ) -> HeatInputs<'a, B, R, D> {
-    HeatInputs { pos: &p.pos.cur, rho: &p.rho.cur, mass: &p.mass.cur, temp, flags: &p.flags.cur, materials }
+    HeatInputs { pos: &p.pos.cur, rho: &p.rho.cur, vol, temp, flags: &p.flags.cur, materials }
 }
 
 impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
@@ -415,6 +420,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             sig: b.alloc(n, "stress over density squared")?,
             art: if stab.stress { Some(b.alloc(n, "artificial stress")?) } else { None },
             sound: if stab.viscosity { Some(b.alloc(n, "sound speed")?) } else { None },
+            vol: b.alloc(n, "particle volume")?,
             cells: CellList::new(b, setup.grid, n)?,
             pos_ref: b.alloc(n, "cell-list reference positions")?,
             force_rebuild: true,
@@ -625,10 +631,13 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                     self.stab,
                     &self.params,
                     &p.rho.cur,
+                    // The full masses: the thermal-only particles' volumes serve the conduction.
+                    &p.mass.cur,
                     &p.stress.cur,
                     &mut self.sig,
                     self.art.as_mut(),
                     self.sound.as_mut(),
+                    &mut self.vol,
                     if self.host_params.expansion != R::ZERO { self.temp.as_ref().map(|t| &t.cur) } else { None },
                 )?;
             }
@@ -638,6 +647,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                     vel: &p.vel.cur,
                     rho: &p.rho.cur,
                     mass: self.mech_mass.as_ref().map_or(&p.mass.cur, |m| &m.cur),
+                    vol: &self.vol,
                     stress: &p.stress.cur,
                     sig: &self.sig,
                     art: self.art.as_ref(),
@@ -650,7 +660,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                 let heat = match (fused, self.temp.as_ref(), self.thermal.as_mut()) {
                     (true, Some(t), Some(th)) => th.temp_t.as_mut().map(|tt| FusedHeat {
                         params: &th.heat,
-                        input: heat_inputs(p, &t.cur, &th.materials),
+                        input: heat_inputs(p, &self.vol, &t.cur, &th.materials),
                         temp_t: tt,
                     }),
                     _ => None,
@@ -677,7 +687,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                     && let (Some(pse), Some(tt)) = (th.conduction, th.temp_t.as_mut())
                 {
                     let grid = if pse { &th.grid_pse } else { &self.cells.grid_buf };
-                    let hin = heat_inputs(p, &t.cur, &th.materials);
+                    let hin = heat_inputs(p, &self.vol, &t.cur, &th.materials);
                     b.heat_rates::<R, D>(
                         n,
                         self.lanes,

@@ -60,7 +60,7 @@ use crate::vector::{Dim, Dim2, Dim3};
 type Vec_<R, D> = <D as Dim>::Vec<R>;
 type Sym_<R, D> = <D as Dim>::Sym<R>;
 
-/// Pre-pass: sig = σ/ρ², art = artificial stress (AS), sound = √(K/ρ) (AV).
+/// Pre-pass: sig = σ/ρ², art = artificial stress (AS), sound = √(K/ρ) (AV), vol = m/ρ (`mass` the full masses).
 macro_rules! prepare_entry {
     ($name:ident, $r:ty, $d:ty, $av:literal, $as:literal) => {
         #[unsafe(no_mangle)]
@@ -68,18 +68,21 @@ macro_rules! prepare_entry {
             n: u32,
             params: *const SphParams<$r>,
             rho: *const $r,
+            mass: *const $r,
             stress: *const Sym_<$r, $d>,
             sig: *mut Sym_<$r, $d>,
             art: *mut Sym_<$r, $d>,
             sound: *mut $r,
+            vol: *mut $r,
             temp: *const f64,
         ) {
             let i = global_index() as usize;
             if i < n as usize {
                 unsafe {
                     let t = if temp.is_null() { None } else { Some(*temp.add(i)) };
-                    let q = prepare::<$r, $d, $av, $as>(&*params, *rho.add(i), &*stress.add(i), t);
+                    let q = prepare::<$r, $d, $av, $as>(&*params, *rho.add(i), *mass.add(i), &*stress.add(i), t);
                     *sig.add(i) = q.sig;
+                    *vol.add(i) = q.vol;
                     if $as {
                         *art.add(i) = q.art;
                     }
@@ -96,7 +99,7 @@ macro_rules! prepare_entry {
 /// the neighbours (sph::interact::pair_sums); the shares are combined by a shuffle butterfly in the order of
 /// sph::lanes::combine and the particle's first lane writes the rates (sph::interact::finish_rates). With `$heat`
 /// the same walk also sums the Brookshaw conduction (sph::interact::pair_sums_heat) and writes Ṫ to `temp_t`
-/// (`heat_mass`, `temp`, `materials`, `hp` are its inputs; the plain entries ignore them).
+/// (`heat_vol`, `temp`, `materials`, `hp` are its inputs; the plain entries ignore them).
 macro_rules! rates_entry {
     ($name:ident, $r:ty, $d:ty, $av:literal, $as:literal, $xs:literal, $heat:literal) => {
         #[unsafe(no_mangle)]
@@ -110,6 +113,7 @@ macro_rules! rates_entry {
             vel: *const Vec_<$r, $d>,
             rho: *const $r,
             mass: *const $r,
+            vol: *const $r,
             stress: *const Sym_<$r, $d>,
             sig: *const Sym_<$r, $d>,
             art: *const Sym_<$r, $d>,
@@ -124,7 +128,7 @@ macro_rules! rates_entry {
             stress_t: *mut Sym_<$r, $d>,
             dissipation_t: *mut $r,
             hp: *const HeatParams,
-            heat_mass: *const $r,
+            heat_vol: *const $r,
             temp: *const f64,
             materials: *const ThermalMaterial,
             temp_t: *mut f64,
@@ -132,8 +136,9 @@ macro_rules! rates_entry {
             let t = global_index();
             let lanes = clamp_lanes(lanes);
             let (i, lane) = (t / lanes, t % lanes);
-            let a = Arrays::<$r, $d> { pos, vel, rho, mass, stress, sig, art, sound, flags, bc_vel, normal, friction };
-            let h = HeatArrays::<$r, Vec_<$r, $d>> { pos, rho, mass: heat_mass, temp, flags, materials };
+            let a =
+                Arrays::<$r, $d> { pos, vel, rho, mass, vol, stress, sig, art, sound, flags, bc_vel, normal, friction };
+            let h = HeatArrays::<$r, Vec_<$r, $d>> { pos, rho, vol: heat_vol, temp, flags, materials };
             // Every lane takes part in the shuffles, also past the last particle.
             let live = i < n;
             unsafe {
@@ -480,7 +485,7 @@ macro_rules! heat_entry {
             starts: *const u32,
             pos: *const Vec_<$r, $d>,
             rho: *const $r,
-            mass: *const $r,
+            vol: *const $r,
             temp: *const f64,
             flags: *const u32,
             materials: *const ThermalMaterial,
@@ -489,7 +494,7 @@ macro_rules! heat_entry {
             let t = global_index();
             let lanes = clamp_lanes(lanes);
             let (i, lane) = (t / lanes, t % lanes);
-            let a = HeatArrays::<$r, Vec_<$r, $d>> { pos, rho, mass, temp, flags, materials };
+            let a = HeatArrays::<$r, Vec_<$r, $d>> { pos, rho, vol, temp, flags, materials };
             // Every lane takes part in the shuffles, also past the last particle.
             let live = i < n;
             unsafe {

@@ -55,7 +55,8 @@ impl HeatParams {
 pub struct HeatArrays<R: Real, V: Vector<R>> {
     pub pos: *const V,
     pub rho: *const R,
-    pub mass: *const R,
+    /// V = m/ρ of the pre-pass (`interact::prepare`), with the full masses: the tool's particles conduct.
+    pub vol: *const R,
     pub temp: *const f64,
     pub flags: *const u32,
     /// Thermal materials, indexed by the body index in the flags.
@@ -137,7 +138,8 @@ pub(crate) unsafe fn heat_pair<R: Real, V: Vector<R>, const PSE: bool>(
             vj * kij * (tj - o.t) * hp.pse_norm * libm::exp(-r2f * hp.inv_h2)
         } else {
             let r = r2.sqrt();
-            brookshaw_term(a, o, j, (k.dw_dr(r) / r).to_f64())
+            // The same W'(r)/r as the fused pass's geometry (`interact::geometry`), so both agree bit for bit.
+            brookshaw_term(a, o, j, k.dw_dr_over_r(r).to_f64())
         }
     }
 }
@@ -173,7 +175,7 @@ unsafe fn conductance<R: Real, V: Vector<R>>(a: &HeatArrays<R, V>, o: &HeatOwn<V
             let mj = *a.materials.add(bj as usize);
             2.0 * mi.conductivity * mj.conductivity / (mi.conductivity + mj.conductivity)
         };
-        let vj = (*a.mass.add(ju) / *a.rho.add(ju)).to_f64();
+        let vj = (*a.vol.add(ju)).to_f64();
         (kij, vj, *a.temp.add(ju))
     }
 }

@@ -9,8 +9,11 @@
 //!   ẋ_i   = v_i + ε_X Σ_j (m_j/ρ̄_ij)(v_j − v_i) W_ij
 //!   ρ̇_i   = −ρ_i tr L_i
 //!   Ṡ_i   = 2G (D_i − ⅓ tr D_i I) + W_i S_i − S_i W_i
-//! with Π_ij = (−α c̄ μ + β μ²)/ρ̄ for v_ij·x_ij < 0 (else 0), μ = h v_ij·x_ij/(r² + η²h²).
+//! with Π_ij = μ (−α c̄ + β μ)/ρ̄ for v_ij·x_ij < 0 (else 0), μ = h v_ij·x_ij/(r² + η²h²).
 //! Every pair term is evaluated in the same order on CPU and GPU (the cell-list gather order).
+//!
+//! Divisions are costly in f64 on the GPU, so the pair term avoids them: V_j comes from the pre-pass, 1/ρ̄ is
+//! taken once per pair (for Π and XSPH) and W'(r)/r divides only on 1 ≤ q < 2 (`CubicSpline::dw_dr_over_r`).
 
 use super::heat::{HeatArrays, HeatParams, brookshaw_term, heat_finish, heat_own};
 use super::lanes::{LaneSum, all_lanes, lane_share, map_real, map_vector};
@@ -29,6 +32,9 @@ pub struct Prepared<R: Real, D: TensorOps<R>> {
     pub art: D::Sym<R>,
     /// Sound speed √(K/ρ) (for the viscosity).
     pub c: R,
+    /// Volume V = m/ρ with the particle's full mass (the tool's thermal-only particles conduct), read by the pair
+    /// terms as V_j instead of one division per pair.
+    pub vol: R,
 }
 
 /// EOS p = c0² (ρ − ρ0), pressure positive in compression (roethlin-solver.md §2.3, erratum 7).
@@ -48,12 +54,13 @@ pub fn pressure_at<R: Real>(p: &SphParams<R>, rho: R, temp: f64) -> R {
     p.c0sq * (rho - R::from_f64(rho0))
 }
 
-/// The pre-pass of one particle: EOS, σ/ρ², artificial stress and sound speed. `temp` is the particle's
-/// temperature when the run models thermal expansion.
+/// The pre-pass of one particle: EOS, σ/ρ², artificial stress, sound speed and volume V = m/ρ (`mass` the
+/// particle's full mass). `temp` is the particle's temperature when the run models thermal expansion.
 #[inline(always)]
 pub fn prepare<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool>(
     p: &SphParams<R>,
     rho: R,
+    mass: R,
     s: &D::Sym<R>,
     temp: Option<f64>,
 ) -> Prepared<R, D> {
@@ -65,6 +72,7 @@ pub fn prepare<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool>(
         sig: D::stress_over_rho2(s, pr, rho),
         art: if AS { D::artificial_stress(s, pr, rho, p.as_eps) } else { Default::default() },
         c: if AV { (p.bulk / rho).sqrt() } else { R::ZERO },
+        vol: mass / rho,
     }
 }
 
@@ -85,7 +93,10 @@ pub struct Arrays<R: Real, D: Dim> {
     pub pos: *const D::Vec<R>,
     pub vel: *const D::Vec<R>,
     pub rho: *const R,
+    /// Mechanical masses (zero for the tool's thermal-only particles).
     pub mass: *const R,
+    /// V = m/ρ of the pre-pass, with the full masses.
+    pub vol: *const R,
     pub stress: *const D::Sym<R>,
     pub sig: *const D::Sym<R>,
     /// Null unless the artificial stress is on.
@@ -119,8 +130,8 @@ fn dot<R: Real, V: Vector<R>>(a: &V, b: &V) -> R {
     s
 }
 
-/// The pair sums of one particle (or one lane's share of them): the velocity gradient L = Σ m_j/ρ_j (v_j − v_i) ⊗
-/// ∇W, the acceleration Σ m_j f_ij and the XSPH sum. Plain data of R, so that lanes combine it by shuffles.
+/// The pair sums of one particle (or one lane's share of them): the velocity gradient L = Σ V_j (v_j − v_i) ⊗ ∇W,
+/// the acceleration Σ m_j f_ij and the XSPH sum. Plain data of R, so that lanes combine it by shuffles.
 #[repr(C)]
 #[derive(Clone, Copy, Default)]
 pub struct PairSums<R: Real, D: TensorOps<R>> {
@@ -213,7 +224,7 @@ unsafe fn geometry<R: Real, D: TensorOps<R>>(
         return None;
     }
     let r = r2.sqrt();
-    Some(Geometry { xij, r2, r, dw: k.dw_dr(r) / r })
+    Some(Geometry { xij, r2, r, dw: k.dw_dr_over_r(r) })
 }
 
 /// Adds the term of pair (i, j) to `sums` (nothing for j = i, beyond the support, or a massless j: every term
@@ -260,7 +271,8 @@ unsafe fn pair_term<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, co
         }
         let (vj, rhoj) = (*a.vel.add(ju), *a.rho.add(ju));
         let dv = sub(&vj, &vi);
-        D::outer_add(&mut sums.l, mj / rhoj, &dv, &gw);
+        // V_j of the pre-pass: m_j/ρ_j with the full mass, which equals the mechanical m_j here (m_j ≠ 0).
+        D::outer_add(&mut sums.l, *a.vol.add(ju), &dv, &gw);
         let w = if AS || XSPH { k.w(r) } else { R::ZERO };
         let fan = if AS {
             let f = w * p.as_inv_w_dx;
@@ -276,12 +288,14 @@ unsafe fn pair_term<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, co
         };
         let artj = if AS { *a.art.add(ju) } else { Default::default() };
         let rho_bar = half * (rhoi + rhoj);
+        // One division for Π and the XSPH weight.
+        let inv_rb = if AV || XSPH { R::ONE / rho_bar } else { R::ZERO };
         let pi = if AV {
             let vx = -dot(&dv, &xij); // v_ij · x_ij with v_ij = v_i − v_j
             if vx < R::ZERO {
                 let mu = k.h * vx / (r2 + p.av_eta2h2);
                 let c_bar = half * (ci + *a.sound.add(ju));
-                (-p.av_alpha * c_bar * mu + p.av_beta * mu * mu) / rho_bar
+                mu * (-p.av_alpha * c_bar + p.av_beta * mu) * inv_rb
             } else {
                 R::ZERO
             }
@@ -295,7 +309,7 @@ unsafe fn pair_term<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, co
         let f = D::pair_force(&sigi, &*a.sig.add(ju), fan, &arti, &artj, pi, &gw);
         axpy(&mut sums.acc, mj, &f);
         if XSPH {
-            axpy(&mut sums.xsph, mj / rho_bar * w, &dv);
+            axpy(&mut sums.xsph, mj * inv_rb * w, &dv);
         }
     }
 }
@@ -351,7 +365,8 @@ impl<R: Real, D: TensorOps<R>> LaneSum for HeatPairSums<R, D> {
 /// [`pair_sums`] and `heat::heat_sum`, so both parts equal the separate passes bit for bit.
 ///
 /// # Safety
-/// As [`rates`]; `h` holds the same sorted particles (with the full masses), every body index has a material.
+/// As [`rates`]; `h` holds the same sorted particles (V = m/ρ with the full masses), every body index has a
+/// material.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub unsafe fn pair_sums_heat<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool>(
