@@ -706,6 +706,12 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
         } else {
             solver.step(b, dt.min(end - solver.time).min(next_out - solver.time).max(1e-12 * dt))?;
         }
+        if solver.non_finite_seen(b)? {
+            // Report now, not at the next output: non-finite particles rebuild the cell list every step and pile
+            // into its void bucket, which slows every step down (the 150k f32 cut stalled for minutes).
+            next_out = solver.time;
+            continue;
+        }
         if let Some(c) = cut.as_mut()
             && c.due(solver.time)
         {

@@ -12,7 +12,7 @@ use crate::kernels::neighbour::{GatherField, GridParams, sort::sort_cell};
 use crate::kernels::sph::heat::{HeatArrays, HeatParams, heat_rate};
 use crate::kernels::sph::interact::{Arrays, prepare, rates, rates_heat};
 use crate::kernels::sph::plastic::{PlasticArrays, PlasticConsts, plastic_particle};
-use crate::kernels::sph::step::{StepArrays, StepScalars, correct_particle, predict_particle};
+use crate::kernels::sph::step::{StepArrays, StepScalars, correct_particle, is_finite_vec, predict_particle};
 use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers, TensorOps, density::density_sum};
 use crate::kernels::{Dim, Real};
 use crate::material::FlowModel;
@@ -689,11 +689,17 @@ impl Backend for CpuBackend {
             let a = &a;
             // SAFETY: lengths checked by step_arrays; each particle i is touched by one task only.
             let x = unsafe { predict_particle(&a.0, dt, i) };
-            g.beyond_skin::<R, D::Vec<R>>(&x, xr)
+            (g.beyond_skin::<R, D::Vec<R>>(&x, xr), is_finite_vec::<R, D::Vec<R>>(&x))
         });
         // Every particle is predicted (no short-circuit), as on the GPU.
-        if moved.filter(|&m| m).count() > 0 {
+        let (beyond, finite) = moved
+            .fold(|| (false, true), |a, b| (a.0 || b.0, a.1 && b.1))
+            .reduce(|| (false, true), |a, b| (a.0 || b.0, a.1 && b.1));
+        if beyond {
             entry.rebuild = 1;
+        }
+        if !finite {
+            entry.non_finite = 1;
         }
         Ok(())
     }

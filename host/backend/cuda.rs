@@ -114,6 +114,9 @@ const MAX_ARGS: usize = 32;
 
 /// Threads per block of the per-particle kernels.
 const BLOCK: u32 = 256;
+/// Most blocks of a grid-stride launch (`CudaBackend::launch_strided`): eight per multiprocessor of an H100 or
+/// H200 fill the device; more only add blocks that a closed gate returns at once.
+const GATED_BLOCKS: usize = 1056;
 
 /// A typed device array; the bytes live in a `CudaSlice<u8>` so that any `Pod` type can be stored.
 pub struct CudaBuf<T> {
@@ -357,12 +360,7 @@ impl CudaBackend {
     /// Launches `f` over `threads` threads in blocks of `block`. Arguments live in a stack array for the call,
     /// so a launch allocates nothing.
     fn launch(&self, f: &CudaFunction, threads: usize, block: u32, args: &[Arg]) -> Result<()> {
-        self.launch_rows(f, threads, 1, block, args)
-    }
-
-    /// The same with `rows` block rows (blockIdx.y).
-    fn launch_rows(&self, f: &CudaFunction, threads: usize, rows: u32, block: u32, args: &[Arg]) -> Result<()> {
-        if threads == 0 || rows == 0 {
+        if threads == 0 {
             return Ok(());
         }
         let blocks = threads.div_ceil(block as usize);
@@ -391,7 +389,7 @@ impl CudaBackend {
         unsafe {
             result::launch_kernel(
                 f.cu_function(),
-                (blocks as u32, rows, 1),
+                (blocks as u32, 1, 1),
                 (block, 1, 1),
                 0,
                 self.stream.cu_stream(),
@@ -399,6 +397,12 @@ impl CudaBackend {
             )
         }
         .map_err(cuda("kernel launch"))
+    }
+
+    /// Launches a grid-stride kernel over `items` (the gated kernels of a rebuild): at most GATED_BLOCKS
+    /// blocks, so that a step that does not rebuild costs a few hundred blocks, whatever the particle count.
+    fn launch_strided(&self, f: &CudaFunction, items: usize, args: &[Arg]) -> Result<()> {
+        self.launch(f, items.min(GATED_BLOCKS * BLOCK as usize), BLOCK, args)
     }
 
     fn oom(&self, what: &'static str, bytes: usize, e: DriverError) -> Error {
@@ -557,14 +561,14 @@ impl CudaBackend {
             Arg::U64(self.ptr(starts)),
             Arg::U64(self.ptr_mut(perm)),
         ];
-        self.launch(&self.k.scatter, n, BLOCK, &args)
+        self.launch_strided(&self.k.scatter, n, &args)
     }
 
     /// The per-cell sort of `Backend::sort_cells` with a gate (0: always).
     fn sort_gated(&self, gate: u64, n_buckets: usize, starts: &CudaBuf<u32>, perm: &mut CudaBuf<u32>) -> Result<()> {
         let args =
             [Arg::U64(gate), Arg::U32(n_buckets as u32), Arg::U64(self.ptr(starts)), Arg::U64(self.ptr_mut(perm))];
-        self.launch(&self.k.sort_cells, n_buckets, BLOCK, &args)
+        self.launch_strided(&self.k.sort_cells, n_buckets, &args)
     }
 
     /// The 15 field arguments of the step kernels (y, y0, ẏ, then T, T0, Ṫ or nulls) and the two of the
@@ -947,10 +951,9 @@ impl Backend for CudaBackend {
         }
         let g = self.gate(&gate)?;
         let buckets = c.n_buckets + 1;
-        self.launch(
+        self.launch_strided(
             &self.k.zero_gated,
             buckets,
-            BLOCK,
             &[
                 Arg::U64(g),
                 Arg::U32(buckets as u32),
@@ -967,7 +970,7 @@ impl Backend for CudaBackend {
             Arg::U64(self.ptr_mut(c.starts)),
             Arg::U64(self.ptr_mut(c.slots)),
         ];
-        self.launch(&self.k.hash_count.0[variant::<R, D>()], n, BLOCK, &args)?;
+        self.launch_strided(&self.k.hash_count.0[variant::<R, D>()], n, &args)?;
         self.scan_gated(g, buckets, c.starts, c.scan)?;
         self.scatter_gated(g, n, c.keys, c.slots, c.starts, c.perm)?;
         self.sort_gated(g, c.n_buckets, c.starts, c.perm)
@@ -1064,8 +1067,9 @@ impl Backend for CudaBackend {
             }
         };
         let perm = perm.map_or(0, |p| self.ptr(p));
-        let args = [Arg::U64(gate), Arg::U32(n as u32), Arg::U64(perm), Arg::U64(table)];
-        self.launch_rows(&self.k.gather_fields, n, fields.len() as u32, BLOCK, &args)
+        let rows = fields.len();
+        let args = [Arg::U64(gate), Arg::U32(n as u32), Arg::U32(rows as u32), Arg::U64(perm), Arg::U64(table)];
+        self.launch_strided(&self.k.gather_fields, n * rows, &args)
     }
 
     fn capture(&self, f: &mut dyn FnMut() -> Result<()>) -> Result<Option<Graph>> {

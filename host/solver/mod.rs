@@ -807,6 +807,12 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         Ok(Some(s))
     }
 
+    /// Whether a predictor of the steps since the last scalars were written saw a non-finite position (one small
+    /// read: the run loop checks it after each batch, so that a failing run stops within a batch).
+    pub fn non_finite_seen(&self, b: &B) -> Result<bool> {
+        Ok(b.read(&self.scalars)?.iter().any(|s| s.non_finite != 0))
+    }
+
     /// How many times the cell list was rebuilt (and the particles reordered) so far: once per step without a
     /// skin, once per skin's worth of motion with one.
     pub fn cell_rebuilds(&self, b: &B) -> Result<u32> {

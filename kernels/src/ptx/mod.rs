@@ -7,6 +7,13 @@ mod neighbour;
 mod scan;
 mod sph;
 
+/// Threads in the whole grid along x: the stride of a grid-stride loop.
+#[inline(always)]
+pub(crate) fn grid_threads() -> u32 {
+    use core::arch::nvptx::*;
+    unsafe { _grid_dim_x() * _block_dim_x() }
+}
+
 /// Global thread index along x.
 #[inline(always)]
 pub(crate) fn global_index() -> u32 {

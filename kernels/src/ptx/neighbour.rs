@@ -2,13 +2,17 @@
 //! gather. The atomics only decide the order in which a cell's slice is filled; `sort_cells` then restores the
 //! unique stable order, so the permutation is deterministic and equal to the CPU twin's.
 
-use super::global_index;
 use super::intrinsics::atomic_add_u32;
+use super::{global_index, grid_threads};
 use crate::neighbour::{GatherField, GridParams, sort::sort_cell};
 use crate::real::Real;
 use crate::vector::{V2f32, V2f64, V3f32, V3f64, Vector};
 use core::num::NonZeroU32;
 
+/// The gated kernels loop over their items with a grid stride: they are launched with a capped grid
+/// (`backend::cuda`, GATED_BLOCKS), so that a step that does not rebuild pays for a few hundred blocks that read
+/// the flag and return, not for one block per 256 items (the reorder alone has one item per particle and field).
+///
 /// False when a gated launch has nothing to do: `gate` points at a step's rebuild flag
 /// (`sph::step::StepScalars::rebuild`) and it is 0. A null gate always runs (a build outside the step loop).
 #[inline(always)]
@@ -60,13 +64,17 @@ macro_rules! per_vector {
             counts: *mut u32,
             slots: *mut u32,
         ) {
-            let i = global_index();
-            if i < n && unsafe { open(gate) } {
+            if !unsafe { open(gate) } {
+                return;
+            }
+            let mut i = global_index();
+            while i < n {
                 unsafe {
                     let k = (*grid).key::<$r, $v>(&*pos.add(i as usize));
                     *keys.add(i as usize) = k;
                     *slots.add(i as usize) = atomic_add_u32(counts.add(k as usize), 1);
                 }
+                i += grid_threads();
             }
         }
         /// keys[i] = cell key of pos[i] (`GridParams::key`).
@@ -101,14 +109,16 @@ per_vector!(swarf_hash_3d_f64, swarf_hash_count_3d_f64, swarf_neighbour_list_3d_
 /// counts the rebuild in rebuilds[0] (null: not counted).
 #[unsafe(no_mangle)]
 pub unsafe extern "ptx-kernel" fn swarf_zero_gated(gate: *const u32, n: u32, data: *mut u32, rebuilds: *mut u32) {
-    let i = global_index();
-    if i < n && unsafe { open(gate) } {
-        unsafe {
-            *data.add(i as usize) = 0;
-            if i == 0 && !rebuilds.is_null() {
-                *rebuilds += 1;
-            }
-        }
+    if !unsafe { open(gate) } {
+        return;
+    }
+    let mut i = global_index();
+    if i == 0 && !rebuilds.is_null() {
+        unsafe { *rebuilds += 1 };
+    }
+    while i < n {
+        unsafe { *data.add(i as usize) = 0 };
+        i += grid_threads();
     }
 }
 
@@ -134,13 +144,17 @@ pub unsafe extern "ptx-kernel" fn swarf_scatter(
     starts: *const u32,
     perm: *mut u32,
 ) {
-    let i = global_index();
-    if i < n && unsafe { open(gate) } {
+    if !unsafe { open(gate) } {
+        return;
+    }
+    let mut i = global_index();
+    while i < n {
         unsafe {
             let k = *keys.add(i as usize);
             let dst = *starts.add(k as usize) + *slots.add(i as usize);
             *perm.add(dst as usize) = i;
         }
+        i += grid_threads();
     }
 }
 
@@ -153,8 +167,11 @@ pub unsafe extern "ptx-kernel" fn swarf_sort_cells(
     starts: *const u32,
     perm: *mut u32,
 ) {
-    let c = global_index();
-    if c < n_buckets && unsafe { open(gate) } {
+    if !unsafe { open(gate) } {
+        return;
+    }
+    let mut c = global_index();
+    while c < n_buckets {
         unsafe {
             let a = *starts.add(c as usize);
             let b = *starts.add(c as usize + 1);
@@ -162,6 +179,7 @@ pub unsafe extern "ptx-kernel" fn swarf_sort_cells(
                 sort_cell(perm, a, b);
             }
         }
+        c += grid_threads();
     }
 }
 
@@ -193,31 +211,38 @@ gather!(swarf_gather_b4, u32);
 gather!(swarf_gather_b8, u64);
 gather!(swarf_gather_b16, B16);
 
-/// dst_f[i] = src_f[perm[i]] for every field f of `table` (block row y = field, one thread per particle), the
-/// whole particle state reordered in one launch. Each element is copied in the widest unit its size allows.
+/// dst_f[i] = src_f[perm[i]] for every field f of the `rows` of `table` (a grid-stride loop over fields ×
+/// particles), the whole particle state reordered in one launch. Each element is copied in the widest unit its size allows.
 #[unsafe(no_mangle)]
 pub unsafe extern "ptx-kernel" fn swarf_gather_fields(
     gate: *const u32,
     n: u32,
+    rows: u32,
     perm: *const u32,
     table: *const GatherField,
 ) {
-    let i = global_index();
-    if i >= n || !unsafe { open(gate) } {
+    if !unsafe { open(gate) } {
         return;
     }
-    unsafe {
-        let f = *table.add(core::arch::nvptx::_block_idx_y() as usize);
-        // A null permutation copies (the copy-back of an in-place reorder).
-        let j = if perm.is_null() { i as usize } else { *perm.add(i as usize) as usize };
-        let (i, b) = (i as usize, f.bytes as usize);
-        if b.is_multiple_of(16) {
-            copy_units::<B16>(f, b / 16, i, j);
-        } else if b.is_multiple_of(8) {
-            copy_units::<u64>(f, b / 8, i, j);
-        } else {
-            copy_units::<u32>(f, b / 4, i, j);
+    // Item t is particle t mod n of field t / n (a grid-stride loop over fields × particles).
+    let total = n as u64 * rows as u64;
+    let mut t = global_index() as u64;
+    while t < total {
+        let (row, i) = ((t / n as u64) as usize, (t % n as u64) as usize);
+        unsafe {
+            let f = *table.add(row);
+            // A null permutation copies (the copy-back of an in-place reorder).
+            let j = if perm.is_null() { i } else { *perm.add(i) as usize };
+            let b = f.bytes as usize;
+            if b.is_multiple_of(16) {
+                copy_units::<B16>(f, b / 16, i, j);
+            } else if b.is_multiple_of(8) {
+                copy_units::<u64>(f, b / 8, i, j);
+            } else {
+                copy_units::<u32>(f, b / 4, i, j);
+            }
         }
+        t += grid_threads() as u64;
     }
 }
 

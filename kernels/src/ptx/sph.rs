@@ -54,7 +54,7 @@ use crate::sph::heat::{HeatArrays, HeatParams, ThermalMaterial, heat_finish, hea
 use crate::sph::interact::{Arrays, HeatPairSums, PairSums, finish_rates, pair_sums, pair_sums_heat, prepare};
 use crate::sph::lanes::{LaneSum, clamp_lanes};
 use crate::sph::params::SphParams;
-use crate::sph::step::{StepArrays, StepScalars, correct_particle, predict_particle};
+use crate::sph::step::{StepArrays, StepScalars, correct_particle, is_finite_vec, predict_particle};
 use crate::vector::{Dim, Dim2, Dim3};
 
 type Vec_<R, D> = <D as Dim>::Vec<R>;
@@ -246,6 +246,9 @@ macro_rules! predict_entry {
                     let x = predict_particle(&a, (*scalars).dt, i as usize);
                     if (*grid).beyond_skin::<$r, Vec_<$r, $d>>(&x, &*pos_ref.add(i as usize)) {
                         core::ptr::write_volatile(core::ptr::addr_of_mut!((*scalars).rebuild), 1);
+                        if !is_finite_vec::<$r, Vec_<$r, $d>>(&x) {
+                            core::ptr::write_volatile(core::ptr::addr_of_mut!((*scalars).non_finite), 1);
+                        }
                     }
                 }
             }

@@ -26,7 +26,22 @@ pub struct StepScalars {
     /// to force a rebuild), set to 1 by the predictor when a particle moved beyond the grid's skin. The
     /// rebuild's kernels run only when it is set (a captured step holds every launch; the flag decides).
     pub rebuild: u32,
-    pub _pad: u32,
+    /// Set to 1 by the predictor when a predicted position is non-finite, so that the run loop stops within one
+    /// batch (it reads the flags after each batch) instead of at its next output.
+    pub non_finite: u32,
+}
+
+/// Whether every component of a position is finite.
+#[inline(always)]
+pub fn is_finite_vec<R: Real, V: crate::vector::Vector<R>>(x: &V) -> bool {
+    let mut k = 0;
+    while k < V::DIM {
+        if !x.get(k).is_finite() {
+            return false;
+        }
+        k += 1;
+    }
+    true
 }
 
 /// The integrated fields of sorted particles: the state y, its start-of-step copy y0 and the rates ẏ. The
