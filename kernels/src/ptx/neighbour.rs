@@ -224,11 +224,13 @@ pub unsafe extern "ptx-kernel" fn swarf_gather_fields(
     if !unsafe { open(gate) } {
         return;
     }
-    // Item t is particle t mod n of field t / n (a grid-stride loop over fields × particles).
+    // Item t is particle t mod n of field t / n (a grid-stride loop over fields × particles). A nonzero
+    // divisor: no division-by-zero panic path (a trap) in the kernel.
+    let Some(nn) = core::num::NonZeroU64::new(n as u64) else { return };
     let total = n as u64 * rows as u64;
     let mut t = global_index() as u64;
     while t < total {
-        let (row, i) = ((t / n as u64) as usize, (t % n as u64) as usize);
+        let (row, i) = ((t / nn) as usize, (t % nn) as usize);
         unsafe {
             let f = *table.add(row);
             // A null permutation copies (the copy-back of an in-place reorder).
