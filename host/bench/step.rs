@@ -60,7 +60,7 @@ pub fn step<B: Backend, R: Real, D: TensorOps<R>>(
     }
     sv.fuse_conduction = fuse;
     let dt = setup.dt;
-    // Two plain steps prepare the reorder tables; two batches capture the graphs of both buffer parities.
+    // Plain steps upload the reorder tables; the batches capture the graph and warm up.
     sv.advance(b, dt, 2 + 2 * GRAPH_STEPS)?;
     b.synchronize()?;
     let pairs = {

@@ -216,7 +216,7 @@ pub struct Solver<B: Backend, R: Real, D: TensorOps<R>> {
     batch: ReorderBatch,
     /// Captured batches of GRAPH_STEPS steps, by the address of the position buffer they start from.
     graphs: Vec<(u64, B::Graph)>,
-    /// Steps run one by one so far (two prepare the reorder tables a capture needs).
+    /// Steps run one by one so far (the first uploads the reorder tables a capture needs).
     plain_steps: u64,
     /// Run batches as captured graphs where the backend has them (`SWARF_NO_GRAPHS=1` turns them off).
     pub use_graphs: bool,
@@ -288,7 +288,7 @@ pub fn default_lanes(n: usize) -> u32 {
 /// The particle count below which eight lanes per particle pay (measured: docs/performance.md).
 pub const LANES_8_BELOW: usize = 50_000;
 
-/// Steps per captured graph (even: a batch then leaves every double buffer as it found it).
+/// Steps per captured graph (one graph launch for this many steps; the step scalars hold one entry per step).
 pub const GRAPH_STEPS: usize = 32;
 
 /// The thermal materials of a thermal state, and its conduction predictor–corrector's (T0, Ṫ) when it conducts.
@@ -472,8 +472,8 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
     }
 
     /// `count` steps of length `dt`, equal to `count` calls of [`Solver::step`]. On a backend with graphs the
-    /// steps run in captured batches of [`GRAPH_STEPS`] (one launch per batch; captured once per buffer parity,
-    /// after two plain steps have prepared every reorder table).
+    /// steps run in captured batches of [`GRAPH_STEPS`] (one launch per batch; captured once, after plain steps
+    /// have uploaded the reorder tables: the in-place reorder keeps every buffer's address, so one graph serves).
     pub fn advance(&mut self, b: &B, dt: f64, mut count: usize) -> Result<()> {
         while count > 0 {
             if self.ramping() || count < GRAPH_STEPS || self.plain_steps < 2 || !self.use_graphs {
