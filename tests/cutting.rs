@@ -293,3 +293,28 @@ fn skin_saves_rebuilds_and_changes_results_by_round_off_only() {
         }
     }
 }
+
+/// A non-finite position is flagged by the predictor of the step that produces it (the run loop reads the flag
+/// after each batch and stops with its report, instead of stepping on to its next output with non-finite particles
+/// that rebuild the cell list every step): clean steps leave the flag clear; one NaN coordinate sets it, and the
+/// skin test sends that particle to the void bucket at once.
+#[test]
+fn predictor_flags_a_non_finite_position() {
+    use swarf::backend::{Backend, CpuBackend};
+    use swarf::kernels::{Dim2, Vector};
+    use swarf::run::setup;
+    use swarf::solver::Solver;
+    let scene = Scene::load("cases/cutting/reference-cut.toml", &[]).expect("scene");
+    let s = setup::<f64, Dim2>(&scene).expect("setup");
+    let b = CpuBackend::new();
+    let mut sv = Solver::<CpuBackend, f64, Dim2>::new(&b, &s).expect("solver");
+    sv.advance(&b, s.dt, 40).expect("steps");
+    assert!(!sv.non_finite_seen(&b).expect("flags"), "clean steps flagged a non-finite position");
+    let rebuilds = sv.cell_rebuilds(&b).expect("rebuilds");
+    let mut pos = b.read(&sv.particles.pos.cur).expect("positions");
+    pos[17] = <Dim2 as swarf::kernels::Dim>::Vec::<f64>::new([f64::NAN, pos[17].get(1), 0.0]);
+    b.write(&mut sv.particles.pos.cur, &pos).expect("write");
+    sv.step(&b, s.dt).expect("step");
+    assert!(sv.non_finite_seen(&b).expect("flags"), "the NaN position was not flagged");
+    assert_eq!(sv.cell_rebuilds(&b).expect("rebuilds"), rebuilds + 1, "the NaN particle did not trigger a rebuild");
+}
