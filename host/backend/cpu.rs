@@ -692,9 +692,7 @@ impl Backend for CpuBackend {
             (g.beyond_skin::<R, D::Vec<R>>(&x, xr), is_finite_vec::<R, D::Vec<R>>(&x))
         });
         // Every particle is predicted (no short-circuit), as on the GPU.
-        let (beyond, finite) = moved
-            .fold(|| (false, true), |a, b| (a.0 || b.0, a.1 && b.1))
-            .reduce(|| (false, true), |a, b| (a.0 || b.0, a.1 && b.1));
+        let (beyond, finite) = moved.reduce(|| (false, true), |a, b| (a.0 || b.0, a.1 && b.1));
         if beyond {
             entry.rebuild = 1;
         }
