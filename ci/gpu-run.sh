@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# whole150k bg150k wait150k ncu
+# whole150k bg150k wait150k ncu cutsteps fromcut
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -216,12 +216,29 @@ for p in $parts; do
              ncu_once() {
                  local prec=$1
                  ncu --kernel-name regex:swarf_sph_rates --launch-count 1 --metrics \
-gpu__time_duration.sum,sm__sass_thread_inst_executed_op_dfma_pred_on.sum,sm__sass_thread_inst_executed_op_dmul_pred_on.sum,sm__sass_thread_inst_executed_op_dadd_pred_on.sum,sm__sass_thread_inst_executed_op_ffma_pred_on.sum,sm__sass_thread_inst_executed_op_fmul_pred_on.sum,sm__sass_thread_inst_executed_op_fadd_pred_on.sum,dram__bytes_read.sum,dram__bytes_write.sum,lts__t_bytes.sum,l1tex__t_bytes.sum,sm__warps_active.avg.pct_of_peak_sustained_active,sm__inst_executed_pipe_fp64.avg.pct_of_peak_sustained_active,sm__throughput.avg.pct_of_peak_sustained_elapsed,smsp__inst_executed.sum \
+gpu__time_duration.sum,sm__sass_thread_inst_executed_op_dfma_pred_on.sum,sm__sass_thread_inst_executed_op_dmul_pred_on.sum,sm__sass_thread_inst_executed_op_dadd_pred_on.sum,sm__sass_thread_inst_executed_op_ffma_pred_on.sum,sm__sass_thread_inst_executed_op_fmul_pred_on.sum,sm__sass_thread_inst_executed_op_fadd_pred_on.sum,dram__bytes_read.sum,dram__bytes_write.sum,lts__t_bytes.sum,l1tex__t_bytes.sum,sm__warps_active.avg.pct_of_peak_sustained_active,sm__inst_executed_pipe_fp64.avg.pct_of_peak_sustained_active,sm__throughput.avg.pct_of_peak_sustained_elapsed,smsp__inst_executed.sum,smsp__thread_inst_executed_per_inst_executed.ratio \
                      "$here/swarf" --backend gpu bench step --scenes cases/cutting/reference-cut-150k.toml \
                      --precision "$prec" --step-count 32
              }
              run ncu-f64 ncu_once f64
              run ncu-f32 ncu_once f32 ;;
+        cutsteps) # issue 7: the step of the three reference workloads (both precisions, every variant side by side)
+                  run cutsteps "$here/swarf" --backend gpu bench step --precision both \
+                      --scenes cases/cutting/reference-cut.toml,cases/cutting/reference-cut-150k.toml,cases/cutting/v0060.toml ;;
+        fromcut) # issue 7: the step of states in the middle of a cut (chip, plastic flow, contact), from checkpoints:
+                 # the 6k reference cut run to half its length here, and the carried 150k f64 run folder (carry150k/)
+                 fromcut() {
+                     "$here/swarf" --backend gpu run cases/cutting/reference-cut.toml --quiet --out /tmp/swarf-from/ref6k \
+                         --set time.end=4.4e-4 --checkpoint-every 1e-4 || return 1
+                     tail -n 2 /tmp/swarf-from/ref6k/run.log
+                     local dirs=/tmp/swarf-from/ref6k
+                     if [ -e carry150k/whole-150k-f64.tgz.partaa ]; then
+                         mkdir -p /tmp/swarf-from && cat carry150k/whole-150k-f64.tgz.part* | tar xzf - -C /tmp/swarf-from
+                         dirs=$dirs,/tmp/swarf-from/whole-150k-f64
+                     fi
+                     "$here/swarf" --backend gpu bench step --from "$dirs"
+                 }
+                 run fromcut fromcut ;;
         fine) # the 150k reference cut: the first 0.5 % of the cut (about 15 000 steps), for the step time
               run fine "$here/swarf" --backend gpu run cases/cutting/reference-cut-150k.toml --verbose \
                   --set time.end=4.2857e-6 --set output.every=1.0714e-6 --out /tmp/swarf-cut/fine ;;

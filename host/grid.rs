@@ -47,6 +47,8 @@ pub fn grid_with_cell(lo: [f64; 3], hi: [f64; 3], dim: usize, cell: f64, stencil
         n_cells: total as u32,
         stencil,
         dim: dim as u32,
+        list_capacity: 0,
+        list_stride: 0,
     })
 }
 

@@ -187,6 +187,10 @@ struct BenchArgs {
         default_value = "cases/rings.toml,cases/cylinders-3d.toml,cases/impact.toml,cases/cutting/v0060.toml,cases/cutting/reference-cut.toml,cases/cutting/reference-cut-150k.toml"
     )]
     scenes: Vec<std::path::PathBuf>,
+    /// step: time the saved states of these run folders (their checkpoint.bin, comma separated) instead of the
+    /// scenes' starts.
+    #[arg(long, value_delimiter = ',')]
+    from: Vec<std::path::PathBuf>,
     /// step: steps timed per configuration (whole graph batches).
     #[arg(long, default_value_t = 1024)]
     step_count: usize,
@@ -218,6 +222,9 @@ fn run_bench<B: Backend>(b: &B, a: &BenchArgs, sizes: &[usize]) -> Result<()> {
             println!("| {name} | {rate:.3e} |");
         }
         return Ok(());
+    }
+    if a.workload == Workload::Step && !a.from.is_empty() {
+        return bench::step::checkpoints(b, &a.from, a.step_count);
     }
     if a.workload == Workload::Step {
         return bench::step::scenes(b, &a.scenes, precs, a.step_count, a.options);

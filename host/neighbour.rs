@@ -1,10 +1,10 @@
 //! The cell list: hash, counting sort by cell, cell starts, on any backend. The permutation it produces is the
 //! stable sort of the particles by cell key, identical on every backend (docs/neighbour-search.md).
 
-use crate::Result;
 use crate::backend::{Backend, CellBuffers, ScalarsAt, scan_levels};
 use crate::kernels::neighbour::GridParams;
 use crate::kernels::{Dim, Real};
+use crate::{Error, Result};
 
 pub struct CellList<B: Backend> {
     pub grid: GridParams,
@@ -20,13 +20,25 @@ pub struct CellList<B: Backend> {
     scan: Vec<B::Buf<u32>>,
     /// rebuilds[0]: how many gated rebuilds ran (`CellList::rebuild`).
     pub rebuilds: B::Buf<u32>,
+    /// The Verlet list built on these cells (`kernels::neighbour::verlet`), present when the grid has a list
+    /// capacity.
+    pub list: Option<B::Buf<u32>>,
     n: usize,
 }
 
 impl<B: Backend> CellList<B> {
-    pub fn new(b: &B, grid: GridParams, n: usize) -> Result<Self> {
+    /// A cell list for n particles; with `grid.list_capacity` > 0 also the Verlet list's buffer, its rows n long.
+    pub fn new(b: &B, mut grid: GridParams, n: usize) -> Result<Self> {
         let buckets = grid.n_cells as usize + 2;
+        let list = if grid.list_capacity > 0 {
+            grid.list_stride = u32::try_from(n).map_err(|_| Error::Grid(format!("{n} particles exceed u32")))?;
+            Some(b.alloc((grid.list_capacity as usize + 1) * n, "Verlet list")?)
+        } else {
+            grid.list_stride = 0;
+            None
+        };
         Ok(CellList {
+            list,
             grid,
             grid_buf: b.upload(&[grid], "grid")?,
             keys: b.alloc(n, "cell keys")?,
@@ -74,6 +86,21 @@ impl<B: Backend> CellList<B> {
     /// The build of [`CellList::build`] inside the step loop, run only when the step's rebuild flag `gate` is set
     /// (by the host, or by the predictor's skin test); every launch is submitted either way, so that a captured
     /// step replays with each step's decision.
+    /// Builds the Verlet list (when there is one) of the sorted particles at `pos` on these cells: after the
+    /// reorder of a rebuild (`gate`: only when the step rebuilds), or after [`CellList::build`] on positions
+    /// already in its order (no gate).
+    pub fn build_list<R: Real, D: Dim>(
+        &mut self,
+        b: &B,
+        pos: &B::Buf<D::Vec<R>>,
+        gate: Option<ScalarsAt<'_, B>>,
+    ) -> Result<()> {
+        match self.list.as_mut() {
+            Some(list) => b.verlet_build::<R, D>(self.n, gate, &self.grid_buf, &self.starts, pos, list),
+            None => Ok(()),
+        }
+    }
+
     pub fn rebuild<R: Real, D: Dim>(&mut self, b: &B, pos: &B::Buf<D::Vec<R>>, gate: ScalarsAt<'_, B>) -> Result<()> {
         let cells = CellBuffers {
             grid: &self.grid_buf,
@@ -126,4 +153,22 @@ impl<B: Backend> CellList<B> {
         }
         Ok((second, off, b.read(&list)?))
     }
+}
+
+/// The Verlet list's capacity per particle for a grid and the particles' volumes V = m/ρ: twice the count of a
+/// lattice of spacing Δx = V_min^(1/d) within the list radius R, 2 ω_d (R/Δx)^d with ω_2 = π, ω_3 = 4π/3 (the
+/// lattices of `cases/` hold about half that), plus 8. A particle with more candidates walks the stencil, so the
+/// capacity decides the memory, never the result. 0 (no list) without a positive finite volume.
+pub fn verlet_capacity(grid: &GridParams, volumes: impl Iterator<Item = f64>) -> u32 {
+    let v = volumes.filter(|v| v.is_finite() && *v > 0.0).fold(f64::INFINITY, f64::min);
+    if !v.is_finite() {
+        return 0;
+    }
+    let d = grid.dim.clamp(2, 3) as i32;
+    let dx = v.powf(1.0 / d as f64);
+    let ratio = grid.list_radius2().sqrt() / dx;
+    let omega = if d == 3 { 4.0 / 3.0 * std::f64::consts::PI } else { std::f64::consts::PI };
+    let k = 2.0 * omega * ratio.powi(d) + 8.0;
+    // Far beyond any lattice: the list would cost more memory than it saves; the stencil serves.
+    if k > 4096.0 { 0 } else { k.ceil() as u32 }
 }

@@ -28,16 +28,23 @@ fn gpu() -> Option<CudaBackend> {
     }
 }
 
-/// Cell keys, cell starts, permutation, sorted state and neighbour lists equal the CPU's exactly; the density
+/// Cell keys, cell starts, permutation, sorted state, neighbour lists and the Verlet list equal the CPU's exactly;
+/// the density
 /// sum (same gather order, no FMA contraction) equals it bitwise.
 fn compare<R: Real, D: Dim>(g: &CudaBackend, pos: &[D::Vec<R>], h: f64, stencil: u32, what: &str) {
     let c = CpuBackend::new();
     let support = 2.0 * h;
     let support2 = R::from_f64(support * support);
     let (lo, hi) = bounding_box::<R, D::Vec<R>>(pos);
-    let grid = grid_for_support(lo, hi, D::D, support, stencil).expect("grid");
+    let mut grid = grid_for_support(lo, hi, D::D, support, stencil).expect("grid");
+    // A Verlet list too (neighbour::verlet): about 36 (2D) and 165 (3D) candidates per particle at h = 1.7 Δx,
+    // so that the random inputs also have rows beyond the capacity (their counts are compared too).
+    grid.list_capacity = if D::D == 2 { 40 } else { 175 };
     let a = search::<_, R, D>(&c, pos, grid, support2);
     let b = search::<_, R, D>(g, pos, grid, support2);
+    assert_eq!(a.verlet, b.verlet, "{what}: Verlet lists differ");
+    let over = (0..pos.len()).filter(|&i| a.verlet[i] > grid.list_capacity).count();
+    assert!(over < pos.len() / 2, "{what}: {over} Verlet rows overflow: too few stored rows compared");
     assert_eq!(a.keys, b.keys, "{what}: cell keys differ");
     assert_eq!(a.starts, b.starts, "{what}: cell starts differ");
     assert_eq!(a.perm, b.perm, "{what}: permutations differ");

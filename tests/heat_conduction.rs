@@ -65,6 +65,7 @@ fn laplacian<D: Dim>(s: &Set<D>, t: &[f64], pse: bool) -> Vec<f64> {
         &vec![params],
         &vec![s.grid],
         &s.starts,
+        None,
         &input,
         &mut out,
     )

@@ -327,3 +327,122 @@ fn skin_test_bounds_and_non_finite_positions() {
     g.skin = 0.0;
     assert!(!g.beyond_skin::<f64, V2f64>(&x0, &x0), "an unmoved particle never asks for a rebuild");
 }
+
+/// The pairs within the support that the Verlet list (or, past its capacity, the stencil) offers sorted particle
+/// i at `x`, sorted (`kernels::neighbour::for_each_candidate`, the pair loops' walk).
+fn listed_pairs<R: Real, D: Dim>(
+    cl: &swarf::neighbour::CellList<CpuBackend>,
+    pos: &[D::Vec<R>],
+    support2: R,
+) -> Vec<Vec<u32>> {
+    use swarf::kernels::neighbour::{Neighbours, for_each_candidate};
+    let nb = Neighbours { grid: &cl.grid, starts: cl.starts.as_ptr(), list: cl.list.as_ref().expect("list").as_ptr() };
+    (0..pos.len() as u32)
+        .map(|i| {
+            let xi = pos[i as usize];
+            let mut l = Vec::new();
+            let mut last = None;
+            // SAFETY: the cell list and its Verlet list were built for these sorted particles.
+            unsafe {
+                for_each_candidate::<R, D::Vec<R>, _>(&nb, &xi, i, |j| {
+                    assert!(last.is_none_or(|p| p < j), "candidates of {i} not in increasing order");
+                    last = Some(j);
+                    if j != i && xi.dist2(&pos[j as usize]) < support2 {
+                        l.push(j);
+                    }
+                })
+            };
+            l
+        })
+        .collect()
+}
+
+/// The Verlet list (docs/neighbour-search.md, "Verlet list"): built on the binned positions X0 with the radius
+/// 2h + s, it still holds every pair within the support after each particle has moved up to s/2 (the list's
+/// `rebuild_distance`), because both ends of a pair move. Checked against the O(N²) search on the moved positions
+/// (displacements up to 0.999 s/2, a quarter at almost exactly s/2), 2D and 3D, f32 and f64; with a capacity of 3
+/// nearly every particle overflows and walks the stencil, with the same pairs. Moving up to 0.999 s instead (what
+/// the cell list alone allows) loses pairs, which shows that the check can fail.
+fn verlet_list_is_exact_within_half_the_skin<R: Real, D: Dim>(n: usize, seed: u64) {
+    use swarf::grid::grid_with_skin;
+    use swarf::rng::SplitMix64;
+    use swarf::state::{HostParticles, Particles};
+    let b = CpuBackend::new();
+    let h = h_for(n, D::D);
+    let skin = 0.3 * h;
+    let pos = uniform::<R, D>(n, seed);
+    let (lo, hi) = bounding_box::<R, D::Vec<R>>(&pos);
+    let mut grid = grid_with_skin(lo, hi, D::D, 2.0 * h, skin).expect("grid");
+    let spacing_volume = 1.0 / n as f64;
+    let support2 = R::from_f64(4.0 * h * h);
+    let moved_by = |binned: &[D::Vec<R>], g: &GridParams, reach: f64| -> Vec<D::Vec<R>> {
+        let mut rng = SplitMix64::new(seed ^ 0x5eed);
+        binned
+            .iter()
+            .map(|x| {
+                let d: [f64; 3] = std::array::from_fn(|k| if k < D::D { rng.normal() } else { 0.0 });
+                let len = d.iter().map(|v| v * v).sum::<f64>().sqrt().max(1e-300);
+                let frac = if rng.uniform() < 0.25 { 0.999 } else { 0.999 * rng.uniform() };
+                let y = D::Vec::<R>::new(std::array::from_fn(|k| {
+                    R::from_f64(x.get(k).to_f64() + frac * reach * d[k] / len)
+                }));
+                if reach <= g.rebuild_distance() && g.beyond_skin::<R, D::Vec<R>>(&y, x) { *x } else { y }
+            })
+            .collect()
+    };
+    let full = swarf::neighbour::verlet_capacity(&grid, std::iter::once(spacing_volume));
+    for capacity in [full, 3] {
+        grid.list_capacity = capacity;
+        let host = HostParticles::<R, D>::at_rest(pos.clone(), R::ONE, R::ONE);
+        let mut p = Particles::<CpuBackend, R, D>::upload(&b, &host).expect("upload");
+        let mut cl = swarf::neighbour::CellList::new(&b, grid, n).expect("cell list");
+        cl.build::<R, D>(&b, &p.pos.cur).expect("build");
+        p.reorder(&b, &cl.perm).expect("reorder");
+        cl.build_list::<R, D>(&b, &p.pos.cur, None).expect("Verlet list");
+        let binned = p.download(&b).expect("download").pos;
+        let list = cl.list.as_ref().expect("list");
+        let overflows = (0..n).filter(|&i| list[i] > capacity).count();
+        if capacity == full {
+            assert_eq!(overflows, 0, "{} of {n} particles overflow a capacity of {capacity}", overflows);
+        } else {
+            assert!(overflows > n * 9 / 10, "only {overflows} of {n} particles overflow a capacity of 3");
+        }
+        let half = moved_by(&binned, &cl.grid, 0.5 * skin);
+        let what = format!("Verlet list (capacity {capacity}) within half the skin");
+        assert_same_pairs(&listed_pairs::<R, D>(&cl, &half, support2), &brute_force(&half, support2), &what);
+        if capacity == full {
+            let far = moved_by(&binned, &cl.grid, skin);
+            let found: usize = listed_pairs::<R, D>(&cl, &far, support2).iter().map(Vec::len).sum();
+            let all: usize = brute_force(&far, support2).iter().map(Vec::len).sum();
+            assert!(found < all, "moves of up to s lost no pair ({found} of {all}): the check could not fail");
+        }
+    }
+}
+
+#[test]
+fn verlet_list_within_half_the_skin_2d_matches_brute_force() {
+    verlet_list_is_exact_within_half_the_skin::<f64, Dim2>(4000, 31);
+    verlet_list_is_exact_within_half_the_skin::<f32, Dim2>(4000, 32);
+}
+
+#[test]
+fn verlet_list_within_half_the_skin_3d_matches_brute_force() {
+    verlet_list_is_exact_within_half_the_skin::<f64, Dim3>(3000, 33);
+    verlet_list_is_exact_within_half_the_skin::<f32, Dim3>(3000, 34);
+}
+
+/// With a Verlet list the rebuild waits for half the skin (both ends of a pair move), without one for the skin.
+#[test]
+fn rebuild_distance_is_half_the_skin_with_a_verlet_list() {
+    use swarf::kernels::vector::V2f64;
+    let mut g = swarf::grid::grid_with_skin([0.0; 3], [1.0; 3], 2, 0.1, 0.25).expect("grid");
+    g.list_capacity = 40;
+    let x0 = V2f64::new([0.5, 0.5, 0.0]);
+    assert_eq!(g.rebuild_distance(), 0.125);
+    assert!(!g.beyond_skin::<f64, V2f64>(&V2f64::new([0.625, 0.5, 0.0]), &x0));
+    assert!(g.beyond_skin::<f64, V2f64>(&V2f64::new([0.625f64.next_up(), 0.5, 0.0]), &x0));
+    // The list's radius: within the stencil's reach, beyond the support plus the skin by more than f32 rounding.
+    let reach = g.stencil as f64 * g.cell_size;
+    let r = g.list_radius2().sqrt();
+    assert!(r < reach && r > 0.35 * (1.0 + 1e-6), "list radius {r} against reach {reach} and 2h + s = 0.35");
+}

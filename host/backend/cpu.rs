@@ -8,7 +8,7 @@ use super::{
 };
 use crate::kernels::contact::penalty::{ContactArrays, ContactParams, contact_particle};
 use crate::kernels::neighbour::search::neighbour_row;
-use crate::kernels::neighbour::{GatherField, GridParams, sort::sort_cell};
+use crate::kernels::neighbour::{GatherField, GridParams, Neighbours, sort::sort_cell, verlet::verlet_row};
 use crate::kernels::sph::heat::{HeatArrays, HeatParams, heat_rate};
 use crate::kernels::sph::interact::{Arrays, prepare, rates, rates_heat};
 use crate::kernels::sph::plastic::{PlasticArrays, PlasticConsts, plastic_particle};
@@ -150,6 +150,17 @@ unsafe impl<R: Real, D: Dim> Sync for SendStep<R, D> {}
 /// The step's scalars at `s.index`.
 fn scalars(s: &ScalarsAt<'_, CpuBackend>) -> Result<StepScalars> {
     s.buf.get(s.index).copied().ok_or(Error::Length { op: "step scalars", expected: s.index + 1, got: s.buf.len() })
+}
+
+/// The Verlet list's address after checking its size against the grid's layout (null without a list).
+fn list_ptr(op: &'static str, n: usize, g: &GridParams, list: Option<&Vec<u32>>) -> Result<SendPtr> {
+    let Some(l) = list else { return Ok(SendPtr(std::ptr::null_mut())) };
+    let stride = g.list_stride as usize;
+    if g.list_capacity == 0 || stride < n {
+        return Err(Error::Length { op, expected: n, got: stride });
+    }
+    check(op, (g.list_capacity as usize + 1) * stride, l.len())?;
+    Ok(SendPtr(l.as_ptr() as *mut u32))
 }
 
 /// Raw views of the step's fields after checking that every one holds n particles.
@@ -527,6 +538,7 @@ impl Backend for CpuBackend {
         params: &Vec<SphParams<R>>,
         grid: &Vec<GridParams>,
         starts: &Vec<u32>,
+        list: Option<&Vec<u32>>,
         input: &SphInputs<'_, Self, R, D>,
         out: FieldsMut<'_, Self, R, D>,
         dissipation: Option<&mut Vec<R>>,
@@ -572,6 +584,7 @@ impl Backend for CpuBackend {
             friction: input.contact.map_or(std::ptr::null(), |c| c.1.as_ptr()),
         });
         let st = SendPtr(starts.as_ptr() as *mut u32);
+        let lp = list_ptr("sph_rates list", n, &g, list)?;
         let (vel_t, rho_t, stress_t) = (
             SendPtr(out.vel.as_mut_ptr() as *mut u32),
             SendPtr(out.rho.as_mut_ptr() as *mut u32),
@@ -596,25 +609,18 @@ impl Backend for CpuBackend {
             ($av:literal, $as:literal, $xs:literal) => {
                 out.pos[..n].par_iter_mut().enumerate().for_each(|(i, pt)| {
                     let a = &a;
-                    // SAFETY: every array was checked to hold n sorted particles, starts belongs to the grid, and
-                    // each index i is written by one task only.
+                    let nb = Neighbours { grid: &g, starts: st.get(), list: lp.get() };
+                    // SAFETY: every array was checked to hold n sorted particles, starts and the list belong to the
+                    // grid, and each index i is written by one task only.
                     unsafe {
                         let o = match &fused {
                             Some((hp, h, temp_t)) => {
-                                let (o, tt) = rates_heat::<R, D, $av, $as, $xs>(
-                                    &p,
-                                    hp,
-                                    &g,
-                                    st.get(),
-                                    &a.0,
-                                    &h.0,
-                                    i as u32,
-                                    lanes,
-                                );
+                                let (o, tt) =
+                                    rates_heat::<R, D, $av, $as, $xs>(&p, hp, &nb, &a.0, &h.0, i as u32, lanes);
                                 *(temp_t.get() as *mut f64).add(i) = tt;
                                 o
                             }
-                            None => rates::<R, D, $av, $as, $xs>(&p, &g, st.get(), &a.0, i as u32, lanes),
+                            None => rates::<R, D, $av, $as, $xs>(&p, &nb, &a.0, i as u32, lanes),
                         };
                         *pt = o.pos_t;
                         *(vel_t.get() as *mut D::Vec<R>).add(i) = o.vel_t;
@@ -649,22 +655,28 @@ impl Backend for CpuBackend {
         params: &Vec<SphParams<R>>,
         grid: &Vec<GridParams>,
         starts: &Vec<u32>,
+        list: Option<&Vec<u32>>,
         input: &HeatInputs<'_, Self, R, D>,
         temp_t: &mut Vec<f64>,
     ) -> Result<()> {
         check("heat_rates temp_t", n, temp_t.len())?;
         check("heat_rates starts", grid[0].n_cells as usize + 2, starts.len())?;
         let (h, k, g) = (hp[0], params[0].kernel, grid[0]);
+        if pse && list.is_some() {
+            return Err(Error::Length { op: "heat_rates (PSE reaches beyond the Verlet list)", expected: 0, got: 1 });
+        }
+        let lp = list_ptr("heat_rates list", n, &g, list)?;
         let a = heat_arrays::<R, D>(n, input, "heat_rates materials")?;
         let st = SendPtr(starts.as_ptr() as *mut u32);
         temp_t[..n].par_iter_mut().enumerate().for_each(|(i, t)| {
             let a = &a;
+            let nb = Neighbours { grid: &g, starts: st.get(), list: lp.get() };
             // SAFETY: lengths checked above; every body index has a material.
             *t = unsafe {
                 if pse {
-                    heat_rate::<R, D::Vec<R>, true>(&h, &k, &g, st.get(), &a.0, i as u32, lanes)
+                    heat_rate::<R, D::Vec<R>, true>(&h, &k, &nb, &a.0, i as u32, lanes)
                 } else {
-                    heat_rate::<R, D::Vec<R>, false>(&h, &k, &g, st.get(), &a.0, i as u32, lanes)
+                    heat_rate::<R, D::Vec<R>, false>(&h, &k, &nb, &a.0, i as u32, lanes)
                 }
             };
         });
@@ -720,6 +732,34 @@ impl Backend for CpuBackend {
         self.exclusive_scan(c.n_buckets + 1, c.starts, c.scan)?;
         self.scatter(n, c.keys, c.slots, c.starts, c.perm)?;
         self.sort_cells(c.n_buckets, c.starts, c.perm)
+    }
+
+    fn verlet_build<R: Real, D: Dim>(
+        &self,
+        n: usize,
+        gate: Option<ScalarsAt<'_, Self>>,
+        grid: &Vec<GridParams>,
+        starts: &Vec<u32>,
+        pos: &Vec<D::Vec<R>>,
+        list: &mut Vec<u32>,
+    ) -> Result<()> {
+        if let Some(g) = gate
+            && scalars(&g)?.rebuild == 0
+        {
+            return Ok(());
+        }
+        check("verlet_build pos", n, pos.len())?;
+        check("verlet_build grid", 1, grid.len())?;
+        let g = grid[0];
+        check("verlet_build starts", g.n_cells as usize + 2, starts.len())?;
+        let out = list_ptr("verlet_build list", n, &g, Some(list))?;
+        let (st, p) = (SendPtr(starts.as_ptr() as *mut u32), SendPtr(pos.as_ptr() as *mut u32));
+        (0..n).into_par_iter().for_each(|i| {
+            let out = &out;
+            // SAFETY: sizes checked above; task i writes only row i (entries (k + 1)·stride + i and i).
+            unsafe { verlet_row::<R, D::Vec<R>>(&g, st.get(), p.get() as *const D::Vec<R>, i as u32, out.get()) }
+        });
+        Ok(())
     }
 
     fn step_finish<R: Real, D: TensorOps<R>>(

@@ -49,6 +49,7 @@ pub fn kernel_names() -> Vec<String> {
             "swarf_hash",
             "swarf_hash_count",
             "swarf_neighbour_list",
+            "swarf_verlet_build",
             "swarf_density",
             "swarf_step_predict",
             "swarf_step_finish",
@@ -173,6 +174,7 @@ struct Kernels {
     /// The gated rebuild's hash and count.
     hash_count: Variants,
     neighbour_list: Variants,
+    verlet_build: Variants,
     density: Variants,
     count_cells: CudaFunction,
     zero_gated: CudaFunction,
@@ -310,6 +312,7 @@ impl CudaBackend {
             hash: v("swarf_hash", "")?,
             hash_count: v("swarf_hash_count", "")?,
             neighbour_list: v("swarf_neighbour_list", "")?,
+            verlet_build: v("swarf_verlet_build", "")?,
             density: v("swarf_density", "")?,
             count_cells: f("swarf_count_cells")?,
             zero_gated: f("swarf_zero_gated")?,
@@ -842,6 +845,7 @@ impl Backend for CudaBackend {
         params: &CudaBuf<SphParams<R>>,
         grid: &CudaBuf<GridParams>,
         starts: &CudaBuf<u32>,
+        list: Option<&CudaBuf<u32>>,
         i: &SphInputs<'_, Self, R, D>,
         out: FieldsMut<'_, Self, R, D>,
         dissipation: Option<&mut CudaBuf<R>>,
@@ -860,6 +864,7 @@ impl Backend for CudaBackend {
             Arg::U64(self.ptr(params)),
             Arg::U64(self.ptr(grid)),
             Arg::U64(self.ptr(starts)),
+            Arg::U64(list.map_or(0, |l| self.ptr(l))),
             Arg::U64(self.ptr(i.pos)),
             Arg::U64(self.ptr(i.vel)),
             Arg::U64(self.ptr(i.rho)),
@@ -898,10 +903,14 @@ impl Backend for CudaBackend {
         params: &CudaBuf<SphParams<R>>,
         grid: &CudaBuf<GridParams>,
         starts: &CudaBuf<u32>,
+        list: Option<&CudaBuf<u32>>,
         i: &HeatInputs<'_, Self, R, D>,
         temp_t: &mut CudaBuf<f64>,
     ) -> Result<()> {
         check_lanes(lanes)?;
+        if pse && list.is_some() {
+            return Err(Error::Length { op: "heat_rates (PSE reaches beyond the Verlet list)", expected: 0, got: 1 });
+        }
         let args = [
             Arg::U32(n as u32),
             Arg::U32(lanes),
@@ -909,6 +918,7 @@ impl Backend for CudaBackend {
             Arg::U64(self.ptr(params)),
             Arg::U64(self.ptr(grid)),
             Arg::U64(self.ptr(starts)),
+            Arg::U64(list.map_or(0, |l| self.ptr(l))),
             Arg::U64(self.ptr(i.pos)),
             Arg::U64(self.ptr(i.rho)),
             Arg::U64(self.ptr(i.vol)),
@@ -974,6 +984,35 @@ impl Backend for CudaBackend {
         self.scan_gated(g, buckets, c.starts, c.scan)?;
         self.scatter_gated(g, n, c.keys, c.slots, c.starts, c.perm)?;
         self.sort_gated(g, c.n_buckets, c.starts, c.perm)
+    }
+
+    fn verlet_build<R: Real, D: Dim>(
+        &self,
+        n: usize,
+        gate: Option<ScalarsAt<'_, Self>>,
+        grid: &CudaBuf<GridParams>,
+        starts: &CudaBuf<u32>,
+        pos: &CudaBuf<D::Vec<R>>,
+        list: &mut CudaBuf<u32>,
+    ) -> Result<()> {
+        // The layout's size is the caller's (CellList sizes the list from the grid it uploads); the lengths
+        // bound what the kernel may touch.
+        if pos.len < n || list.len < n {
+            return Err(Error::Length { op: "verlet_build", expected: n, got: pos.len.min(list.len) });
+        }
+        let g = match gate {
+            Some(s) => self.gate(&s)?,
+            None => 0,
+        };
+        let args = [
+            Arg::U64(g),
+            Arg::U32(n as u32),
+            Arg::U64(self.ptr(grid)),
+            Arg::U64(self.ptr(starts)),
+            Arg::U64(self.ptr(pos)),
+            Arg::U64(self.ptr_mut(list)),
+        ];
+        self.launch_strided(&self.k.verlet_build.0[variant::<R, D>()], n, &args)
     }
 
     fn step_finish<R: Real, D: TensorOps<R>>(

@@ -152,7 +152,8 @@ pub trait Backend: Sized + Send + Sync {
     /// SPH pair interaction (`sph::interact::rates`): the rates of every sorted particle, each summed by `lanes`
     /// lanes (1, 2, 4 or 8; the sums' order depends on it, equally on every backend). With `heat`, the same
     /// neighbour walk also sums the Brookshaw conduction (`sph::interact::rates_heat`), equal bit for bit to
-    /// [`Backend::heat_rates`] on this cell list.
+    /// [`Backend::heat_rates`] on this cell list. With `list` (built by [`Backend::verlet_build`] on this cell
+    /// list) the pair loops read it instead of walking the stencil.
     #[allow(clippy::too_many_arguments)]
     fn sph_rates<R: Real, D: TensorOps<R>>(
         &self,
@@ -162,6 +163,7 @@ pub trait Backend: Sized + Send + Sync {
         params: &Self::Buf<SphParams<R>>,
         grid: &Self::Buf<GridParams>,
         starts: &Self::Buf<u32>,
+        list: Option<&Self::Buf<u32>>,
         input: &SphInputs<'_, Self, R, D>,
         out: FieldsMut<'_, Self, R, D>,
         dissipation: Option<&mut Self::Buf<R>>,
@@ -186,6 +188,18 @@ pub trait Backend: Sized + Send + Sync {
         gate: ScalarsAt<'_, Self>,
         pos: &Self::Buf<D::Vec<R>>,
         cells: CellBuffers<'_, Self>,
+    ) -> Result<()>;
+    /// The Verlet list (`neighbour::verlet::verlet_row`) of the n sorted particles at `pos` on the cell list
+    /// `grid`/`starts`, into `list` ((capacity + 1) · stride entries, `GridParams::list_capacity`/`list_stride`);
+    /// with a gate, only when that step rebuilds.
+    fn verlet_build<R: Real, D: Dim>(
+        &self,
+        n: usize,
+        gate: Option<ScalarsAt<'_, Self>>,
+        grid: &Self::Buf<GridParams>,
+        starts: &Self::Buf<u32>,
+        pos: &Self::Buf<D::Vec<R>>,
+        list: &mut Self::Buf<u32>,
     ) -> Result<()>;
     /// The fused corrector (`sph::step::correct_particle`) y ← y0 + Δt ẏ, followed by the plastic update of the
     /// same particle when `plastic` is given (`sph::plastic::plastic_particle`).
@@ -220,7 +234,7 @@ pub trait Backend: Sized + Send + Sync {
     /// Runs a captured graph.
     fn replay(&self, g: &Self::Graph) -> Result<()>;
     /// Conduction rates Ṫ (`sph::heat::heat_rate`), Brookshaw or (`pse`) PSE; `grid` has stencil 2 for
-    /// Brookshaw and 3 for PSE.
+    /// Brookshaw and 3 for PSE; `list` the Verlet list of `grid` (Brookshaw only: PSE reaches farther).
     #[allow(clippy::too_many_arguments)]
     fn heat_rates<R: Real, D: Dim>(
         &self,
@@ -231,6 +245,7 @@ pub trait Backend: Sized + Send + Sync {
         params: &Self::Buf<SphParams<R>>,
         grid: &Self::Buf<GridParams>,
         starts: &Self::Buf<u32>,
+        list: Option<&Self::Buf<u32>>,
         input: &HeatInputs<'_, Self, R, D>,
         temp_t: &mut Self::Buf<f64>,
     ) -> Result<()>;

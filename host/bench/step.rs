@@ -43,8 +43,12 @@ impl StepTimes {
     }
 }
 
-/// Times `steps` steps (rounded up to whole graph batches) of `setup` after a warm-up that captures the graphs,
-/// then profiles `profiled` single steps phase by phase.
+/// A saved state to time the step from: a run folder's checkpoint (`swarf bench step --from`).
+pub type Saved = (crate::checkpoint::Header, crate::solver::StateBlobs);
+
+/// Times `steps` steps (rounded up to whole graph batches) of `setup`, or of the state `from` of a run of it,
+/// after a warm-up that captures the graphs, then profiles `profiled` single steps phase by phase.
+#[allow(clippy::too_many_arguments)]
 pub fn step<B: Backend, R: Real, D: TensorOps<R>>(
     b: &B,
     setup: &Setup<R, D>,
@@ -53,13 +57,21 @@ pub fn step<B: Backend, R: Real, D: TensorOps<R>>(
     profiled: usize,
     lanes: Option<u32>,
     fuse: bool,
+    from: Option<&Saved>,
 ) -> Result<StepTimes> {
     let mut sv = Solver::<B, R, D>::new(b, setup)?;
     if let Some(l) = lanes {
         sv.lanes = l;
     }
     sv.fuse_conduction = fuse;
-    let dt = setup.dt;
+    let mut dt = setup.dt;
+    if let Some((h, blobs)) = from {
+        sv.load_state(b, blobs)?;
+        sv.time = h.time;
+        sv.steps = h.steps;
+        sv.set_nominal_dt(h.dt);
+        dt = h.dt;
+    }
     // Plain steps upload the reorder tables; the batches capture the graph and warm up.
     sv.advance(b, dt, 2 + 2 * GRAPH_STEPS)?;
     b.synchronize()?;
@@ -274,6 +286,58 @@ pub fn scenes<B: Backend>(
     Ok(())
 }
 
+/// Times the step of each run folder's checkpoint (`swarf bench step --from`): the state a run reached (a cut
+/// with its chip, plastic flow and contact) rather than the scene's start, beside the same scene at t = 0 and the
+/// saved state without the Verlet list, side by side.
+pub fn checkpoints<B: Backend>(b: &B, dirs: &[std::path::PathBuf], steps: usize) -> Result<()> {
+    let peak = copy_bandwidth(b)?;
+    println!("{}", header(peak));
+    for dir in dirs {
+        let (scene, _) = crate::run::resume_scene(dir)?;
+        let saved = crate::checkpoint::read(&dir.join("checkpoint.bin"))?;
+        match (scene.dim, saved.0.precision.as_str()) {
+            (3, "f32") => saved_rows::<B, f32, crate::kernels::Dim3>(b, &scene, &saved, steps, peak)?,
+            (3, _) => saved_rows::<B, f64, crate::kernels::Dim3>(b, &scene, &saved, steps, peak)?,
+            (_, "f32") => saved_rows::<B, f32, crate::kernels::Dim2>(b, &scene, &saved, steps, peak)?,
+            _ => saved_rows::<B, f64, crate::kernels::Dim2>(b, &scene, &saved, steps, peak)?,
+        }
+    }
+    Ok(())
+}
+
+fn saved_rows<B: Backend, R: Real, D: TensorOps<R>>(
+    b: &B,
+    scene: &crate::scene::Scene,
+    saved: &Saved,
+    steps: usize,
+    peak: f64,
+) -> Result<()> {
+    let h = &saved.0;
+    if h.precision != R::NAME || h.dim != D::D {
+        return Err(crate::Error::Checkpoint(format!(
+            "a {}D {} checkpoint for a {}D {} scene",
+            h.dim,
+            h.precision,
+            D::D,
+            R::NAME
+        )));
+    }
+    let s = crate::run::setup::<R, D>(scene)?;
+    let at = format!("{} at t = {:.4e} s (step {})", scene.name, h.time, h.steps);
+    let t = step::<B, R, D>(b, &s, &at, steps, 5, None, true, Some(saved))?;
+    println!("{}", row(&t, peak));
+    let t = step::<B, R, D>(b, &s, &format!("{} at t = 0", scene.name), steps, 5, None, true, None)?;
+    println!("{}", row(&t, peak));
+    if scene.discretisation.verlet_list {
+        let mut sc = scene.clone();
+        sc.discretisation.verlet_list = false;
+        let sa = crate::run::setup::<R, D>(&sc)?;
+        let t = step::<B, R, D>(b, &sa, &format!("{at}, no Verlet list"), steps, 5, None, true, Some(saved))?;
+        println!("{}", row(&t, peak));
+    }
+    Ok(())
+}
+
 fn one<B: Backend, R: Real, D: TensorOps<R>>(
     b: &B,
     scene: &crate::scene::Scene,
@@ -284,16 +348,25 @@ fn one<B: Backend, R: Real, D: TensorOps<R>>(
 ) -> Result<Vec<String>> {
     let s = crate::run::setup::<R, D>(scene)?;
     // The default lanes per particle, then every other choice side by side.
-    let base = step::<B, R, D>(b, &s, label, steps, 5, None, true)?;
+    let base = step::<B, R, D>(b, &s, label, steps, 5, None, true, None)?;
     println!("{}", row(&base, peak));
     let default = crate::solver::default_lanes(s.particles.len());
     for l in [1, 2, 4, 8].into_iter().filter(|&l| l != default) {
-        let alt = step::<B, R, D>(b, &s, &format!("{label}, {l} lane(s)"), steps, 5, Some(l), true)?;
+        let alt = step::<B, R, D>(b, &s, &format!("{label}, {l} lane(s)"), steps, 5, Some(l), true, None)?;
         println!("{}", row(&alt, peak));
     }
     if s.thermal.as_ref().is_some_and(|t| t.conduction == Some(false)) {
-        let sep = step::<B, R, D>(b, &s, &format!("{label}, separate conduction pass"), steps, 5, None, false)?;
+        let sep = step::<B, R, D>(b, &s, &format!("{label}, separate conduction pass"), steps, 5, None, false, None)?;
         println!("{}", row(&sep, peak));
+    }
+    // The Verlet list against the stencil walk (docs/neighbour-search.md, "Verlet list"), side by side.
+    if scene.discretisation.verlet_list {
+        let mut sc = scene.clone();
+        sc.discretisation.verlet_list = false;
+        let sa = crate::run::setup::<R, D>(&sc)?;
+        let t =
+            step::<B, R, D>(b, &sa, &format!("{label}, no Verlet list (stencil walk)"), steps, 5, None, true, None)?;
+        println!("{}", row(&t, peak));
     }
     // The skin (docs/neighbour-search.md, "Skin"): none (a rebuild whenever anything moved) and others beside
     // the scene's, side by side.
@@ -302,14 +375,15 @@ fn one<B: Backend, R: Real, D: TensorOps<R>>(
         let mut sc = scene.clone();
         sc.discretisation.skin_over_h = alt;
         let sa = crate::run::setup::<R, D>(&sc)?;
-        let t = step::<B, R, D>(b, &sa, &format!("{label}, skin {alt} h (scene: {skin} h)"), steps, 5, None, true)?;
+        let t =
+            step::<B, R, D>(b, &sa, &format!("{label}, skin {alt} h (scene: {skin} h)"), steps, 5, None, true, None)?;
         println!("{}", row(&t, peak));
     }
     let mut out = Vec::new();
     if options {
         for o in OPTIONS {
             if let Some(v) = without(&s, o) {
-                let t = step::<B, R, D>(b, &v, label, steps, 1, None, true)?;
+                let t = step::<B, R, D>(b, &v, label, steps, 1, None, true, None)?;
                 out.push(format!(
                     "| {label} | {} | {o} | {} | {:.4} | {:.4} | {:+.1} % |",
                     R::NAME,

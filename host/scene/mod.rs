@@ -238,11 +238,15 @@ pub struct Discretisation {
     pub dx: f64,
     /// `h_over_dx` (optional, default 1.7), in [1, 3]: the smoothing length h in units of dx.
     pub h_over_dx: f64,
-    /// `skin_over_h` (optional, default 0.1), in [0, 1]: the cell list's skin in units of h. The list is rebuilt
-    /// (and the particles reordered) only when a particle has moved farther than the skin since the last build;
-    /// the cells grow from h to h + skin/2. 0 rebuilds every step in which anything moved. The results do not
-    /// depend on it beyond round-off (the order of the neighbour sums).
+    /// `skin_over_h` (optional, default 0.1), in [0, 1]: the neighbour lists' skin s in units of h. The lists are
+    /// rebuilt (and the particles reordered) only when a particle has moved farther than s/2 (with the Verlet
+    /// list; s without it) since the last build; the cells grow from h to h + s/2. 0 rebuilds every step in which
+    /// anything moved. The results do not depend on it beyond round-off (the order of the neighbour sums).
     pub skin_over_h: f64,
+    /// `verlet_list` (optional, default true): the pair loops read each particle's candidates within 2h + s from
+    /// a list built with the cell list (docs/neighbour-search.md, "Verlet list") instead of walking the ±2
+    /// stencil of cells. With one lane per particle the sums are bitwise the same either way.
+    pub verlet_list: bool,
 }
 
 /// `[material]`: linear elasticity (for now the only material; a library by name comes later).
@@ -546,11 +550,12 @@ impl Scene {
         );
         let _ = writeln!(
             s,
-            "lattice        dx = {} m, h = {}·dx = {} m, cell-list skin {}·h",
+            "lattice        dx = {} m, h = {}·dx = {} m, neighbour skin {}·h, {}",
             num(dx),
             num(self.discretisation.h_over_dx),
             num(self.h()),
-            num(self.discretisation.skin_over_h)
+            num(self.discretisation.skin_over_h),
+            if self.discretisation.verlet_list { "Verlet list" } else { "cell stencil (no Verlet list)" }
         );
         let _ = writeln!(
             s,

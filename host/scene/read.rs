@@ -194,16 +194,17 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
     };
 
     // [discretisation]
-    let disc_expected = "a table [discretisation] with dx (and h_over_dx, skin_over_h)";
+    let disc_expected = "a table [discretisation] with dx (and h_over_dx, skin_over_h, verlet_list)";
     let disc =
         root.required("discretisation", disc_expected, root.table("discretisation", "discretisation", disc_expected)?)?;
-    disc.check_keys(&["dx", "h_over_dx", "skin_over_h"], &[], "")?;
+    disc.check_keys(&["dx", "h_over_dx", "skin_over_h", "verlet_list"], &[], "")?;
     let dx_expected = "a positive lattice spacing in m";
     let dx = disc.required("dx", dx_expected, disc.number("dx", dx_expected, positive)?)?;
     let h_over_dx = disc.number("h_over_dx", "a ratio h/dx in [1, 3]", |x| (1.0..=3.0).contains(&x))?.unwrap_or(1.7);
     let skin_over_h = disc
         .number("skin_over_h", "a cell-list skin in units of h, in [0, 1]", |x| (0.0..=1.0).contains(&x))?
         .unwrap_or(0.1);
+    let verlet_list = disc.boolean("verlet_list", "true or false")?.unwrap_or(true);
 
     // [material]
     let mat_expected = "a table [material] with a library name and/or density, youngs_modulus and poisson_ratio";
@@ -467,7 +468,7 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
         name: name.to_string(),
         dim,
         precision,
-        discretisation: Discretisation { dx, h_over_dx, skin_over_h },
+        discretisation: Discretisation { dx, h_over_dx, skin_over_h, verlet_list },
         material,
         bodies,
         boundaries,

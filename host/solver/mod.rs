@@ -238,7 +238,8 @@ pub enum Phase {
     Predict,
     /// The cell list's gated rebuild: count, scan, scatter and per-cell sort (when the step rebuilds).
     CellList,
-    /// Every per-particle field gathered and copied back, two launches (when the step rebuilds).
+    /// Every per-particle field gathered and copied back, two launches, then the Verlet list built on the sorted
+    /// particles (when the step rebuilds).
     Reorder,
     /// σ/ρ², artificial stress, sound speed, volume.
     Prepare,
@@ -339,6 +340,8 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             Some(t) => {
                 let mut g = setup.grid;
                 g.stencil = 3;
+                // PSE reaches beyond the Verlet list: it walks the stencil.
+                g.list_capacity = 0;
                 let conducting = t.conduction.is_some();
                 Some(ThermalState {
                     temp0: if conducting { Some(Field::upload(b, &zeros_f, "temperature")?) } else { None },
@@ -624,6 +627,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                 // The binned positions: the skin test's reference until the next rebuild.
                 batch.snapshot(b, &p.pos.cur, &mut self.pos_ref);
                 batch.run(b, n, &self.cells.perm, ScalarsAt { buf: &self.scalars, index: j })?;
+                self.cells.build_list::<R, D>(b, &self.pos_ref, Some(ScalarsAt { buf: &self.scalars, index: j }))?;
             }
             Phase::Prepare => {
                 b.sph_prepare::<R, D>(
@@ -672,6 +676,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                     &self.params,
                     &self.cells.grid_buf,
                     &self.cells.starts,
+                    self.cells.list.as_ref(),
                     &input,
                     FieldsMut { pos: &mut r.pos, vel: &mut r.vel, rho: &mut r.rho, stress: &mut r.stress },
                     self.dissipation.as_mut().map(|(_, rate)| rate),
@@ -696,6 +701,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                         &self.params,
                         grid,
                         &self.cells.starts,
+                        if pse { None } else { self.cells.list.as_ref() },
                         &hin,
                         tt,
                     )?;
@@ -946,6 +952,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         if s.iter().any(|(name, _)| name == "pos_ref") {
             crate::state::load_blob(b, "pos_ref", &mut self.pos_ref, s)?;
             self.cells.build::<R, D>(b, &self.pos_ref)?;
+            self.cells.build_list::<R, D>(b, &self.pos_ref, None)?;
             self.force_rebuild = false;
         } else {
             self.force_rebuild = true;

@@ -72,6 +72,8 @@ pub struct Searched<R: Real, D: Dim> {
     /// Neighbour lists in sorted indices, in gather order, as the kernel wrote them (CSR).
     pub raw_counts: Vec<u32>,
     pub raw_list: Vec<u32>,
+    /// The Verlet list as built (`neighbour::verlet` layout), empty when the grid has no list capacity.
+    pub verlet: Vec<u32>,
 }
 
 /// CSR neighbour lists on backend `b` (`CellList::csr_neighbours`, which also checks that its counting and filling
@@ -94,6 +96,8 @@ pub fn search<B: Backend, R: Real, D: Dim>(b: &B, pos: &[D::Vec<R>], grid: GridP
     let keys = b.read(&cl.keys).expect("keys");
     p.reorder(b, &cl.perm).expect("reorder");
     let (raw_counts, offsets, raw_list) = csr_lists::<B, R, D>(b, &p.pos.cur, &cl, support2);
+    cl.build_list::<R, D>(b, &p.pos.cur, None).expect("Verlet list");
+    let verlet = cl.list.as_ref().map(|l| b.read(l).expect("Verlet list")).unwrap_or_default();
     let sorted = p.download(b).expect("download");
     let mut lists = vec![Vec::new(); n];
     for i in 0..n {
@@ -110,6 +114,7 @@ pub fn search<B: Backend, R: Real, D: Dim>(b: &B, pos: &[D::Vec<R>], grid: GridP
         keys,
         raw_counts,
         raw_list,
+        verlet,
     }
 }
 

@@ -28,6 +28,12 @@ pub struct GridParams {
     /// Cells searched on each side of a particle's own cell: 2 for cell = h, 1 for cell = 2h.
     pub stencil: u32,
     pub dim: u32,
+    /// Most neighbours the Verlet list holds per particle (`neighbour::verlet`); 0: no list, the pair loops walk
+    /// the stencil and the rebuild waits for a displacement of s instead of s/2.
+    pub list_capacity: u32,
+    /// The list's row length (the particle count it was sized for): entry k of particle i is at
+    /// (k + 1)·stride + i.
+    pub list_stride: u32,
 }
 
 /// Relative enlargement of the cell over (support radius)/stencil. The pair test r² < (2h)² is evaluated in the
@@ -42,11 +48,29 @@ impl GridParams {
         support_radius / stencil as f64 * (1.0 + CELL_MARGIN)
     }
 
-    /// Whether a particle at `x`, binned at `x_ref` when the cell list was built, has moved farther than the
-    /// skin, so that the list must be rebuilt before it is searched again. For a pair at r < 2h now,
-    /// |x_i − x_j,ref| ≤ 2h + |x_j − x_j,ref|, which the stencil covers while every displacement is ≤ s
-    /// (docs/neighbour-search.md, "Skin"). In f64 (positions widen exactly); a non-finite position counts as
-    /// moved, so that the rebuild sends it to the void bucket.
+    /// How far a particle may move from where it was binned before the lists must be rebuilt: the skin s for the
+    /// cell list alone, s/2 with the Verlet list (both ends of a pair move).
+    #[inline(always)]
+    pub fn rebuild_distance(&self) -> f64 {
+        if self.list_capacity > 0 { 0.5 * self.skin } else { self.skin }
+    }
+
+    /// The squared radius of the Verlet list: a hair inside the stencil's reach, stencil · cell (which the
+    /// stencil covers whatever the particle's place in its cell), and still beyond 2h + s by more than the
+    /// roundings of the pair test (cell_size carries CELL_MARGIN = 2^-16, this takes 2^-18 back).
+    #[inline(always)]
+    pub fn list_radius2(&self) -> f64 {
+        let r = self.stencil as f64 * self.cell_size * (1.0 - 1.0 / 262_144.0);
+        r * r
+    }
+
+    /// Whether a particle at `x`, binned at `x_ref` when the cell list was built, has moved farther than
+    /// [`GridParams::rebuild_distance`], so that the lists must be rebuilt before they are searched again. For a
+    /// pair at r < 2h now, |x_i − x_j,ref| ≤ 2h + |x_j − x_j,ref|, which the stencil covers while every
+    /// displacement is ≤ s; |x_i,ref − x_j,ref| ≤ 2h + |x_i − x_i,ref| + |x_j − x_j,ref|, which the Verlet list
+    /// covers while every displacement is ≤ s/2 (docs/neighbour-search.md, "Skin", "Verlet list"). In f64
+    /// (positions widen exactly); a non-finite position counts as moved, so that the rebuild sends it to the void
+    /// bucket.
     #[inline(always)]
     pub fn beyond_skin<R: Real, V: Vector<R>>(&self, x: &V, x_ref: &V) -> bool {
         let mut d2 = 0.0;
@@ -57,7 +81,8 @@ impl GridParams {
             k += 1;
         }
         // NaN compares false: a non-finite position is beyond every skin.
-        d2.is_nan() || d2 > self.skin * self.skin
+        let s = self.rebuild_distance();
+        d2.is_nan() || d2 > s * s
     }
 
     /// Cell coordinate along axis `k`, clamped into the grid. Clamping keeps the search exact: it never increases

@@ -1,10 +1,10 @@
 //! Cell-list construction on the GPU: hash, count (integer atomics), scan (ptx/scan.rs), scatter, per-cell sort,
-//! gather. The atomics only decide the order in which a cell's slice is filled; `sort_cells` then restores the
+//! gather, and the Verlet list built on the sorted particles. The atomics only decide the order in which a cell's slice is filled; `sort_cells` then restores the
 //! unique stable order, so the permutation is deterministic and equal to the CPU twin's.
 
 use super::intrinsics::atomic_add_u32;
 use super::{global_index, grid_threads};
-use crate::neighbour::{GatherField, GridParams, sort::sort_cell};
+use crate::neighbour::{GatherField, GridParams, sort::sort_cell, verlet::verlet_row};
 use crate::real::Real;
 use crate::vector::{V2f32, V2f64, V3f32, V3f64, Vector};
 use core::num::NonZeroU32;
@@ -51,7 +51,27 @@ unsafe fn neighbour_list<R: Real, V: Vector<R>>(
 }
 
 macro_rules! per_vector {
-    ($hash:ident, $hash_count:ident, $list:ident, $r:ty, $v:ty) => {
+    ($hash:ident, $hash_count:ident, $list:ident, $verlet:ident, $r:ty, $v:ty) => {
+        /// The Verlet list of the sorted particles at `pos` (`neighbour::verlet::verlet_row`), when the gate is
+        /// open; after the reorder of a gated rebuild, or with a null gate after a build outside the step loop.
+        #[unsafe(no_mangle)]
+        pub unsafe extern "ptx-kernel" fn $verlet(
+            gate: *const u32,
+            n: u32,
+            grid: *const GridParams,
+            starts: *const u32,
+            pos: *const $v,
+            list: *mut u32,
+        ) {
+            if !unsafe { open(gate) } {
+                return;
+            }
+            let mut i = global_index();
+            while i < n {
+                unsafe { verlet_row::<$r, $v>(&*grid, starts, pos, i, list) };
+                i += grid_threads();
+            }
+        }
         /// The counting pass of a gated rebuild: keys[i] = cell key of pos[i], slots[i] = its arrival order in
         /// the cell, counts[cell] += 1 (counts zeroed before), when the gate is open.
         #[unsafe(no_mangle)]
@@ -100,10 +120,38 @@ macro_rules! per_vector {
     };
 }
 
-per_vector!(swarf_hash_2d_f32, swarf_hash_count_2d_f32, swarf_neighbour_list_2d_f32, f32, V2f32);
-per_vector!(swarf_hash_2d_f64, swarf_hash_count_2d_f64, swarf_neighbour_list_2d_f64, f64, V2f64);
-per_vector!(swarf_hash_3d_f32, swarf_hash_count_3d_f32, swarf_neighbour_list_3d_f32, f32, V3f32);
-per_vector!(swarf_hash_3d_f64, swarf_hash_count_3d_f64, swarf_neighbour_list_3d_f64, f64, V3f64);
+per_vector!(
+    swarf_hash_2d_f32,
+    swarf_hash_count_2d_f32,
+    swarf_neighbour_list_2d_f32,
+    swarf_verlet_build_2d_f32,
+    f32,
+    V2f32
+);
+per_vector!(
+    swarf_hash_2d_f64,
+    swarf_hash_count_2d_f64,
+    swarf_neighbour_list_2d_f64,
+    swarf_verlet_build_2d_f64,
+    f64,
+    V2f64
+);
+per_vector!(
+    swarf_hash_3d_f32,
+    swarf_hash_count_3d_f32,
+    swarf_neighbour_list_3d_f32,
+    swarf_verlet_build_3d_f32,
+    f32,
+    V3f32
+);
+per_vector!(
+    swarf_hash_3d_f64,
+    swarf_hash_count_3d_f64,
+    swarf_neighbour_list_3d_f64,
+    swarf_verlet_build_3d_f64,
+    f64,
+    V3f64
+);
 
 /// data[i] = 0 for i < n when the gate is open (the cell counts before a gated rebuild); the first thread also
 /// counts the rebuild in rebuilds[0] (null: not counted).

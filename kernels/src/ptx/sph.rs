@@ -1,7 +1,7 @@
 //! SPH entry points.
 
 use super::global_index;
-use crate::neighbour::GridParams;
+use crate::neighbour::{GridParams, Neighbours};
 use crate::real::Real;
 use crate::sph::CubicSpline;
 use crate::sph::density::density_sum;
@@ -109,6 +109,7 @@ macro_rules! rates_entry {
             params: *const SphParams<$r>,
             grid: *const GridParams,
             starts: *const u32,
+            list: *const u32,
             pos: *const Vec_<$r, $d>,
             vel: *const Vec_<$r, $d>,
             rho: *const $r,
@@ -139,12 +140,13 @@ macro_rules! rates_entry {
             let a =
                 Arrays::<$r, $d> { pos, vel, rho, mass, vol, stress, sig, art, sound, flags, bc_vel, normal, friction };
             let h = HeatArrays::<$r, Vec_<$r, $d>> { pos, rho, vol: heat_vol, temp, flags, materials };
+            let nb = Neighbours { grid: unsafe { &*grid }, starts, list };
             // Every lane takes part in the shuffles, also past the last particle.
             let live = i < n;
             unsafe {
                 let (mech, heat) = if $heat {
                     let s = if live {
-                        pair_sums_heat::<$r, $d, $av, $as, $xs>(&*params, &*hp, &*grid, starts, &a, &h, i, lane, lanes)
+                        pair_sums_heat::<$r, $d, $av, $as, $xs>(&*params, &*hp, &nb, &a, &h, i, lane, lanes)
                     } else {
                         HeatPairSums::default()
                     };
@@ -152,7 +154,7 @@ macro_rules! rates_entry {
                     (s.mech, s.heat)
                 } else {
                     let s = if live {
-                        pair_sums::<$r, $d, $av, $as, $xs>(&*params, &*grid, starts, &a, i, lane, lanes)
+                        pair_sums::<$r, $d, $av, $as, $xs>(&*params, &nb, &a, i, lane, lanes)
                     } else {
                         PairSums::default()
                     };
@@ -475,7 +477,7 @@ rates_entry!(swarf_sph_rates_heat_3d_f64_v1s1x1, f64, Dim3, true, true, true, tr
 predict_entry!(swarf_step_predict_3d_f64, f64, Dim3);
 finish_entry!(swarf_step_finish_3d_f64, f64, Dim3);
 
-/// Conduction: temp_t[i] = Ṫ_i (sph::heat::heat_rate), Brookshaw or PSE.
+/// Conduction: temp_t[i] = Ṫ_i (sph::heat::heat_rate), Brookshaw or PSE (PSE with a null `list`).
 macro_rules! heat_entry {
     ($name:ident, $r:ty, $d:ty, $pse:literal) => {
         #[unsafe(no_mangle)]
@@ -486,6 +488,7 @@ macro_rules! heat_entry {
             params: *const SphParams<$r>,
             grid: *const GridParams,
             starts: *const u32,
+            list: *const u32,
             pos: *const Vec_<$r, $d>,
             rho: *const $r,
             vol: *const $r,
@@ -498,11 +501,12 @@ macro_rules! heat_entry {
             let lanes = clamp_lanes(lanes);
             let (i, lane) = (t / lanes, t % lanes);
             let a = HeatArrays::<$r, Vec_<$r, $d>> { pos, rho, vol, temp, flags, materials };
+            let nb = Neighbours { grid: unsafe { &*grid }, starts, list };
             // Every lane takes part in the shuffles, also past the last particle.
             let live = i < n;
             unsafe {
                 let mut sum = if live {
-                    heat_sum::<$r, Vec_<$r, $d>, $pse>(&*hp, &(*params).kernel, &*grid, starts, &a, i, lane, lanes)
+                    heat_sum::<$r, Vec_<$r, $d>, $pse>(&*hp, &(*params).kernel, &nb, &a, i, lane, lanes)
                 } else {
                     0.0
                 };

@@ -13,7 +13,7 @@
 
 use super::kernel::CubicSpline;
 use super::lanes::{all_lanes, lane_share};
-use crate::neighbour::GridParams;
+use crate::neighbour::Neighbours;
 use crate::real::Real;
 use crate::vector::Vector;
 use bytemuck::{Pod, Zeroable};
@@ -64,18 +64,17 @@ pub struct HeatArrays<R: Real, V: Vector<R>> {
 }
 
 /// Lane `lane` of `lanes`' share of the conduction sum Σ_j V_j k_ij L_ij of sorted particle i (0 for a particle
-/// with a fixed temperature). `PSE` selects the Gaussian kernel (else Brookshaw); `grid` must have stencil 2 for
-/// Brookshaw and 3 for PSE.
+/// with a fixed temperature). `PSE` selects the Gaussian kernel (else Brookshaw); `nb.grid` must have stencil 2 for
+/// Brookshaw and 3 for PSE, and PSE no Verlet list (its support is wider than the list's).
 ///
 /// # Safety
-/// Arrays hold the sorted particles of `starts`; `i` is in range; every body index has a material.
+/// Arrays hold the sorted particles of `nb` (`neighbour::for_each_candidate`); `i` is in range; every body index has a material.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub unsafe fn heat_sum<R: Real, V: Vector<R>, const PSE: bool>(
     hp: &HeatParams,
     k: &CubicSpline<R>,
-    grid: &GridParams,
-    starts: *const u32,
+    nb: &Neighbours,
     a: &HeatArrays<R, V>,
     i: u32,
     lane: u32,
@@ -83,7 +82,7 @@ pub unsafe fn heat_sum<R: Real, V: Vector<R>, const PSE: bool>(
 ) -> f64 {
     unsafe {
         match heat_own(a, i) {
-            Some(o) => lane_share::<R, V, f64, _>(grid, starts, &o.x, lane, lanes, |j, s| {
+            Some(o) => lane_share::<R, V, f64, _>(nb, &o.x, i, lane, lanes, |j, s| {
                 *s += heat_pair::<R, V, PSE>(hp, k, a, &o, i, j)
             }),
             None => 0.0,
@@ -201,17 +200,16 @@ pub unsafe fn heat_finish<R: Real, V: Vector<R>>(a: &HeatArrays<R, V>, i: u32, s
 pub unsafe fn heat_rate<R: Real, V: Vector<R>, const PSE: bool>(
     hp: &HeatParams,
     k: &CubicSpline<R>,
-    grid: &GridParams,
-    starts: *const u32,
+    nb: &Neighbours,
     a: &HeatArrays<R, V>,
     i: u32,
     lanes: u32,
 ) -> f64 {
     unsafe {
         let sum = match heat_own(a, i) {
-            Some(o) => all_lanes::<R, V, f64, _>(grid, starts, &o.x, lanes, |j, s| {
-                *s += heat_pair::<R, V, PSE>(hp, k, a, &o, i, j)
-            }),
+            Some(o) => {
+                all_lanes::<R, V, f64, _>(nb, &o.x, i, lanes, |j, s| *s += heat_pair::<R, V, PSE>(hp, k, a, &o, i, j))
+            }
             None => 0.0,
         };
         heat_finish(a, i, sum)

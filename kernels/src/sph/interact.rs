@@ -19,7 +19,7 @@ use super::heat::{HeatArrays, HeatParams, brookshaw_term, heat_finish, heat_own}
 use super::lanes::{LaneSum, all_lanes, lane_share, map_real, map_vector};
 use super::params::{SphParams, flags};
 use super::tensor::TensorOps;
-use crate::neighbour::GridParams;
+use crate::neighbour::Neighbours;
 use crate::real::Real;
 use crate::vector::{Dim, Vector};
 
@@ -321,8 +321,7 @@ unsafe fn pair_term<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, co
 #[inline(always)]
 pub unsafe fn pair_sums<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool>(
     p: &SphParams<R>,
-    grid: &GridParams,
-    starts: *const u32,
+    nb: &Neighbours,
     a: &Arrays<R, D>,
     i: u32,
     lane: u32,
@@ -333,7 +332,7 @@ pub unsafe fn pair_sums<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool
         if !o.mech {
             return PairSums::default();
         }
-        lane_share::<R, D::Vec<R>, _, _>(grid, starts, &o.x, lane, lanes, |j, s| {
+        lane_share::<R, D::Vec<R>, _, _>(nb, &o.x, i, lane, lanes, |j, s| {
             add_pair::<R, D, AV, AS, XSPH>(p, a, &o, i, j, s)
         })
     }
@@ -372,8 +371,7 @@ impl<R: Real, D: TensorOps<R>> LaneSum for HeatPairSums<R, D> {
 pub unsafe fn pair_sums_heat<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool>(
     p: &SphParams<R>,
     hp: &HeatParams,
-    grid: &GridParams,
-    starts: *const u32,
+    nb: &Neighbours,
     a: &Arrays<R, D>,
     h: &HeatArrays<R, D::Vec<R>>,
     i: u32,
@@ -386,7 +384,7 @@ pub unsafe fn pair_sums_heat<R: Real, D: TensorOps<R>, const AV: bool, const AS:
         if !o.mech && ho.is_none() {
             return HeatPairSums::default();
         }
-        lane_share::<R, D::Vec<R>, _, _>(grid, starts, &o.x, lane, lanes, |j, s: &mut HeatPairSums<R, D>| {
+        lane_share::<R, D::Vec<R>, _, _>(nb, &o.x, i, lane, lanes, |j, s: &mut HeatPairSums<R, D>| {
             heat_and_pair::<R, D, AV, AS, XSPH>(p, hp, a, h, &o, ho.as_ref(), i, j, s)
         })
     }
@@ -430,8 +428,7 @@ unsafe fn heat_and_pair<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool
 pub unsafe fn rates_heat<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool>(
     p: &SphParams<R>,
     hp: &HeatParams,
-    grid: &GridParams,
-    starts: *const u32,
+    nb: &Neighbours,
     a: &Arrays<R, D>,
     h: &HeatArrays<R, D::Vec<R>>,
     i: u32,
@@ -443,7 +440,7 @@ pub unsafe fn rates_heat<R: Real, D: TensorOps<R>, const AV: bool, const AS: boo
         let sums = if !o.mech && ho.is_none() {
             HeatPairSums::default()
         } else {
-            all_lanes::<R, D::Vec<R>, _, _>(grid, starts, &o.x, lanes, |j, s: &mut HeatPairSums<R, D>| {
+            all_lanes::<R, D::Vec<R>, _, _>(nb, &o.x, i, lanes, |j, s: &mut HeatPairSums<R, D>| {
                 heat_and_pair::<R, D, AV, AS, XSPH>(p, hp, a, h, &o, ho.as_ref(), i, j, s)
             })
         };
@@ -505,13 +502,12 @@ pub unsafe fn finish_rates<R: Real, D: TensorOps<R>, const XSPH: bool>(
 /// The rates of sorted particle i, summed by `lanes` lanes combined as the GPU combines them (`sph::lanes`).
 ///
 /// # Safety
-/// All arrays hold the sorted particles of the cell list `starts`/`grid`; `i` is in range; `art` and `sound`
+/// All arrays hold the sorted particles of the cell list (and Verlet list) `nb`; `i` is in range; `art` and `sound`
 /// are valid when AS and AV are on.
 #[inline(always)]
 pub unsafe fn rates<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool>(
     p: &SphParams<R>,
-    grid: &GridParams,
-    starts: *const u32,
+    nb: &Neighbours,
     a: &Arrays<R, D>,
     i: u32,
     lanes: u32,
@@ -519,7 +515,7 @@ pub unsafe fn rates<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, co
     unsafe {
         let o = own::<R, D, AV, AS>(a, i);
         let sums = if o.mech {
-            all_lanes::<R, D::Vec<R>, _, _>(grid, starts, &o.x, lanes, |j, s| {
+            all_lanes::<R, D::Vec<R>, _, _>(nb, &o.x, i, lanes, |j, s| {
                 add_pair::<R, D, AV, AS, XSPH>(p, a, &o, i, j, s)
             })
         } else {

@@ -1,10 +1,10 @@
 //! Lanes: several threads sum one particle's neighbour terms, each its share of the candidates
-//! (`neighbour::for_each_neighbour_strided`), and the shares are combined by a butterfly: stage s = 1, 2, 4, …
+//! (`neighbour::for_each_candidate_strided`), and the shares are combined by a butterfly: stage s = 1, 2, 4, …
 //! adds the partner lane ^ s. On the GPU the partners are warp shuffles; the CPU replays the same tree, so the
 //! sums are bitwise equal on both (IEEE addition is commutative, so every lane of the butterfly holds the same
 //! bits). One lane is the plain sequential sum.
 
-use crate::neighbour::{GridParams, for_each_neighbour, for_each_neighbour_strided};
+use crate::neighbour::{Neighbours, for_each_candidate, for_each_candidate_strided};
 use crate::real::Real;
 use crate::vector::Vector;
 
@@ -84,21 +84,22 @@ pub fn clamp_lanes(lanes: u32) -> u32 {
 }
 
 /// Lane `lane` of `lanes`' share of a per-particle neighbour sum: `term(j, &mut share)` for every `lanes`-th
-/// candidate of the stencil around `x`, from the `lane`-th on (what the GPU thread of that lane sums).
+/// candidate of sorted particle i at `x` (`neighbour::for_each_candidate`), from the `lane`-th on (what the GPU
+/// thread of that lane sums).
 ///
 /// # Safety
-/// `starts` is the cell list of `grid`; `term` is safe for every candidate it is given.
+/// `nb` as `neighbour::for_each_candidate` requires; `term` is safe for every candidate it is given.
 #[inline(always)]
 pub unsafe fn lane_share<R: Real, V: Vector<R>, S: LaneSum, F: FnMut(u32, &mut S)>(
-    grid: &GridParams,
-    starts: *const u32,
+    nb: &Neighbours,
     x: &V,
+    i: u32,
     lane: u32,
     lanes: u32,
     mut term: F,
 ) -> S {
     let mut share = S::default();
-    unsafe { for_each_neighbour_strided::<R, V, _>(grid, starts, x, lane, lanes, |j| term(j, &mut share)) };
+    unsafe { for_each_candidate_strided::<R, V, _>(nb, x, i, lane, lanes, |j| term(j, &mut share)) };
     share
 }
 
@@ -109,9 +110,9 @@ pub unsafe fn lane_share<R: Real, V: Vector<R>, S: LaneSum, F: FnMut(u32, &mut S
 /// As [`lane_share`].
 #[inline(always)]
 pub unsafe fn all_lanes<R: Real, V: Vector<R>, S: LaneSum, F: FnMut(u32, &mut S)>(
-    grid: &GridParams,
-    starts: *const u32,
+    nb: &Neighbours,
     x: &V,
+    i: u32,
     lanes: u32,
     mut term: F,
 ) -> S {
@@ -119,7 +120,7 @@ pub unsafe fn all_lanes<R: Real, V: Vector<R>, S: LaneSum, F: FnMut(u32, &mut S)
     let mut parts = [S::default(); MAX_LANES];
     let mut k = 0u32;
     unsafe {
-        for_each_neighbour::<R, V, _>(grid, starts, x, |j| {
+        for_each_candidate::<R, V, _>(nb, x, i, |j| {
             term(j, &mut parts[(k % lanes) as usize]);
             k += 1;
         })
