@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# whole150k bg150k wait150k ncu cutsteps fromcut
+# whole150k bg150k wait150k ncu cutsteps fromcut refcut
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -237,8 +237,19 @@ gpu__time_duration.sum,sm__sass_thread_inst_executed_op_dfma_pred_on.sum,sm__sas
                          dirs=$dirs,/tmp/swarf-from/whole-150k-f64
                      fi
                      "$here/swarf" --backend gpu bench step --from "$dirs"
+                     # Register caps side by side on the same states: the plastic corrector uncapped (its default
+                     # is 128), the neighbour kernels capped at 80 and 64 (default: uncapped).
+                     for v in SWARF_PLASTIC_MAXNREG=0 SWARF_MAXNREG=80 SWARF_MAXNREG=64; do
+                         echo "== $v"; env "$v" "$here/swarf" --backend gpu bench step --from "$dirs"
+                     done
                  }
                  run fromcut fromcut ;;
+        refcut) # issue 7: the whole 6k reference cut (1 mm) in f64 and f32, wall time against the original's 201 / 182 s
+                refcut() {
+                    cut reference-cut-f64 cases/cutting/reference-cut.toml \
+                        && cut reference-cut-f32 cases/cutting/reference-cut.toml --precision f32
+                }
+                run refcut refcut ;;
         fine) # the 150k reference cut: the first 0.5 % of the cut (about 15 000 steps), for the step time
               run fine "$here/swarf" --backend gpu run cases/cutting/reference-cut-150k.toml --verbose \
                   --set time.end=4.2857e-6 --set output.every=1.0714e-6 --out /tmp/swarf-cut/fine ;;

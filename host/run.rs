@@ -487,6 +487,8 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
         }
         log.line(&format!("resumed from {} at t = {:e} s, step {}", ckpt_path.display(), h.time, h.steps))?;
     }
+    // Where this process started (a resumed run's rates and time left count its own steps only).
+    let (steps0, time0) = (solver.steps, solver.time);
     let head = format!(
         "{}: {n} particles, {}D {}, h = {:.4e} m, c0 = {:.1} m/s, dt = {:.4e} s, about {} steps, {} ({})",
         scene.name,
@@ -601,7 +603,7 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
                 }
             }
             let el = t0.elapsed().as_secs_f64();
-            let rate = d.step as f64 / el.max(1e-9);
+            let rate = d.step.saturating_sub(steps0) as f64 / el.max(1e-9);
             let line = format!(
                 "t = {:.4e} s  step {}  E_kin {:.4e}  E_el {:.4e}  {:.0} steps/s  {:.3e} particle-steps/s",
                 d.time,
@@ -617,7 +619,8 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
             } else if !opts.quiet {
                 // One progress line, rewritten in place: simulated time, rates and the time left.
                 let frac = (d.time / end).clamp(0.0, 1.0);
-                let eta = if frac > 0.0 { el * (1.0 - frac) / frac } else { f64::NAN };
+                let done = (d.time - time0) / (end - time0);
+                let eta = if done > 0.0 { el * (1.0 - done) / done } else { f64::NAN };
                 eprint!(
                     "\r[{:<30}] {:5.1} %  t = {:.3e} s  {:.0} steps/s  {:.2e} particle-steps/s  ETA {:.0} s   ",
                     "#".repeat((frac * 30.0) as usize),

@@ -280,10 +280,15 @@ impl CudaBackend {
                 crate::ptx::targets()
             ))
         })?;
-        let ptx = match std::env::var("SWARF_MAXNREG").ok().and_then(|v| v.parse::<u32>().ok()) {
+        let mut ptx = match std::env::var("SWARF_MAXNREG").ok().and_then(|v| v.parse::<u32>().ok()) {
             Some(cap) => cap_registers(ptx, &NEIGHBOUR_KERNELS, cap),
             None => ptx.to_string(),
         };
+        let plastic_cap =
+            std::env::var("SWARF_PLASTIC_MAXNREG").ok().and_then(|v| v.parse::<u32>().ok()).unwrap_or(PLASTIC_MAXNREG);
+        if plastic_cap > 0 {
+            ptx = cap_registers(&ptx, &PLASTIC_KERNELS, plastic_cap);
+        }
         let module = ctx.load_module(cudarc::nvrtc::Ptx::from_src(ptx)).map_err(cuda("loading the PTX module"))?;
         let f = |name: &str| module.load_function(name).map_err(cuda("loading a kernel"));
         let v = |base: &str, suffix: &str| -> Result<Variants> {
@@ -461,6 +466,14 @@ impl ArgList {
 
 /// The entry points that walk the neighbours (register-heavy, latency-bound): the ones `SWARF_MAXNREG` caps.
 const NEIGHBOUR_KERNELS: [&str; 2] = ["swarf_sph_rates_", "swarf_heat_"];
+
+/// The entry points of the corrector with the plastic update (and the plastic pass alone): the return mapping's
+/// f64 transcendentals need 132 registers uncapped, one block of 256 threads per multiprocessor (12 % occupancy);
+/// [`PLASTIC_MAXNREG`] of them allow two. `SWARF_PLASTIC_MAXNREG` overrides it (0: no cap), for the benchmarks.
+const PLASTIC_KERNELS: [&str; 2] = ["swarf_step_finish_", "swarf_plastic_"];
+
+/// Registers per thread for [`PLASTIC_KERNELS`]: 65 536 / (2 × 256).
+const PLASTIC_MAXNREG: u32 = 128;
 
 /// `ptx` with a `.maxnreg cap` directive on every entry whose name starts with one of `prefixes` (PTX ISA
 /// "Performance-tuning directives": between the parameter list and the body). Fewer registers allow more
