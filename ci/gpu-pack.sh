@@ -29,9 +29,11 @@ for bn in ${SWARF_PACK_BENCHES-neighbours step}; do
     cp "$f" "$pack/bench-$bn"
 done
 
-strip "$pack"/swarf "$pack"/test-* "$pack"/bench-* 2>/dev/null || strip "$pack"/swarf "$pack"/test-*
+shopt -s nullglob
+bins=("$pack"/swarf "$pack"/test-* "$pack"/bench-*)
+strip "${bins[@]}"
 # Compressed: the tree sent to the device is limited to 64 MiB (gpu-run.sh unpacks).
-gzip -9 "$pack"/swarf "$pack"/test-* "$pack"/bench-* 2>/dev/null || gzip -9 "$pack"/swarf "$pack"/test-*
+gzip -9 "${bins[@]}"
 cp ci/gpu-run.sh "$pack/gpu-run.sh"
 git rev-parse --short HEAD > "$pack/COMMIT" 2>/dev/null || echo unknown > "$pack/COMMIT"
 du -sh "$pack"
