@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# whole150k bg150k wait150k ncu cutsteps fromcut refcut
+# whole150k bg150k wait150k ncu cutsteps fromcut refcut f32fail
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -250,6 +250,19 @@ gpu__time_duration.sum,sm__sass_thread_inst_executed_op_dfma_pred_on.sum,sm__sas
                         && cut reference-cut-f32 cases/cutting/reference-cut.toml --precision f32
                 }
                 run refcut refcut ;;
+        f32fail) # issue 8: the 150k reference cut in f32 up to just past where it went non-finite (t = 3.43e-5 s):
+                 # the run must stop within 4 096 steps of the first non-finite position, with its report, and
+                 # keep its last good frame
+                 f32fail() {
+                     "$here/swarf" --backend gpu run cases/cutting/reference-cut-150k.toml --precision f32 --quiet \
+                         --out /tmp/swarf-cut/f32fail --set time.end=4.5e-5 --set output.every=4.2857e-6
+                     local rc=$?
+                     echo "exit status $rc"
+                     tail -n 6 /tmp/swarf-cut/f32fail/run.log
+                     ls /tmp/swarf-cut/f32fail
+                     [ $rc != 0 ]
+                 }
+                 run f32fail f32fail ;;
         fine) # the 150k reference cut: the first 0.5 % of the cut (about 15 000 steps), for the step time
               run fine "$here/swarf" --backend gpu run cases/cutting/reference-cut-150k.toml --verbose \
                   --set time.end=4.2857e-6 --set output.every=1.0714e-6 --out /tmp/swarf-cut/fine ;;
