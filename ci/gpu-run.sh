@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# whole150k bg150k wait150k ncu cutsteps fromcut refcut f32fail
+# whole150k bg150k wait150k ncu cutsteps fromcut refcut f32fail abfrom
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -28,6 +28,20 @@ cut() { # a cutting run on the GPU: out-name, scene, extra args; prints its summ
     "$here/swarf" --backend gpu run "$scene" --quiet --out "/tmp/swarf-cut/$name" "$@" || return 1
     echo "== $name"; cat "/tmp/swarf-cut/$name/summary.json"; tail -n 3 "/tmp/swarf-cut/$name/run.log"
     awk 'NR == 1 || NR % 10 == 0' "/tmp/swarf-cut/$name/forces.csv"
+}
+from_dirs() { # the checkpoints of fromcut/abfrom (made once per machine): prints their folders, comma separated
+    local d=/tmp/swarf-from; mkdir -p $d
+    if [ ! -f $d/ref6k/checkpoint.bin ]; then
+        "$here/swarf" --backend gpu run cases/cutting/reference-cut.toml --quiet --out $d/ref6k \
+            --set time.end=4.4e-4 --checkpoint-every 1e-4 >&2 || return 1
+        tail -n 2 $d/ref6k/run.log >&2
+    fi
+    local dirs=$d/ref6k
+    if [ -e carry150k/whole-150k-f64.tgz.partaa ]; then
+        [ -f $d/whole-150k-f64/checkpoint.bin ] || cat carry150k/whole-150k-f64.tgz.part* | tar xzf - -C $d
+        dirs=$dirs,$d/whole-150k-f64
+    fi
+    echo "$dirs"
 }
 for z in "$here"/*.gz; do [ -e "$z" ] && gunzip -f "$z" && chmod +x "${z%.gz}"; done
 echo "commit $(cat "$here/COMMIT")"
@@ -228,14 +242,7 @@ gpu__time_duration.sum,sm__sass_thread_inst_executed_op_dfma_pred_on.sum,sm__sas
         fromcut) # issue 7: the step of states in the middle of a cut (chip, plastic flow, contact), from checkpoints:
                  # the 6k reference cut run to half its length here, and the carried 150k f64 run folder (carry150k/)
                  fromcut() {
-                     "$here/swarf" --backend gpu run cases/cutting/reference-cut.toml --quiet --out /tmp/swarf-from/ref6k \
-                         --set time.end=4.4e-4 --checkpoint-every 1e-4 || return 1
-                     tail -n 2 /tmp/swarf-from/ref6k/run.log
-                     local dirs=/tmp/swarf-from/ref6k
-                     if [ -e carry150k/whole-150k-f64.tgz.partaa ]; then
-                         mkdir -p /tmp/swarf-from && cat carry150k/whole-150k-f64.tgz.part* | tar xzf - -C /tmp/swarf-from
-                         dirs=$dirs,/tmp/swarf-from/whole-150k-f64
-                     fi
+                     local dirs; dirs=$(from_dirs) || return 1
                      "$here/swarf" --backend gpu bench step --from "$dirs"
                      # Register caps side by side on the same states: the plastic corrector uncapped (its default
                      # is 128), the neighbour kernels capped at 80 and 64 (default: uncapped).
@@ -244,6 +251,19 @@ gpu__time_duration.sum,sm__sass_thread_inst_executed_op_dfma_pred_on.sum,sm__sas
                      done
                  }
                  run fromcut fromcut ;;
+        abfrom) # issue 7: this build against the previous one (gpu-pack/swarf-old, when packed) on the same
+                # checkpoints, alternating (new, old, new, old), so that the difference shows beside the run-to-run noise
+                abfrom() {
+                    local dirs; dirs=$(from_dirs) || return 1
+                    for round in 1 2; do
+                        for b in swarf swarf-old; do
+                            [ -x "$here/$b" ] || continue
+                            echo "== $b, round $round"
+                            "$here/$b" --backend gpu bench step --from "$dirs" --step-count 2048 || return 1
+                        done
+                    done
+                }
+                run abfrom abfrom ;;
         refcut) # issue 7: the whole 6k reference cut (1 mm) in f64 and f32, wall time against the original's 201 / 182 s
                 refcut() {
                     cut reference-cut-f64 cases/cutting/reference-cut.toml \

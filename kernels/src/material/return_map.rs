@@ -173,8 +173,11 @@ fn tighten(lo: &mut f64, hi: &mut f64, x: f64, g: f64) {
 /// The radial return of one material point (module doc). `s_trial`: deviatoric trial stress (xx, xy, xz, yy, yz,
 /// zz) [Pa], plane strain with xz = yz = 0 and zz carried; `eps`, `rate`: ε̄ and ε̄̇ of the previous step (the rate
 /// only seeds the initial guess); `temp` [K], frozen during the return; `shear` G > 0 [Pa]; `dt` > 0 [s].
+///
+/// Always inlined: as a PTX call (LLVM kept one for Johnson–Cook) the trial stress and the result went through
+/// local memory and every particle, the elastic ones included, paid for the call.
 #[allow(clippy::too_many_arguments)]
-#[inline]
+#[inline(always)]
 pub fn radial_return<M: FlowStress + ?Sized>(
     model: &M,
     s_trial: &[f64; 6],

@@ -61,9 +61,16 @@ pub unsafe fn for_each_candidate<R: Real, V: Vector<R>, F: FnMut(u32)>(nb: &Neig
     unsafe {
         match nb.listed(i) {
             Some(c) => {
+                // The next index is loaded before the current pair term runs: the list streams from DRAM, and
+                // its load would otherwise stand at the head of every iteration's chain (index → position → term).
+                let mut next = if c > 0 { nb.entry(i, 0) } else { 0 };
                 let mut k = 0;
                 while k < c {
-                    f(nb.entry(i, k));
+                    let j = next;
+                    if k + 1 < c {
+                        next = nb.entry(i, k + 1);
+                    }
+                    f(j);
                     k += 1;
                 }
             }
@@ -89,9 +96,15 @@ pub unsafe fn for_each_candidate_strided<R: Real, V: Vector<R>, F: FnMut(u32)>(
     unsafe {
         match nb.listed(i) {
             Some(c) => {
+                // As in `for_each_candidate`: the next index is in flight while the current term runs.
+                let mut next = if lane < c { nb.entry(i, lane) } else { 0 };
                 let mut k = lane;
                 while k < c {
-                    f(nb.entry(i, k));
+                    let j = next;
+                    if k + lanes < c {
+                        next = nb.entry(i, k + lanes);
+                    }
+                    f(j);
                     k += lanes;
                 }
             }
