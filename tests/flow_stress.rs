@@ -548,3 +548,34 @@ fn errors_name_file_key_and_expectation() {
     let e = err(&GOOD.replace("m = 0.8", "m = 0.8\nd = 1.0"));
     assert!(e.to_string().contains("for model 'johnson_cook'"), "{e}");
 }
+
+/// The return mapping evaluates Johnson–Cook's thermal factor once per return (`FlowStress::thermal_part`) and
+/// hands it to `flow_at`: the result must be `flow`'s bit for bit, over strains, rates (both rate forms, below and
+/// above the reference rate) and temperatures from below the reference to past the melt.
+#[test]
+fn johnson_cook_flow_at_a_frozen_temperature_equals_flow_bitwise() {
+    use swarf_kernels::material::johnson_cook::RATE_FORM_CLAMP;
+    let lib = library();
+    for name in ["Ti6Al4V-Roethlin-C2D", "AISI4340-Roethlin"] {
+        let Some(FlowModel::JohnsonCook(jc)) = material(&lib, name).flow_stress else {
+            panic!("{name}: not a Johnson–Cook material")
+        };
+        for form in [RATE_FORM_CLAMP, RATE_FORM_UINTAH] {
+            let p = JohnsonCook { rate_form: form, ..jc };
+            let mut checked = 0;
+            for t in [200.0, 293.0, 300.0, 800.0, 1500.0, p.melt_temp - 0.5, p.melt_temp + 10.0] {
+                let th = p.thermal_part(t);
+                for e in [0.0, 1e-9, 0.01, 0.3, 2.5] {
+                    for r in [0.0, 0.5 * p.ref_rate, p.ref_rate, 1e3, 1e6] {
+                        let (a, b) = (p.flow(e, r, t), p.flow_at(e, r, t, th));
+                        for (x, y) in [(a.sigma, b.sigma), (a.d_eps, b.d_eps), (a.d_rate, b.d_rate)] {
+                            assert_eq!(x.to_bits(), y.to_bits(), "{name}: ε̄ {e}, ε̄̇ {r}, T {t}");
+                        }
+                        checked += 1;
+                    }
+                }
+            }
+            assert_eq!(checked, 175);
+        }
+    }
+}

@@ -97,9 +97,19 @@ impl FlowStress for JohnsonCook {
 
     #[inline]
     fn flow(&self, eps: f64, rate: f64, temp: f64) -> Flow {
+        self.flow_at(eps, rate, temp, self.thermal_factor(temp))
+    }
+
+    #[inline(always)]
+    fn thermal_part(&self, temp: f64) -> f64 {
+        self.thermal_factor(temp)
+    }
+
+    /// `th` = 1 − θᵐ at `_temp` ([`JohnsonCook::thermal_factor`]).
+    #[inline(always)]
+    fn flow_at(&self, eps: f64, rate: f64, _temp: f64, th: f64) -> Flow {
         let (h, dh) = self.hardening(eps);
         let (r, dr) = self.rate_factor(rate);
-        let th = self.thermal_factor(temp);
         Flow { sigma: h * r * th, d_eps: dh * r * th, d_rate: h * dr * th }.clamped()
     }
 

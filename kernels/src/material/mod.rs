@@ -87,6 +87,24 @@ pub trait FlowStress {
     /// The temperature at which the model's strength vanishes (or is clamped) [K].
     fn melt_temperature(&self) -> f64;
 
+    /// The part of [`FlowStress::flow`] that depends on the temperature alone, for a return at a temperature held
+    /// fixed (roethlin-solver.md §2.4: T is frozen during the return): evaluated once per return instead of once per
+    /// Newton iteration, and handed to [`FlowStress::flow_at`]. Johnson–Cook's 1 − θᵐ (a `pow`); the models that
+    /// do not split (the default) return NaN, which `flow_at` ignores.
+    #[inline(always)]
+    fn thermal_part(&self, temp: f64) -> f64 {
+        let _ = temp;
+        f64::NAN
+    }
+
+    /// [`FlowStress::flow`] with `thermal` = [`FlowStress::thermal_part`] at the same `temp`: the same result bit for
+    /// bit.
+    #[inline(always)]
+    fn flow_at(&self, eps: f64, rate: f64, temp: f64, thermal: f64) -> Flow {
+        let _ = thermal;
+        self.flow(eps, rate, temp)
+    }
+
     /// ∂σ_y/∂ε̄ at fixed ε̄̇ and T [Pa]; evaluated at max(ε̄, [`STRAIN_FLOOR`]) where ε̄ⁿ is singular.
     #[inline(always)]
     fn d_sigma_d_eps(&self, eps: f64, rate: f64, temp: f64) -> f64 {

@@ -232,6 +232,8 @@ pub fn radial_return<M: FlowStress + ?Sized>(
         // The trial exceeds σ_y only by rounding: nothing to return.
         x = 0.0;
     }
+    // The temperature is frozen during the return: its part of σ_y (Johnson–Cook's 1 − θᵐ) is evaluated once.
+    let thermal = model.thermal_part(temp);
     // Steps of the last two iterations (rtsafe's dx, dxold).
     let mut step_old = lam_max;
     let mut step_last = lam_max;
@@ -239,7 +241,7 @@ pub fn radial_return<M: FlowStress + ?Sized>(
         iterations += 1;
         let candidate = match opts.solver {
             Solver::Newton => {
-                let f = model.flow(eps + SQRT_2_3 * x, SQRT_2_3 * x / dt, temp);
+                let f = model.flow_at(eps + SQRT_2_3 * x, SQRT_2_3 * x / dt, temp, thermal);
                 let gx = norm - two_g * x - SQRT_2_3 * f.sigma;
                 let slope = -two_g - (2.0 / 3.0) * f.path_slope(dt);
                 if small(gx, x) {
