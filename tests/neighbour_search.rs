@@ -243,6 +243,37 @@ fn exclusive_scan_twin() {
     assert_eq!(w, vec![0, u32::MAX, 1]);
 }
 
+/// Each binned position moved in a random direction by up to 0.999 `reach` (a quarter of them by 0.999 `reach`
+/// exactly), and how many moved that far. Where `reach` is within the grid's rebuild distance, a displacement that
+/// rounds (in R) beyond it is undone: that particle would trigger a rebuild, so it stays where it was binned.
+fn displaced<R: Real, D: Dim>(
+    binned: &[D::Vec<R>],
+    grid: &GridParams,
+    reach: f64,
+    seed: u64,
+) -> (Vec<D::Vec<R>>, usize) {
+    let mut rng = swarf::rng::SplitMix64::new(seed ^ 0x5eed);
+    let mut moved_far = 0;
+    let moved = binned
+        .iter()
+        .map(|x| {
+            let d: [f64; 3] = std::array::from_fn(|k| if k < D::D { rng.normal() } else { 0.0 });
+            let len = d.iter().map(|v| v * v).sum::<f64>().sqrt().max(1e-300);
+            let frac = if rng.uniform() < 0.25 { 0.999 } else { 0.999 * rng.uniform() };
+            let y =
+                D::Vec::<R>::new(std::array::from_fn(|k| R::from_f64(x.get(k).to_f64() + frac * reach * d[k] / len)));
+            if reach <= grid.rebuild_distance() && grid.beyond_skin::<R, D::Vec<R>>(&y, x) {
+                return *x;
+            }
+            if frac > 0.99 {
+                moved_far += 1;
+            }
+            y
+        })
+        .collect();
+    (moved, moved_far)
+}
+
 /// The skin (docs/neighbour-search.md, "Skin"): a cell list built on positions X0 over cells sized for the support
 /// plus the skin s still finds every pair within the support after each particle has moved up to s, because the
 /// search takes the stencil around each particle's current position and every partner is at most s from where it
@@ -251,7 +282,6 @@ fn exclusive_scan_twin() {
 fn stale_list_is_exact_within_the_skin<R: Real, D: Dim>(n: usize, seed: u64) {
     use swarf::backend::Backend;
     use swarf::grid::grid_with_skin;
-    use swarf::rng::SplitMix64;
     use swarf::state::{HostParticles, Particles};
     let b = CpuBackend::new();
     let h = h_for(n, D::D);
@@ -265,27 +295,7 @@ fn stale_list_is_exact_within_the_skin<R: Real, D: Dim>(n: usize, seed: u64) {
     cl.build::<R, D>(&b, &p.pos.cur).expect("build");
     p.reorder(&b, &cl.perm).expect("reorder");
     let binned = p.download(&b).expect("download");
-    let mut rng = SplitMix64::new(seed ^ 0x5eed);
-    let mut moved_far = 0;
-    let moved: Vec<D::Vec<R>> = binned
-        .pos
-        .iter()
-        .map(|x| {
-            let d: [f64; 3] = std::array::from_fn(|k| if k < D::D { rng.normal() } else { 0.0 });
-            let len = d.iter().map(|v| v * v).sum::<f64>().sqrt().max(1e-300);
-            let frac = if rng.uniform() < 0.25 { 0.999 } else { 0.999 * rng.uniform() };
-            let y =
-                D::Vec::<R>::new(std::array::from_fn(|k| R::from_f64(x.get(k).to_f64() + frac * skin * d[k] / len)));
-            // Rounded to R, the displacement can exceed the skin: such a particle stays where it was binned.
-            if grid.beyond_skin::<R, D::Vec<R>>(&y, x) {
-                return *x;
-            }
-            if frac > 0.99 {
-                moved_far += 1;
-            }
-            y
-        })
-        .collect();
+    let (moved, moved_far) = displaced::<R, D>(&binned.pos, &grid, skin, seed);
     assert!(moved_far > n / 5, "only {moved_far} of {n} particles moved close to the skin");
     let buf = b.upload(&moved, "moved").expect("upload");
     let support2 = R::from_f64(4.0 * h * h);
@@ -365,7 +375,6 @@ fn listed_pairs<R: Real, D: Dim>(
 /// the cell list alone allows) loses pairs, which shows that the check can fail.
 fn verlet_list_is_exact_within_half_the_skin<R: Real, D: Dim>(n: usize, seed: u64) {
     use swarf::grid::grid_with_skin;
-    use swarf::rng::SplitMix64;
     use swarf::state::{HostParticles, Particles};
     let b = CpuBackend::new();
     let h = h_for(n, D::D);
@@ -375,21 +384,6 @@ fn verlet_list_is_exact_within_half_the_skin<R: Real, D: Dim>(n: usize, seed: u6
     let mut grid = grid_with_skin(lo, hi, D::D, 2.0 * h, skin).expect("grid");
     let spacing_volume = 1.0 / n as f64;
     let support2 = R::from_f64(4.0 * h * h);
-    let moved_by = |binned: &[D::Vec<R>], g: &GridParams, reach: f64| -> Vec<D::Vec<R>> {
-        let mut rng = SplitMix64::new(seed ^ 0x5eed);
-        binned
-            .iter()
-            .map(|x| {
-                let d: [f64; 3] = std::array::from_fn(|k| if k < D::D { rng.normal() } else { 0.0 });
-                let len = d.iter().map(|v| v * v).sum::<f64>().sqrt().max(1e-300);
-                let frac = if rng.uniform() < 0.25 { 0.999 } else { 0.999 * rng.uniform() };
-                let y = D::Vec::<R>::new(std::array::from_fn(|k| {
-                    R::from_f64(x.get(k).to_f64() + frac * reach * d[k] / len)
-                }));
-                if reach <= g.rebuild_distance() && g.beyond_skin::<R, D::Vec<R>>(&y, x) { *x } else { y }
-            })
-            .collect()
-    };
     let full = swarf::neighbour::verlet_capacity(&grid, std::iter::once(spacing_volume));
     for capacity in [full, 3] {
         grid.list_capacity = capacity;
@@ -407,11 +401,11 @@ fn verlet_list_is_exact_within_half_the_skin<R: Real, D: Dim>(n: usize, seed: u6
         } else {
             assert!(overflows > n * 9 / 10, "only {overflows} of {n} particles overflow a capacity of 3");
         }
-        let half = moved_by(&binned, &cl.grid, 0.5 * skin);
+        let (half, _) = displaced::<R, D>(&binned, &cl.grid, 0.5 * skin, seed);
         let what = format!("Verlet list (capacity {capacity}) within half the skin");
         assert_same_pairs(&listed_pairs::<R, D>(&cl, &half, support2), &brute_force(&half, support2), &what);
         if capacity == full {
-            let far = moved_by(&binned, &cl.grid, skin);
+            let (far, _) = displaced::<R, D>(&binned, &cl.grid, skin, seed);
             let found: usize = listed_pairs::<R, D>(&cl, &far, support2).iter().map(Vec::len).sum();
             let all: usize = brute_force(&far, support2).iter().map(Vec::len).sum();
             assert!(found < all, "moves of up to s lost no pair ({found} of {all}): the check could not fail");
