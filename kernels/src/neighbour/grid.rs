@@ -41,6 +41,20 @@ pub struct GridParams {
 /// pair the test accepts lies within the stencil (proof in docs/neighbour-search.md).
 pub const CELL_MARGIN: f64 = 1.0 / 65536.0;
 
+/// |a − b|² in f64 whatever the run's precision (positions widen exactly), summed over the dimension's components in
+/// order: the skin test's and the Verlet list's distance, the same bits on the host and the GPU.
+#[inline(always)]
+pub fn dist2_f64<R: Real, V: Vector<R>>(a: &V, b: &V) -> f64 {
+    let mut d2 = 0.0;
+    let mut k = 0;
+    while k < V::DIM {
+        let d = a.get(k).to_f64() - b.get(k).to_f64();
+        d2 += d * d;
+        k += 1;
+    }
+    d2
+}
+
 impl GridParams {
     /// The cell size for a support radius and stencil half-width.
     #[inline]
@@ -73,13 +87,7 @@ impl GridParams {
     /// bucket.
     #[inline(always)]
     pub fn beyond_skin<R: Real, V: Vector<R>>(&self, x: &V, x_ref: &V) -> bool {
-        let mut d2 = 0.0;
-        let mut k = 0;
-        while k < V::DIM {
-            let d = x.get(k).to_f64() - x_ref.get(k).to_f64();
-            d2 += d * d;
-            k += 1;
-        }
+        let d2 = dist2_f64::<R, V>(x, x_ref);
         // NaN compares false: a non-finite position is beyond every skin.
         let s = self.rebuild_distance();
         d2.is_nan() || d2 > s * s

@@ -10,7 +10,7 @@
 //! equals the sum over the stencil bit for bit when the pair term skips j beyond the support, as every pair term
 //! does. A particle with more candidates than the capacity keeps its true count and walks the stencil instead.
 
-use super::grid::GridParams;
+use super::grid::{GridParams, dist2_f64};
 use super::search::{for_each_neighbour, for_each_neighbour_strided};
 use crate::real::Real;
 use crate::vector::Vector;
@@ -135,21 +135,11 @@ pub unsafe fn verlet_row<R: Real, V: Vector<R>>(
     let mut c = 0u32;
     unsafe {
         for_each_neighbour::<R, V, _>(grid, starts, &xi, |j| {
-            if j != i {
-                let xj = *pos.add(j as usize);
-                let mut d2 = 0.0;
-                let mut k = 0;
-                while k < V::DIM {
-                    let d = xi.get(k).to_f64() - xj.get(k).to_f64();
-                    d2 += d * d;
-                    k += 1;
+            if j != i && dist2_f64::<R, V>(&xi, &*pos.add(j as usize)) < r2 {
+                if c < cap {
+                    *list.add((c as usize + 1) * stride + iu) = j;
                 }
-                if d2 < r2 {
-                    if c < cap {
-                        *list.add((c as usize + 1) * stride + iu) = j;
-                    }
-                    c += 1;
-                }
+                c += 1;
             }
         });
         *list.add(iu) = c;
