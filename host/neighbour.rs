@@ -155,17 +155,15 @@ impl<B: Backend> CellList<B> {
     }
 }
 
-/// The Verlet list's capacity per particle for a grid and the particles' volumes V = m/ρ: twice the count of a
-/// lattice of spacing Δx = V_min^(1/d) within the list radius R, 2 ω_d (R/Δx)^d with ω_2 = π, ω_3 = 4π/3 (the
-/// lattices of `cases/` hold about half that), plus 8. A particle with more candidates walks the stencil, so the
-/// capacity decides the memory, never the result. 0 (no list) without a positive finite volume.
-pub fn verlet_capacity(grid: &GridParams, volumes: impl Iterator<Item = f64>) -> u32 {
-    let v = volumes.filter(|v| v.is_finite() && *v > 0.0).fold(f64::INFINITY, f64::min);
-    if !v.is_finite() {
+/// The Verlet list's capacity per particle for a grid and the lattice spacing Δx: twice the count of a lattice of
+/// that spacing within the list radius R, 2 ω_d (R/Δx)^d with ω_2 = π, ω_3 = 4π/3 (the lattices of `cases/` hold
+/// about half that), plus 8. A particle with more candidates walks the stencil, so the capacity decides the memory,
+/// never the result. 0 (no list) without a positive finite spacing.
+pub fn verlet_capacity(grid: &GridParams, dx: f64) -> u32 {
+    if !(dx.is_finite() && dx > 0.0) {
         return 0;
     }
     let d = grid.dim.clamp(2, 3) as i32;
-    let dx = v.powf(1.0 / d as f64);
     let ratio = grid.list_radius2().sqrt() / dx;
     let omega = if d == 3 { 4.0 / 3.0 * std::f64::consts::PI } else { std::f64::consts::PI };
     let k = 2.0 * omega * ratio.powi(d) + 8.0;

@@ -290,8 +290,7 @@ pub fn setup<R: Real, D: TensorOps<R>>(scene: &Scene) -> Result<Setup<R, D>> {
     }
     let mut grid = grid_with_skin(glo, ghi, scene.dim, 2.0 * h, scene.discretisation.skin_over_h * h)?;
     if scene.discretisation.verlet_list {
-        let dx = scene.discretisation.dx;
-        grid.list_capacity = crate::neighbour::verlet_capacity(&grid, std::iter::once(dx.powi(scene.dim as i32)));
+        grid.list_capacity = crate::neighbour::verlet_capacity(&grid, scene.discretisation.dx);
     }
     let vmax0 = vel.iter().map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()).fold(0.0, f64::max);
     let c0 = elastic.sound_speed();

@@ -382,9 +382,9 @@ fn verlet_list_is_exact_within_half_the_skin<R: Real, D: Dim>(n: usize, seed: u6
     let pos = uniform::<R, D>(n, seed);
     let (lo, hi) = bounding_box::<R, D::Vec<R>>(&pos);
     let mut grid = grid_with_skin(lo, hi, D::D, 2.0 * h, skin).expect("grid");
-    let spacing_volume = 1.0 / n as f64;
+    let spacing = (n as f64).powf(-1.0 / D::D as f64);
     let support2 = R::from_f64(4.0 * h * h);
-    let full = swarf::neighbour::verlet_capacity(&grid, std::iter::once(spacing_volume));
+    let full = swarf::neighbour::verlet_capacity(&grid, spacing);
     for capacity in [full, 3] {
         grid.list_capacity = capacity;
         let host = HostParticles::<R, D>::at_rest(pos.clone(), R::ONE, R::ONE);

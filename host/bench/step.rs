@@ -305,6 +305,17 @@ pub fn checkpoints<B: Backend>(b: &B, dirs: &[std::path::PathBuf], steps: usize)
     Ok(())
 }
 
+/// The setup of `scene` with the pair loops walking the stencil, for the side-by-side row; None where the scene has
+/// no Verlet list anyway.
+fn without_verlet_list<R: Real, D: TensorOps<R>>(scene: &crate::scene::Scene) -> Result<Option<Setup<R, D>>> {
+    if !scene.discretisation.verlet_list {
+        return Ok(None);
+    }
+    let mut sc = scene.clone();
+    sc.discretisation.verlet_list = false;
+    crate::run::setup::<R, D>(&sc).map(Some)
+}
+
 fn saved_rows<B: Backend, R: Real, D: TensorOps<R>>(
     b: &B,
     scene: &crate::scene::Scene,
@@ -328,10 +339,7 @@ fn saved_rows<B: Backend, R: Real, D: TensorOps<R>>(
     println!("{}", row(&t, peak));
     let t = step::<B, R, D>(b, &s, &format!("{} at t = 0", scene.name), steps, 5, None, true, None)?;
     println!("{}", row(&t, peak));
-    if scene.discretisation.verlet_list {
-        let mut sc = scene.clone();
-        sc.discretisation.verlet_list = false;
-        let sa = crate::run::setup::<R, D>(&sc)?;
+    if let Some(sa) = without_verlet_list::<R, D>(scene)? {
         let t = step::<B, R, D>(b, &sa, &format!("{at}, no Verlet list"), steps, 5, None, true, Some(saved))?;
         println!("{}", row(&t, peak));
     }
@@ -360,10 +368,7 @@ fn one<B: Backend, R: Real, D: TensorOps<R>>(
         println!("{}", row(&sep, peak));
     }
     // The Verlet list against the stencil walk (docs/neighbour-search.md, "Verlet list"), side by side.
-    if scene.discretisation.verlet_list {
-        let mut sc = scene.clone();
-        sc.discretisation.verlet_list = false;
-        let sa = crate::run::setup::<R, D>(&sc)?;
+    if let Some(sa) = without_verlet_list::<R, D>(scene)? {
         let t =
             step::<B, R, D>(b, &sa, &format!("{label}, no Verlet list (stencil walk)"), steps, 5, None, true, None)?;
         println!("{}", row(&t, peak));
