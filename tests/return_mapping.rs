@@ -417,3 +417,101 @@ fn newton_uses_the_total_path_derivative() {
     let f = jc.flow(0.3, 1e3, 500.0);
     assert_eq!(jc.path_slope(0.3, 1e3, 500.0, 1e-8), f.d_eps + f.d_rate / 1e-8);
 }
+
+/// The flow stress a return hands on, and the plastic update's σ_y after its heating, are bit for bit
+/// `FlowStress::sigma_y` at the states they stand for (they are assembled from the parts the return already holds:
+/// Johnson–Cook's thermal factor once per return, its strength part once per result). Every model of the library,
+/// 3000 states each (a quarter elastic, ε̄ = 0 and below the strain floor included), through the return and through
+/// `plastic_particle` with plastic heating, the work sum and the friction cap's σ_y; the temperature and the work
+/// against their formulas (roethlin-solver.md §2.5 (3.122)) written with `sigma_y`.
+#[test]
+fn flow_stress_from_the_return_equals_sigma_y_bitwise() {
+    use swarf_kernels::material::{heated_temperature, plastic_heating};
+    use swarf_kernels::sph::heat::ThermalMaterial;
+    use swarf_kernels::sph::plastic::{PlasticArrays, PlasticConsts, plastic_particle};
+    use swarf_kernels::vector::{Dim2, S2f64};
+
+    fn check<M: FlowStress>(name: &str, m: &M, g: f64, rho: f64, seed: u64) -> (u32, u32) {
+        let mut rng = SplitMix64::new(seed);
+        let melt = m.melt_temperature();
+        let (mut elastic, mut heated) = (0, 0);
+        for k in 0..3000 {
+            let eps = match k % 10 {
+                0 => 0.0,
+                1 => 1e-13,
+                _ => 2.0 * rng.uniform(),
+            };
+            let rate = if rng.uniform() < 0.3 { 0.0 } else { log_uniform(&mut rng, 1e-2, 1e6) };
+            let top = if melt.is_finite() && melt < 1e4 { melt + 50.0 } else { 2000.0 };
+            let temp = 250.0 + (top - 250.0) * rng.uniform();
+            let dt = log_uniform(&mut rng, 1e-10, 1e-7);
+            let q = (0.5 + 2.5 * rng.uniform()) * m.sigma_y(eps, 0.0, temp).max(1e6);
+            let s = random_deviator(&mut rng, q, true);
+            let r = radial_return(m, &s, eps, rate, temp, g, dt, &ReturnOptions::DEFAULT);
+            let sy = m.sigma_y(r.eps, r.rate, temp);
+            assert_eq!(r.flow_stress.to_bits(), sy.to_bits(), "{name}: return's σ_y {} vs {sy}", r.flow_stress);
+            elastic += (r.status == ReturnStatus::Elastic) as u32;
+
+            // The same state through the plastic update of a sorted particle (2D: xx, xy, yy, zz).
+            let (tq, cp) = (0.9, 560.0);
+            let mut stress = S2f64([s[0], s[1], s[3], s[5]]);
+            let (mut e, mut rt, mut t, mut work, mut ys) = (eps, rate, temp, 7.0, 0.0);
+            let fl = 0u32;
+            let mat = ThermalMaterial { conductivity: 7.0, specific_heat: cp };
+            let a = PlasticArrays::<f64, S2f64> {
+                stress: &mut stress,
+                rho: &rho,
+                eps: &mut e,
+                rate: &mut rt,
+                temp: &mut t,
+                flags: &fl,
+                materials: &mat,
+                yield_stress: &mut ys,
+                work: &mut work,
+            };
+            let c = PlasticConsts { shear: g, dt, taylor_quinney: tq, _pad: 0.0 };
+            unsafe { plastic_particle::<f64, Dim2, M>(m, &c, &a, 0) };
+            let r2 = radial_return(m, &[s[0], s[1], 0.0, s[3], 0.0, s[5]], eps, rate, temp, g, dt, &Default::default());
+            assert_eq!((e.to_bits(), rt.to_bits()), (r2.eps.to_bits(), r2.rate.to_bits()), "{name}: state");
+            let sy_old_t = m.sigma_y(e, rt, temp);
+            let d_eps = e - eps;
+            let t_expect = if d_eps > 0.0 {
+                heated_temperature(temp, plastic_heating(tq, sy_old_t, d_eps, rho, cp), melt)
+            } else {
+                temp
+            };
+            assert_eq!(t.to_bits(), t_expect.to_bits(), "{name}: heated temperature {t} vs {t_expect}");
+            let w_expect = if e > eps { 7.0 + sy_old_t * (e - eps) / rho } else { 7.0 };
+            assert_eq!(work.to_bits(), w_expect.to_bits(), "{name}: work {work} vs {w_expect}");
+            let sy_new_t = m.sigma_y(e, rt, t);
+            assert_eq!(ys.to_bits(), sy_new_t.to_bits(), "{name}: σ_y after heating {ys} vs {sy_new_t}");
+            heated += (t != temp) as u32;
+        }
+        (elastic, heated)
+    }
+
+    let lib = library();
+    let mut models = 0;
+    for mat in lib.iter() {
+        let Some(model) = mat.flow_stress else { continue };
+        let g = mat.shear_modulus().unwrap_or(40e9);
+        let rho = mat.density().unwrap_or(7800.0);
+        let seed = 900 + models;
+        let (elastic, heated) = match &model {
+            FlowModel::JohnsonCook(p) => check(&mat.name, p, g, rho, seed),
+            FlowModel::Calamaz2008(p) => check(&mat.name, p, g, rho, seed),
+            FlowModel::Calamaz2010(p) => check(&mat.name, p, g, rho, seed),
+            FlowModel::Calamaz2011(p) => check(&mat.name, p, g, rho, seed),
+            FlowModel::SimaOzel1(p) => check(&mat.name, p, g, rho, seed),
+            FlowModel::SimaOzel2(p) => check(&mat.name, p, g, rho, seed),
+            FlowModel::SimaOzel3(p) => check(&mat.name, p, g, rho, seed),
+            FlowModel::Scgl(p) => check(&mat.name, p, g, rho, seed),
+            FlowModel::Bilinear(p) => check(&mat.name, p, g, rho, seed),
+        };
+        println!("{}: {elastic} of 3000 elastic, {heated} heated", mat.name);
+        // Both branches are exercised: elastic steps (σ_y reused) and heated ones (σ_y at the new temperature).
+        assert!(elastic > 100 && heated > 100, "{}: elastic {elastic}, heated {heated}", mat.name);
+        models += 1;
+    }
+    assert!(models >= 9, "{models} models");
+}

@@ -105,6 +105,25 @@ pub trait FlowStress {
         self.flow(eps, rate, temp)
     }
 
+    /// The part of σ_y that depends on ε̄ and ε̄̇ alone, for a model whose σ_y is their product with
+    /// [`FlowStress::thermal_part`] (Johnson–Cook's (A + B ε̄ⁿ)(1 + C ln ε̄̇*)); NaN for the models that do not split
+    /// (the default), which [`FlowStress::sigma_y_parts`] ignores.
+    #[inline(always)]
+    fn strength_part(&self, eps: f64, rate: f64) -> f64 {
+        let _ = (eps, rate);
+        f64::NAN
+    }
+
+    /// [`FlowStress::sigma_y`] from `strength` = [`FlowStress::strength_part`] at (ε̄, ε̄̇) and `thermal` =
+    /// [`FlowStress::thermal_part`] at T: the same result bit for bit, so that a caller that holds either part (the
+    /// return map's frozen temperature, the plastic update's σ_y before and after its heating) does not evaluate it
+    /// again. The default ignores the parts.
+    #[inline(always)]
+    fn sigma_y_parts(&self, eps: f64, rate: f64, temp: f64, strength: f64, thermal: f64) -> f64 {
+        let _ = (strength, thermal);
+        self.sigma_y(eps, rate, temp)
+    }
+
     /// ∂σ_y/∂ε̄ at fixed ε̄̇ and T [Pa]; evaluated at max(ε̄, [`STRAIN_FLOOR`]) where ε̄ⁿ is singular.
     #[inline(always)]
     fn d_sigma_d_eps(&self, eps: f64, rate: f64, temp: f64) -> f64 {
@@ -155,6 +174,18 @@ pub(crate) fn pow(x: f64, y: f64) -> f64 {
         x
     } else {
         libm::exp(y * libm::log(x))
+    }
+}
+
+/// (x^y1, x^y2) for x ≥ 0, bit for bit [`pow`]'s, with one logarithm where both need it.
+#[inline(always)]
+pub(crate) fn pow_pair(x: f64, y1: f64, y2: f64) -> (f64, f64) {
+    let general = |y: f64| y != 0.0 && y != 1.0;
+    if general(y1) && general(y2) {
+        let l = libm::log(x);
+        (libm::exp(y1 * l), libm::exp(y2 * l))
+    } else {
+        (pow(x, y1), pow(x, y2))
     }
 }
 

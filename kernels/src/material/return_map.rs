@@ -122,6 +122,13 @@ pub struct ReturnResult {
     /// derivative).
     pub iterations: u32,
     pub status: ReturnStatus,
+    /// σ_y(ε̄_new, ε̄̇_new, T) at the return's temperature, bit for bit [`FlowStress::sigma_y`]'s (an elastic step's is
+    /// the check's own σ_y(ε̄_old, 0, T)): what the plastic heating, the plastic work and the friction cap read.
+    pub flow_stress: f64,
+    /// [`FlowStress::strength_part`] at (ε̄_new, ε̄̇_new) and [`FlowStress::thermal_part`] at T (NaN for the models
+    /// that do not split), for σ_y at the same state and another temperature ([`FlowStress::sigma_y_parts`]).
+    pub strength: f64,
+    pub thermal: f64,
 }
 
 impl ReturnResult {
@@ -189,7 +196,11 @@ pub fn radial_return<M: FlowStress + ?Sized>(
     opts: &ReturnOptions,
 ) -> ReturnResult {
     let norm = deviatoric_norm(s_trial);
-    let sy0 = model.sigma_y(eps, 0.0, temp);
+    // The temperature is frozen during the return: its part of σ_y (Johnson–Cook's 1 − θᵐ) is evaluated once, for
+    // the elastic check, every iteration and the flow stress of the result.
+    let thermal = model.thermal_part(temp);
+    let strength0 = model.strength_part(eps, 0.0);
+    let sy0 = model.sigma_y_parts(eps, 0.0, temp, strength0, thermal);
     if !(SQRT_3_2 * norm > sy0) {
         return ReturnResult {
             stress: *s_trial,
@@ -198,6 +209,9 @@ pub fn radial_return<M: FlowStress + ?Sized>(
             delta_lambda: 0.0,
             iterations: 0,
             status: ReturnStatus::Elastic,
+            flow_stress: sy0,
+            strength: strength0,
+            thermal,
         };
     }
     let two_g = 2.0 * shear;
@@ -232,8 +246,6 @@ pub fn radial_return<M: FlowStress + ?Sized>(
         // The trial exceeds σ_y only by rounding: nothing to return.
         x = 0.0;
     }
-    // The temperature is frozen during the return: its part of σ_y (Johnson–Cook's 1 − θᵐ) is evaluated once.
-    let thermal = model.thermal_part(temp);
     // Steps of the last two iterations (rtsafe's dx, dxold).
     let mut step_old = lam_max;
     let mut step_last = lam_max;
@@ -296,12 +308,17 @@ pub fn radial_return<M: FlowStress + ?Sized>(
 
     let factor = 1.0 - two_g * x / norm;
     let [xx, xy, xz, yy, yz, zz] = *s_trial;
+    let (eps_new, rate_new) = (eps + SQRT_2_3 * x, SQRT_2_3 * x / dt);
+    let strength = model.strength_part(eps_new, rate_new);
     ReturnResult {
         stress: [xx * factor, xy * factor, xz * factor, yy * factor, yz * factor, zz * factor],
-        eps: eps + SQRT_2_3 * x,
-        rate: SQRT_2_3 * x / dt,
+        eps: eps_new,
+        rate: rate_new,
         delta_lambda: x,
         iterations,
         status: if converged { ReturnStatus::Converged } else { ReturnStatus::Capped },
+        flow_stress: model.sigma_y_parts(eps_new, rate_new, temp, strength, thermal),
+        strength,
+        thermal,
     }
 }

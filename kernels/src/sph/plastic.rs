@@ -5,7 +5,9 @@
 use super::heat::ThermalMaterial;
 use super::params::flags;
 use super::tensor::TensorOps;
-use crate::material::{FlowStress, ReturnOptions, ReturnStatus, heated_temperature, plastic_heating, radial_return};
+use crate::material::{
+    FlowStress, ReturnOptions, ReturnResult, ReturnStatus, heated_temperature, plastic_heating, radial_return,
+};
 use crate::real::Real;
 use crate::vector::SymTensor;
 
@@ -62,7 +64,7 @@ fn from6<R: Real, S: SymTensor<R>>(v: &[f64; 6], s: &mut S) {
 }
 
 /// The plastic update of one particle. `cp` is the specific heat of its material (unused when t_q = 0).
-/// Returns the solver's iteration count (0 for an elastic step).
+/// Returns the return's result (its flow stress at the temperature before the heating).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub fn plastic_update<R: Real, D: TensorOps<R>, M: FlowStress>(
@@ -75,23 +77,23 @@ pub fn plastic_update<R: Real, D: TensorOps<R>, M: FlowStress>(
     rho: R,
     fl: u32,
     cp: f64,
-) -> u32 {
+) -> ReturnResult {
     let r = radial_return(model, &to6::<R, _>(s), *eps, *rate, *temp, c.shear, c.dt, &ReturnOptions::DEFAULT);
     let d_eps = r.eps - *eps;
     if r.status != ReturnStatus::Elastic {
         from6::<R, _>(&r.stress, s);
     }
     if c.taylor_quinney > 0.0 && d_eps > 0.0 && fl & flags::FIXED_TEMPERATURE == 0 {
-        let sy = model.sigma_y(r.eps, r.rate, *temp);
+        // σ_y(ε̄_new, ε̄̇_new, T) before the heating: the return's own flow stress.
         *temp = heated_temperature(
             *temp,
-            plastic_heating(c.taylor_quinney, sy, d_eps, rho.to_f64(), cp),
+            plastic_heating(c.taylor_quinney, r.flow_stress, d_eps, rho.to_f64(), cp),
             model.melt_temperature(),
         );
     }
     *eps = r.eps;
     *rate = r.rate;
-    r.iterations
+    r
 }
 
 /// Per-particle arrays of the plastic pass (sorted order).
@@ -132,16 +134,23 @@ pub unsafe fn plastic_particle<R: Real, D: TensorOps<R>, M: FlowStress>(
         let (e0, t0) = (*a.eps.add(i), *a.temp.add(i));
         let (mut e, mut r, mut t) = (e0, *a.rate.add(i), t0);
         let rho = *a.rho.add(i);
-        plastic_update::<R, D, M>(model, c, &mut *a.stress.add(i), &mut e, &mut r, &mut t, rho, fl, cp);
+        let ret = plastic_update::<R, D, M>(model, c, &mut *a.stress.add(i), &mut e, &mut r, &mut t, rho, fl, cp);
         if !a.work.is_null() && e > e0 {
-            // The dissipation of the step, σ_y Δε̄ per unit volume, at the flow stress the plastic heating uses.
-            *a.work.add(i) += model.sigma_y(e, r, t0) * (e - e0) / rho.to_f64();
+            // The dissipation of the step, σ_y Δε̄ per unit volume, at the flow stress the plastic heating uses
+            // (σ_y(ε̄_new, ε̄̇_new, T_old), the return's).
+            *a.work.add(i) += ret.flow_stress * (e - e0) / rho.to_f64();
         }
         *a.eps.add(i) = e;
         *a.rate.add(i) = r;
         *a.temp.add(i) = t;
         if !a.yield_stress.is_null() {
-            *a.yield_stress.add(i) = model.sigma_y(e, r, t);
+            // σ_y(ε̄_new, ε̄̇_new, T_new): the return's where the temperature did not change (every elastic step),
+            // else its strength part at the new thermal part (the same bits as evaluating σ_y whole).
+            *a.yield_stress.add(i) = if t.to_bits() == t0.to_bits() {
+                ret.flow_stress
+            } else {
+                model.sigma_y_parts(e, r, t, ret.strength, model.thermal_part(t))
+            };
         }
     }
 }
