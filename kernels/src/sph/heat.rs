@@ -13,6 +13,7 @@
 
 use super::kernel::CubicSpline;
 use super::lanes::{all_lanes, lane_share};
+use crate::load::read;
 use crate::neighbour::Neighbours;
 use crate::real::Real;
 use crate::vector::Vector;
@@ -114,6 +115,31 @@ pub(crate) unsafe fn heat_own<R: Real, V: Vector<R>>(a: &HeatArrays<R, V>, i: u3
     }
 }
 
+/// What a conduction term reads of neighbour j: its body index, temperature and volume, loaded together
+/// (`interact::Partner` says why).
+#[derive(Clone, Copy)]
+pub struct HeatPartner {
+    body: u32,
+    t: f64,
+    vol: f64,
+}
+
+/// # Safety
+/// `j` is in range of the arrays.
+#[inline(always)]
+pub(crate) unsafe fn heat_partner<R: Real, V: Vector<R>>(a: &HeatArrays<R, V>, j: u32) -> HeatPartner {
+    use super::params::flags;
+    let ju = j as usize;
+    unsafe {
+        // `load::read`: ahead of the pair's branches (`interact::Partner`).
+        HeatPartner {
+            body: read(a.flags.add(ju)) >> flags::BODY_SHIFT,
+            t: read(a.temp.add(ju)),
+            vol: read(a.vol.add(ju)).to_f64(),
+        }
+    }
+}
+
 /// The term of pair (i, j) (0 for j = i or beyond the cutoff).
 #[inline(always)]
 pub(crate) unsafe fn heat_pair<R: Real, V: Vector<R>, const PSE: bool>(
@@ -126,57 +152,51 @@ pub(crate) unsafe fn heat_pair<R: Real, V: Vector<R>, const PSE: bool>(
 ) -> f64 {
     let cut2 = if PSE { R::from_f64(hp.pse_cut2) } else { k.support2 };
     let ju = j as usize;
-    unsafe {
-        let r2 = o.x.dist2(&*a.pos.add(ju));
-        if j == i || r2 >= cut2 || r2 < R::from_f64(hp.min_r2) {
-            return 0.0;
-        }
-        if PSE {
-            let (kij, vj, tj) = conductance(a, o, j);
-            let r2f = r2.to_f64();
-            vj * kij * (tj - o.t) * hp.pse_norm * libm::exp(-r2f * hp.inv_h2)
-        } else {
-            let r = r2.sqrt();
-            // The same W'(r)/r as the fused pass's geometry (`interact::geometry`), so both agree bit for bit.
-            brookshaw_term(a, o, j, k.dw_dr_over_r(r).to_f64())
-        }
+    let (xj, q) = unsafe { (*a.pos.add(ju), heat_partner(a, j)) };
+    let r2 = o.x.dist2(&xj);
+    if j == i || r2 >= cut2 || r2 < R::from_f64(hp.min_r2) {
+        return 0.0;
+    }
+    if PSE {
+        let (kij, vj, tj) = unsafe { conductance(a, o, &q) };
+        let r2f = r2.to_f64();
+        vj * kij * (tj - o.t) * hp.pse_norm * libm::exp(-r2f * hp.inv_h2)
+    } else {
+        let r = r2.sqrt();
+        // The same W'(r)/r as the fused pass's geometry (`interact::geometry`), so both agree bit for bit.
+        brookshaw_term(a, o, &q, k.dw_dr_over_r(r).to_f64())
     }
 }
 
-/// The Brookshaw term V_j k_ij 2 (T_i − T_j) W'(r)/r of pair (i, j) within the support, with `dw` = W'(r)/r
-/// (shared with the momentum term in the fused pass).
-///
-/// # Safety
-/// As [`heat_sum`]; `j` is in range.
+/// The Brookshaw term V_j k_ij 2 (T_i − T_j) W'(r)/r of pair (i, j) within the support, with j's data `q` and
+/// `dw` = W'(r)/r (shared with the momentum term in the fused pass).
 #[inline(always)]
-pub(crate) unsafe fn brookshaw_term<R: Real, V: Vector<R>>(
+pub(crate) fn brookshaw_term<R: Real, V: Vector<R>>(
     a: &HeatArrays<R, V>,
     o: &HeatOwn<V>,
-    j: u32,
+    q: &HeatPartner,
     dw: f64,
 ) -> f64 {
-    let (kij, vj, tj) = unsafe { conductance(a, o, j) };
+    // SAFETY: the body index of a particle's flags has a material (`heat_sum`'s contract).
+    let (kij, vj, tj) = unsafe { conductance(a, o, q) };
     vj * kij * 2.0 * (o.t - tj) * dw
 }
 
 /// k_ij, V_j and T_j of pair (i, j).
+///
+/// # Safety
+/// `materials` covers j's body index.
 #[inline(always)]
-unsafe fn conductance<R: Real, V: Vector<R>>(a: &HeatArrays<R, V>, o: &HeatOwn<V>, j: u32) -> (f64, f64, f64) {
-    use super::params::flags;
-    let ju = j as usize;
-    unsafe {
-        let mi = o.material;
-        let bj = *a.flags.add(ju) >> flags::BODY_SHIFT;
-        // One material: k_ij = k exactly (the harmonic mean would round it), without the second table load.
-        let kij = if bj == o.body {
-            mi.conductivity
-        } else {
-            let mj = *a.materials.add(bj as usize);
-            2.0 * mi.conductivity * mj.conductivity / (mi.conductivity + mj.conductivity)
-        };
-        let vj = (*a.vol.add(ju)).to_f64();
-        (kij, vj, *a.temp.add(ju))
-    }
+unsafe fn conductance<R: Real, V: Vector<R>>(a: &HeatArrays<R, V>, o: &HeatOwn<V>, q: &HeatPartner) -> (f64, f64, f64) {
+    let mi = o.material;
+    // One material: k_ij = k exactly (the harmonic mean would round it), without the second table load.
+    let kij = if q.body == o.body {
+        mi.conductivity
+    } else {
+        let mj = unsafe { *a.materials.add(q.body as usize) };
+        2.0 * mi.conductivity * mj.conductivity / (mi.conductivity + mj.conductivity)
+    };
+    (kij, q.vol, q.t)
 }
 
 /// Ṫ_i from the combined conduction sum: Σ / (ρ_i c_i); 0 for a particle with a fixed temperature.

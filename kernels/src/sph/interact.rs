@@ -15,10 +15,11 @@
 //! Divisions are costly in f64 on the GPU, so the pair term avoids them: V_j comes from the pre-pass, 1/ρ̄ is
 //! taken once per pair (for Π and XSPH) and W'(r)/r divides only on 1 ≤ q < 2 (`CubicSpline::dw_dr_over_r`).
 
-use super::heat::{HeatArrays, HeatParams, brookshaw_term, heat_finish, heat_own};
+use super::heat::{HeatArrays, HeatParams, brookshaw_term, heat_finish, heat_own, heat_partner};
 use super::lanes::{LaneSum, all_lanes, lane_share, map_real, map_vector};
 use super::params::{SphParams, flags};
 use super::tensor::TensorOps;
+use crate::load::read;
 use crate::neighbour::Neighbours;
 use crate::real::Real;
 use crate::vector::{Dim, Vector};
@@ -198,6 +199,66 @@ unsafe fn own<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool>(a: &Arra
     }
 }
 
+/// What the pair terms read of neighbour j. Loaded together at the head of each pair, before any branch: loads
+/// under a branch wait for the condition, so reading each field where it is first needed (position → support
+/// test → mass → velocity and density → artificial stress → sound speed → σ/ρ²) put one memory latency per
+/// dependent branch on every pair's path; loaded together they share one.
+#[derive(Clone, Copy)]
+struct Partner<R: Real, D: TensorOps<R>> {
+    x: D::Vec<R>,
+    v: D::Vec<R>,
+    /// Mechanical mass (zero for the tool's thermal-only particles).
+    m: R,
+    rho: R,
+    /// V = m/ρ of the pre-pass (full mass).
+    vol: R,
+    /// Sound speed (zero without the viscosity).
+    c: R,
+    sig: D::Sym<R>,
+    /// Artificial stress (zero without it).
+    art: D::Sym<R>,
+}
+
+#[inline(always)]
+unsafe fn partner<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool>(a: &Arrays<R, D>, j: u32) -> Partner<R, D> {
+    let ju = j as usize;
+    // `load::read`: the loads stay here, ahead of the branches (LLVM would sink them into the blocks that use them).
+    unsafe {
+        Partner {
+            x: read(a.pos.add(ju)),
+            v: read(a.vel.add(ju)),
+            m: read(a.mass.add(ju)),
+            rho: read(a.rho.add(ju)),
+            vol: read(a.vol.add(ju)),
+            c: if AV { read(a.sound.add(ju)) } else { R::ZERO },
+            sig: read(a.sig.add(ju)),
+            art: if AS { read(a.art.add(ju)) } else { Default::default() },
+        }
+    }
+}
+
+/// The constants a pair term reads (the kernel's, the skip distance, the stabilisers' as switched on; the rest
+/// zero), loaded at the head of the pair with its partner's data: read where first needed, each was one more link
+/// of the pair's chain of dependent loads (`Partner`).
+///
+/// # Safety
+/// `p` points to the run's parameter block.
+#[inline(always)]
+unsafe fn pair_params<R: Real, const AV: bool, const AS: bool>(p: &SphParams<R>) -> SphParams<R> {
+    unsafe {
+        SphParams {
+            kernel: read(&p.kernel),
+            min_r2: read(&p.min_r2),
+            as_inv_w_dx: if AS { read(&p.as_inv_w_dx) } else { R::ZERO },
+            as_exponent: if AS { read(&p.as_exponent) } else { 0 },
+            av_eta2h2: if AV { read(&p.av_eta2h2) } else { R::ZERO },
+            av_alpha: if AV { read(&p.av_alpha) } else { R::ZERO },
+            av_beta: if AV { read(&p.av_beta) } else { R::ZERO },
+            ..Default::default()
+        }
+    }
+}
+
 /// The geometry of a pair within the support: x_ij, r², r and W'(r)/r (∇W_ij = W'(r)/r x_ij), computed once for the
 /// momentum and the conduction terms of the fused pass.
 #[derive(Clone, Copy)]
@@ -208,17 +269,17 @@ struct Geometry<R: Real, V: Vector<R>> {
     dw: R,
 }
 
-/// The geometry of pair (i, j); None for j = i, beyond the support or closer than the skip distance.
+/// The geometry of pair (i, j) with j at `xj`; None for j = i, beyond the support or closer than the skip distance.
 #[inline(always)]
-unsafe fn geometry<R: Real, D: TensorOps<R>>(
+fn geometry<R: Real, D: TensorOps<R>>(
     p: &SphParams<R>,
-    a: &Arrays<R, D>,
     o: &Own<R, D>,
     i: u32,
     j: u32,
+    xj: &D::Vec<R>,
 ) -> Option<Geometry<R, D::Vec<R>>> {
     let k = &p.kernel;
-    let xij = sub(&o.x, unsafe { &*a.pos.add(j as usize) });
+    let xij = sub(&o.x, xj);
     let r2 = dot(&xij, &xij);
     if j == i || r2 >= k.support2 || r2 < p.min_r2 {
         return None;
@@ -238,20 +299,19 @@ unsafe fn add_pair<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, con
     j: u32,
     sums: &mut PairSums<R, D>,
 ) {
-    unsafe {
-        if let Some(g) = geometry(p, a, o, i, j) {
-            pair_term::<R, D, AV, AS, XSPH>(p, a, o, j, &g, sums)
-        }
+    let (q, p) = unsafe { (partner::<R, D, AV, AS>(a, j), pair_params::<R, AV, AS>(p)) };
+    if let Some(g) = geometry(&p, o, i, j, &q.x) {
+        pair_term::<R, D, AV, AS, XSPH>(&p, o, &q, &g, sums)
     }
 }
 
-/// The momentum, velocity-gradient, XSPH and dissipation terms of pair (i, j) with its geometry `g`.
+/// The momentum, velocity-gradient, XSPH and dissipation terms of pair (i, j) with j's data `q` and the pair's
+/// geometry `g`.
 #[inline(always)]
-unsafe fn pair_term<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool>(
+fn pair_term<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool>(
     p: &SphParams<R>,
-    a: &Arrays<R, D>,
     o: &Own<R, D>,
-    j: u32,
+    q: &Partner<R, D>,
     g: &Geometry<R, D::Vec<R>>,
     sums: &mut PairSums<R, D>,
 ) {
@@ -259,20 +319,19 @@ unsafe fn pair_term<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, co
     let k = &p.kernel;
     let half = R::from_f64(0.5);
     let (xij, r2, r) = (g.xij, g.r2, g.r);
-    unsafe {
-        let ju = j as usize;
+    {
         let gw = {
             let f = g.dw;
             D::Vec::<R>::new([f * xij.get(0), f * xij.get(1), f * xij.get(2)])
         };
-        let mj = *a.mass.add(ju);
+        let mj = q.m;
         if mj == R::ZERO {
             return;
         }
-        let (vj, rhoj) = (*a.vel.add(ju), *a.rho.add(ju));
+        let (vj, rhoj) = (q.v, q.rho);
         let dv = sub(&vj, &vi);
         // V_j of the pre-pass: m_j/ρ_j with the full mass, which equals the mechanical m_j here (m_j ≠ 0).
-        D::outer_add(&mut sums.l, *a.vol.add(ju), &dv, &gw);
+        D::outer_add(&mut sums.l, q.vol, &dv, &gw);
         let w = if AS || XSPH { k.w(r) } else { R::ZERO };
         let fan = if AS {
             let f = w * p.as_inv_w_dx;
@@ -286,7 +345,7 @@ unsafe fn pair_term<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, co
         } else {
             R::ZERO
         };
-        let artj = if AS { *a.art.add(ju) } else { Default::default() };
+        let artj = q.art;
         let rho_bar = half * (rhoi + rhoj);
         // One division for Π and the XSPH weight.
         let inv_rb = if AV || XSPH { R::ONE / rho_bar } else { R::ZERO };
@@ -294,7 +353,7 @@ unsafe fn pair_term<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, co
             let vx = -dot(&dv, &xij); // v_ij · x_ij with v_ij = v_i − v_j
             if vx < R::ZERO {
                 let mu = k.h * vx / (r2 + p.av_eta2h2);
-                let c_bar = half * (ci + *a.sound.add(ju));
+                let c_bar = half * (ci + q.c);
                 mu * (-p.av_alpha * c_bar + p.av_beta * mu) * inv_rb
             } else {
                 R::ZERO
@@ -306,7 +365,7 @@ unsafe fn pair_term<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, co
             // v_ij·∇W with v_ij = v_i − v_j = −dv: the energy the viscous pair force takes out of the motion.
             sums.dissipation -= half * mj * pi * dot(&dv, &gw);
         }
-        let f = D::pair_force(&sigi, &*a.sig.add(ju), fan, &arti, &artj, pi, &gw);
+        let f = D::pair_force(&sigi, &q.sig, fan, &arti, &artj, pi, &gw);
         axpy(&mut sums.acc, mj, &f);
         if XSPH {
             axpy(&mut sums.xsph, mj * inv_rb * w, &dv);
@@ -404,17 +463,18 @@ unsafe fn heat_and_pair<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool
     j: u32,
     s: &mut HeatPairSums<R, D>,
 ) {
-    unsafe {
-        // One geometry for both terms (the separate passes compute the same r², r and W'(r)/r, bit for bit).
-        let Some(g) = geometry(p, a, o, i, j) else { return };
-        if let Some(ho) = ho
-            && g.r2 >= R::from_f64(hp.min_r2)
-        {
-            s.heat += brookshaw_term(h, ho, j, g.dw.to_f64());
-        }
-        if o.mech {
-            pair_term::<R, D, AV, AS, XSPH>(p, a, o, j, &g, &mut s.mech);
-        }
+    // Both partners' data first (`Partner`); one geometry for both terms (the separate passes compute the same
+    // r², r and W'(r)/r, bit for bit).
+    let (q, hq, p, heat_min_r2) =
+        unsafe { (partner::<R, D, AV, AS>(a, j), heat_partner(h, j), pair_params::<R, AV, AS>(p), read(&hp.min_r2)) };
+    let Some(g) = geometry(&p, o, i, j, &q.x) else { return };
+    if let Some(ho) = ho
+        && g.r2 >= R::from_f64(heat_min_r2)
+    {
+        s.heat += brookshaw_term(h, ho, &hq, g.dw.to_f64());
+    }
+    if o.mech {
+        pair_term::<R, D, AV, AS, XSPH>(&p, o, &q, &g, &mut s.mech);
     }
 }
 
