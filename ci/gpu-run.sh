@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# whole150k bg150k wait150k ncu cutsteps fromcut refcut f32fail abfrom
+# whole150k bg150k wait150k ncu cutsteps fromcut refcut f32fail abfrom abstep abregs
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -251,12 +251,13 @@ gpu__time_duration.sum,sm__sass_thread_inst_executed_op_dfma_pred_on.sum,sm__sas
                      done
                  }
                  run fromcut fromcut ;;
-        abfrom) # issue 7: this build against the previous one (gpu-pack/swarf-old, when packed) on the same
+        abfrom) # issue 7: this build against earlier ones (gpu-pack/swarf-old, swarf-<name>, when packed) on the same
                 # checkpoints, alternating (new, old, new, old), so that the difference shows beside the run-to-run noise
                 abfrom() {
                     local dirs; dirs=$(from_dirs) || return 1
+                    local others; others=$(cd "$here" && ls swarf-* 2>/dev/null | grep -v '\.gz$')
                     for round in 1 2; do
-                        for b in swarf swarf-old; do
+                        for b in swarf $others; do
                             [ -x "$here/$b" ] || continue
                             echo "== $b, round $round"
                             "$here/$b" --backend gpu bench step --from "$dirs" --step-count 2048 || return 1
@@ -264,6 +265,43 @@ gpu__time_duration.sum,sm__sass_thread_inst_executed_op_dfma_pred_on.sum,sm__sas
                     done
                 }
                 run abfrom abfrom ;;
+        abstep) # issue 7: as abfrom (one round), the reference cuts at t = 0 in both precisions (the f32 pair rate)
+                abstep() {
+                    local others; others=$(cd "$here" && ls swarf-* 2>/dev/null | grep -v '\.gz$')
+                    for round in 1; do
+                        for b in swarf $others; do
+                            echo "== $b, round $round"
+                            "$here/$b" --backend gpu bench step --precision both --step-count 2048 \
+                                --scenes cases/cutting/reference-cut.toml,cases/cutting/reference-cut-150k.toml || return 1
+                        done
+                    done
+                }
+                run abstep abstep ;;
+        abregs) # issue 7: register caps of the neighbour kernels (SWARF_MAXNREG) on the checkpoints, alternating with
+                # the uncapped build and gpu-pack/swarf-mid; then the 150k f32 interaction at t = 0 capped and not
+                abregs() {
+                    local dirs; dirs=$(from_dirs) || return 1
+                    for v in 128 96 80; do
+                        echo "== SWARF_MAXNREG=$v"; SWARF_MAXNREG=$v "$here/swarf" --backend gpu info --kernels | grep -E 'rates|heat_'
+                    done
+                    for round in 1 2; do
+                        for v in none 128 96 80; do
+                            echo "== swarf, SWARF_MAXNREG=$v, round $round"
+                            env $([ $v = none ] || echo SWARF_MAXNREG=$v) "$here/swarf" --backend gpu bench step \
+                                --from "$dirs" --step-count 2048 || return 1
+                        done
+                        if [ -x "$here/swarf-mid" ]; then
+                            echo "== swarf-mid, round $round"
+                            "$here/swarf-mid" --backend gpu bench step --from "$dirs" --step-count 2048 || return 1
+                        fi
+                    done
+                    for v in none 80 64; do
+                        echo "== swarf f32 150k t = 0, SWARF_MAXNREG=$v"
+                        env $([ $v = none ] || echo SWARF_MAXNREG=$v) "$here/swarf" --backend gpu bench step \
+                            --precision f32 --step-count 2048 --scenes cases/cutting/reference-cut-150k.toml || return 1
+                    done
+                }
+                run abregs abregs ;;
         refcut) # issue 7: the whole 6k reference cut (1 mm) in f64 and f32, wall time against the original's 201 / 182 s
                 refcut() {
                     cut reference-cut-f64 cases/cutting/reference-cut.toml \

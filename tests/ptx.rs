@@ -72,3 +72,30 @@ fn register_cap_marks_exactly_the_neighbour_kernels() {
         assert_eq!(capped.matches(".maxnreg").count(), marked, "{target}: a directive outside an entry's head");
     }
 }
+
+/// The caps the CUDA backend loads by default (host/backend/cuda.rs `register_caps`): `.maxnreg 128` on the 2D
+/// neighbour kernels (the interaction, fused or not, and the conduction passes) and on the plastic corrector, none
+/// on the 3D neighbour kernels or any other entry; `SWARF_MAXNREG=0` and `SWARF_PLASTIC_MAXNREG=0` remove them.
+#[test]
+fn default_register_caps_mark_the_2d_neighbour_kernels_and_the_plastic_corrector() {
+    use swarf::backend::cuda::register_caps;
+    for (target, ptx) in swarf::ptx::PTX {
+        let capped = register_caps(ptx, None, None);
+        let (mut neighbour_2d, mut plastic) = (0, 0);
+        for body in capped.split(".visible .entry ").skip(1) {
+            let name = body.split('(').next().unwrap_or("?").trim();
+            let is_2d_neighbour =
+                (name.starts_with("swarf_sph_rates_") || name.starts_with("swarf_heat_")) && name.contains("_2d_");
+            let is_plastic = name.starts_with("swarf_step_finish_") || name.starts_with("swarf_plastic_");
+            let params_end = body.find("\n)\n").map(|e| e + 3).expect("parameter list");
+            let has = body[params_end..].starts_with(".maxnreg 128\n");
+            assert_eq!(has, is_2d_neighbour || is_plastic, "{target}: {name}: .maxnreg 128 {has}");
+            neighbour_2d += (has && is_2d_neighbour) as usize;
+            plastic += (has && is_plastic) as usize;
+        }
+        // 2 precisions × (8 plain + 8 fused stabiliser variants) + Brookshaw and PSE conduction in 2 precisions.
+        assert_eq!(neighbour_2d, 36, "{target}: 2D neighbour entries capped");
+        assert!(plastic >= 4, "{target}: only {plastic} plastic entries capped");
+        assert_eq!(register_caps(ptx, Some(0), Some(0)), *ptx, "{target}: caps 0 must leave the PTX as built");
+    }
+}

@@ -280,15 +280,8 @@ impl CudaBackend {
                 crate::ptx::targets()
             ))
         })?;
-        let mut ptx = match std::env::var("SWARF_MAXNREG").ok().and_then(|v| v.parse::<u32>().ok()) {
-            Some(cap) => cap_registers(ptx, &NEIGHBOUR_KERNELS, cap),
-            None => ptx.to_string(),
-        };
-        let plastic_cap =
-            std::env::var("SWARF_PLASTIC_MAXNREG").ok().and_then(|v| v.parse::<u32>().ok()).unwrap_or(PLASTIC_MAXNREG);
-        if plastic_cap > 0 {
-            ptx = cap_registers(&ptx, &PLASTIC_KERNELS, plastic_cap);
-        }
+        let env = |k: &str| std::env::var(k).ok().and_then(|v| v.parse::<u32>().ok());
+        let ptx = register_caps(ptx, env("SWARF_MAXNREG"), env("SWARF_PLASTIC_MAXNREG"));
         let module = ctx.load_module(cudarc::nvrtc::Ptx::from_src(ptx)).map_err(cuda("loading the PTX module"))?;
         let f = |name: &str| module.load_function(name).map_err(cuda("loading a kernel"));
         let v = |base: &str, suffix: &str| -> Result<Variants> {
@@ -467,6 +460,18 @@ impl ArgList {
 /// The entry points that walk the neighbours (register-heavy, latency-bound): the ones `SWARF_MAXNREG` caps.
 const NEIGHBOUR_KERNELS: [&str; 2] = ["swarf_sph_rates_", "swarf_heat_"];
 
+/// The 2D entry points of [`NEIGHBOUR_KERNELS`] (their names carry the dimension after the prefix), capped at
+/// [`NEIGHBOUR_MAXNREG`] by default.
+const NEIGHBOUR_KERNELS_2D: [&str; 4] =
+    ["swarf_sph_rates_2d_", "swarf_sph_rates_heat_2d_", "swarf_heat_brookshaw_2d_", "swarf_heat_pse_2d_"];
+
+/// Registers per thread for [`NEIGHBOUR_KERNELS_2D`]: with the pair's data loaded at its head (`load::read`) the
+/// fused 2D f64 interaction needs 142, one block of 256 threads per multiprocessor; 128 allow two (16 bytes of
+/// spill) and save 21–26 % of the 150k reference cut's step (docs/performance.md, "Loads at the head of the pair").
+/// The 3D kernels (up to 202 registers) are not capped by default. `SWARF_MAXNREG=N` caps every neighbour kernel
+/// at N instead, 0 none.
+const NEIGHBOUR_MAXNREG: u32 = 128;
+
 /// The entry points of the corrector with the plastic update (and the plastic pass alone): the return mapping's
 /// f64 transcendentals need 132 registers uncapped, one block of 256 threads per multiprocessor (12 % occupancy);
 /// [`PLASTIC_MAXNREG`] of them allow two. `SWARF_PLASTIC_MAXNREG` overrides it (0: no cap), for the benchmarks.
@@ -474,6 +479,21 @@ const PLASTIC_KERNELS: [&str; 2] = ["swarf_step_finish_", "swarf_plastic_"];
 
 /// Registers per thread for [`PLASTIC_KERNELS`]: 65 536 / (2 × 256).
 const PLASTIC_MAXNREG: u32 = 128;
+
+/// `ptx` with the register caps the CUDA backend loads: the neighbour kernels at `neighbour` (`SWARF_MAXNREG`;
+/// None: the 2D ones at [`NEIGHBOUR_MAXNREG`]; 0: none), the plastic corrector at `plastic`
+/// (`SWARF_PLASTIC_MAXNREG`; None: [`PLASTIC_MAXNREG`]; 0: none).
+pub fn register_caps(ptx: &str, neighbour: Option<u32>, plastic: Option<u32>) -> String {
+    let ptx = match neighbour {
+        Some(0) => ptx.to_string(),
+        Some(cap) => cap_registers(ptx, &NEIGHBOUR_KERNELS, cap),
+        None => cap_registers(ptx, &NEIGHBOUR_KERNELS_2D, NEIGHBOUR_MAXNREG),
+    };
+    match plastic.unwrap_or(PLASTIC_MAXNREG) {
+        0 => ptx,
+        cap => cap_registers(&ptx, &PLASTIC_KERNELS, cap),
+    }
+}
 
 /// `ptx` with a `.maxnreg cap` directive on every entry whose name starts with one of `prefixes` (PTX ISA
 /// "Performance-tuning directives": between the parameter list and the body). Fewer registers allow more
