@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# whole150k bg150k wait150k ncu cutsteps fromcut refcut f32fail abfrom abstep abregs
+# whole150k bg150k wait150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abregs abblock
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -245,7 +245,7 @@ gpu__time_duration.sum,sm__sass_thread_inst_executed_op_dfma_pred_on.sum,sm__sas
                      local dirs; dirs=$(from_dirs) || return 1
                      "$here/swarf" --backend gpu bench step --from "$dirs"
                      # Register caps side by side on the same states: the plastic corrector uncapped (its default
-                     # is 128), the neighbour kernels capped at 80 and 64 (default: uncapped).
+                     # is 128), the neighbour kernels capped at 80 and 64 (default: 128 on the 2D ones).
                      for v in SWARF_PLASTIC_MAXNREG=0 SWARF_MAXNREG=80 SWARF_MAXNREG=64; do
                          echo "== $v"; env "$v" "$here/swarf" --backend gpu bench step --from "$dirs"
                      done
@@ -302,6 +302,27 @@ gpu__time_duration.sum,sm__sass_thread_inst_executed_op_dfma_pred_on.sum,sm__sas
                     done
                 }
                 run abregs abregs ;;
+        abblock) # issue 7: block sizes of the neighbour passes and the plastic corrector (SWARF_PAIR_BLOCK,
+                 # SWARF_PLASTIC_BLOCK) on the checkpoints, alternating with the default (256)
+                 abblock() {
+                     local dirs; dirs=$(from_dirs) || return 1
+                     for round in 1 2; do
+                         for v in default 128/256 256/128 128/128 64/64; do
+                             echo "== blocks (pair/plastic) $v, round $round"
+                             env $([ $v = default ] || echo SWARF_PAIR_BLOCK=${v%/*} SWARF_PLASTIC_BLOCK=${v#*/}) \
+                                 "$here/swarf" --backend gpu bench step --from "$dirs" --step-count 2048 || return 1
+                         done
+                     done
+                 }
+                 run abblock abblock ;;
+        ncufrom) # issue 7: the hardware counters of one launch of the interaction inside the 150k cut (checkpoint)
+                 ncufrom() {
+                     local dirs; dirs=$(from_dirs) || return 1
+                     ncu --kernel-name regex:swarf_sph_rates --launch-count 1 --metrics \
+gpu__time_duration.sum,sm__sass_thread_inst_executed_op_dfma_pred_on.sum,sm__sass_thread_inst_executed_op_dmul_pred_on.sum,sm__sass_thread_inst_executed_op_dadd_pred_on.sum,sm__sass_thread_inst_executed_op_ffma_pred_on.sum,sm__sass_thread_inst_executed_op_fmul_pred_on.sum,sm__sass_thread_inst_executed_op_fadd_pred_on.sum,dram__bytes_read.sum,dram__bytes_write.sum,lts__t_bytes.sum,l1tex__t_bytes.sum,sm__warps_active.avg.pct_of_peak_sustained_active,sm__inst_executed_pipe_fp64.avg.pct_of_peak_sustained_active,sm__throughput.avg.pct_of_peak_sustained_elapsed,smsp__inst_executed.sum,smsp__thread_inst_executed_per_inst_executed.ratio \
+                         "$here/swarf" --backend gpu bench step --from "${dirs#*,}" --step-count 32
+                 }
+                 run ncufrom ncufrom ;;
         refcut) # issue 7: the whole 6k reference cut (1 mm) in f64 and f32, wall time against the original's 201 / 182 s
                 refcut() {
                     cut reference-cut-f64 cases/cutting/reference-cut.toml \

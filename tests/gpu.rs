@@ -566,6 +566,45 @@ fn cutting_force_trace_equals_cpu() {
     }
 }
 
+/// Issue 7 on the GPU: the block size of the neighbour passes and of the plastic corrector (`SWARF_PAIR_BLOCK`,
+/// `SWARF_PLASTIC_BLOCK`) changes no bit: the thermal reference cut (plastic flow, contact, fused conduction; its
+/// 7 069 particles take eight lanes each, a group always within one warp) ends in the same state with blocks of
+/// 256 (the default), 128, 96 and 64; sizes that are not whole warps are refused.
+#[test]
+fn block_sizes_change_no_bit() {
+    let Some(mut g) = gpu() else { return };
+    use swarf::backend::AnyBackend;
+    use swarf::run::{RunOptions, Snapshot, run_observed};
+    use swarf::scene::Scene;
+    for bad in [0, 16, 100, 2048] {
+        assert!(g.set_blocks(bad, 256).is_err() && g.set_blocks(256, bad).is_err(), "block {bad} accepted");
+    }
+    let file = "cases/cutting/reference-cut.toml";
+    let ov: Vec<String> = vec!["time.end=6.0e-6".into(), "output.every=3.0e-6".into()];
+    let scene = Scene::load(file, &ov).expect("scene");
+    let mut finals: Vec<(u32, u32, Vec<u64>)> = Vec::new();
+    for (pair, plastic) in [(256, 256), (128, 128), (96, 64), (64, 96)] {
+        let mut b = gpu().expect("GPU");
+        b.set_blocks(pair, plastic).expect("block sizes");
+        let any = AnyBackend::Cuda(Box::new(b));
+        let dir = std::env::temp_dir().join(format!("swarf-gpu-blocks-{pair}-{plastic}-{}", std::process::id()));
+        let opts = RunOptions { overrides: ov.clone(), ..RunOptions::quiet(dir) };
+        let mut last = Vec::new();
+        let mut obs = |s: &Snapshot| {
+            last = s.pos.iter().chain(&s.vel).flat_map(|p| p.map(f64::to_bits)).collect::<Vec<u64>>();
+            last.extend(s.temperature.unwrap_or(&[]).iter().map(|x| x.to_bits()));
+            true
+        };
+        run_observed(&any, &scene, &opts, Some(&mut obs)).expect("cut");
+        assert!(!last.is_empty(), "no snapshot");
+        finals.push((pair, plastic, last));
+    }
+    for (pair, plastic, state) in &finals[1..] {
+        assert!(*state == finals[0].2, "blocks {pair}/{plastic}: the final state differs from the default blocks'");
+    }
+    eprintln!("block sizes 256/256, 128/128, 96/64, 64/96: final states bitwise equal ({} words)", finals[0].2.len());
+}
+
 /// Issue 7 on the GPU: the interaction fused with the Brookshaw conduction (`swarf_sph_rates_heat_*`) ends bit
 /// for bit where the separate conduction pass ends, and where the CPU ends, on the thermal-tool reference cut with
 /// a temperature gradient across tool and workpiece, with one and eight lanes (tests/cutting.rs checks the CPU).

@@ -199,6 +199,29 @@ pub struct CudaBackend {
     gather_tables: Mutex<HashMap<Vec<GatherField>, CudaBuf<GatherField>>>,
     /// A graph is being captured: nothing may be uploaded or synchronised.
     capturing: AtomicBool,
+    /// Threads per block of the neighbour passes (`SWARF_PAIR_BLOCK`) and of the corrector with the plastic update
+    /// (`SWARF_PLASTIC_BLOCK`); [`BLOCK`] unless set. Per-thread arithmetic does not depend on them (lanes stay
+    /// within a warp), so results are the same bits at any block size.
+    pair_block: u32,
+    plastic_block: u32,
+}
+
+/// A block size from the environment variable `var` ([`BLOCK`] when unset), checked by [`check_block`].
+fn block_from_env(var: &str) -> Result<u32> {
+    match std::env::var(var) {
+        Err(_) => Ok(BLOCK),
+        Ok(v) => check_block(var, v.trim().parse::<u32>().unwrap_or(0)),
+    }
+}
+
+/// `block` if it is a multiple of 32 from 32 to 1024 (whole warps: the lanes of a particle stay in one), else an
+/// error naming `what`.
+fn check_block(what: &str, block: u32) -> Result<u32> {
+    if (32..=1024).contains(&block) && block.is_multiple_of(32) {
+        Ok(block)
+    } else {
+        Err(Error::GpuUnavailable(format!("{what} = {block}: expected a block size, a multiple of 32 from 32 to 1024")))
+    }
 }
 
 /// What the driver's JIT compiler made of one entry point (`cuFuncGetAttribute`,
@@ -249,6 +272,14 @@ impl CudaBackend {
                 })
             })
             .collect()
+    }
+
+    /// Sets the threads per block of the neighbour passes and of the plastic corrector (what `SWARF_PAIR_BLOCK` and
+    /// `SWARF_PLASTIC_BLOCK` set at start-up); an error for a size that is not a multiple of 32 from 32 to 1024.
+    pub fn set_blocks(&mut self, pair: u32, plastic: u32) -> Result<()> {
+        self.pair_block = check_block("pair block", pair)?;
+        self.plastic_block = check_block("plastic block", plastic)?;
+        Ok(())
     }
 
     /// Opens device `ordinal` and loads the embedded PTX; says why if that is impossible.
@@ -345,6 +376,8 @@ impl CudaBackend {
             info,
             gather_tables: Mutex::new(HashMap::new()),
             capturing: AtomicBool::new(false),
+            pair_block: block_from_env("SWARF_PAIR_BLOCK")?,
+            plastic_block: block_from_env("SWARF_PLASTIC_BLOCK")?,
         })
     }
 
@@ -924,7 +957,7 @@ impl Backend for CudaBackend {
         ];
         check_lanes(lanes)?;
         let f = if heat_on { &self.k.sph_rates_heat[c] } else { &self.k.sph_rates[c] };
-        self.launch(&f.0[variant::<R, D>()], n * lanes as usize, BLOCK, &args)
+        self.launch(&f.0[variant::<R, D>()], n * lanes as usize, self.pair_block, &args)
     }
 
     fn heat_rates<R: Real, D: Dim>(
@@ -961,7 +994,7 @@ impl Backend for CudaBackend {
             Arg::U64(self.ptr_mut(temp_t)),
         ];
         let f = if pse { &self.k.heat_pse } else { &self.k.heat_brookshaw };
-        self.launch(&f.0[variant::<R, D>()], n * lanes as usize, BLOCK, &args)
+        self.launch(&f.0[variant::<R, D>()], n * lanes as usize, self.pair_block, &args)
     }
 
     fn step_predict<R: Real, D: TensorOps<R>>(
@@ -1087,7 +1120,8 @@ impl Backend for CudaBackend {
             Arg::U64(p.yield_stress.map_or(0, |y| self.ptr_mut(y))),
             Arg::U64(p.work.map_or(0, |w| self.ptr_mut(w))),
         ]);
-        self.launch(&self.k.step_finish_plastic[model_index(p.model)].0[variant::<R, D>()], n, BLOCK, args.get()?)
+        let f = &self.k.step_finish_plastic[model_index(p.model)].0[variant::<R, D>()];
+        self.launch(f, n, self.plastic_block, args.get()?)
     }
 
     fn address<T: Element>(&self, buf: &CudaBuf<T>) -> u64 {
@@ -1218,6 +1252,6 @@ impl Backend for CudaBackend {
             Arg::U64(a.yield_stress.map_or(0, |y| self.ptr_mut(y))),
             Arg::U64(a.work.map_or(0, |w| self.ptr_mut(w))),
         ];
-        self.launch(&self.k.plastic[model_index(model)].0[variant::<R, D>()], n, BLOCK, &args)
+        self.launch(&self.k.plastic[model_index(model)].0[variant::<R, D>()], n, self.plastic_block, &args)
     }
 }
