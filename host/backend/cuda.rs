@@ -210,18 +210,18 @@ pub struct CudaBackend {
 fn block_from_env(var: &str) -> Result<u32> {
     match std::env::var(var) {
         Err(_) => Ok(BLOCK),
-        Ok(v) => check_block(var, v.trim().parse::<u32>().unwrap_or(0)),
+        Ok(v) => v.trim().parse::<u32>().map_err(|_| bad_block(var, &v)).and_then(|b| check_block(var, b)),
     }
 }
 
 /// `block` if it is a multiple of 32 from 32 to 1024 (whole warps: the lanes of a particle stay in one), else an
 /// error naming `what`.
 fn check_block(what: &str, block: u32) -> Result<u32> {
-    if (32..=1024).contains(&block) && block.is_multiple_of(32) {
-        Ok(block)
-    } else {
-        Err(Error::GpuUnavailable(format!("{what} = {block}: expected a block size, a multiple of 32 from 32 to 1024")))
-    }
+    if (32..=1024).contains(&block) && block.is_multiple_of(32) { Ok(block) } else { Err(bad_block(what, &block)) }
+}
+
+fn bad_block(what: &str, got: &dyn std::fmt::Display) -> Error {
+    Error::GpuUnavailable(format!("{what} = {got}: expected a block size, a multiple of 32 from 32 to 1024"))
 }
 
 /// What the driver's JIT compiler made of one entry point (`cuFuncGetAttribute`,
