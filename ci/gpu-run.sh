@@ -315,14 +315,27 @@ gpu__time_duration.sum,sm__sass_thread_inst_executed_op_dfma_pred_on.sum,sm__sas
                      done
                  }
                  run abblock abblock ;;
-        ncufrom) # issue 7: the hardware counters of one launch of the interaction inside the 150k cut (checkpoint)
+        ncufrom) # issue 7: the hardware counters of one launch of the interaction inside the 150k cut (checkpoint), and
+                 # of the corrector with the plastic update inside both cuts
                  ncufrom() {
                      local dirs; dirs=$(from_dirs) || return 1
                      ncu --kernel-name regex:swarf_sph_rates --launch-count 1 --metrics \
 gpu__time_duration.sum,sm__sass_thread_inst_executed_op_dfma_pred_on.sum,sm__sass_thread_inst_executed_op_dmul_pred_on.sum,sm__sass_thread_inst_executed_op_dadd_pred_on.sum,sm__sass_thread_inst_executed_op_ffma_pred_on.sum,sm__sass_thread_inst_executed_op_fmul_pred_on.sum,sm__sass_thread_inst_executed_op_fadd_pred_on.sum,dram__bytes_read.sum,dram__bytes_write.sum,lts__t_bytes.sum,l1tex__t_bytes.sum,sm__warps_active.avg.pct_of_peak_sustained_active,sm__inst_executed_pipe_fp64.avg.pct_of_peak_sustained_active,sm__throughput.avg.pct_of_peak_sustained_elapsed,smsp__inst_executed.sum,smsp__thread_inst_executed_per_inst_executed.ratio \
                          "$here/swarf" --backend gpu bench step --from "${dirs#*,}" --step-count 32
                  }
-                 run ncufrom ncufrom ;;
+                 run ncufrom ncufrom
+                 # The corrector with the plastic update at both checkpoints (6k, then 150k): how long its warps run
+                 # and how many of their threads take part (the Newton iterations of the yielding particles).
+                 ncuplastic() {
+                     local dirs; dirs=$(from_dirs) || return 1
+                     local d
+                     for d in ${dirs//,/ }; do
+                         ncu --kernel-name regex:swarf_step_finish_jc --launch-count 1 --metrics \
+gpu__time_duration.sum,sm__sass_thread_inst_executed_op_dfma_pred_on.sum,sm__sass_thread_inst_executed_op_dmul_pred_on.sum,sm__sass_thread_inst_executed_op_dadd_pred_on.sum,sm__warps_active.avg.pct_of_peak_sustained_active,sm__inst_executed_pipe_fp64.avg.pct_of_peak_sustained_active,sm__throughput.avg.pct_of_peak_sustained_elapsed,smsp__inst_executed.sum,smsp__thread_inst_executed_per_inst_executed.ratio,sm__cycles_active.max,sm__cycles_active.avg,launch__grid_size \
+                             "$here/swarf" --backend gpu bench step --from "$d" --step-count 32
+                     done
+                 }
+                 run ncuplastic ncuplastic ;;
         refcut) # issue 7: the whole 6k reference cut (1 mm) in f64 and f32, wall time against the original's 201 / 182 s
                 refcut() {
                     cut reference-cut-f64 cases/cutting/reference-cut.toml \
