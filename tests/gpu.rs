@@ -506,7 +506,7 @@ fn resumed_gpu_run_equals_uninterrupted() {
 fn cutting_force_trace_equals_cpu() {
     let Some(_) = gpu() else { return };
     use swarf::backend::{AnyBackend, BackendChoice};
-    use swarf::run::{RunOptions, Snapshot, run_observed};
+    use swarf::run::RunOptions;
     use swarf::scene::Scene;
     let cases: [(&str, Vec<&str>); 2] = [
         (
@@ -535,13 +535,7 @@ fn cutting_force_trace_equals_cpu() {
             let any = AnyBackend::select(choice).expect("backend").0;
             let dir = std::env::temp_dir().join(format!("swarf-gpu-cut-{k}-{}", std::process::id()));
             let opts = RunOptions { overrides: ov.clone(), ..RunOptions::quiet(dir.clone()) };
-            let mut last = Vec::new();
-            let mut obs = |s: &Snapshot| {
-                last = s.pos.iter().chain(&s.vel).flat_map(|p| p.map(f64::to_bits)).collect::<Vec<u64>>();
-                last.extend(s.temperature.unwrap_or(&[]).iter().map(|x| x.to_bits()));
-                true
-            };
-            run_observed(&any, &scene, &opts, Some(&mut obs)).expect("cut");
+            let (last, _) = final_state(&any, &scene, &opts);
             let (_, rows) = swarf::output::csv::read(&dir.join("forces.csv")).expect("forces.csv");
             traces.push((rows, last));
         }
@@ -566,43 +560,63 @@ fn cutting_force_trace_equals_cpu() {
     }
 }
 
+/// The bits of a run's last snapshot (positions, velocities, temperatures and plastic strains where modelled) and
+/// how many particles have yielded by then.
+fn final_state(
+    any: &swarf::backend::AnyBackend,
+    scene: &swarf::scene::Scene,
+    opts: &swarf::run::RunOptions,
+) -> (Vec<u64>, usize) {
+    let (mut last, mut yielded) = (Vec::new(), 0);
+    let mut obs = |s: &swarf::run::Snapshot| {
+        last = s.pos.iter().chain(&s.vel).flat_map(|p| p.map(f64::to_bits)).collect::<Vec<u64>>();
+        last.extend(s.temperature.unwrap_or(&[]).iter().map(|x| x.to_bits()));
+        let eps = s.plastic_strain.unwrap_or(&[]);
+        last.extend(eps.iter().map(|x| x.to_bits()));
+        yielded = eps.iter().filter(|e| **e > 0.0).count();
+        true
+    };
+    swarf::run::run_observed(any, scene, opts, Some(&mut obs)).expect("run");
+    assert!(!last.is_empty(), "no snapshot");
+    (last, yielded)
+}
+
 /// Issue 7 on the GPU: the block size of the neighbour passes and of the plastic corrector (`SWARF_PAIR_BLOCK`,
-/// `SWARF_PLASTIC_BLOCK`) changes no bit: the thermal reference cut (plastic flow, contact, fused conduction; its
-/// 7 069 particles take eight lanes each, a group always within one warp) ends in the same state with blocks of
-/// 256 (the default), 128, 96 and 64; sizes that are not whole warps are refused.
+/// `SWARF_PLASTIC_BLOCK`) changes no bit: the thermal reference cut (contact, plastic flow with heating, fused
+/// conduction; its 7 069 particles take eight lanes each, a group always within one warp), run until particles
+/// yield, ends in the same state (positions, velocities, temperatures, plastic strains) with blocks of 256 (the
+/// default), 128, 96 and 64; sizes that are not whole warps are refused.
 #[test]
 fn block_sizes_change_no_bit() {
     let Some(mut g) = gpu() else { return };
     use swarf::backend::AnyBackend;
-    use swarf::run::{RunOptions, Snapshot, run_observed};
+    use swarf::run::RunOptions;
     use swarf::scene::Scene;
     for bad in [0, 16, 100, 2048] {
         assert!(g.set_blocks(bad, 256).is_err() && g.set_blocks(256, bad).is_err(), "block {bad} accepted");
     }
     let file = "cases/cutting/reference-cut.toml";
-    let ov: Vec<String> = vec!["time.end=6.0e-6".into(), "output.every=3.0e-6".into()];
+    let ov: Vec<String> = vec!["time.end=1.5e-5".into(), "output.every=5.0e-6".into()];
     let scene = Scene::load(file, &ov).expect("scene");
-    let mut finals: Vec<(u32, u32, Vec<u64>)> = Vec::new();
+    let mut finals: Vec<(u32, u32, Vec<u64>, usize)> = Vec::new();
     for (pair, plastic) in [(256, 256), (128, 128), (96, 64), (64, 96)] {
         let mut b = gpu().expect("GPU");
         b.set_blocks(pair, plastic).expect("block sizes");
         let any = AnyBackend::Cuda(Box::new(b));
         let dir = std::env::temp_dir().join(format!("swarf-gpu-blocks-{pair}-{plastic}-{}", std::process::id()));
-        let opts = RunOptions { overrides: ov.clone(), ..RunOptions::quiet(dir) };
-        let mut last = Vec::new();
-        let mut obs = |s: &Snapshot| {
-            last = s.pos.iter().chain(&s.vel).flat_map(|p| p.map(f64::to_bits)).collect::<Vec<u64>>();
-            last.extend(s.temperature.unwrap_or(&[]).iter().map(|x| x.to_bits()));
-            true
-        };
-        run_observed(&any, &scene, &opts, Some(&mut obs)).expect("cut");
-        assert!(!last.is_empty(), "no snapshot");
-        finals.push((pair, plastic, last));
+        let (state, yielded) =
+            final_state(&any, &scene, &RunOptions { overrides: ov.clone(), ..RunOptions::quiet(dir) });
+        finals.push((pair, plastic, state, yielded));
     }
-    for (pair, plastic, state) in &finals[1..] {
+    assert!(finals[0].3 > 0, "no particle yielded: the plastic corrector's block size is not exercised");
+    for (pair, plastic, state, _) in &finals[1..] {
         assert!(*state == finals[0].2, "blocks {pair}/{plastic}: the final state differs from the default blocks'");
     }
-    eprintln!("block sizes 256/256, 128/128, 96/64, 64/96: final states bitwise equal ({} words)", finals[0].2.len());
+    eprintln!(
+        "block sizes 256/256, 128/128, 96/64, 64/96: final states bitwise equal ({} words, {} particles yielded)",
+        finals[0].2.len(),
+        finals[0].3
+    );
 }
 
 /// Issue 7 on the GPU: the interaction fused with the Brookshaw conduction (`swarf_sph_rates_heat_*`) ends bit
