@@ -128,20 +128,15 @@ pub struct HeatPartner {
 /// `j` is in range of the arrays.
 #[inline(always)]
 pub(crate) unsafe fn heat_partner<R: Real, V: Vector<R>>(a: &HeatArrays<R, V>, j: u32) -> HeatPartner {
-    unsafe { heat_partner_with_vol(a, j, read(a.vol.add(j as usize))) }
-}
-
-/// [`heat_partner`] with j's volume `vol` already loaded (the fused pass reads it once for both terms).
-///
-/// # Safety
-/// As [`heat_partner`].
-#[inline(always)]
-pub(crate) unsafe fn heat_partner_with_vol<R: Real, V: Vector<R>>(a: &HeatArrays<R, V>, j: u32, vol: R) -> HeatPartner {
     use super::params::flags;
     let ju = j as usize;
-    // `load::read`: ahead of the pair's branches (`interact::Partner`).
     unsafe {
-        HeatPartner { body: read(a.flags.add(ju)) >> flags::BODY_SHIFT, t: read(a.temp.add(ju)), vol: vol.to_f64() }
+        // `load::read`: ahead of the pair's branches (`interact::Partner`).
+        HeatPartner {
+            body: read(a.flags.add(ju)) >> flags::BODY_SHIFT,
+            t: read(a.temp.add(ju)),
+            vol: read(a.vol.add(ju)).to_f64(),
+        }
     }
 }
 

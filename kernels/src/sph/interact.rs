@@ -15,7 +15,7 @@
 //! Divisions are costly in f64 on the GPU, so the pair term avoids them: V_j comes from the pre-pass, 1/ρ̄ is
 //! taken once per pair (for Π and XSPH) and W'(r)/r divides only on 1 ≤ q < 2 (`CubicSpline::dw_dr_over_r`).
 
-use super::heat::{HeatArrays, HeatParams, brookshaw_term, heat_finish, heat_own, heat_partner_with_vol};
+use super::heat::{HeatArrays, HeatParams, brookshaw_term, heat_finish, heat_own, heat_partner};
 use super::lanes::{LaneSum, all_lanes, lane_share, map_real, map_vector};
 use super::params::{SphParams, flags};
 use super::tensor::TensorOps;
@@ -423,8 +423,8 @@ impl<R: Real, D: TensorOps<R>> LaneSum for HeatPairSums<R, D> {
 /// [`pair_sums`] and `heat::heat_sum`, so both parts equal the separate passes bit for bit.
 ///
 /// # Safety
-/// As [`rates`]; `h` holds the same sorted particles and the same volumes as `a` (V = m/ρ with the full masses),
-/// every body index has a material.
+/// As [`rates`]; `h` holds the same sorted particles (V = m/ρ with the full masses), every body index has a
+/// material.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub unsafe fn pair_sums_heat<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool>(
@@ -465,10 +465,8 @@ unsafe fn heat_and_pair<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool
 ) {
     // Both partners' data first (`Partner`); one geometry for both terms (the separate passes compute the same
     // r², r and W'(r)/r, bit for bit).
-    // j's volume once for both terms: `h.vol` and `a.vol` are the same pre-pass volumes (full masses).
-    let q = unsafe { partner::<R, D, AV, AS>(a, j) };
-    let (hq, p, heat_min_r2) =
-        unsafe { (heat_partner_with_vol(h, j, q.vol), pair_params::<R, AV, AS>(p), read(&hp.min_r2)) };
+    let (q, hq, p, heat_min_r2) =
+        unsafe { (partner::<R, D, AV, AS>(a, j), heat_partner(h, j), pair_params::<R, AV, AS>(p), read(&hp.min_r2)) };
     let Some(g) = geometry(&p, o, i, j, &q.x) else { return };
     if let Some(ho) = ho
         && g.r2 >= R::from_f64(heat_min_r2)
