@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# whole150k bg150k wait150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abregs abblock
+# whole150k bg150k wait150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abregs abblock abenv ncusrc
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -302,6 +302,20 @@ gpu__time_duration.sum,sm__sass_thread_inst_executed_op_dfma_pred_on.sum,sm__sas
                     done
                 }
                 run abregs abregs ;;
+        abenv) # issue 7: run-time settings side by side on the checkpoints, alternating, two rounds: SWARF_AB_ENVS holds
+               # the variants, space-separated, each "default" or NAME=VALUE[,NAME=VALUE...]
+               abenv() {
+                   local dirs; dirs=$(from_dirs) || return 1
+                   local v
+                   for round in 1 2; do
+                       for v in ${SWARF_AB_ENVS:-default}; do
+                           echo "== $v, round $round"
+                           env $([ "$v" = default ] || echo "${v//,/ }") \
+                               "$here/swarf" --backend gpu bench step --from "$dirs" --step-count 2048 || return 1
+                       done
+                   done
+               }
+               run abenv abenv ;;
         abblock) # issue 7: block sizes of the neighbour passes and the plastic corrector (SWARF_PAIR_BLOCK,
                  # SWARF_PLASTIC_BLOCK) on the checkpoints, alternating with the default (256)
                  abblock() {
@@ -336,6 +350,20 @@ gpu__time_duration.sum,sm__sass_thread_inst_executed_op_dfma_pred_on.sum,sm__sas
                      done
                  }
                  run ncuplastic ncuplastic ;;
+        ncusrc) # issue 7: where the interaction and the plastic corrector wait, inside the 150k cut (checkpoint): ncu's
+                # full set on one launch of each, its details page, and the SASS with the warp-stall samples of each
+                # instruction (sass-<kernel>.csv.gz)
+                ncusrc() {
+                    local dirs; dirs=$(from_dirs) || return 1
+                    local k
+                    for k in swarf_sph_rates swarf_step_finish_jc; do
+                        ncu --set full --kernel-name regex:$k --launch-count 1 -f -o /tmp/ncu-$k \
+                            "$here/swarf" --backend gpu bench step --from "${dirs#*,}" --step-count 32 > /dev/null || return 1
+                        echo "== $k"; ncu -i /tmp/ncu-$k.ncu-rep --page details
+                        ncu -i /tmp/ncu-$k.ncu-rep --page source --csv --print-source sass | gzip > "$out/sass-$k.csv.gz"
+                    done
+                }
+                run ncusrc ncusrc ;;
         refcut) # issue 7: the whole 6k reference cut (1 mm) in f64 and f32, wall time against the original's 201 / 182 s
                 refcut() {
                     cut reference-cut-f64 cases/cutting/reference-cut.toml \

@@ -332,12 +332,10 @@ fn plastic_pass_equals_cpu_within_one_ulp() {
             let mut tb = b.upload(t, "t").unwrap();
             let rho = b.upload(&vec![rho; n], "rho").unwrap();
             let fl = b.upload(&vec![0u32; n], "flags").unwrap();
-            let mb = b.upload(model.param_bytes(), "model").unwrap();
             let c = PlasticConsts { shear, dt: 1e-8, taylor_quinney: 0.0, _pad: 0.0 };
             b.plastic_step::<f64, Dim3>(
                 n,
                 model,
-                &mb,
                 c,
                 PlasticInputs {
                     stress: &mut sb,

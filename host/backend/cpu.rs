@@ -535,7 +535,7 @@ impl Backend for CpuBackend {
         n: usize,
         lanes: u32,
         stab: Stabilisers,
-        params: &Vec<SphParams<R>>,
+        params: &SphParams<R>,
         grid: &Vec<GridParams>,
         starts: &Vec<u32>,
         list: Option<&Vec<u32>>,
@@ -567,7 +567,7 @@ impl Backend for CpuBackend {
         if stab.viscosity {
             check("sph_rates sound", n, input.sound.map_or(0, |a| a.len()))?;
         }
-        let (p, g) = (params[0], grid[0]);
+        let (p, g) = (*params, grid[0]);
         let a = SendArrays(Arrays::<R, D> {
             pos: input.pos.as_ptr(),
             vel: input.vel.as_ptr(),
@@ -601,7 +601,7 @@ impl Backend for CpuBackend {
             Some(f) => {
                 check("sph_rates temp_t", n, f.temp_t.len())?;
                 let a = heat_arrays::<R, D>(n, &f.input, "sph_rates (fused conduction)")?;
-                Some((f.params[0], a, SendPtr(f.temp_t.as_mut_ptr() as *mut u32)))
+                Some((*f.params, a, SendPtr(f.temp_t.as_mut_ptr() as *mut u32)))
             }
             None => None,
         };
@@ -651,8 +651,8 @@ impl Backend for CpuBackend {
         n: usize,
         lanes: u32,
         pse: bool,
-        hp: &Vec<HeatParams>,
-        params: &Vec<SphParams<R>>,
+        hp: &HeatParams,
+        params: &SphParams<R>,
         grid: &Vec<GridParams>,
         starts: &Vec<u32>,
         list: Option<&Vec<u32>>,
@@ -661,7 +661,7 @@ impl Backend for CpuBackend {
     ) -> Result<()> {
         check("heat_rates temp_t", n, temp_t.len())?;
         check("heat_rates starts", grid[0].n_cells as usize + 2, starts.len())?;
-        let (h, k, g) = (hp[0], params[0].kernel, grid[0]);
+        let (h, k, g) = (*hp, params.kernel, grid[0]);
         if pse && list.is_some() {
             return Err(Error::Length { op: "heat_rates (PSE reaches beyond the Verlet list)", expected: 0, got: 1 });
         }
@@ -921,7 +921,6 @@ impl Backend for CpuBackend {
         &self,
         n: usize,
         model: &FlowModel,
-        _model_buf: &Vec<u8>,
         c: PlasticConsts,
         a: PlasticInputs<'_, Self, R, D>,
     ) -> Result<()> {

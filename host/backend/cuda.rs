@@ -136,13 +136,15 @@ impl<T> Buffer<T> for CudaBuf<T> {
     }
 }
 
-/// A kernel argument: scalars by value, device pointers as u64.
+/// A kernel argument: scalars by value, device pointers as u64, and a `#[repr(C)]` Pod parameter block by value
+/// (its bytes; the entry point declares the struct, whose size the driver takes from the PTX).
 #[derive(Clone, Copy)]
-enum Arg {
+enum Arg<'a> {
     U32(u32),
     U64(u64),
     F32(f32),
     F64(f64),
+    Bytes(&'a [u8]),
 }
 
 /// The four (dimension, precision) variants of a generic entry point: 2d_f32, 2d_f64, 3d_f32, 3d_f64.
@@ -152,7 +154,7 @@ fn variant<R: Real, D: Dim>() -> usize {
     (D::D == 3) as usize * 2 + (size_of::<R>() == 8) as usize
 }
 
-fn real_arg<R: Real>(x: R) -> Arg {
+fn real_arg<R: Real>(x: R) -> Arg<'static> {
     if size_of::<R>() == 4 { Arg::F32(x.to_f64() as f32) } else { Arg::F64(x.to_f64()) }
 }
 
@@ -412,12 +414,17 @@ impl CudaBackend {
                 Arg::U64(v) => v,
                 Arg::F32(v) => v.to_bits() as u64,
                 Arg::F64(v) => v.to_bits(),
+                Arg::Bytes(_) => 0,
             };
         }
         let mut params = [std::ptr::null_mut::<c_void>(); MAX_ARGS];
-        for (p, s) in params.iter_mut().zip(store.iter_mut()) {
-            // Little-endian: a 4-byte parameter reads the low half of its 8-byte slot.
-            *p = s as *mut u64 as *mut c_void;
+        for ((p, s), a) in params.iter_mut().zip(store.iter_mut()).zip(args) {
+            *p = match *a {
+                // The driver copies the block's size (from the entry's signature) from here.
+                Arg::Bytes(b) => b.as_ptr() as *mut c_void,
+                // Little-endian: a 4-byte parameter reads the low half of its 8-byte slot.
+                _ => s as *mut u64 as *mut c_void,
+            };
         }
         // SAFETY: the argument list matches the entry point's signature (kept in step with kernels/src/ptx).
         unsafe {
@@ -459,20 +466,20 @@ fn check_lanes(lanes: u32) -> Result<()> {
 }
 
 /// A launch's argument list (at most MAX_ARGS; no allocation in the step: the capacity is fixed).
-fn vec_args(a: &[Arg]) -> ArgList {
+fn vec_args<'a>(a: &[Arg<'a>]) -> ArgList<'a> {
     let mut l = ArgList { a: [Arg::U32(0); MAX_ARGS], len: 0 };
     l.extend_from_slice(a);
     l
 }
 
 /// A fixed-capacity argument list.
-struct ArgList {
-    a: [Arg; MAX_ARGS],
+struct ArgList<'a> {
+    a: [Arg<'a>; MAX_ARGS],
     len: usize,
 }
 
-impl ArgList {
-    fn extend_from_slice(&mut self, x: &[Arg]) {
+impl<'a> ArgList<'a> {
+    fn extend_from_slice(&mut self, x: &[Arg<'a>]) {
         for v in x {
             if self.len < MAX_ARGS {
                 self.a[self.len] = *v;
@@ -483,9 +490,9 @@ impl ArgList {
     }
 }
 
-impl ArgList {
+impl<'a> ArgList<'a> {
     /// The arguments, or an error if more than MAX_ARGS were pushed.
-    fn get(&self) -> Result<&[Arg]> {
+    fn get(&self) -> Result<&[Arg<'a>]> {
         self.a.get(..self.len).ok_or(Error::Length { op: "kernel arguments", expected: MAX_ARGS, got: self.len })
     }
 }
@@ -563,7 +570,7 @@ fn first_line(s: &str) -> &str {
 
 impl CudaBackend {
     /// The device address of the step's scalars.
-    fn scalars(&self, s: &ScalarsAt<'_, Self>) -> Result<Arg> {
+    fn scalars(&self, s: &ScalarsAt<'_, Self>) -> Result<Arg<'static>> {
         if s.index >= s.buf.len {
             return Err(Error::Length { op: "step scalars", expected: s.index + 1, got: s.buf.len });
         }
@@ -642,7 +649,11 @@ impl CudaBackend {
 
     /// The 15 field arguments of the step kernels (y, y0, ẏ, then T, T0, Ṫ or nulls) and the two of the
     /// dissipation (the corrector's only).
-    fn step_args<R: Real, D: Dim>(&self, n: usize, f: StepFields<'_, Self, R, D>) -> Result<([Arg; 15], [Arg; 2])> {
+    fn step_args<R: Real, D: Dim>(
+        &self,
+        n: usize,
+        f: StepFields<'_, Self, R, D>,
+    ) -> Result<([Arg<'static>; 15], [Arg<'static>; 2])> {
         let lens = [f.y.pos.len, f.y0.pos.len, f.rates.pos.len, f.y.stress.len, f.y0.stress.len, f.rates.stress.len];
         if lens.iter().any(|&l| l < n) {
             return Err(Error::Length { op: "step fields", expected: n, got: lens.into_iter().min().unwrap_or(0) });
@@ -908,7 +919,7 @@ impl Backend for CudaBackend {
         n: usize,
         lanes: u32,
         stab: Stabilisers,
-        params: &CudaBuf<SphParams<R>>,
+        params: &SphParams<R>,
         grid: &CudaBuf<GridParams>,
         starts: &CudaBuf<u32>,
         list: Option<&CudaBuf<u32>>,
@@ -924,10 +935,13 @@ impl Backend for CudaBackend {
         }
         let c = (stab.viscosity as usize) << 2 | (stab.stress as usize) << 1 | stab.xsph as usize;
         let heat_on = heat.is_some();
+        // The parameter blocks by value (`ptx::sph`; a plain entry ignores the heat block).
+        let none = HeatParams::default();
+        let hp = heat.as_ref().map_or(&none, |h| h.params);
         let args = [
             Arg::U32(n as u32),
             Arg::U32(lanes),
-            Arg::U64(self.ptr(params)),
+            Arg::Bytes(bytemuck::bytes_of(params)),
             Arg::U64(self.ptr(grid)),
             Arg::U64(self.ptr(starts)),
             Arg::U64(list.map_or(0, |l| self.ptr(l))),
@@ -949,7 +963,7 @@ impl Backend for CudaBackend {
             Arg::U64(self.ptr_mut(out.rho)),
             Arg::U64(self.ptr_mut(out.stress)),
             Arg::U64(dissipation.map_or(0, |d| self.ptr_mut(d))),
-            Arg::U64(heat.as_ref().map_or(0, |h| self.ptr(h.params))),
+            Arg::Bytes(bytemuck::bytes_of(hp)),
             Arg::U64(heat.as_ref().map_or(0, |h| self.ptr(h.input.vol))),
             Arg::U64(heat.as_ref().map_or(0, |h| self.ptr(h.input.temp))),
             Arg::U64(heat.as_ref().map_or(0, |h| self.ptr(h.input.materials))),
@@ -965,8 +979,8 @@ impl Backend for CudaBackend {
         n: usize,
         lanes: u32,
         pse: bool,
-        hp: &CudaBuf<HeatParams>,
-        params: &CudaBuf<SphParams<R>>,
+        hp: &HeatParams,
+        params: &SphParams<R>,
         grid: &CudaBuf<GridParams>,
         starts: &CudaBuf<u32>,
         list: Option<&CudaBuf<u32>>,
@@ -980,8 +994,8 @@ impl Backend for CudaBackend {
         let args = [
             Arg::U32(n as u32),
             Arg::U32(lanes),
-            Arg::U64(self.ptr(hp)),
-            Arg::U64(self.ptr(params)),
+            Arg::Bytes(bytemuck::bytes_of(hp)),
+            Arg::Bytes(bytemuck::bytes_of(params)),
             Arg::U64(self.ptr(grid)),
             Arg::U64(self.ptr(starts)),
             Arg::U64(list.map_or(0, |l| self.ptr(l))),
@@ -1105,7 +1119,8 @@ impl Backend for CudaBackend {
         let mut args = vec_args(&[
             Arg::U32(n as u32),
             sc,
-            Arg::U64(self.ptr(p.model_buf)),
+            // By value (`ptx::sph`, finish_plastic_entry).
+            Arg::Bytes(p.model.param_bytes()),
             Arg::F64(p.shear),
             Arg::F64(p.taylor_quinney),
         ]);
@@ -1229,7 +1244,6 @@ impl Backend for CudaBackend {
         &self,
         n: usize,
         model: &FlowModel,
-        model_buf: &CudaBuf<u8>,
         c: crate::kernels::sph::plastic::PlasticConsts,
         a: PlasticInputs<'_, Self, R, D>,
     ) -> Result<()> {
@@ -1238,7 +1252,7 @@ impl Backend for CudaBackend {
         }
         let args = [
             Arg::U32(n as u32),
-            Arg::U64(self.ptr(model_buf)),
+            Arg::Bytes(model.param_bytes()),
             Arg::F64(c.shear),
             Arg::F64(c.dt),
             Arg::F64(c.taylor_quinney),

@@ -160,7 +160,7 @@ pub trait Backend: Sized + Send + Sync {
         n: usize,
         lanes: u32,
         stab: Stabilisers,
-        params: &Self::Buf<SphParams<R>>,
+        params: &SphParams<R>,
         grid: &Self::Buf<GridParams>,
         starts: &Self::Buf<u32>,
         list: Option<&Self::Buf<u32>>,
@@ -241,21 +241,20 @@ pub trait Backend: Sized + Send + Sync {
         n: usize,
         lanes: u32,
         pse: bool,
-        hp: &Self::Buf<HeatParams>,
-        params: &Self::Buf<SphParams<R>>,
+        hp: &HeatParams,
+        params: &SphParams<R>,
         grid: &Self::Buf<GridParams>,
         starts: &Self::Buf<u32>,
         list: Option<&Self::Buf<u32>>,
         input: &HeatInputs<'_, Self, R, D>,
         temp_t: &mut Self::Buf<f64>,
     ) -> Result<()>;
-    /// The plastic update of every particle (`sph::plastic::plastic_particle`) with the flow-stress `model`, whose
-    /// parameters `model_buf` holds (its bytes, uploaded once).
+    /// The plastic update of every particle (`sph::plastic::plastic_particle`) with the flow-stress `model` (its
+    /// parameters go to the GPU by value, with the launch).
     fn plastic_step<R: Real, D: TensorOps<R>>(
         &self,
         n: usize,
         model: &crate::material::FlowModel,
-        model_buf: &Self::Buf<u8>,
         consts: crate::kernels::sph::plastic::PlasticConsts,
         a: PlasticInputs<'_, Self, R, D>,
     ) -> Result<()>;
@@ -327,7 +326,7 @@ pub struct HeatInputs<'a, B: Backend, R: Real, D: Dim> {
 /// The Brookshaw conduction of the fused interaction: its constants, inputs (volumes from the full masses, the
 /// tool's included) and the Ṫ it writes.
 pub struct FusedHeat<'a, B: Backend, R: Real, D: Dim> {
-    pub params: &'a B::Buf<HeatParams>,
+    pub params: &'a HeatParams,
     pub input: HeatInputs<'a, B, R, D>,
     pub temp_t: &'a mut B::Buf<f64>,
 }
@@ -403,7 +402,6 @@ pub struct CellBuffers<'a, B: Backend> {
 /// The plastic update fused into the corrector (stress, density and temperature come from [`StepFields`]).
 pub struct PlasticPass<'a, B: Backend> {
     pub model: &'a crate::material::FlowModel,
-    pub model_buf: &'a B::Buf<u8>,
     pub shear: f64,
     pub taylor_quinney: f64,
     pub eps: &'a mut B::Buf<f64>,

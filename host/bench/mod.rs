@@ -289,7 +289,6 @@ pub fn plasticity<B: Backend>(
         let mut rb = b.upload(&rate, "rate")?;
         let mut tb = b.upload(&temp, "temp")?;
         let fl = b.upload(&vec![0u32; n], "flags")?;
-        let mb = b.upload(model.param_bytes(), "model")?;
         let c = PlasticConsts { shear, dt: 1e-8, taylor_quinney: 0.0, _pad: 0.0 };
         let mut times = Vec::new();
         for _ in 0..repeats.max(1) {
@@ -299,7 +298,6 @@ pub fn plasticity<B: Backend>(
                 b.plastic_step::<f64, Dim3>(
                     n,
                     &model,
-                    &mb,
                     c,
                     PlasticInputs {
                         stress: &mut sb,

@@ -94,7 +94,7 @@ struct ThermalState<B: Backend> {
     temp0: Option<Field<B, f64>>,
     temp_t: Option<B::Buf<f64>>,
     materials: B::Buf<ThermalMaterial>,
-    heat: B::Buf<HeatParams>,
+    heat: HeatParams,
     conduction: Option<bool>,
     /// The cell list's grid with the ±3 stencil PSE needs.
     grid_pse: B::Buf<GridParams>,
@@ -106,7 +106,6 @@ struct PlasticState<B: Backend> {
     /// Specific plastic work Σ σ_y Δε̄/ρ [J/kg], for the energy balance.
     work: Field<B, f64>,
     model: FlowModel,
-    model_buf: B::Buf<u8>,
     taylor_quinney: f64,
 }
 
@@ -347,7 +346,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                     temp0: if conducting { Some(Field::upload(b, &zeros_f, "temperature")?) } else { None },
                     temp_t: if conducting { Some(b.alloc(n, "temperature rate")?) } else { None },
                     materials: b.upload(&t.materials, "thermal materials")?,
-                    heat: b.upload(&[t.heat], "heat parameters")?,
+                    heat: t.heat,
                     conduction: t.conduction,
                     grid_pse: b.upload(&[g], "grid")?,
                 })
@@ -359,7 +358,6 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                 eps: Field::upload(b, &zeros_f, "plastic strain")?,
                 rate: Field::upload(b, &zeros_f, "plastic strain rate")?,
                 work: Field::upload(b, &zeros_f, "plastic work")?,
-                model_buf: b.upload(p.model.param_bytes(), "flow-stress parameters")?,
                 model: p.model,
                 taylor_quinney: p.taylor_quinney,
             }),
@@ -673,7 +671,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                     n,
                     self.lanes,
                     self.stab,
-                    &self.params,
+                    &self.host_params,
                     &self.cells.grid_buf,
                     &self.cells.starts,
                     self.cells.list.as_ref(),
@@ -698,7 +696,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                         self.lanes,
                         pse,
                         &th.heat,
-                        &self.params,
+                        &self.host_params,
                         grid,
                         &self.cells.starts,
                         if pse { None } else { self.cells.list.as_ref() },
@@ -713,7 +711,6 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                 let shear = self.shear;
                 let plastic = self.plastic.as_mut().map(|pl| PlasticPass {
                     model: &pl.model,
-                    model_buf: &pl.model_buf,
                     shear,
                     taylor_quinney: pl.taylor_quinney,
                     eps: &mut pl.eps.cur,

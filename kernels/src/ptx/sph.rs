@@ -106,7 +106,7 @@ macro_rules! rates_entry {
         pub unsafe extern "ptx-kernel" fn $name(
             n: u32,
             lanes: u32,
-            params: *const SphParams<$r>,
+            params: SphParams<$r>,
             grid: *const GridParams,
             starts: *const u32,
             list: *const u32,
@@ -128,7 +128,7 @@ macro_rules! rates_entry {
             rho_t: *mut $r,
             stress_t: *mut Sym_<$r, $d>,
             dissipation_t: *mut $r,
-            hp: *const HeatParams,
+            hp: HeatParams,
             heat_vol: *const $r,
             temp: *const f64,
             materials: *const ThermalMaterial,
@@ -146,7 +146,7 @@ macro_rules! rates_entry {
             unsafe {
                 let (mech, heat) = if $heat {
                     let s = if live {
-                        pair_sums_heat::<$r, $d, $av, $as, $xs>(&*params, &*hp, &nb, &a, &h, i, lane, lanes)
+                        pair_sums_heat::<$r, $d, $av, $as, $xs>(&params, &hp, &nb, &a, &h, i, lane, lanes)
                     } else {
                         HeatPairSums::default()
                     };
@@ -154,14 +154,14 @@ macro_rules! rates_entry {
                     (s.mech, s.heat)
                 } else {
                     let s = if live {
-                        pair_sums::<$r, $d, $av, $as, $xs>(&*params, &nb, &a, i, lane, lanes)
+                        pair_sums::<$r, $d, $av, $as, $xs>(&params, &nb, &a, i, lane, lanes)
                     } else {
                         PairSums::default()
                     };
                     (butterfly(s, lanes), 0.0)
                 };
                 if live && lane == 0 {
-                    let o = finish_rates::<$r, $d, $xs>(&*params, &a, i, &mech);
+                    let o = finish_rates::<$r, $d, $xs>(&params, &a, i, &mech);
                     let iu = i as usize;
                     *pos_t.add(iu) = o.pos_t;
                     *vel_t.add(iu) = o.vel_t;
@@ -311,14 +311,15 @@ macro_rules! finish_entry {
 }
 
 /// The fused corrector and plastic update (sph::plastic::plastic_particle) of the same particle, one entry per
-/// flow-stress model.
+/// flow-stress model. The model's parameters come by value: in the constant bank, operands of the return map's
+/// instructions, not loads and registers held across its Newton iterations.
 macro_rules! finish_plastic_entry {
     ($name:ident, $m:ty, $r:ty, $d:ty) => {
         #[unsafe(no_mangle)]
         pub unsafe extern "ptx-kernel" fn $name(
             n: u32,
             scalars: *const StepScalars,
-            model: *const $m,
+            model: $m,
             shear: f64,
             taylor_quinney: f64,
             pos: *mut Vec_<$r, $d>,
@@ -381,7 +382,7 @@ macro_rules! finish_plastic_entry {
                     let dt = (*scalars).dt;
                     correct_particle(&a, dt, i as usize);
                     let c = PlasticConsts { shear, dt, taylor_quinney, _pad: 0.0 };
-                    plastic_particle::<$r, $d, $m>(&*model, &c, &p, i as usize);
+                    plastic_particle::<$r, $d, $m>(&model, &c, &p, i as usize);
                 }
             }
         }
@@ -484,8 +485,8 @@ macro_rules! heat_entry {
         pub unsafe extern "ptx-kernel" fn $name(
             n: u32,
             lanes: u32,
-            hp: *const HeatParams,
-            params: *const SphParams<$r>,
+            hp: HeatParams,
+            params: SphParams<$r>,
             grid: *const GridParams,
             starts: *const u32,
             list: *const u32,
@@ -506,7 +507,7 @@ macro_rules! heat_entry {
             let live = i < n;
             unsafe {
                 let mut sum = if live {
-                    heat_sum::<$r, Vec_<$r, $d>, $pse>(&*hp, &(*params).kernel, &nb, &a, i, lane, lanes)
+                    heat_sum::<$r, Vec_<$r, $d>, $pse>(&hp, &params.kernel, &nb, &a, i, lane, lanes)
                 } else {
                     0.0
                 };
@@ -533,13 +534,14 @@ use crate::material::{
 };
 use crate::sph::plastic::{PlasticArrays, PlasticConsts, plastic_particle};
 
-/// The plastic update (radial return + heating) of every particle, one entry per flow-stress model.
+/// The plastic update (radial return + heating) of every particle, one entry per flow-stress model (its parameters
+/// by value, as in finish_plastic_entry).
 macro_rules! plastic_entry {
     ($name:ident, $m:ty, $r:ty, $d:ty) => {
         #[unsafe(no_mangle)]
         pub unsafe extern "ptx-kernel" fn $name(
             n: u32,
-            model: *const $m,
+            model: $m,
             shear: f64,
             dt: f64,
             taylor_quinney: f64,
@@ -567,7 +569,7 @@ macro_rules! plastic_entry {
                     work,
                 };
                 let c = PlasticConsts { shear, dt, taylor_quinney, _pad: 0.0 };
-                unsafe { plastic_particle::<$r, $d, $m>(&*model, &c, &a, i) };
+                unsafe { plastic_particle::<$r, $d, $m>(&model, &c, &a, i) };
             }
         }
     };

@@ -237,25 +237,22 @@ unsafe fn partner<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool>(a: &
     }
 }
 
-/// The constants a pair term reads (the kernel's, the skip distance, the stabilisers' as switched on; the rest
-/// zero), loaded at the head of the pair with its partner's data: read where first needed, each was one more link
-/// of the pair's chain of dependent loads (`Partner`).
-///
-/// # Safety
-/// `p` points to the run's parameter block.
+/// The constants a pair term reads: the kernel's, the skip distance and the stabilisers' as switched on, the rest
+/// zero (so that the compiler sees the unused terms vanish). On the GPU the block is a kernel parameter passed by
+/// value (`ptx::sph`): its fields sit in the constant bank, operands of the instructions that use them, with no
+/// load and no register held across the pair loop (read through a pointer they were global loads, one more link
+/// of each pair's chain of dependent latencies, and registers under the cap of 128).
 #[inline(always)]
-unsafe fn pair_params<R: Real, const AV: bool, const AS: bool>(p: &SphParams<R>) -> SphParams<R> {
-    unsafe {
-        SphParams {
-            kernel: read(&p.kernel),
-            min_r2: read(&p.min_r2),
-            as_inv_w_dx: if AS { read(&p.as_inv_w_dx) } else { R::ZERO },
-            as_exponent: if AS { read(&p.as_exponent) } else { 0 },
-            av_eta2h2: if AV { read(&p.av_eta2h2) } else { R::ZERO },
-            av_alpha: if AV { read(&p.av_alpha) } else { R::ZERO },
-            av_beta: if AV { read(&p.av_beta) } else { R::ZERO },
-            ..Default::default()
-        }
+fn pair_params<R: Real, const AV: bool, const AS: bool>(p: &SphParams<R>) -> SphParams<R> {
+    SphParams {
+        kernel: p.kernel,
+        min_r2: p.min_r2,
+        as_inv_w_dx: if AS { p.as_inv_w_dx } else { R::ZERO },
+        as_exponent: if AS { p.as_exponent } else { 0 },
+        av_eta2h2: if AV { p.av_eta2h2 } else { R::ZERO },
+        av_alpha: if AV { p.av_alpha } else { R::ZERO },
+        av_beta: if AV { p.av_beta } else { R::ZERO },
+        ..Default::default()
     }
 }
 
@@ -299,7 +296,7 @@ unsafe fn add_pair<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, con
     j: u32,
     sums: &mut PairSums<R, D>,
 ) {
-    let (q, p) = unsafe { (partner::<R, D, AV, AS>(a, j), pair_params::<R, AV, AS>(p)) };
+    let (q, p) = (unsafe { partner::<R, D, AV, AS>(a, j) }, pair_params::<R, AV, AS>(p));
     if let Some(g) = geometry(&p, o, i, j, &q.x) {
         pair_term::<R, D, AV, AS, XSPH>(&p, o, &q, &g, sums)
     }
@@ -465,8 +462,8 @@ unsafe fn heat_and_pair<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool
 ) {
     // Both partners' data first (`Partner`); one geometry for both terms (the separate passes compute the same
     // r², r and W'(r)/r, bit for bit).
-    let (q, hq, p, heat_min_r2) =
-        unsafe { (partner::<R, D, AV, AS>(a, j), heat_partner(h, j), pair_params::<R, AV, AS>(p), read(&hp.min_r2)) };
+    let (q, hq) = unsafe { (partner::<R, D, AV, AS>(a, j), heat_partner(h, j)) };
+    let (p, heat_min_r2) = (pair_params::<R, AV, AS>(p), hp.min_r2);
     let Some(g) = geometry(&p, o, i, j, &q.x) else { return };
     if let Some(ho) = ho
         && g.r2 >= R::from_f64(heat_min_r2)
