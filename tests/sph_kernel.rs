@@ -163,3 +163,26 @@ mod pre_pass {
         volumes_are_exact::<f32, Dim3>();
     }
 }
+
+/// The artificial stress's f_ijⁿ (roethlin-solver.md §3.6, n = 4) by repeated squaring (`interact::power`): exact
+/// for n = 0, 1, 2 and equal to (x²)² bit for bit for n = 4 (the unrolled case); every n ≤ 8 within 4 ulp of
+/// `powi` (each of the ≤ 4 multiplications rounds once), f32 and f64, over x ∈ [0, 1.2] (f_ij ≤ W(0)/W(Δx)).
+#[test]
+fn artificial_stress_power_by_squaring() {
+    use swarf::kernels::sph::interact::power;
+    for k in 0..=1200 {
+        let x = k as f64 * 1e-3;
+        assert_eq!(power(x, 0), 1.0);
+        assert_eq!(power(x, 1).to_bits(), x.to_bits());
+        assert_eq!(power(x, 2).to_bits(), (x * x).to_bits());
+        assert_eq!(power(x, 4).to_bits(), ((x * x) * (x * x)).to_bits());
+        let xf = x as f32;
+        assert_eq!(power(xf, 4).to_bits(), ((xf * xf) * (xf * xf)).to_bits());
+        for n in 0..=8u32 {
+            let (got, want) = (power(x, n), x.powi(n as i32));
+            assert!((got - want).abs() <= 4.0 * f64::EPSILON * want, "x = {x}, n = {n}: {got} against {want}");
+            let (got, want) = (power(xf, n), xf.powi(n as i32));
+            assert!((got - want).abs() <= 4.0 * f32::EPSILON * want, "x = {xf}, n = {n}: {got} against {want}");
+        }
+    }
+}

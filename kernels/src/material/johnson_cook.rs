@@ -122,10 +122,18 @@ impl FlowStress for JohnsonCook {
 
     /// `th` = 1 − θᵐ at `_temp` ([`JohnsonCook::thermal_factor`]).
     #[inline(always)]
-    fn flow_at(&self, eps: f64, rate: f64, _temp: f64, th: f64) -> Flow {
+    fn flow_at(&self, eps: f64, rate: f64, temp: f64, th: f64) -> Flow {
+        self.flow_and_strength_at(eps, rate, temp, th).0
+    }
+
+    /// σ = (h·r)·th with the strength h·r: `strength_part`'s bits (the hardening's ε̄ⁿ is `pow`'s, `pow_pair`), so
+    /// σ is `sigma_y_parts`' (σ_y clamped at 0 either way).
+    #[inline(always)]
+    fn flow_and_strength_at(&self, eps: f64, rate: f64, _temp: f64, th: f64) -> (Flow, f64) {
         let (h, dh) = self.hardening(eps);
         let (r, dr) = self.rate_factor(rate);
-        Flow { sigma: h * r * th, d_eps: dh * r * th, d_rate: h * dr * th }.clamped()
+        let strength = h * r;
+        (Flow { sigma: strength * th, d_eps: dh * r * th, d_rate: h * dr * th }.clamped(), strength)
     }
 
     #[inline(always)]

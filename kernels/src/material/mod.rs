@@ -105,6 +105,14 @@ pub trait FlowStress {
         self.flow(eps, rate, temp)
     }
 
+    /// [`FlowStress::flow_at`] and the [`FlowStress::strength_part`] of its σ_y at the same (ε̄, ε̄̇), bit for bit: the
+    /// return map's last Newton evaluation hands both on as its result's, instead of evaluating them again. The
+    /// default's strength is NaN (the models that do not split).
+    #[inline(always)]
+    fn flow_and_strength_at(&self, eps: f64, rate: f64, temp: f64, thermal: f64) -> (Flow, f64) {
+        (self.flow_at(eps, rate, temp, thermal), f64::NAN)
+    }
+
     /// The part of σ_y that depends on ε̄ and ε̄̇ alone, for a model whose σ_y is their product with
     /// [`FlowStress::thermal_part`] (Johnson–Cook's (A + B ε̄ⁿ)(1 + C ln ε̄̇*)); NaN for the models that do not split
     /// (the default), which [`FlowStress::sigma_y_parts`] ignores.

@@ -22,13 +22,14 @@
 //! Newton iteration with the smallest slope g can have (|g'| ≥ 2G while σ_y does not soften along the path), so
 //! it bounds both the theses' |Δλ_{k+1} − Δλ_k| and the error |Δλ_k − Δλ*|; unlike the bare step test it cannot be
 //! fooled by an over-estimated secant slope (a tiny step far from the root: seen with Secant B at Δt = 1e-20 s).
-//! The 64ε·Δλ_max floor is the resolution of g, a difference of terms of size ‖S_trial‖. Newton then takes its
-//! final step when that cannot leave the bracket or move Δλ by more than |g|/2G. A bracket narrower than the
+//! The 64ε·Δλ_max floor is the resolution of g, a difference of terms of size ‖S_trial‖. The accepted iterate is
+//! the result, with the σ_y of its own evaluation (no further Newton step: its σ_y would cost one more evaluation of
+//! the flow stress, two logarithms and an exponential for Johnson–Cook). A bracket narrower than the
 //! tolerance also ends the iteration: that is how it ends where g has no root (a jump of σ_y: the Uintah rate form
 //! at ε̄̇ = ε̄̇0) or is too steep to resolve (ε̄̇ = Δε̄/Δt with a tiny Δt).
 //!
 //! Consistency achieved: |√(3/2)‖S_new‖ − σ_y(new)| = √(3/2)|g| ≤ rel_tol·(σ_eq,trial − σ_eq,new) + 64ε·σ_eq,trial
-//! (≈ 1e-15·σ_y after Newton's final step on Röthlin's AT-27 states), except at the bracket exits above, where
+//! (the AT-27 states of tests/return_mapping.rs stay within 1e-11·σ_y), except at the bracket exits above, where
 //! Δλ is within the tolerance of a sign change of g instead.
 
 // `!(a > b)` is deliberate: it is true for NaN, which must take the safe branch.
@@ -249,23 +250,22 @@ pub fn radial_return<M: FlowStress + ?Sized>(
     // Steps of the last two iterations (rtsafe's dx, dxold).
     let mut step_old = lam_max;
     let mut step_last = lam_max;
+    // σ_y and its strength part at the accepted Newton iterate (NaN strength: evaluate them after the loop).
+    let mut at_result = (f64::NAN, f64::NAN);
     while !converged && iterations < opts.max_iterations {
         iterations += 1;
         let candidate = match opts.solver {
             Solver::Newton => {
-                let f = model.flow_at(eps + SQRT_2_3 * x, SQRT_2_3 * x / dt, temp, thermal);
+                let (f, strength) = model.flow_and_strength_at(eps + SQRT_2_3 * x, SQRT_2_3 * x / dt, temp, thermal);
                 let gx = norm - two_g * x - SQRT_2_3 * f.sigma;
-                let slope = -two_g - (2.0 / 3.0) * f.path_slope(dt);
                 if small(gx, x) {
-                    // Take the final Newton step when it cannot move x by more than |g|/2G (a non-softening slope)
-                    // and stays in the bracket: it only improves a converged iterate.
-                    let polished = x - gx / slope;
-                    if slope <= -two_g && polished >= lo && polished <= hi {
-                        x = polished;
-                    }
+                    // x is within the tolerance: the result, with this evaluation's σ_y and strength (no further
+                    // step, whose σ_y would cost another evaluation).
+                    at_result = (f.sigma, strength);
                     converged = true;
                     break;
                 }
+                let slope = -two_g - (2.0 / 3.0) * f.path_slope(dt);
                 tighten(&mut lo, &mut hi, x, gx);
                 x - gx / slope
             }
@@ -309,7 +309,14 @@ pub fn radial_return<M: FlowStress + ?Sized>(
     let factor = 1.0 - two_g * x / norm;
     let [xx, xy, xz, yy, yz, zz] = *s_trial;
     let (eps_new, rate_new) = (eps + SQRT_2_3 * x, SQRT_2_3 * x / dt);
-    let strength = model.strength_part(eps_new, rate_new);
+    // The accepted Newton iterate was evaluated at these very (ε̄, ε̄̇): its σ_y is `sigma_y`'s bit for bit
+    // (`FlowStress::flow_and_strength_at`) wherever the model splits off its strength part.
+    let (flow_stress, strength) = if at_result.1.is_nan() {
+        let strength = model.strength_part(eps_new, rate_new);
+        (model.sigma_y_parts(eps_new, rate_new, temp, strength, thermal), strength)
+    } else {
+        at_result
+    };
     ReturnResult {
         stress: [xx * factor, xy * factor, xz * factor, yy * factor, yz * factor, zz * factor],
         eps: eps_new,
@@ -317,7 +324,7 @@ pub fn radial_return<M: FlowStress + ?Sized>(
         delta_lambda: x,
         iterations,
         status: if converged { ReturnStatus::Converged } else { ReturnStatus::Capped },
-        flow_stress: model.sigma_y_parts(eps_new, rate_new, temp, strength, thermal),
+        flow_stress,
         strength,
         thermal,
     }

@@ -330,18 +330,7 @@ fn pair_term<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSP
         // V_j of the pre-pass: m_j/ρ_j with the full mass, which equals the mechanical m_j here (m_j ≠ 0).
         D::outer_add(&mut sums.l, q.vol, &dv, &gw);
         let w = if AS || XSPH { k.w(r) } else { R::ZERO };
-        let fan = if AS {
-            let f = w * p.as_inv_w_dx;
-            let mut fnn = R::ONE;
-            let mut e = 0;
-            while e < p.as_exponent {
-                fnn *= f;
-                e += 1;
-            }
-            fnn
-        } else {
-            R::ZERO
-        };
+        let fan = if AS { power(w * p.as_inv_w_dx, p.as_exponent) } else { R::ZERO };
         let artj = q.art;
         let rho_bar = half * (rhoi + rhoj);
         // One division for Π and the XSPH weight.
@@ -368,6 +357,29 @@ fn pair_term<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSP
             axpy(&mut sums.xsph, mj * inv_rb * w, &dv);
         }
     }
+}
+
+/// xⁿ by repeated squaring: the artificial stress's f_ijⁿ (roethlin-solver.md §3.6, Gray–Monaghan, n = 4). For
+/// n = 4 two dependent multiplications, (x²)², without the loop (the branch is on a kernel constant, uniform across
+/// the warp); other n take the loop, which gives the same bits for n = 4. A loop of n multiplications was a chain of
+/// n dependent latencies and a counter on every pair.
+#[inline(always)]
+pub fn power<R: Real>(x: R, n: u32) -> R {
+    if n == 4 {
+        let x2 = x * x;
+        return x2 * x2;
+    }
+    let (mut acc, mut b, mut e) = (R::ONE, x, n);
+    while e > 0 {
+        if e & 1 == 1 {
+            acc *= b;
+        }
+        e >>= 1;
+        if e > 0 {
+            b *= b;
+        }
+    }
+    acc
 }
 
 /// Lane `lane` of `lanes`' share of the pair sums of sorted particle i ([`for_each_neighbour_strided`]).
