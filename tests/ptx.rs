@@ -74,8 +74,9 @@ fn register_cap_marks_exactly_the_neighbour_kernels() {
 }
 
 /// The caps the CUDA backend loads by default (host/backend/cuda.rs `register_caps`): `.maxnreg 128` on the 2D
-/// neighbour kernels (the interaction, fused or not, and the conduction passes) and on the plastic corrector, none
-/// on the 3D neighbour kernels or any other entry; `SWARF_MAXNREG=0` and `SWARF_PLASTIC_MAXNREG=0` remove them.
+/// neighbour kernels (the interaction, fused or not, and the conduction passes) and on the plastic corrector, 80 on
+/// the 2D Johnson–Cook corrector, one cap per entry, none on the 3D neighbour kernels or any other entry;
+/// `SWARF_MAXNREG=0` and `SWARF_PLASTIC_MAXNREG=0` remove them.
 #[test]
 fn default_register_caps_mark_the_2d_neighbour_kernels_and_the_plastic_corrector() {
     use swarf::backend::cuda::register_caps;
@@ -87,9 +88,12 @@ fn default_register_caps_mark_the_2d_neighbour_kernels_and_the_plastic_corrector
             let is_2d_neighbour =
                 (name.starts_with("swarf_sph_rates_") || name.starts_with("swarf_heat_")) && name.contains("_2d_");
             let is_plastic = name.starts_with("swarf_step_finish_") || name.starts_with("swarf_plastic_");
+            let is_jc_2d = name.starts_with("swarf_step_finish_jc_2d_") || name.starts_with("swarf_plastic_jc_2d_");
             let params_end = body.find("\n)\n").map(|e| e + 3).expect("parameter list");
-            let has = body[params_end..].starts_with(".maxnreg 128\n");
-            assert_eq!(has, is_2d_neighbour || is_plastic, "{target}: {name}: .maxnreg 128 {has}");
+            let want = if is_jc_2d { ".maxnreg 80\n" } else { ".maxnreg 128\n" };
+            let has = body[params_end..].starts_with(want);
+            assert_eq!(has, is_2d_neighbour || is_plastic, "{target}: {name}: {want:?} {has}");
+            assert_eq!(body.matches(".maxnreg").count(), has as usize, "{target}: {name}: one cap at most");
             neighbour_2d += (has && is_2d_neighbour) as usize;
             plastic += (has && is_plastic) as usize;
         }

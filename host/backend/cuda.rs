@@ -520,23 +520,33 @@ const PLASTIC_KERNELS: [&str; 2] = ["swarf_step_finish_", "swarf_plastic_"];
 /// Registers per thread for [`PLASTIC_KERNELS`]: 65 536 / (2 × 256).
 const PLASTIC_MAXNREG: u32 = 128;
 
+/// The 2D Johnson–Cook corrector (the reference cuts' model) at [`JC_2D_MAXNREG`] instead: 65 536 / (3 × 256), three
+/// blocks per multiprocessor. It needs 98–110; capped at 80 it took 0.0660–0.0675 ms against 0.0723–0.0730 inside
+/// the 150k reference cut, the step 0.2460 against 0.2500 ms (+1 % inside the 6k cut; docs/performance.md,
+/// "Parameters by value"). The other models and 3D keep [`PLASTIC_MAXNREG`] (not measured at 80).
+const JC_2D_KERNELS: [&str; 2] = ["swarf_step_finish_jc_2d_", "swarf_plastic_jc_2d_"];
+const JC_2D_MAXNREG: u32 = 80;
+
 /// `ptx` with the register caps the CUDA backend loads: the neighbour kernels at `neighbour` (`SWARF_MAXNREG`;
 /// None: the 2D ones at [`NEIGHBOUR_MAXNREG`]; 0: none), the plastic corrector at `plastic`
-/// (`SWARF_PLASTIC_MAXNREG`; None: [`PLASTIC_MAXNREG`]; 0: none).
+/// (`SWARF_PLASTIC_MAXNREG`; None: the 2D Johnson–Cook ones at [`JC_2D_MAXNREG`], the others at
+/// [`PLASTIC_MAXNREG`]; 0: none).
 pub fn register_caps(ptx: &str, neighbour: Option<u32>, plastic: Option<u32>) -> String {
     let ptx = match neighbour {
         Some(0) => ptx.to_string(),
         Some(cap) => cap_registers(ptx, &NEIGHBOUR_KERNELS, cap),
         None => cap_registers(ptx, &NEIGHBOUR_KERNELS_2D, NEIGHBOUR_MAXNREG),
     };
-    match plastic.unwrap_or(PLASTIC_MAXNREG) {
-        0 => ptx,
-        cap => cap_registers(&ptx, &PLASTIC_KERNELS, cap),
+    match plastic {
+        Some(0) => ptx,
+        Some(cap) => cap_registers(&ptx, &PLASTIC_KERNELS, cap),
+        // An entry keeps the first cap it gets (`cap_registers`).
+        None => cap_registers(&cap_registers(&ptx, &JC_2D_KERNELS, JC_2D_MAXNREG), &PLASTIC_KERNELS, PLASTIC_MAXNREG),
     }
 }
 
-/// `ptx` with a `.maxnreg cap` directive on every entry whose name starts with one of `prefixes` (PTX ISA
-/// "Performance-tuning directives": between the parameter list and the body). Fewer registers allow more
+/// `ptx` with a `.maxnreg cap` directive on every entry whose name starts with one of `prefixes` and has none yet
+/// (PTX ISA "Performance-tuning directives": between the parameter list and the body). Fewer registers allow more
 /// resident warps, at the price of spills; `swarf info --kernels` and `swarf bench step` measure both.
 pub fn cap_registers(ptx: &str, prefixes: &[&str], cap: u32) -> String {
     let mut out = String::with_capacity(ptx.len() + 4096);
@@ -546,9 +556,9 @@ pub fn cap_registers(ptx: &str, prefixes: &[&str], cap: u32) -> String {
         out.push_str(head);
         let name = tail[".entry ".len()..].split('(').next().unwrap_or("");
         let capped = prefixes.iter().any(|p| name.starts_with(p));
-        // The parameter list ends at the first line that is a lone ")".
+        // The parameter list ends at the first line that is a lone ")"; an entry already capped keeps its cap.
         match (capped, tail.find("\n)\n")) {
-            (true, Some(end)) => {
+            (true, Some(end)) if !tail[end + "\n)\n".len()..].starts_with(".maxnreg ") => {
                 let end = end + "\n)\n".len();
                 out.push_str(&tail[..end]);
                 out.push_str(&format!(".maxnreg {cap}\n"));

@@ -333,19 +333,26 @@ fn pair_term<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSP
         let fan = if AS { power(w * p.as_inv_w_dx, p.as_exponent) } else { R::ZERO };
         let artj = q.art;
         let rho_bar = half * (rhoi + rhoj);
-        // One division for Π and the XSPH weight.
-        let inv_rb = if AV || XSPH { R::ONE / rho_bar } else { R::ZERO };
-        let pi = if AV {
+        // Π and the XSPH weight need 1/ρ̄, Π (approaching pairs) also 1/(r² + η²h²): one division for both,
+        // 1/(ρ̄ (r² + η²h²)), on every pair (a branch around it would run both ways in a warp). A division is a
+        // reciprocal and its Newton steps, the longest chain of the pair term after the square root.
+        let (inv_rb, pi) = if AV {
+            let den = r2 + p.av_eta2h2;
+            let inv = R::ONE / (rho_bar * den);
+            let inv_rb = inv * den;
             let vx = -dot(&dv, &xij); // v_ij · x_ij with v_ij = v_i − v_j
-            if vx < R::ZERO {
-                let mu = k.h * vx / (r2 + p.av_eta2h2);
+            let pi = if vx < R::ZERO {
+                let mu = k.h * vx * (inv * rho_bar);
                 let c_bar = half * (ci + q.c);
                 mu * (-p.av_alpha * c_bar + p.av_beta * mu) * inv_rb
             } else {
                 R::ZERO
-            }
+            };
+            (inv_rb, pi)
+        } else if XSPH {
+            (R::ONE / rho_bar, R::ZERO)
         } else {
-            R::ZERO
+            (R::ZERO, R::ZERO)
         };
         if AV {
             // v_ij·∇W with v_ij = v_i − v_j = −dv: the energy the viscous pair force takes out of the motion.
