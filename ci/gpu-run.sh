@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# whole150k bg150k wait150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abregs abblock abenv ncusrc
+# whole150k bg150k wait150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -198,11 +198,13 @@ for p in $parts; do
                 # (SWARF_CUT_GPUS, default "f64:0"; e.g. "f64:1 f32:0" on two GPUs): started in its own session
                 # (setsid), so that it runs on after this call returns while the machine is held; part wait150k
                 # waits for it and returns its summary, force trace and energies. Resumes from a checkpoint where
-                # the run folder has one (a carried carry150k/ is unpacked first, as in whole150k).
+                # the run folder has one (a carried carry150k/ is unpacked first, as in whole150k, unless
+                # SWARF_CUT_FRESH is set: then the cut starts at t = 0).
                 for pg in ${SWARF_CUT_GPUS:-f64:0}; do
                     prec=${pg%%:*} gpu=${pg##*:} d=runs/whole-150k-${pg%%:*}
                     mkdir -p runs
-                    if [ ! -f "$d/checkpoint.bin" ] && [ -e "carry150k/whole-150k-$prec.tgz.partaa" ]; then
+                    if [ ! -f "$d/checkpoint.bin" ] && [ -e "carry150k/whole-150k-$prec.tgz.partaa" ] \
+                        && [ -z "${SWARF_CUT_FRESH:-}" ]; then
                         cat carry150k/whole-150k-$prec.tgz.part* | tar xzf - -C runs
                     fi
                     if [ -f "$d/checkpoint.bin" ]; then args=(run --resume "$d" --quiet)
@@ -370,6 +372,22 @@ gpu__time_duration.sum,sm__sass_thread_inst_executed_op_dfma_pred_on.sum,sm__sas
                         && cut reference-cut-f32 cases/cutting/reference-cut.toml --precision f32
                 }
                 run refcut refcut ;;
+        refvar) # issue 7: how far round-off moves the 6k reference cut's forces: the whole f64 cut with each packed build
+                # (swarf, swarf-<name>) and with the sums in another order (SWARF_LANES=4 and 2; 8 is the default at 6k)
+                refvar() {
+                    local b v
+                    for b in swarf $(cd "$here" && ls swarf-* 2>/dev/null | grep -v '\.gz$'); do
+                        "$here/$b" --backend gpu run cases/cutting/reference-cut.toml --quiet --out /tmp/swarf-cut/var-$b \
+                            || return 1
+                        echo "== $b"; tail -n 1 /tmp/swarf-cut/var-$b/run.log
+                    done
+                    for v in 4 2; do
+                        SWARF_LANES=$v "$here/swarf" --backend gpu run cases/cutting/reference-cut.toml --quiet \
+                            --out /tmp/swarf-cut/var-lanes$v || return 1
+                        echo "== swarf, SWARF_LANES=$v"; tail -n 1 /tmp/swarf-cut/var-lanes$v/run.log
+                    done
+                }
+                run refvar refvar ;;
         f32fail) # issue 8: the 150k reference cut in f32 up to just past where it went non-finite (t = 3.43e-5 s):
                  # the run must stop within 4 096 steps of the first non-finite position, with its report, and
                  # keep its last good frame
