@@ -15,7 +15,7 @@
 //! Divisions are costly in f64 on the GPU, so the pair term avoids them: V_j comes from the pre-pass, 1/ρ̄ is
 //! taken once per pair (for Π and XSPH) and W'(r)/r divides only on 1 ≤ q < 2 (`CubicSpline::dw_dr_over_r`).
 
-use super::heat::{HeatArrays, HeatParams, brookshaw_term, heat_finish, heat_own, heat_pair, heat_partner};
+use super::heat::{HeatArrays, HeatParams, brookshaw_term, heat_finish, heat_own, heat_partner};
 use super::lanes::{LaneSum, all_lanes, lane_share, map_real, map_vector};
 use super::params::{SphParams, flags};
 use super::tensor::TensorOps;
@@ -456,36 +456,13 @@ pub unsafe fn pair_sums_heat<R: Real, D: TensorOps<R>, const AV: bool, const AS:
     unsafe {
         let o = own::<R, D, AV, AS>(a, i);
         let ho = heat_own(h, i);
-        match (o.mech, ho) {
-            (false, None) => HeatPairSums::default(),
-            (false, Some(ho)) => {
-                lane_share::<R, D::Vec<R>, _, _>(nb, &o.x, i, lane, lanes, |j, s| heat_only(p, hp, h, &ho, i, j, s))
-            }
-            (true, ho) => lane_share::<R, D::Vec<R>, _, _>(nb, &o.x, i, lane, lanes, |j, s| {
-                heat_and_pair::<R, D, AV, AS, XSPH>(p, hp, a, h, &o, ho.as_ref(), i, j, s)
-            }),
+        if !o.mech && ho.is_none() {
+            return HeatPairSums::default();
         }
+        lane_share::<R, D::Vec<R>, _, _>(nb, &o.x, i, lane, lanes, |j, s: &mut HeatPairSums<R, D>| {
+            heat_and_pair::<R, D, AV, AS, XSPH>(p, hp, a, h, &o, ho.as_ref(), i, j, s)
+        })
     }
-}
-
-/// The conduction term of pair (i, j) for a thermal-only particle i (the tool's): the separate pass's term
-/// (`heat::heat_pair`), equal bit for bit to the fused pass's (`gpu::fused_conduction_equals_separate_pass_and_cpu`).
-/// It reads j's position, temperature, volume and body only: the fused pair's other loads (velocity, density, stress,
-/// the stabilisers' fields) served a mechanical term that a thermal-only particle does not have.
-///
-/// # Safety
-/// As [`pair_sums_heat`].
-#[inline(always)]
-unsafe fn heat_only<R: Real, D: TensorOps<R>>(
-    p: &SphParams<R>,
-    hp: &HeatParams,
-    h: &HeatArrays<R, D::Vec<R>>,
-    ho: &super::heat::HeatOwn<D::Vec<R>>,
-    i: u32,
-    j: u32,
-    s: &mut HeatPairSums<R, D>,
-) {
-    s.heat += unsafe { heat_pair::<R, D::Vec<R>, false>(hp, &p.kernel, h, ho, i, j) };
 }
 
 /// The conduction and mechanical terms of pair (i, j) of the fused pass.
@@ -536,14 +513,12 @@ pub unsafe fn rates_heat<R: Real, D: TensorOps<R>, const AV: bool, const AS: boo
     unsafe {
         let o = own::<R, D, AV, AS>(a, i);
         let ho = heat_own(h, i);
-        let sums = match (o.mech, ho) {
-            (false, None) => HeatPairSums::default(),
-            (false, Some(ho)) => {
-                all_lanes::<R, D::Vec<R>, _, _>(nb, &o.x, i, lanes, |j, s| heat_only(p, hp, h, &ho, i, j, s))
-            }
-            (true, ho) => all_lanes::<R, D::Vec<R>, _, _>(nb, &o.x, i, lanes, |j, s: &mut HeatPairSums<R, D>| {
+        let sums = if !o.mech && ho.is_none() {
+            HeatPairSums::default()
+        } else {
+            all_lanes::<R, D::Vec<R>, _, _>(nb, &o.x, i, lanes, |j, s: &mut HeatPairSums<R, D>| {
                 heat_and_pair::<R, D, AV, AS, XSPH>(p, hp, a, h, &o, ho.as_ref(), i, j, s)
-            }),
+            })
         };
         (finish_rates::<R, D, XSPH>(p, a, i, &sums.mech), heat_finish(h, i, sums.heat))
     }
