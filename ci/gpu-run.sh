@@ -43,6 +43,18 @@ from_dirs() { # the checkpoints of fromcut/abfrom (made once per machine): print
     fi
     echo "$dirs"
 }
+abenv() { # the checkpoints' step with each variant of $1 (space-separated; "default" or NAME=VALUE[,NAME=VALUE...]),
+            # alternating, two rounds
+    local dirs; dirs=$(from_dirs) || return 1
+    local v round
+    for round in 1 2; do
+        for v in $1; do
+            echo "== $v, round $round"
+            env $([ "$v" = default ] || echo "${v//,/ }") \
+                "$here/swarf" --backend gpu bench step --from "$dirs" --step-count 2048 || return 1
+        done
+    done
+}
 for z in "$here"/*.gz; do [ -e "$z" ] && gunzip -f "$z" && chmod +x "${z%.gz}"; done
 echo "commit $(cat "$here/COMMIT")"
 nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.max.sm --format=csv,noheader 2>/dev/null | tee "$out/nvidia-smi.log"
@@ -306,31 +318,14 @@ gpu__time_duration.sum,sm__sass_thread_inst_executed_op_dfma_pred_on.sum,sm__sas
                 run abregs abregs ;;
         abenv) # issue 7: run-time settings side by side on the checkpoints, alternating, two rounds: SWARF_AB_ENVS holds
                # the variants, space-separated, each "default" or NAME=VALUE[,NAME=VALUE...]
-               abenv() {
-                   local dirs; dirs=$(from_dirs) || return 1
-                   local v
-                   for round in 1 2; do
-                       for v in ${SWARF_AB_ENVS:-default}; do
-                           echo "== $v, round $round"
-                           env $([ "$v" = default ] || echo "${v//,/ }") \
-                               "$here/swarf" --backend gpu bench step --from "$dirs" --step-count 2048 || return 1
-                       done
-                   done
-               }
-               run abenv abenv ;;
+               run abenv abenv "${SWARF_AB_ENVS:-default}" ;;
         abblock) # issue 7: block sizes of the neighbour passes and the plastic corrector (SWARF_PAIR_BLOCK,
                  # SWARF_PLASTIC_BLOCK) on the checkpoints, alternating with the default (256)
-                 abblock() {
-                     local dirs; dirs=$(from_dirs) || return 1
-                     for round in 1 2; do
-                         for v in default 128/256 256/128 128/128 64/64; do
-                             echo "== blocks (pair/plastic) $v, round $round"
-                             env $([ $v = default ] || echo SWARF_PAIR_BLOCK=${v%/*} SWARF_PLASTIC_BLOCK=${v#*/}) \
-                                 "$here/swarf" --backend gpu bench step --from "$dirs" --step-count 2048 || return 1
-                         done
-                     done
-                 }
-                 run abblock abblock ;;
+                 blocks="default"
+                 for v in 128/256 256/128 128/128 64/64; do
+                     blocks="$blocks SWARF_PAIR_BLOCK=${v%/*},SWARF_PLASTIC_BLOCK=${v#*/}"
+                 done
+                 run abblock abenv "$blocks" ;;
         ncufrom) # issue 7: the hardware counters of one launch of the interaction inside the 150k cut (checkpoint), and
                  # of the corrector with the plastic update inside both cuts
                  ncufrom() {
@@ -408,7 +403,10 @@ gpu__time_duration.sum,sm__sass_thread_inst_executed_op_dfma_pred_on.sum,sm__sas
 done
 echo "== summary =="
 printf '%s\n' "${summary[@]}" | tee "$out/summary.log"
-# At most 8 files come back from a device call: everything but the summary goes into one archive.
-( cd "$out" && find . -maxdepth 1 -type f ! -name summary.log ! -name logs.tgz ! -name '*.tgz.part*' -printf '%P\n' \
-    | tar czf logs.tgz --remove-files -T - ) || echo "could not archive the logs"
+# At most 8 files come back from a device call: everything but the summary goes into one archive, a new one per
+# invocation (a second invocation in the same call must not overwrite the first one's logs.tgz).
+archive=logs.tgz k=2
+while [ -e "$out/$archive" ]; do archive=logs-$k.tgz k=$((k + 1)); done
+( cd "$out" && find . -maxdepth 1 -type f ! -name summary.log ! -name 'logs*.tgz' ! -name '*.tgz.part*' -printf '%P\n' \
+    | tar czf "$archive" --remove-files -T - ) || echo "could not archive the logs"
 exit $status
