@@ -446,6 +446,56 @@ fn graph_batches_equal_plain_steps_and_cpu() {
     eprintln!("{count} steps in graph batches: bitwise equal to plain GPU steps and to the CPU");
 }
 
+/// Issue 7 on the GPU: a captured step puts its cell-list rebuild in an IF node (`backend::cuda`, module
+/// `conditional`) that skips the rebuild's gated launches when the step does not rebuild. Over graph batches in
+/// which the impact's moving disk rebuilds the list again and again, the IF nodes end bit for bit where the plain
+/// gated nodes and the CPU end, after the same rebuilds. On the GPU machine (`SWARF_REQUIRE_GPU=1`) a driver that
+/// cannot build the IF nodes fails the test: there it must.
+#[test]
+fn conditional_rebuilds_equal_gated_nodes_and_cpu() {
+    let Some(g) = gpu() else { return };
+    use swarf::kernels::Dim2;
+    use swarf::run::setup;
+    use swarf::scene::Scene;
+    use swarf::solver::{GRAPH_STEPS, Solver};
+    if let Err(why) = g.conditional_rebuild() {
+        if std::env::var("SWARF_REQUIRE_GPU").is_ok_and(|v| v == "1") {
+            panic!("SWARF_REQUIRE_GPU=1 but no IF nodes for the rebuild: {why}");
+        }
+        eprintln!("skipped (no IF nodes for the rebuild: {why})");
+        return;
+    }
+    let scene =
+        Scene::load("cases/impact.toml", &["discretisation.dx=2e-3".into(), "physics.conduction=\"brookshaw\"".into()])
+            .expect("scene");
+    // Two plain steps, then whole batches only: every rebuild after the first two steps ran inside a graph.
+    fn run<B: Backend>(b: &B, scene: &Scene, graphs: bool) -> (HostParticles<f64, Dim2>, Vec<f64>, u32, u32) {
+        let s = setup::<f64, Dim2>(scene).expect("setup");
+        let mut sv = Solver::<B, f64, Dim2>::new(b, &s).expect("solver");
+        sv.use_graphs = graphs;
+        sv.advance(b, s.dt, 2).expect("advance");
+        let before = sv.cell_rebuilds(b).expect("rebuilds");
+        sv.advance(b, s.dt, 3 * GRAPH_STEPS).expect("advance");
+        let after = sv.cell_rebuilds(b).expect("rebuilds");
+        let (t, _, _) = sv.download_internal(b).expect("internal");
+        (sv.download(b).expect("state"), t.expect("temperature"), before, after)
+    }
+    let (a, ta, _, ra) = run(&CpuBackend::new(), &scene, false);
+    let (b, tb, b0, rb) = run(&g, &scene, true);
+    let mut gated = gpu().expect("GPU");
+    gated.set_conditional_rebuild(false);
+    let (c, tc, _, rc) = run(&gated, &scene, true);
+    assert!(rb > b0 + 2, "only {} rebuilds inside the graph batches: the IF nodes are not exercised", rb - b0);
+    assert_eq!((rb, rc), (ra, ra), "rebuild counts: IF nodes {rb}, gated nodes {rc}, CPU {ra}");
+    assert!(b.bitwise_eq(&c) && tb == tc, "IF nodes differ from the gated nodes");
+    assert!(a.bitwise_eq(&b) && ta == tb, "IF nodes differ from the CPU");
+    eprintln!(
+        "{} rebuilds inside {} captured steps: IF nodes bitwise equal to the gated nodes and to the CPU",
+        rb - b0,
+        3 * GRAPH_STEPS
+    );
+}
+
 /// Issue 6 on the GPU: the plastic impact with conduction, stopped at its checkpoint half way and resumed,
 /// ends bit for bit where the uninterrupted GPU run ends (positions, velocities, temperatures, plastic strains).
 #[test]

@@ -22,6 +22,9 @@ use std::marker::PhantomData;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
+mod conditional;
+use conditional::Conditional;
+
 /// The (dimension, precision) suffixes of generic entry points, in `variant` order.
 const VARIANTS: [&str; 4] = ["2d_f32", "2d_f64", "3d_f32", "3d_f64"];
 
@@ -206,6 +209,13 @@ pub struct CudaBackend {
     /// within a warp), so results are the same bits at any block size.
     pair_block: u32,
     plastic_block: u32,
+    /// The IF nodes of captured rebuilds (`conditional`), or why there are none.
+    conditional: std::result::Result<Conditional, String>,
+    /// Captured rebuilds go in IF nodes (default; `SWARF_NO_CONDITIONAL=1` or `set_conditional_rebuild` turn it
+    /// off: plain gated nodes, the same launches and bits).
+    use_conditional: AtomicBool,
+    /// Launches go to the IF body's stream (while a rebuild's body is captured).
+    in_body: AtomicBool,
 }
 
 /// A block size from the environment variable `var` ([`BLOCK`] when unset), checked by [`check_block`].
@@ -278,6 +288,21 @@ impl CudaBackend {
 
     /// Sets the threads per block of the neighbour passes and of the plastic corrector (what `SWARF_PAIR_BLOCK` and
     /// `SWARF_PLASTIC_BLOCK` set at start-up); an error for a size that is not a multiple of 32 from 32 to 1024.
+    /// Whether captured steps put their rebuild in IF nodes (`Ok`), or why not: the driver cannot, or it was
+    /// turned off (`SWARF_NO_CONDITIONAL=1`, [`CudaBackend::set_conditional_rebuild`]).
+    pub fn conditional_rebuild(&self) -> std::result::Result<(), String> {
+        match &self.conditional {
+            Err(why) => Err(why.clone()),
+            Ok(_) if !self.use_conditional.load(Ordering::Relaxed) => Err("turned off".into()),
+            Ok(_) => Ok(()),
+        }
+    }
+
+    /// Turns the IF nodes of captured rebuilds on or off (for graphs captured from now on).
+    pub fn set_conditional_rebuild(&mut self, on: bool) {
+        self.use_conditional.store(on, Ordering::Relaxed);
+    }
+
     pub fn set_blocks(&mut self, pair: u32, plastic: u32) -> Result<()> {
         self.pair_block = check_block("pair block", pair)?;
         self.plastic_block = check_block("plastic block", plastic)?;
@@ -370,7 +395,12 @@ impl CudaBackend {
                 .map_err(cuda("multiprocessor count"))? as usize,
             ptx_target: Some(target),
         };
+        let conditional = Conditional::load(&ctx, driver);
+        let no_conditional = std::env::var("SWARF_NO_CONDITIONAL").is_ok_and(|v| v == "1");
         Ok(CudaBackend {
+            conditional,
+            use_conditional: AtomicBool::new(!no_conditional),
+            in_body: AtomicBool::new(false),
             module: module.clone(),
             ctx,
             stream,
@@ -426,6 +456,10 @@ impl CudaBackend {
                 _ => s as *mut u64 as *mut c_void,
             };
         }
+        let stream = match (&self.conditional, self.in_body.load(Ordering::Relaxed)) {
+            (Ok(c), true) => c.body_stream(),
+            _ => self.stream.cu_stream(),
+        };
         // SAFETY: the argument list matches the entry point's signature (kept in step with kernels/src/ptx).
         unsafe {
             result::launch_kernel(
@@ -433,7 +467,7 @@ impl CudaBackend {
                 (blocks as u32, 1, 1),
                 (block, 1, 1),
                 0,
-                self.stream.cu_stream(),
+                stream,
                 &mut params[..args.len()],
             )
         }
@@ -1219,6 +1253,27 @@ impl Backend for CudaBackend {
 
     fn replay(&self, g: &Graph) -> Result<()> {
         g.0.launch().map_err(cuda("cuGraphLaunch"))
+    }
+
+    fn rebuild_gated(&self, gate: u64, body: &mut dyn FnMut() -> Result<()>) -> Result<()> {
+        let c = match &self.conditional {
+            Ok(c)
+                if self.capturing.load(Ordering::Relaxed)
+                    && self.use_conditional.load(Ordering::Relaxed)
+                    && !self.in_body.load(Ordering::Relaxed) =>
+            {
+                c
+            }
+            _ => return body(),
+        };
+        let s = self.stream.cu_stream();
+        // SAFETY: `s` is capturing (`capturing`), in this backend's context; the handle is set by the kernel
+        // captured right before the IF node that reads it.
+        unsafe {
+            let handle = Conditional::handle(&self.ctx, s)?;
+            self.launch(c.set_kernel(), 1, 1, &[Arg::U64(handle), Arg::U64(gate)])?;
+            c.capture_if(&self.ctx, s, handle, &|on| self.in_body.store(on, Ordering::Relaxed), body)
+        }
     }
 
     fn contact<R: Real, D: Dim>(

@@ -233,6 +233,13 @@ pub trait Backend: Sized + Send + Sync {
     fn capture(&self, f: &mut dyn FnMut() -> Result<()>) -> Result<Option<Self::Graph>>;
     /// Runs a captured graph.
     fn replay(&self, g: &Self::Graph) -> Result<()>;
+    /// Submits `body`: the launches of a step's cell-list rebuild, each gated on the step's rebuild flag at device
+    /// address `gate` (`StepScalars::rebuild`). A backend capturing a graph may put them in a conditional node
+    /// that skips them when the flag is 0 (the CUDA backend's IF node); otherwise they run as submitted.
+    fn rebuild_gated(&self, gate: u64, body: &mut dyn FnMut() -> Result<()>) -> Result<()> {
+        let _ = gate;
+        body()
+    }
     /// Conduction rates Ṫ (`sph::heat::heat_rate`), Brookshaw or (`pse`) PSE; `grid` has stencil 2 for
     /// Brookshaw and 3 for PSE; `list` the Verlet list of `grid` (Brookshaw only: PSE reaches farther).
     #[allow(clippy::too_many_arguments)]

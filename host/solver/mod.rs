@@ -560,7 +560,20 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
     /// no synchronisation), so that it can be captured.
     fn step_at(&mut self, b: &B, dt: f64, j: usize) -> Result<()> {
         for ph in Phase::ALL {
-            self.phase(b, ph, j)?;
+            match ph {
+                // The rebuild's launches, gated on this step's flag, as one unit: a captured step skips them all
+                // when the flag is 0 (`Backend::rebuild_gated`).
+                Phase::CellList => {
+                    let gate = b.address(&self.scalars)
+                        + (j * size_of::<StepScalars>() + std::mem::offset_of!(StepScalars, rebuild)) as u64;
+                    b.rebuild_gated(gate, &mut || {
+                        self.phase(b, Phase::CellList, j)?;
+                        self.phase(b, Phase::Reorder, j)
+                    })?;
+                }
+                Phase::Reorder => {}
+                _ => self.phase(b, ph, j)?,
+            }
         }
         self.time += dt;
         self.steps += 1;
