@@ -26,7 +26,10 @@ fn step_kernels<B: Backend, R: Real>(c: &mut Criterion, b: &B, tag: &str, scene:
             b.synchronize().expect("sync");
         })
     });
-    // Phases that can be submitted again on their own (the cell list cannot: its scan consumes the counts).
+    // Phases that can be submitted again on their own (the cell list cannot: its scan consumes the counts), as
+    // separate passes: the pre-pass and the contact are otherwise fused into the predictor and the corrector.
+    sv.fuse_prepare = false;
+    sv.fuse_contact = false;
     for ph in [Phase::Prepare, Phase::Interact, Phase::Correct, Phase::Contact] {
         g.bench_function(BenchmarkId::new(ph.name().replace([' ', '+', '-'], "_"), sv.n), |bench| {
             bench.iter(|| {

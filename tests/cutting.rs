@@ -3,6 +3,9 @@
 //! magnitude and stability; the CI check of issue 5), the thermal tool particles (roethlin-solver.md AT-91), and
 //! the scene's refusals of a tool that overlaps or never meets the workpiece.
 
+mod common;
+
+use common::scenes::{drop_scene, plastic_drop_scene};
 use swarf::backend::{AnyBackend, BackendChoice};
 use swarf::run::{RunOptions, Snapshot, run, run_observed};
 use swarf::scene::Scene;
@@ -13,46 +16,6 @@ fn opts(tag: &str) -> RunOptions {
 
 fn cpu() -> AnyBackend {
     AnyBackend::select(BackendChoice::Cpu).expect("cpu").0
-}
-
-/// A Ti6Al4V block (elastic–plastic, 12 × 6 particles, Δx = 10 µm) dropped at `speed` onto the flat top face of a
-/// resting tool (rake 0°, clearance 7°, top at y = 0.2 mm).
-fn drop_scene(speed: f64, kappa: f64, friction: f64, slide: f64) -> String {
-    format!(
-        r#"
-name = "drop"
-dim = 2
-[discretisation]
-dx = 1.0e-5
-h_over_dx = 1.5
-[material]
-name = "Ti6Al4V-V0060-DE-mu035"
-[physics]
-plastic_heating = false
-[[body]]
-name = "block"
-shape = "rectangle"
-min = [-3.0e-4, 2.02e-4]
-max = [-1.8e-4, 2.62e-4]
-velocity = [{slide}, -{speed}]
-[tool]
-rake_angle = 0.0
-clearance_angle = 7.0
-edge_radius = 2.0e-5
-length = 4.0e-4
-height = 2.0e-4
-position = [0.0, 0.0]
-velocity = [0.0, 0.0]
-contact_stiffness = {kappa}
-friction = {friction}
-[stabilisation]
-artificial_viscosity = {{ alpha = 1.0, beta = 1.0, eta = 0.1 }}
-[time]
-end = 1.2e-6
-[output]
-every = 2.0e-9
-"#
-    )
 }
 
 /// H15 (klippel-constitutive.md §8): a block dropped on the rigid tool penetrates less than 0.1 Δx for κ in the
@@ -229,6 +192,49 @@ fn fused_conduction_equals_the_separate_pass() {
         let (v0, v1) = (var(&t), var(&ta));
         assert!(v1 < v0 * (1.0 - 1e-9), "{lanes} lanes: conduction did not act (variance {v0} -> {v1} K²)");
     }
+}
+
+/// The pre-pass fused into the predictor and the contact pass fused into the plastic corrector's launch
+/// (`Solver::fuse_prepare`, `Solver::fuse_contact`, the defaults) end bit for bit where the separate passes end: a
+/// Ti6Al4V block dropped at 50 m/s with a sliding component onto the tool (rebuilding its cell list as it moves),
+/// plastic with heating, the CURRENT friction cap (the yield stresses of the same step's return), friction heating
+/// and the Usui wear output, until it has touched the tool and yielded.
+#[test]
+fn fused_prepass_and_contact_equal_the_separate_passes() {
+    use swarf::backend::CpuBackend;
+    use swarf::kernels::Dim2;
+    use swarf::run::setup;
+    use swarf::solver::Solver;
+    let scene = Scene::from_str(&plastic_drop_scene(), "cases/cutting/drop.toml", &[]).expect("scene");
+    let s = setup::<f64, Dim2>(&scene).expect("setup");
+    let b = CpuBackend::new();
+    let run = |fuse: bool| {
+        let mut sv = Solver::<CpuBackend, f64, Dim2>::new(&b, &s).expect("solver");
+        (sv.fuse_contact, sv.fuse_prepare) = (fuse, fuse);
+        let mut touched = 0;
+        for _ in 0..40 {
+            sv.advance(&b, s.dt, 10).expect("steps");
+            touched = touched.max(sv.contact_sample(&b).expect("sample").expect("a tool").contacts);
+        }
+        let (temp, eps, _) = sv.download_internal(&b).expect("internal");
+        let sample = sv.contact_sample(&b).expect("sample").expect("a tool");
+        (sv.download(&b).expect("state"), temp.expect("temperature"), eps.expect("plastic strain"), touched, sample)
+    };
+    let (a, ta, ea, touched, fa) = run(true);
+    let (c, tc, ec, _, fc) = run(false);
+    assert!(touched > 0, "the block never touched the tool: the contact is not exercised");
+    assert!(ea.iter().any(|e| *e > 0.0), "nothing yielded: the plastic corrector's contact is not exercised");
+    assert!(a.bitwise_eq(&c), "fused passes: the state differs from the separate passes");
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<u64>>();
+    assert_eq!(bits(&ta), bits(&tc), "fused passes: temperatures differ");
+    assert_eq!(bits(&ea), bits(&ec), "fused passes: plastic strains differ");
+    assert_eq!(
+        (fa.force[0].to_bits(), fa.force[1].to_bits(), fa.contacts, fa.wear_rate.to_bits()),
+        (fc.force[0].to_bits(), fc.force[1].to_bits(), fc.contacts, fc.wear_rate.to_bits()),
+        "fused passes: the tool's force or wear differs"
+    );
+    let yielded = ea.iter().filter(|e| **e > 0.0).count();
+    eprintln!("fused pre-pass and contact: up to {touched} particles in contact, {yielded} yielded; bitwise equal");
 }
 
 /// The Verlet list (docs/neighbour-search.md, "Verlet list") holds each particle's candidates in the order the

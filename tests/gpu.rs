@@ -704,3 +704,50 @@ fn fused_conduction_equals_separate_pass_and_cpu() {
         eprintln!("{lanes} lanes, {count} steps: fused conduction bitwise equal to the separate pass and the CPU");
     }
 }
+
+/// Issue 7 on the GPU: the pre-pass fused into the predictor and the contact pass fused into the plastic corrector's
+/// launch (`Solver::fuse_prepare`, `Solver::fuse_contact`, the defaults) end bit for bit where the separate passes
+/// end, and where the CPU ends (tests/cutting.rs checks the CPU): the plastic block dropped on the tool with the
+/// CURRENT friction cap, friction heating and wear, in graph batches (the pre-pass after a rebuild in the IF
+/// node), until it has touched the tool and yielded.
+#[test]
+fn fused_prepass_and_contact_equal_separate_passes_and_cpu() {
+    let Some(g) = gpu() else { return };
+    use swarf::kernels::Dim2;
+    use swarf::run::setup;
+    use swarf::scene::Scene;
+    use swarf::solver::{GRAPH_STEPS, Solver};
+    let scene = Scene::from_str(&common::scenes::plastic_drop_scene(), "cases/cutting/drop.toml", &[]).expect("scene");
+    let s = setup::<f64, Dim2>(&scene).expect("setup");
+    fn run<B: Backend>(
+        b: &B,
+        s: &swarf::solver::Setup<f64, Dim2>,
+        fuse: bool,
+    ) -> (HostParticles<f64, Dim2>, Vec<u64>, usize, usize) {
+        let mut sv = Solver::<B, f64, Dim2>::new(b, s).expect("solver");
+        (sv.fuse_contact, sv.fuse_prepare) = (fuse, fuse);
+        let mut touched = 0;
+        for _ in 0..12 {
+            sv.advance(b, s.dt, GRAPH_STEPS).expect("steps");
+            touched = touched.max(sv.contact_sample(b).expect("sample").expect("a tool").contacts);
+        }
+        let (t, e, _) = sv.download_internal(b).expect("internal");
+        let (t, e) = (t.expect("temperature"), e.expect("plastic strain"));
+        let yielded = e.iter().filter(|x| **x > 0.0).count();
+        let f = sv.contact_sample(b).expect("sample").expect("a tool");
+        let mut bits: Vec<u64> = t.iter().chain(&e).map(|x| x.to_bits()).collect();
+        bits.extend([f.force[0].to_bits(), f.force[1].to_bits(), f.contacts as u64, f.wear_rate.to_bits()]);
+        (sv.download(b).expect("state"), bits, touched, yielded)
+    }
+    let (a, ba, _, _) = run(&CpuBackend::new(), &s, true);
+    let (f, bf, touched, yielded) = run(&g, &s, true);
+    let (u, bu, _, _) = run(&g, &s, false);
+    assert!(touched > 0 && yielded > 0, "contact ({touched}) and yielding ({yielded}) not both exercised");
+    assert!(f.bitwise_eq(&u) && bf == bu, "the fused passes differ from the separate passes on the GPU");
+    assert!(a.bitwise_eq(&f) && ba == bf, "the fused passes on the GPU differ from the CPU");
+    eprintln!(
+        "{} steps, up to {touched} particles in contact, {yielded} yielded: fused pre-pass and contact bitwise \
+         equal to the separate passes and the CPU",
+        12 * GRAPH_STEPS
+    );
+}

@@ -139,6 +139,7 @@ mod pre_pass {
                 Some(&mut sound),
                 &mut vol,
                 None,
+                None,
             )
             .expect("pre-pass");
             for i in 0..n {

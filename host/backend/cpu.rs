@@ -3,14 +3,14 @@
 //! the stable one by construction (the GPU restores the same order with `sort_cells`).
 
 use super::{
-    Backend, Buffer, CellBuffers, ContactInputs, DeviceInfo, Element, FieldsMut, FusedHeat, HeatInputs, PlasticInputs,
-    PlasticPass, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields,
+    Backend, Buffer, CellBuffers, ContactInputs, DeviceInfo, Element, FieldsMut, FusedContact, FusedHeat, FusedPrepare,
+    HeatInputs, PlasticInputs, PlasticPass, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields,
 };
 use crate::kernels::contact::penalty::{ContactArrays, ContactParams, contact_particle};
 use crate::kernels::neighbour::search::neighbour_row;
 use crate::kernels::neighbour::{GatherField, GridParams, Neighbours, sort::sort_cell, verlet::verlet_row};
 use crate::kernels::sph::heat::{HeatArrays, HeatParams, heat_rate};
-use crate::kernels::sph::interact::{Arrays, prepare, rates, rates_heat};
+use crate::kernels::sph::interact::{Arrays, PrepassArrays, prepare, prepare_particle, rates, rates_heat};
 use crate::kernels::sph::plastic::{PlasticArrays, PlasticConsts, plastic_particle};
 use crate::kernels::sph::step::{StepArrays, StepScalars, correct_particle, is_finite_vec, predict_particle};
 use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers, TensorOps, density::density_sum};
@@ -124,6 +124,11 @@ struct SendPlastic<R: Real, S>(PlasticArrays<R, S>);
 // SAFETY: disjoint per-index writes, buffers outlive the loop.
 unsafe impl<R: Real, S> Send for SendPlastic<R, S> {}
 unsafe impl<R: Real, S> Sync for SendPlastic<R, S> {}
+
+struct SendPrepass<R: Real, S>(PrepassArrays<R, S>);
+// SAFETY: disjoint per-index writes, buffers outlive the loop.
+unsafe impl<R: Real, S> Send for SendPrepass<R, S> {}
+unsafe impl<R: Real, S> Sync for SendPrepass<R, S> {}
 
 struct SendContact<R: Real, V>(ContactArrays<R, V>);
 // SAFETY: disjoint per-index writes, buffers outlive the loop.
@@ -481,7 +486,13 @@ impl Backend for CpuBackend {
         sound: Option<&mut Vec<R>>,
         vol: &mut Vec<R>,
         temp: Option<&Vec<f64>>,
+        gate: Option<ScalarsAt<'_, Self>>,
     ) -> Result<()> {
+        if let Some(g) = gate
+            && scalars(&g)?.rebuild == 0
+        {
+            return Ok(());
+        }
         check("sph_prepare rho", n, rho.len())?;
         check("sph_prepare mass", n, mass.len())?;
         check("sph_prepare vol", n, vol.len())?;
@@ -689,18 +700,58 @@ impl Backend for CpuBackend {
         s: ScalarsMut<'_, Self>,
         f: StepFields<'_, Self, R, D>,
         skin: SkinTest<'_, Self, R, D>,
+        prepare: Option<FusedPrepare<'_, Self, R, D>>,
     ) -> Result<()> {
         let entry =
             s.buf.get_mut(s.index).ok_or(Error::Length { op: "step scalars", expected: s.index + 1, got: 0 })?;
         let dt = entry.dt;
+        let (rho, stress) = (f.y.rho.as_ptr(), f.y.stress.as_ptr());
         let a = step_arrays::<R, D>(n, f)?;
         check("step_predict pos_ref", n, skin.pos_ref.len())?;
         check("step_predict grid", 1, skin.grid.len())?;
         let g = skin.grid[0];
+        // The fused pre-pass (as the CUDA entry): the same particle's pre-pass after its prediction.
+        let prep = match prepare {
+            None => None,
+            Some(q) => {
+                check("step_predict mass", n, q.mass.len())?;
+                check("step_predict sig", n, q.sig.len())?;
+                check("step_predict vol", n, q.vol.len())?;
+                if let Some(a) = &q.art {
+                    check("step_predict art", n, a.len())?;
+                }
+                if let Some(c) = &q.sound {
+                    check("step_predict sound", n, c.len())?;
+                }
+                let art = if q.stab.stress { q.art.map(|a| a.as_mut_ptr()) } else { None };
+                let sound = if q.stab.viscosity { q.sound.map(|c| c.as_mut_ptr()) } else { None };
+                if (q.stab.stress && art.is_none()) || (q.stab.viscosity && sound.is_none()) {
+                    return Err(Error::Length { op: "step_predict (stabiliser buffer missing)", expected: n, got: 0 });
+                }
+                Some((
+                    *q.params,
+                    q.mass.as_ptr() as usize,
+                    SendPrepass(PrepassArrays {
+                        sig: q.sig.as_mut_ptr(),
+                        art: art.unwrap_or(std::ptr::null_mut()),
+                        sound: sound.unwrap_or(std::ptr::null_mut()),
+                        vol: q.vol.as_mut_ptr(),
+                    }),
+                ))
+            }
+        };
+        let (rho, stress) = (rho as usize, stress as usize);
         let moved = skin.pos_ref[..n].par_iter().enumerate().map(|(i, xr)| {
-            let a = &a;
-            // SAFETY: lengths checked by step_arrays; each particle i is touched by one task only.
+            let (a, prep) = (&a, &prep);
+            // SAFETY: lengths checked by step_arrays and above; each particle i is touched by one task only.
             let x = unsafe { predict_particle(&a.0, dt, i) };
+            if let Some((p, mass, o)) = prep {
+                // SAFETY: as above; the predictor wrote particle i's ρ and S.
+                unsafe {
+                    let (r, m) = (*(rho as *const R).add(i), *(*mass as *const R).add(i));
+                    prepare_particle::<R, D>(p, &o.0, i, r, m, &*(stress as *const D::Sym<R>).add(i));
+                }
+            }
             (g.beyond_skin::<R, D::Vec<R>>(&x, xr), is_finite_vec::<R, D::Vec<R>>(&x))
         });
         // Every particle is predicted (no short-circuit), as on the GPU.
@@ -768,10 +819,20 @@ impl Backend for CpuBackend {
         s: ScalarsAt<'_, Self>,
         f: StepFields<'_, Self, R, D>,
         plastic: Option<PlasticPass<'_, Self>>,
+        contact: Option<FusedContact<'_, Self, R, D>>,
     ) -> Result<()> {
-        let dt = scalars(&s)?.dt;
+        let sc = scalars(&s)?;
+        let (dt, tool) = (sc.dt, sc.tool);
+        if contact.is_some() && (plastic.is_none() || D::D != 2) {
+            return Err(Error::Length {
+                op: "step_finish (the fused contact needs plasticity, 2D)",
+                expected: 2,
+                got: D::D,
+            });
+        }
         let mut f = f;
         let (stress, rho) = (f.y.stress.as_mut_ptr(), f.y.rho.as_ptr());
+        let (pos, vel) = (f.y.pos.as_ptr(), f.y.vel.as_ptr());
         let temp = f.temp.as_mut().map(|t| t.as_mut_ptr());
         let a = step_arrays::<R, D>(n, f)?;
         let Some(p) = plastic else {
@@ -802,12 +863,54 @@ impl Backend for CpuBackend {
             work: out_ptr(p.work, "plastic work", n)?,
         });
         let c = PlasticConsts { shear: p.shear, dt, taylor_quinney: p.taylor_quinney, _pad: 0.0 };
+        // The fused contact (as the CUDA entry): the same particle's contact pass after its plastic update.
+        let touch = match contact {
+            None => None,
+            Some(k) => {
+                for (what, len) in [("mass", k.mass.len()), ("normal", k.normal.len()), ("friction", k.friction.len())]
+                {
+                    check(what, n, len)?;
+                }
+                if let Some(w) = k.wear.as_ref() {
+                    check("wear", n, w.len())?;
+                }
+                if let Some(m) = k.materials {
+                    check_bodies("contact materials", &p.flags[..n], m.len())?;
+                }
+                if k.yield_stress && arr.0.yield_stress.is_null() {
+                    return Err(Error::Length {
+                        op: "step_finish (the friction cap's yield stresses)",
+                        expected: 1,
+                        got: 0,
+                    });
+                }
+                Some((
+                    k.params[0],
+                    SendContact(ContactArrays::<R, D::Vec<R>> {
+                        pos,
+                        vel,
+                        mass: k.mass.as_ptr(),
+                        rho,
+                        flags: p.flags.as_ptr(),
+                        normal: k.normal.as_mut_ptr(),
+                        friction: k.friction.as_mut_ptr(),
+                        temp,
+                        materials: k.materials.map_or(std::ptr::null(), |m| m.as_ptr()),
+                        yield_stress: if k.yield_stress { arr.0.yield_stress as *const f64 } else { std::ptr::null() },
+                        wear: k.wear.map_or(std::ptr::null_mut(), |w| w.as_mut_ptr()),
+                    }),
+                ))
+            }
+        };
         with_model!(p.model, M, m => (0..n).into_par_iter().for_each(|i| {
-            let (a, arr) = (&a, &arr);
+            let (a, arr, touch) = (&a, &arr, &touch);
             // SAFETY: lengths checked above; each particle i is touched by one task only.
             unsafe {
                 correct_particle(&a.0, dt, i);
-                plastic_particle::<R, D, M>(m, &c, &arr.0, i)
+                plastic_particle::<R, D, M>(m, &c, &arr.0, i);
+                if let Some((cp, ca)) = touch {
+                    contact_particle::<R, D::Vec<R>>(cp, &tool, &ca.0, i);
+                }
             }
         }));
         Ok(())

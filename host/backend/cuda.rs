@@ -3,8 +3,8 @@
 //! One stream, no event tracking: every launch is ordered after the previous one.
 
 use super::{
-    Backend, Buffer, CellBuffers, ContactInputs, DeviceInfo, Element, FieldsMut, FusedHeat, HeatInputs, PlasticInputs,
-    PlasticPass, SCAN_TILE, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields,
+    Backend, Buffer, CellBuffers, ContactInputs, DeviceInfo, Element, FieldsMut, FusedContact, FusedHeat, FusedPrepare,
+    HeatInputs, PlasticInputs, PlasticPass, SCAN_TILE, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields,
 };
 use crate::kernels::neighbour::GatherField;
 use crate::kernels::neighbour::GridParams;
@@ -114,7 +114,7 @@ fn rates_suffix(c: usize) -> String {
 }
 
 /// Most arguments of any entry point.
-const MAX_ARGS: usize = 32;
+const MAX_ARGS: usize = 40;
 
 /// Threads per block of the per-particle kernels.
 const BLOCK: u32 = 256;
@@ -936,6 +936,7 @@ impl Backend for CudaBackend {
         sound: Option<&mut CudaBuf<R>>,
         vol: &mut CudaBuf<R>,
         temp: Option<&CudaBuf<f64>>,
+        gate: Option<ScalarsAt<'_, Self>>,
     ) -> Result<()> {
         let art = if stab.stress { art.map(|a| self.ptr_mut(a)).unwrap_or(0) } else { 0 };
         let sound = if stab.viscosity { sound.map(|c| self.ptr_mut(c)).unwrap_or(0) } else { 0 };
@@ -943,7 +944,12 @@ impl Backend for CudaBackend {
             return Err(Error::Length { op: "sph_prepare (stabiliser buffer missing)", expected: n, got: 0 });
         }
         let c = (stab.viscosity as usize) << 1 | stab.stress as usize;
+        let gate = match gate {
+            Some(g) => self.gate(&g)?,
+            None => 0,
+        };
         let args = [
+            Arg::U64(gate),
             Arg::U32(n as u32),
             Arg::U64(self.ptr(params)),
             Arg::U64(self.ptr(rho)),
@@ -1061,6 +1067,7 @@ impl Backend for CudaBackend {
         s: ScalarsMut<'_, Self>,
         f: StepFields<'_, Self, R, D>,
         skin: SkinTest<'_, Self, R, D>,
+        prepare: Option<FusedPrepare<'_, Self, R, D>>,
     ) -> Result<()> {
         if skin.pos_ref.len < n {
             return Err(Error::Length { op: "step_predict pos_ref", expected: n, got: skin.pos_ref.len });
@@ -1069,6 +1076,41 @@ impl Backend for CudaBackend {
         let mut args = vec_args(&[Arg::U32(n as u32), at, Arg::U64(self.ptr(skin.grid))]);
         args.extend_from_slice(&self.step_args(n, f)?.0);
         args.extend_from_slice(&[Arg::U64(self.ptr(skin.pos_ref))]);
+        // The pre-pass's parameters by value; its outputs null without it (`ptx::sph`, predict_entry).
+        let params = prepare.as_ref().map_or(SphParams::<R>::default(), |q| *q.params);
+        let bytes = bytemuck::bytes_of(&params);
+        match prepare {
+            None => args.extend_from_slice(&[
+                Arg::Bytes(bytes),
+                Arg::U64(0),
+                Arg::U64(0),
+                Arg::U64(0),
+                Arg::U64(0),
+                Arg::U64(0),
+            ]),
+            Some(q) => {
+                let art = if q.stab.stress { q.art.map(|a| self.ptr_mut(a)).unwrap_or(0) } else { 0 };
+                let sound = if q.stab.viscosity { q.sound.map(|c| self.ptr_mut(c)).unwrap_or(0) } else { 0 };
+                if (q.stab.stress && art == 0) || (q.stab.viscosity && sound == 0) {
+                    return Err(Error::Length { op: "step_predict (stabiliser buffer missing)", expected: n, got: 0 });
+                }
+                if q.mass.len < n || q.sig.len < n || q.vol.len < n {
+                    return Err(Error::Length {
+                        op: "step_predict (pre-pass fields)",
+                        expected: n,
+                        got: q.sig.len.min(q.vol.len),
+                    });
+                }
+                args.extend_from_slice(&[
+                    Arg::Bytes(bytes),
+                    Arg::U64(self.ptr(q.mass)),
+                    Arg::U64(self.ptr_mut(q.sig)),
+                    Arg::U64(art),
+                    Arg::U64(sound),
+                    Arg::U64(self.ptr_mut(q.vol)),
+                ]);
+            }
+        }
         self.launch(&self.k.step_predict.0[variant::<R, D>()], n, BLOCK, args.get()?)
     }
 
@@ -1145,8 +1187,16 @@ impl Backend for CudaBackend {
         s: ScalarsAt<'_, Self>,
         f: StepFields<'_, Self, R, D>,
         plastic: Option<PlasticPass<'_, Self>>,
+        contact: Option<FusedContact<'_, Self, R, D>>,
     ) -> Result<()> {
         let sc = self.scalars(&s)?;
+        if contact.is_some() && (plastic.is_none() || D::D != 2) {
+            return Err(Error::Length {
+                op: "step_finish (the fused contact needs plasticity, 2D)",
+                expected: 2,
+                got: D::D,
+            });
+        }
         let Some(p) = plastic else {
             let mut args = vec_args(&[Arg::U32(n as u32), sc]);
             let (fields, diss) = self.step_args(n, f)?;
@@ -1160,6 +1210,7 @@ impl Backend for CudaBackend {
         if p.taylor_quinney > 0.0 && p.materials.is_none() {
             return Err(Error::Length { op: "step_finish (thermal materials missing)", expected: 1, got: 0 });
         }
+        let yield_ptr = p.yield_stress.map_or(0, |y| self.ptr_mut(y));
         let mut args = vec_args(&[
             Arg::U32(n as u32),
             sc,
@@ -1176,9 +1227,41 @@ impl Backend for CudaBackend {
             Arg::U64(self.ptr_mut(p.rate)),
             Arg::U64(self.ptr(p.flags)),
             Arg::U64(p.materials.map_or(0, |m| self.ptr(m))),
-            Arg::U64(p.yield_stress.map_or(0, |y| self.ptr_mut(y))),
+            Arg::U64(yield_ptr),
             Arg::U64(p.work.map_or(0, |w| self.ptr_mut(w))),
         ]);
+        match contact {
+            None => args.extend_from_slice(&[Arg::U64(0); 7]),
+            Some(c) => {
+                if c.yield_stress && yield_ptr == 0 {
+                    return Err(Error::Length {
+                        op: "step_finish (the friction cap's yield stresses)",
+                        expected: 1,
+                        got: 0,
+                    });
+                }
+                if c.mass.len < n
+                    || c.normal.len < n
+                    || c.friction.len < n
+                    || c.wear.as_ref().is_some_and(|w| w.len < n)
+                {
+                    return Err(Error::Length {
+                        op: "step_finish (contact fields)",
+                        expected: n,
+                        got: c.mass.len.min(c.normal.len),
+                    });
+                }
+                args.extend_from_slice(&[
+                    Arg::U64(self.ptr(c.params)),
+                    Arg::U64(self.ptr(c.mass)),
+                    Arg::U64(self.ptr_mut(c.normal)),
+                    Arg::U64(self.ptr_mut(c.friction)),
+                    Arg::U64(c.materials.map_or(0, |m| self.ptr(m))),
+                    Arg::U64(if c.yield_stress { yield_ptr } else { 0 }),
+                    Arg::U64(c.wear.map_or(0, |w| self.ptr_mut(w))),
+                ]);
+            }
+        }
         let f = &self.k.step_finish_plastic[model_index(p.model)].0[variant::<R, D>()];
         self.launch(f, n, self.plastic_block, args.get()?)
     }

@@ -133,7 +133,8 @@ pub trait Backend: Sized + Send + Sync {
 
     /// SPH pre-pass (`sph::interact::prepare`): sig = σ/ρ², art = artificial stress (if on), sound = √(K/ρ)
     /// (if the viscosity is on), vol = m/ρ with `mass` the particles' full masses (the thermal-only ones
-    /// included: they conduct); `temp` is given when the EOS has thermal expansion.
+    /// included: they conduct); `temp` is given when the EOS has thermal expansion. With `gate` it runs only when
+    /// the step's rebuild flag is set (the predictor ran the pre-pass; a rebuild's reorder needs it again).
     #[allow(clippy::too_many_arguments)]
     fn sph_prepare<R: Real, D: TensorOps<R>>(
         &self,
@@ -148,6 +149,7 @@ pub trait Backend: Sized + Send + Sync {
         sound: Option<&mut Self::Buf<R>>,
         vol: &mut Self::Buf<R>,
         temp: Option<&Self::Buf<f64>>,
+        gate: Option<ScalarsAt<'_, Self>>,
     ) -> Result<()>;
     /// SPH pair interaction (`sph::interact::rates`): the rates of every sorted particle, each summed by `lanes`
     /// lanes (1, 2, 4 or 8; the sums' order depends on it, equally on every backend). With `heat`, the same
@@ -172,12 +174,15 @@ pub trait Backend: Sized + Send + Sync {
     /// The predictor (`sph::step::predict_particle`): y0 ← y, y ← y0 + ½Δt ẏ (x, v, ρ, S and, with conduction,
     /// T), with the skin test of each predicted position: a particle farther than the grid's skin from where the
     /// cell list binned it (`GridParams::beyond_skin`) sets the step's rebuild flag.
+    /// With `prepare`, each particle's pre-pass follows its prediction in the same pass
+    /// (`sph::interact::prepare_particle`; the same results as [`Backend::sph_prepare`] after the predictor).
     fn step_predict<R: Real, D: TensorOps<R>>(
         &self,
         n: usize,
         s: ScalarsMut<'_, Self>,
         f: StepFields<'_, Self, R, D>,
         skin: SkinTest<'_, Self, R, D>,
+        prepare: Option<FusedPrepare<'_, Self, R, D>>,
     ) -> Result<()>;
     /// The cell list's rebuild inside the step loop, gated by the step's rebuild flag: counts zeroed (with
     /// `rebuilds[0] += 1`), hash and count, prefix sum, scatter and per-cell sort, as `CellList::build`; each
@@ -202,13 +207,16 @@ pub trait Backend: Sized + Send + Sync {
         list: &mut Self::Buf<u32>,
     ) -> Result<()>;
     /// The fused corrector (`sph::step::correct_particle`) y ← y0 + Δt ẏ, followed by the plastic update of the
-    /// same particle when `plastic` is given (`sph::plastic::plastic_particle`).
+    /// same particle when `plastic` is given (`sph::plastic::plastic_particle`), and then by the tool's contact
+    /// pass of the same particle when `contact` is given (`contact::penalty::contact_particle`, 2D; needs
+    /// `plastic`): the same results as [`Backend::contact`] after the corrector, without a pass of its own.
     fn step_finish<R: Real, D: TensorOps<R>>(
         &self,
         n: usize,
         s: ScalarsAt<'_, Self>,
         f: StepFields<'_, Self, R, D>,
         plastic: Option<PlasticPass<'_, Self>>,
+        contact: Option<FusedContact<'_, Self, R, D>>,
     ) -> Result<()>;
     /// The address of a buffer's first element, for [`Backend::gather_fields`].
     fn address<T: Element>(&self, buf: &Self::Buf<T>) -> u64;
@@ -417,6 +425,37 @@ pub struct PlasticPass<'a, B: Backend> {
     pub materials: Option<&'a B::Buf<ThermalMaterial>>,
     pub yield_stress: Option<&'a mut B::Buf<f64>>,
     pub work: Option<&'a mut B::Buf<f64>>,
+}
+
+/// The pre-pass fused into the predictor ([`Backend::step_predict`]; no thermal expansion). Its other inputs are
+/// the predictor's own: the predicted densities and stresses.
+pub struct FusedPrepare<'a, B: Backend, R: Real, D: Dim> {
+    pub stab: Stabilisers,
+    pub params: &'a SphParams<R>,
+    /// The particles' full masses.
+    pub mass: &'a B::Buf<R>,
+    pub sig: &'a mut B::Buf<D::Sym<R>>,
+    pub art: Option<&'a mut B::Buf<D::Sym<R>>>,
+    pub sound: Option<&'a mut B::Buf<R>>,
+    pub vol: &'a mut B::Buf<R>,
+}
+
+/// The contact pass fused into the plastic corrector ([`Backend::step_finish`]). Its other inputs are the
+/// corrector's own: positions, velocities, densities and temperatures after the corrector and the plastic update,
+/// the plastic pass's flags and (with `yield_stress`) its yield stresses.
+pub struct FusedContact<'a, B: Backend, R: Real, D: Dim> {
+    pub params: &'a B::Buf<crate::kernels::contact::ContactParams>,
+    /// The particles' own masses.
+    pub mass: &'a B::Buf<R>,
+    pub normal: &'a mut B::Buf<D::Vec<R>>,
+    /// Friction force: read as the history, overwritten with the new force.
+    pub friction: &'a mut B::Buf<D::Vec<R>>,
+    /// Thermal materials by body (with friction heating).
+    pub materials: Option<&'a B::Buf<ThermalMaterial>>,
+    /// The friction cap reads the plastic pass's yield stresses (the CURRENT cap).
+    pub yield_stress: bool,
+    /// Usui wear-rate output, when on.
+    pub wear: Option<&'a mut B::Buf<f64>>,
 }
 
 /// Per-particle state of the contact pass, sorted order.

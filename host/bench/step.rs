@@ -103,9 +103,22 @@ pub fn step<B: Backend, R: Real, D: TensorOps<R>>(
         ms_per_step: ms / (batches * GRAPH_STEPS) as f64,
         phases_ms: phases,
         pairs,
-        bytes_per_step: compulsory_bytes(setup, sv.n, fuse, rebuilds),
+        bytes_per_step: compulsory_bytes(
+            setup,
+            sv.n,
+            Fusion { conduction: fuse, prepare: sv.fuse_prepare, contact: sv.fuse_contact },
+            rebuilds,
+        ),
         rebuilds_per_step: rebuilds,
     })
+}
+
+/// Which passes of the step run fused (`Solver`'s `fuse_conduction`, `fuse_prepare`, `fuse_contact`).
+#[derive(Clone, Copy, Debug)]
+pub struct Fusion {
+    pub conduction: bool,
+    pub prepare: bool,
+    pub contact: bool,
 }
 
 /// The least traffic of one step, per pass: predictor (reads y, ẏ and the binned positions, writes y and y0); on
@@ -113,9 +126,10 @@ pub fn step<B: Backend, R: Real, D: TensorOps<R>>(
 /// (every stateful field read and written twice: the gather and the copy back); pre-pass (ρ, S in; σ/ρ² and the
 /// stabilisers' fields out), interaction (every input once, the rates out), conduction, corrector with the
 /// plastic fields, contact. Neighbour data re-read from cache is not counted: this is the bound a perfect cache
-/// reaches. With `fused` conduction the interaction reads T and the full masses and writes Ṫ, and the conduction
-/// pass is gone.
-pub fn compulsory_bytes<R: Real, D: TensorOps<R>>(s: &Setup<R, D>, n: usize, fused: bool, rebuilds: f64) -> f64 {
+/// reaches. With fused conduction the interaction reads T and the full masses and writes Ṫ, and the conduction
+/// pass is gone; with the pre-pass fused into the predictor it does not read ρ and S again, and with the contact
+/// fused into the plastic corrector (plastic 2D runs) the contact does not read x, v, ρ, the flags and T again.
+pub fn compulsory_bytes<R: Real, D: TensorOps<R>>(s: &Setup<R, D>, n: usize, fused: Fusion, rebuilds: f64) -> f64 {
     let (v, r, sym) = (size_of::<D::Vec<R>>(), size_of::<R>(), size_of::<D::Sym<R>>());
     let y = 2 * v + r + sym; // x, v, ρ, S
     let stab = s.stabilisers.switches();
@@ -133,17 +147,23 @@ pub fn compulsory_bytes<R: Real, D: TensorOps<R>>(s: &Setup<R, D>, n: usize, fus
     // Hash and count (x in, key and slot out), scatter (key, slot in, perm out), sort (perm), gather (perm, every
     // field in and out, the binned positions out), copy back (every field in and out).
     let rebuild = v + 8 + 3 * 4 + 4 + (2 * staged + 4 + v) + 2 * staged;
-    per += r + sym + sym + if stab.stress { sym } else { 0 } + if stab.viscosity { r } else { 0 };
+    let prepare_fused = fused.prepare && s.params.expansion == R::ZERO;
+    per += if prepare_fused { 0 } else { r + sym }
+        + sym
+        + if stab.stress { sym } else { 0 }
+        + if stab.viscosity { r } else { 0 };
     per += y + r + sym + 4 + if stab.stress { sym } else { 0 } + if stab.viscosity { r } else { 0 };
     per += if contact { 2 * v } else { 0 } + y; // contact forces in, rates out
     let brookshaw = s.thermal.as_ref().is_some_and(|t| t.conduction == Some(false));
-    if cond && fused && brookshaw {
+    if cond && fused.conduction && brookshaw {
         per += 8 + r + 8;
     } else if cond {
         per += v + 2 * r + 8 + 4 + 8;
     }
     per += 3 * y + if cond { 3 * 8 } else { 0 } + if plastic { 2 * (3 * 8) + 8 } else { 0 };
-    if contact {
+    if contact && fused.contact && plastic && D::D == 2 {
+        per += r + 2 * 2 * v + if heat { 8 } else { 0 }; // mass in, forces in and out, T out
+    } else if contact {
         per += 2 * v + 2 * r + 4 + 2 * 2 * v + if heat { 2 * 8 } else { 0 };
     }
     (per as f64 + rebuilds * rebuild as f64) * n as f64

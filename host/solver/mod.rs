@@ -25,8 +25,8 @@ pub use crate::cutting::motion::ToolMotion;
 
 use crate::Result;
 use crate::backend::{
-    Backend, Conduction, ContactInputs, FieldsMut, FieldsRef, FusedHeat, HeatInputs, PlasticPass, ScalarsAt,
-    ScalarsMut, SkinTest, SphInputs, StepFields,
+    Backend, Conduction, ContactInputs, FieldsMut, FieldsRef, FusedContact, FusedHeat, FusedPrepare, HeatInputs,
+    PlasticPass, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields,
 };
 use crate::kernels::contact::{ContactParams, ToolState, penalty::cap};
 use crate::kernels::neighbour::GridParams;
@@ -225,6 +225,12 @@ pub struct Solver<B: Backend, R: Real, D: TensorOps<R>> {
     /// Sum the Brookshaw conduction in the interaction's neighbour walk (`sph::interact::rates_heat`) instead of a
     /// pass of its own; the results are bitwise the same. On unless `SWARF_NO_FUSE=1` (benchmarks compare both).
     pub fuse_conduction: bool,
+    /// The contact pass in the plastic corrector's launch ([`Backend::step_finish`]) rather than a pass of its own;
+    /// the results are bitwise the same. On unless `SWARF_NO_FUSE_CONTACT=1` (benchmarks compare both).
+    pub fuse_contact: bool,
+    /// The pre-pass in the predictor's launch ([`Backend::step_predict`]), its own gated launch only after a
+    /// rebuild; the results are bitwise the same. On unless `SWARF_NO_FUSE_PREPARE=1` (benchmarks compare both).
+    pub fuse_prepare: bool,
     pub n: usize,
     pub time: f64,
     pub steps: u64,
@@ -447,6 +453,8 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             plain_steps: 0,
             use_graphs: std::env::var("SWARF_NO_GRAPHS").map_or(true, |v| v != "1"),
             fuse_conduction: std::env::var("SWARF_NO_FUSE").map_or(true, |v| v != "1"),
+            fuse_contact: std::env::var("SWARF_NO_FUSE_CONTACT").map_or(true, |v| v != "1"),
+            fuse_prepare: std::env::var("SWARF_NO_FUSE_PREPARE").map_or(true, |v| v != "1"),
             lanes: match std::env::var("SWARF_LANES").ok().and_then(|v| v.parse().ok()) {
                 Some(l @ (1 | 2 | 4 | 8)) => l,
                 _ => default_lanes(n),
@@ -459,6 +467,18 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
 
     /// Whether the interaction pass sums the conduction: Brookshaw conduction (on the interaction's own cell
     /// list; PSE needs the wider stencil) and fusion on.
+    /// The pre-pass runs inside the predictor's launch (`Backend::step_predict`; without thermal expansion, whose
+    /// EOS reads the temperature), and its own launch only after a rebuild's reorder.
+    fn fused_prepare(&self) -> bool {
+        self.fuse_prepare && self.host_params.expansion == R::ZERO
+    }
+
+    /// The contact pass runs inside the plastic corrector's launch (`Backend::step_finish`; 2D with plasticity, the
+    /// cutting runs), not in one of its own.
+    fn fused_contact(&self) -> bool {
+        self.fuse_contact && self.contact.is_some() && self.plastic.is_some() && D::D == 2
+    }
+
     fn fused_conduction(&self) -> bool {
         self.fuse_conduction && self.thermal.as_ref().is_some_and(|th| th.conduction == Some(false))
     }
@@ -566,12 +586,16 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                 Phase::CellList => {
                     let gate = b.address(&self.scalars)
                         + (j * size_of::<StepScalars>() + std::mem::offset_of!(StepScalars, rebuild)) as u64;
+                    let prepare = self.fused_prepare();
                     b.rebuild_gated(gate, &mut || {
                         self.phase(b, Phase::CellList, j)?;
-                        self.phase(b, Phase::Reorder, j)
+                        self.phase(b, Phase::Reorder, j)?;
+                        // Fused into the predictor, the pre-pass is needed again only after the reorder.
+                        if prepare { self.phase(b, Phase::Prepare, j) } else { Ok(()) }
                     })?;
                 }
                 Phase::Reorder => {}
+                Phase::Prepare if self.fused_prepare() => {}
                 _ => self.phase(b, ph, j)?,
             }
         }
@@ -584,6 +608,8 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
     fn phase(&mut self, b: &B, ph: Phase, j: usize) -> Result<()> {
         let n = self.n;
         let fused = self.fused_conduction();
+        let fuse_contact = self.fused_contact();
+        let fuse_prepare = self.fused_prepare();
         let p = &mut self.particles;
         let s = &mut self.start;
         match ph {
@@ -602,6 +628,15 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                         dissipation: None,
                     },
                     SkinTest { grid: &self.cells.grid_buf, pos_ref: &self.pos_ref },
+                    fuse_prepare.then_some(FusedPrepare {
+                        stab: self.stab,
+                        params: &self.host_params,
+                        mass: &p.mass.cur,
+                        sig: &mut self.sig,
+                        art: self.art.as_mut(),
+                        sound: self.sound.as_mut(),
+                        vol: &mut self.vol,
+                    }),
                 )?;
             }
             Phase::CellList => {
@@ -654,6 +689,8 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                     self.sound.as_mut(),
                     &mut self.vol,
                     if self.host_params.expansion != R::ZERO { self.temp.as_ref().map(|t| &t.cur) } else { None },
+                    // Fused into the predictor, the pass runs again only after a rebuild's reorder.
+                    fuse_prepare.then_some(ScalarsAt { buf: &self.scalars, index: j }),
                 )?;
             }
             Phase::Interact => {
@@ -719,8 +756,23 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                 }
             }
             Phase::Correct => {
-                let yield_stress = self.contact.as_mut().and_then(|c| c.yield_stress.as_mut());
                 let (materials, conduction) = thermal_views(self.thermal.as_mut());
+                let (yield_stress, contact) = match self.contact.as_mut() {
+                    Some(ContactState { params, normal, friction, yield_stress, wear, heating, .. }) => {
+                        let cap = yield_stress.is_some();
+                        let fused = fuse_contact.then_some(FusedContact {
+                            params: &*params,
+                            mass: &p.mass.cur,
+                            normal: &mut normal.cur,
+                            friction: &mut friction.cur,
+                            materials: if *heating { materials } else { None },
+                            yield_stress: cap,
+                            wear: wear.as_mut(),
+                        });
+                        (yield_stress.as_mut(), fused)
+                    }
+                    None => (None, None),
+                };
                 let shear = self.shear;
                 let plastic = self.plastic.as_mut().map(|pl| PlasticPass {
                     model: &pl.model,
@@ -746,9 +798,13 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                         dissipation: self.dissipation.as_mut().map(|(d, rate)| (&mut d.cur, &*rate)),
                     },
                     plastic,
+                    contact,
                 )?;
             }
             Phase::Contact => {
+                if fuse_contact {
+                    return Ok(());
+                }
                 if let Some(c) = self.contact.as_mut() {
                     let heating = c.heating;
                     b.contact::<R, D>(

@@ -1,6 +1,8 @@
 //! Particle sets and the O(N²) reference shared by the neighbour-search tests (CPU and GPU).
 #![allow(dead_code)]
 
+pub mod scenes;
+
 use rayon::prelude::*;
 use swarf::backend::Backend;
 use swarf::kernels::neighbour::GridParams;

@@ -50,8 +50,11 @@ density_entry!(swarf_density_3d_f32, f32, V3f32);
 density_entry!(swarf_density_3d_f64, f64, V3f64);
 
 use super::intrinsics::shfl_xor;
+use crate::contact::penalty::{ContactArrays, ContactParams, contact_particle};
 use crate::sph::heat::{HeatArrays, HeatParams, ThermalMaterial, heat_finish, heat_sum};
-use crate::sph::interact::{Arrays, HeatPairSums, PairSums, finish_rates, pair_sums, pair_sums_heat, prepare};
+use crate::sph::interact::{
+    Arrays, HeatPairSums, PairSums, PrepassArrays, finish_rates, pair_sums, pair_sums_heat, prepare, prepare_particle,
+};
 use crate::sph::lanes::{LaneSum, clamp_lanes};
 use crate::sph::params::SphParams;
 use crate::sph::step::{StepArrays, StepScalars, correct_particle, is_finite_vec, predict_particle};
@@ -61,10 +64,13 @@ type Vec_<R, D> = <D as Dim>::Vec<R>;
 type Sym_<R, D> = <D as Dim>::Sym<R>;
 
 /// Pre-pass: sig = σ/ρ², art = artificial stress (AS), sound = √(K/ρ) (AV), vol = m/ρ (`mass` the full masses).
+/// Gated on a step's rebuild flag (null: always) where the predictor runs the pre-pass: it then runs again only
+/// after a rebuild's reorder.
 macro_rules! prepare_entry {
     ($name:ident, $r:ty, $d:ty, $av:literal, $as:literal) => {
         #[unsafe(no_mangle)]
         pub unsafe extern "ptx-kernel" fn $name(
+            gate: *const u32,
             n: u32,
             params: *const SphParams<$r>,
             rho: *const $r,
@@ -77,7 +83,7 @@ macro_rules! prepare_entry {
             temp: *const f64,
         ) {
             let i = global_index() as usize;
-            if i < n as usize {
+            if i < n as usize && unsafe { super::neighbour::open(gate) } {
                 unsafe {
                     let t = if temp.is_null() { None } else { Some(*temp.add(i)) };
                     let q = prepare::<$r, $d, $av, $as>(&*params, *rho.add(i), *mass.add(i), &*stress.add(i), t);
@@ -198,7 +204,9 @@ fn shuffle_xor<T: LaneSum>(x: &T, mask: u32) -> T {
 
 /// The predictor (sph::step::predict_particle) with the skin test of the predicted position against where the
 /// cell list binned it (`GridParams::beyond_skin`): a particle beyond the skin sets the step's rebuild flag (every
-/// such thread stores the same 1).
+/// such thread stores the same 1). With a non-null `sig` the same thread then runs the pre-pass of the predicted
+/// particle (sph::interact::prepare_particle; `params` by value, `art`/`sound` null where off), so that a step that
+/// does not rebuild needs no pre-pass launch.
 macro_rules! predict_entry {
     ($name:ident, $r:ty, $d:ty) => {
         #[unsafe(no_mangle)]
@@ -222,6 +230,12 @@ macro_rules! predict_entry {
             temp0: *mut f64,
             temp_t: *const f64,
             pos_ref: *const Vec_<$r, $d>,
+            params: SphParams<$r>,
+            mass: *const $r,
+            sig: *mut Sym_<$r, $d>,
+            art: *mut Sym_<$r, $d>,
+            sound: *mut $r,
+            vol: *mut $r,
         ) {
             let i = global_index();
             if i < n {
@@ -246,6 +260,10 @@ macro_rules! predict_entry {
                 };
                 unsafe {
                     let x = predict_particle(&a, (*scalars).dt, i as usize);
+                    if !sig.is_null() {
+                        let (iu, o) = (i as usize, PrepassArrays { sig, art, sound, vol });
+                        prepare_particle::<$r, $d>(&params, &o, iu, *rho.add(iu), *mass.add(iu), &*stress.add(iu));
+                    }
                     if (*grid).beyond_skin::<$r, Vec_<$r, $d>>(&x, &*pos_ref.add(i as usize)) {
                         core::ptr::write_volatile(core::ptr::addr_of_mut!((*scalars).rebuild), 1);
                         if !is_finite_vec::<$r, Vec_<$r, $d>>(&x) {
@@ -312,7 +330,11 @@ macro_rules! finish_entry {
 
 /// The fused corrector and plastic update (sph::plastic::plastic_particle) of the same particle, one entry per
 /// flow-stress model. The model's parameters come by value: in the constant bank, operands of the return map's
-/// instructions, not loads and registers held across its Newton iterations.
+/// instructions, not loads and registers held across its Newton iterations. With a non-null `contact` the same
+/// thread then runs the tool's contact pass for the particle (contact::penalty::contact_particle: it reads only
+/// the particle's own corrected state, its temperature and yield stress after the plastic update), so that the
+/// step needs no launch of its own for it; `contact_materials` is null without friction heating, `contact_yield`
+/// without the CURRENT friction cap, `wear` without the wear output.
 macro_rules! finish_plastic_entry {
     ($name:ident, $m:ty, $r:ty, $d:ty) => {
         #[unsafe(no_mangle)]
@@ -345,6 +367,13 @@ macro_rules! finish_plastic_entry {
             materials: *const ThermalMaterial,
             yield_stress: *mut f64,
             work: *mut f64,
+            contact: *const ContactParams,
+            mass: *const $r,
+            normal: *mut Vec_<$r, $d>,
+            friction: *mut Vec_<$r, $d>,
+            contact_materials: *const ThermalMaterial,
+            contact_yield: *const f64,
+            wear: *mut f64,
         ) {
             let i = global_index();
             if i < n {
@@ -383,6 +412,22 @@ macro_rules! finish_plastic_entry {
                     correct_particle(&a, dt, i as usize);
                     let c = PlasticConsts { shear, dt, taylor_quinney, _pad: 0.0 };
                     plastic_particle::<$r, $d, $m>(&model, &c, &p, i as usize);
+                    if !contact.is_null() {
+                        let ca = ContactArrays::<$r, Vec_<$r, $d>> {
+                            pos,
+                            vel,
+                            mass,
+                            rho,
+                            flags,
+                            normal,
+                            friction,
+                            temp,
+                            materials: contact_materials,
+                            yield_stress: contact_yield,
+                            wear,
+                        };
+                        contact_particle::<$r, Vec_<$r, $d>>(&*contact, &(*scalars).tool, &ca, i as usize);
+                    }
                 }
             }
         }
@@ -648,8 +693,6 @@ finish_plastic_entry!(swarf_step_finish_bilinear_2d_f32, Bilinear, f32, Dim2);
 finish_plastic_entry!(swarf_step_finish_bilinear_2d_f64, Bilinear, f64, Dim2);
 finish_plastic_entry!(swarf_step_finish_bilinear_3d_f32, Bilinear, f32, Dim3);
 finish_plastic_entry!(swarf_step_finish_bilinear_3d_f64, Bilinear, f64, Dim3);
-
-use crate::contact::penalty::{ContactArrays, ContactParams, contact_particle};
 
 /// The contact pass with the rigid 2D tool (contact::penalty::contact_particle).
 macro_rules! contact_entry {

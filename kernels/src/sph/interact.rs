@@ -77,6 +77,48 @@ pub fn prepare<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool>(
     }
 }
 
+/// Where the pre-pass writes (sorted order): σ/ρ² and V always, the artificial stress and the sound speed where
+/// their stabiliser is on (null otherwise).
+#[derive(Clone, Copy)]
+pub struct PrepassArrays<R: Real, S> {
+    pub sig: *mut S,
+    pub art: *mut S,
+    pub sound: *mut R,
+    pub vol: *mut R,
+}
+
+/// The pre-pass of particle i ([`prepare`], no thermal expansion) written to `o`, with the stabilisers whose
+/// arrays are not null: the predictor's fused pre-pass (`sph::step`, docs/performance.md), on both backends.
+///
+/// # Safety
+/// The non-null arrays of `o` hold at least i + 1 elements.
+#[inline(always)]
+pub unsafe fn prepare_particle<R: Real, D: TensorOps<R>>(
+    p: &SphParams<R>,
+    o: &PrepassArrays<R, D::Sym<R>>,
+    i: usize,
+    rho: R,
+    mass: R,
+    s: &D::Sym<R>,
+) {
+    let q = match (!o.sound.is_null(), !o.art.is_null()) {
+        (false, false) => prepare::<R, D, false, false>(p, rho, mass, s, None),
+        (false, true) => prepare::<R, D, false, true>(p, rho, mass, s, None),
+        (true, false) => prepare::<R, D, true, false>(p, rho, mass, s, None),
+        (true, true) => prepare::<R, D, true, true>(p, rho, mass, s, None),
+    };
+    unsafe {
+        *o.sig.add(i) = q.sig;
+        *o.vol.add(i) = q.vol;
+        if !o.art.is_null() {
+            *o.art.add(i) = q.art;
+        }
+        if !o.sound.is_null() {
+            *o.sound.add(i) = q.c;
+        }
+    }
+}
+
 /// Time derivatives of one particle.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Rates<R: Real, D: Dim> {
