@@ -510,83 +510,55 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
         }
         log.line(&format!("warning: {w}"))?;
     }
+    // The output step's file writing in the background while the next steps run (one job at a time).
+    let initial = std::sync::Arc::new(initial);
+    let mut files = OutputFiles { csv, tcsv, pvd };
+    let mut pending = PendingOutput::default();
     loop {
         if solver.time >= next_out - 1e-9 * dt || solver.time >= end - 1e-9 * dt {
+            // The previous output's files are complete before this one's are started.
+            if let Some(d) = pending.join(&mut files)? {
+                history.push(d);
+            }
             let host = solver.download(b)?;
             let (temp, eps, rate) = solver.download_internal(b)?;
             let mut d = compute(&host, &solver.host_params, solver.time, solver.steps, temp.as_deref());
             crate::solver::diagnostics::internal(&mut d, &host.id, temp.as_deref(), eps.as_deref());
             let (work, diss) = solver.download_dissipated(b)?;
             crate::solver::diagnostics::dissipated(&mut d, &host, work.as_deref(), diss.as_deref());
-            // Closest approach of two mechanical particles (within 2h): pairing and interpenetration show here.
-            // Of pairs that started at least 2h apart: contact between material that was apart (chip self-contact),
-            // with where it is and which particles, to tell the tool face from the chip's back or the boundary.
-            let mech: Vec<bool> = host.flags.iter().map(|f| f & flags::THERMAL_ONLY == 0).collect();
-            let now = crate::analysis::positions_f64::<R, _>(&host.pos);
-            let start: Vec<[f64; 3]> = host.id.iter().map(|&i| initial[i as usize]).collect();
-            let (all, apart) = crate::analysis::min_pair_distances(&now, &mech, 2.0 * s.h, &start, &host.id)?;
-            d.min_pair_distance = all.unwrap_or(f64::NAN);
-            if let Some(c) = apart {
-                d.min_contact_distance = c.distance;
-                d.min_contact_midpoint = c.midpoint;
-                d.min_contact_ids = Some(c.ids);
-            }
             if let Some((id, field)) = d.non_finite {
                 return Err(Error::NonFinite { id, field, time: solver.time, step: solver.steps });
             }
-            csv.push(&[
-                d.time,
-                d.step as f64,
-                d.kinetic,
-                d.elastic,
-                d.total(),
-                d.momentum[0],
-                d.momentum[1],
-                d.momentum[2],
-                d.angular[0],
-                d.angular[1],
-                d.angular[2],
-                d.vmax,
-                d.temperature_max,
-                d.plastic_strain_max,
-                d.plastic_work,
-                d.viscous_dissipation,
-                d.balance(),
-                d.min_pair_distance,
-                d.min_contact_distance,
-                d.min_contact_midpoint[0],
-                d.min_contact_midpoint[1],
-                d.min_contact_midpoint[2],
-                d.min_contact_ids.map_or(f64::NAN, |p| f64::from(p[0])),
-                d.min_contact_ids.map_or(f64::NAN, |p| f64::from(p[1])),
-            ])
-            .map_err(|e| io_err(csv.path(), e))?;
-            csv.write().map_err(|e| io_err(csv.path(), e))?;
-            if let Some(t) = tcsv.as_mut() {
-                t.push(&[d.time, d.step as f64, d.temperature_max]).map_err(|e| io_err(t.path(), e))?;
-                t.write().map_err(|e| io_err(t.path(), e))?;
-            }
+            let now = crate::analysis::positions_f64::<R, _>(&host.pos);
             if let Some(c) = cut.as_mut() {
                 if c.due(solver.time) {
                     c.sample(b, &solver)?;
                 }
                 c.write()?;
             }
-            if opts.frames {
-                let name = format!("frame_{frame:05}.vtu");
-                let internal = Internal { temp: temp.as_deref(), eps: eps.as_deref(), rate: rate.as_deref() };
-                write_frame(
-                    &opts.out_dir.join(&name),
-                    &mut h5,
-                    &host,
-                    &internal,
-                    &solver.host_params,
-                    solver.time,
-                    solver.steps,
-                )?;
-                pvd.push(solver.time, name).map_err(|e| io_err(pvd.path(), e))?;
-                pvd.write().map_err(|e| io_err(pvd.path(), e))?;
-            }
+            // Written now where anything reads them before the next output (an observer, a checkpoint, the end,
+            // the HDF5 file), else by a thread while the next steps run.
+            let last = solver.time >= end - 1e-9 * dt;
+            let ckpt_due = solver.time >= next_ckpt - 1e-9 * dt && !last;
+            let job = OutputJob {
+                d: d.clone(),
+                host: host.clone(),
+                internal: [temp.clone(), eps.clone(), rate.clone()],
+                now: now.clone(),
+                initial: initial.clone(),
+                radius: 2.0 * s.h,
+                params: solver.host_params,
+                frame: opts.frames.then(|| (opts.out_dir.clone(), frame)),
+                time: solver.time,
+                steps: solver.steps,
+            };
+            let background = observer.is_none() && h5.is_none() && !ckpt_due && !last;
+            let d = if background {
+                pending.start(job, &mut files);
+                d
+            } else {
+                job.write(&mut files, &mut h5)?
+            };
             frame += 1;
             next_out = frame as f64 * every;
             // Re-check the CFL condition with the current largest speed.
@@ -652,7 +624,9 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
                 }),
                 None => true,
             };
-            history.push(d);
+            if !background {
+                history.push(d);
+            }
             if !keep_going || solver.time >= end - 1e-9 * dt {
                 b.synchronize()?;
                 let pos = now;
@@ -695,6 +669,9 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
             }
         }
         if INTERRUPTED.load(std::sync::atomic::Ordering::Relaxed) {
+            if let Some(d) = pending.join(&mut files)? {
+                history.push(d);
+            }
             save_checkpoint(b, &solver, &ckpt_path, opts, dt, frame, next_out, next_ckpt)?;
             log.line(&format!("interrupted at t = {:e} s, step {}; checkpoint written", solver.time, solver.steps))?;
             return Err(Error::Interrupted {
@@ -808,6 +785,138 @@ impl RunLog {
 }
 
 /// The f64 internal variables of a frame, where modelled.
+/// The files of a run that output steps append to: energy (and temperature) rows and the frame collection.
+struct OutputFiles {
+    csv: TimeSeries,
+    tcsv: Option<TimeSeries>,
+    pvd: Collection,
+}
+
+/// What an output step writes once the state is on the host: the closest-pair diagnostics (`analysis::
+/// min_pair_distances`), the energy and temperature rows, and the frame with its collection entry. Owns its data,
+/// so that a thread can write it while the next steps run ([`PendingOutput`]).
+struct OutputJob<R: Real, D: TensorOps<R>> {
+    d: Diagnostics,
+    host: HostParticles<R, D>,
+    /// Temperature, plastic strain and its rate, where modelled.
+    internal: [Option<Vec<f64>>; 3],
+    now: Vec<[f64; 3]>,
+    /// Every particle's position at t = 0 by id.
+    initial: std::sync::Arc<Vec<[f64; 3]>>,
+    /// The closest-pair search radius (2h).
+    radius: f64,
+    params: SphParams<R>,
+    /// The run folder and frame index, when frames are written.
+    frame: Option<(PathBuf, usize)>,
+    time: f64,
+    steps: u64,
+}
+
+impl<R: Real, D: TensorOps<R>> OutputJob<R, D> {
+    /// Completes the diagnostics and writes the rows and the frame; returns the completed diagnostics.
+    fn write(self, f: &mut OutputFiles, h5: &mut Option<H5>) -> Result<Diagnostics> {
+        let OutputJob { mut d, host, internal, now, initial, radius, params, frame, time, steps } = self;
+        // Closest approach of two mechanical particles (within 2h): pairing and interpenetration show here.
+        // Of pairs that started at least 2h apart: contact between material that was apart (chip self-contact),
+        // with where it is and which particles, to tell the tool face from the chip's back or the boundary.
+        let mech: Vec<bool> = host.flags.iter().map(|f| f & flags::THERMAL_ONLY == 0).collect();
+        let start: Vec<[f64; 3]> = host.id.iter().map(|&i| initial[i as usize]).collect();
+        let (all, apart) = crate::analysis::min_pair_distances(&now, &mech, radius, &start, &host.id)?;
+        d.min_pair_distance = all.unwrap_or(f64::NAN);
+        if let Some(c) = apart {
+            d.min_contact_distance = c.distance;
+            d.min_contact_midpoint = c.midpoint;
+            d.min_contact_ids = Some(c.ids);
+        }
+        let (csv, tcsv) = (&mut f.csv, &mut f.tcsv);
+        csv.push(&[
+            d.time,
+            d.step as f64,
+            d.kinetic,
+            d.elastic,
+            d.total(),
+            d.momentum[0],
+            d.momentum[1],
+            d.momentum[2],
+            d.angular[0],
+            d.angular[1],
+            d.angular[2],
+            d.vmax,
+            d.temperature_max,
+            d.plastic_strain_max,
+            d.plastic_work,
+            d.viscous_dissipation,
+            d.balance(),
+            d.min_pair_distance,
+            d.min_contact_distance,
+            d.min_contact_midpoint[0],
+            d.min_contact_midpoint[1],
+            d.min_contact_midpoint[2],
+            d.min_contact_ids.map_or(f64::NAN, |p| f64::from(p[0])),
+            d.min_contact_ids.map_or(f64::NAN, |p| f64::from(p[1])),
+        ])
+        .map_err(|e| io_err(csv.path(), e))?;
+        csv.write().map_err(|e| io_err(csv.path(), e))?;
+        if let Some(t) = tcsv.as_mut() {
+            t.push(&[d.time, d.step as f64, d.temperature_max]).map_err(|e| io_err(t.path(), e))?;
+            t.write().map_err(|e| io_err(t.path(), e))?;
+        }
+        if let Some((dir, index)) = frame {
+            let name = format!("frame_{index:05}.vtu");
+            let [temp, eps, rate] = &internal;
+            let internal = Internal { temp: temp.as_deref(), eps: eps.as_deref(), rate: rate.as_deref() };
+            write_frame(&dir.join(&name), h5, &host, &internal, &params, time, steps)?;
+            f.pvd.push(time, name).map_err(|e| io_err(f.pvd.path(), e))?;
+            f.pvd.write().map_err(|e| io_err(f.pvd.path(), e))?;
+        }
+        Ok(d)
+    }
+}
+
+/// The output job writing in the background, if any.
+#[derive(Default)]
+struct PendingOutput {
+    job: Option<std::thread::JoinHandle<(OutputFiles, Result<Diagnostics>)>>,
+}
+
+impl PendingOutput {
+    /// Starts `job` on a thread of its own with the run's files (handed back by [`PendingOutput::join`]).
+    fn start<R: Real, D: TensorOps<R>>(&mut self, job: OutputJob<R, D>, files: &mut OutputFiles)
+    where
+        HostParticles<R, D>: Send + 'static,
+    {
+        let mut f = std::mem::replace(files, OutputFiles::empty());
+        self.job = Some(std::thread::spawn(move || {
+            let r = job.write(&mut f, &mut None);
+            (f, r)
+        }));
+    }
+
+    /// Waits for the job, puts the files back and returns its diagnostics (None: nothing was pending).
+    fn join(&mut self, files: &mut OutputFiles) -> Result<Option<Diagnostics>> {
+        let Some(h) = self.job.take() else { return Ok(None) };
+        let (f, r) = h.join().map_err(|_| Error::Output("the output thread panicked".into()))?;
+        *files = f;
+        r.map(Some)
+    }
+}
+
+impl Drop for PendingOutput {
+    /// A run that stops early (an error) still finishes the files it started.
+    fn drop(&mut self) {
+        if let Some(h) = self.job.take() {
+            let _ = h.join();
+        }
+    }
+}
+
+impl OutputFiles {
+    /// Placeholders while the files are with the output thread.
+    fn empty() -> Self {
+        OutputFiles { csv: TimeSeries::new(PathBuf::new(), &[]), tcsv: None, pvd: Collection::new(PathBuf::new()) }
+    }
+}
+
 struct Internal<'a> {
     temp: Option<&'a [f64]>,
     eps: Option<&'a [f64]>,

@@ -24,6 +24,7 @@ use std::sync::{Arc, Mutex};
 
 mod conditional;
 use conditional::Conditional;
+pub use conditional::strip_graph_conditional;
 
 /// The (dimension, precision) suffixes of generic entry points, in `variant` order.
 const VARIANTS: [&str; 4] = ["2d_f32", "2d_f64", "3d_f32", "3d_f64"];
@@ -340,7 +341,23 @@ impl CudaBackend {
         })?;
         let env = |k: &str| std::env::var(k).ok().and_then(|v| v.parse::<u32>().ok());
         let ptx = register_caps(ptx, env("SWARF_MAXNREG"), env("SWARF_PLASTIC_MAXNREG"));
-        let module = ctx.load_module(cudarc::nvrtc::Ptx::from_src(ptx)).map_err(cuda("loading the PTX module"))?;
+        let mut driver = 0i32;
+        // SAFETY: plain query into a local.
+        unsafe { cudarc::driver::sys::cuDriverGetVersion(&mut driver) };
+        // A driver that cannot resolve the predictor's `cudaGraphSetConditional` loads the kernels without it, and
+        // the captured steps keep their rebuild in plain gated nodes.
+        let (module, conditional) = match ctx.load_module(cudarc::nvrtc::Ptx::from_src(ptx.clone())) {
+            Ok(m) => (m, Conditional::new(&ctx, driver)),
+            Err(e) => {
+                let stripped = conditional::strip_graph_conditional(&ptx);
+                if stripped == ptx {
+                    return Err(Error::Cuda { op: "loading the PTX module", source: e });
+                }
+                let m =
+                    ctx.load_module(cudarc::nvrtc::Ptx::from_src(stripped)).map_err(cuda("loading the PTX module"))?;
+                (m, Err(format!("the driver did not resolve cudaGraphSetConditional ({e})")))
+            }
+        };
         let f = |name: &str| module.load_function(name).map_err(cuda("loading a kernel"));
         let v = |base: &str, suffix: &str| -> Result<Variants> {
             let sfx = if suffix.is_empty() { String::new() } else { format!("_{suffix}") };
@@ -381,9 +398,6 @@ impl CudaBackend {
             gather_b16: f("swarf_gather_b16")?,
             gather_fields: f("swarf_gather_fields")?,
         };
-        let mut driver = 0i32;
-        // SAFETY: plain query into a local.
-        unsafe { cudarc::driver::sys::cuDriverGetVersion(&mut driver) };
         let info = DeviceInfo {
             backend: "gpu",
             name: ctx.name().map_err(cuda("device name"))?,
@@ -395,7 +409,6 @@ impl CudaBackend {
                 .map_err(cuda("multiprocessor count"))? as usize,
             ptx_target: Some(target),
         };
-        let conditional = Conditional::load(&ctx, driver);
         let no_conditional = std::env::var("SWARF_NO_CONDITIONAL").is_ok_and(|v| v == "1");
         Ok(CudaBackend {
             conditional,
@@ -1075,7 +1088,7 @@ impl Backend for CudaBackend {
         let at = self.scalars(&ScalarsAt { buf: &*s.buf, index: s.index })?;
         let mut args = vec_args(&[Arg::U32(n as u32), at, Arg::U64(self.ptr(skin.grid))]);
         args.extend_from_slice(&self.step_args(n, f)?.0);
-        args.extend_from_slice(&[Arg::U64(self.ptr(skin.pos_ref))]);
+        args.extend_from_slice(&[Arg::U64(self.ptr(skin.pos_ref)), Arg::U64(skin.condition)]);
         // The pre-pass's parameters by value; its outputs null without it (`ptx::sph`, predict_entry).
         let params = prepare.as_ref().map_or(SphParams::<R>::default(), |q| *q.params);
         let bytes = bytemuck::bytes_of(&params);
@@ -1338,24 +1351,35 @@ impl Backend for CudaBackend {
         g.0.launch().map_err(cuda("cuGraphLaunch"))
     }
 
-    fn rebuild_gated(&self, gate: u64, body: &mut dyn FnMut() -> Result<()>) -> Result<()> {
-        let c = match &self.conditional {
-            Ok(c)
+    fn rebuild_condition(&self) -> Result<u64> {
+        match &self.conditional {
+            Ok(_)
                 if self.capturing.load(Ordering::Relaxed)
                     && self.use_conditional.load(Ordering::Relaxed)
                     && !self.in_body.load(Ordering::Relaxed) =>
             {
-                c
+                // SAFETY: the stream is capturing (`capturing`), in this backend's context.
+                unsafe { Conditional::handle(&self.ctx, self.stream.cu_stream()) }
             }
+            _ => Ok(0),
+        }
+    }
+
+    fn rebuild_gated(&self, condition: u64, body: &mut dyn FnMut() -> Result<()>) -> Result<()> {
+        let c = match &self.conditional {
+            Ok(c) if condition != 0 => c,
             _ => return body(),
         };
-        let s = self.stream.cu_stream();
-        // SAFETY: `s` is capturing (`capturing`), in this backend's context; the handle is set by the kernel
-        // captured right before the IF node that reads it.
+        // SAFETY: a nonzero handle came from `rebuild_condition` while this stream captures; the step's predictor,
+        // captured before, sets it.
         unsafe {
-            let handle = Conditional::handle(&self.ctx, s)?;
-            self.launch(c.set_kernel(), 1, 1, &[Arg::U64(handle), Arg::U64(gate)])?;
-            c.capture_if(&self.ctx, s, handle, &|on| self.in_body.store(on, Ordering::Relaxed), body)
+            c.capture_if(
+                &self.ctx,
+                self.stream.cu_stream(),
+                condition,
+                &|on| self.in_body.store(on, Ordering::Relaxed),
+                body,
+            )
         }
     }
 

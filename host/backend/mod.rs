@@ -241,11 +241,17 @@ pub trait Backend: Sized + Send + Sync {
     fn capture(&self, f: &mut dyn FnMut() -> Result<()>) -> Result<Option<Self::Graph>>;
     /// Runs a captured graph.
     fn replay(&self, g: &Self::Graph) -> Result<()>;
-    /// Submits `body`: the launches of a step's cell-list rebuild, each gated on the step's rebuild flag at device
-    /// address `gate` (`StepScalars::rebuild`). A backend capturing a graph may put them in a conditional node
-    /// that skips them when the flag is 0 (the CUDA backend's IF node); otherwise they run as submitted.
-    fn rebuild_gated(&self, gate: u64, body: &mut dyn FnMut() -> Result<()>) -> Result<()> {
-        let _ = gate;
+    /// The handle of a conditional node for the rebuild of the step being captured, which that step's predictor
+    /// sets where it sets the rebuild flag ([`SkinTest::condition`]); 0 where the backend has none (not
+    /// capturing, no conditional nodes).
+    fn rebuild_condition(&self) -> Result<u64> {
+        Ok(0)
+    }
+    /// Submits `body`: the launches of a step's cell-list rebuild, each gated on the step's rebuild flag. With a
+    /// nonzero `condition` ([`Backend::rebuild_condition`]) they go in a conditional node that skips them all
+    /// when the step does not rebuild (the CUDA backend's IF node); otherwise they run as submitted.
+    fn rebuild_gated(&self, condition: u64, body: &mut dyn FnMut() -> Result<()>) -> Result<()> {
+        let _ = condition;
         body()
     }
     /// Conduction rates Ṫ (`sph::heat::heat_rate`), Brookshaw or (`pse`) PSE; `grid` has stencil 2 for
@@ -397,6 +403,8 @@ pub struct ScalarsMut<'a, B: Backend> {
 pub struct SkinTest<'a, B: Backend, R: Real, D: Dim> {
     pub grid: &'a B::Buf<GridParams>,
     pub pos_ref: &'a B::Buf<D::Vec<R>>,
+    /// The step's rebuild condition ([`Backend::rebuild_condition`]; 0: none), set with the rebuild flag.
+    pub condition: u64,
 }
 
 /// The buffers of a cell list's build (`neighbour::CellList`).

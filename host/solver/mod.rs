@@ -231,6 +231,8 @@ pub struct Solver<B: Backend, R: Real, D: TensorOps<R>> {
     /// The pre-pass in the predictor's launch ([`Backend::step_predict`]), its own gated launch only after a
     /// rebuild; the results are bitwise the same. On unless `SWARF_NO_FUSE_PREPARE=1` (benchmarks compare both).
     pub fuse_prepare: bool,
+    /// The IF node handle of the step being captured (`Backend::rebuild_condition`; 0 otherwise).
+    condition: u64,
     pub n: usize,
     pub time: f64,
     pub steps: u64,
@@ -455,6 +457,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             fuse_conduction: std::env::var("SWARF_NO_FUSE").map_or(true, |v| v != "1"),
             fuse_contact: std::env::var("SWARF_NO_FUSE_CONTACT").map_or(true, |v| v != "1"),
             fuse_prepare: std::env::var("SWARF_NO_FUSE_PREPARE").map_or(true, |v| v != "1"),
+            condition: 0,
             lanes: match std::env::var("SWARF_LANES").ok().and_then(|v| v.parse().ok()) {
                 Some(l @ (1 | 2 | 4 | 8)) => l,
                 _ => default_lanes(n),
@@ -579,15 +582,25 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
     /// One step of length `dt` whose scalars are entry `j` of the scalar buffer. Submits launches only (no copy,
     /// no synchronisation), so that it can be captured.
     fn step_at(&mut self, b: &B, dt: f64, j: usize) -> Result<()> {
+        // The handle lives in the graph being captured: no launch outside it may see it.
+        self.condition = b.rebuild_condition()?;
+        let submitted = self.step_phases(b, j);
+        self.condition = 0;
+        submitted?;
+        self.time += dt;
+        self.steps += 1;
+        Ok(())
+    }
+
+    /// The phases of the step whose scalars are entry `j`.
+    fn step_phases(&mut self, b: &B, j: usize) -> Result<()> {
         for ph in Phase::ALL {
             match ph {
                 // The rebuild's launches, gated on this step's flag, as one unit: a captured step skips them all
                 // when the flag is 0 (`Backend::rebuild_gated`).
                 Phase::CellList => {
-                    let gate = b.address(&self.scalars)
-                        + (j * size_of::<StepScalars>() + std::mem::offset_of!(StepScalars, rebuild)) as u64;
-                    let prepare = self.fused_prepare();
-                    b.rebuild_gated(gate, &mut || {
+                    let (condition, prepare) = (self.condition, self.fused_prepare());
+                    b.rebuild_gated(condition, &mut || {
                         self.phase(b, Phase::CellList, j)?;
                         self.phase(b, Phase::Reorder, j)?;
                         // Fused into the predictor, the pre-pass is needed again only after the reorder.
@@ -599,8 +612,6 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                 _ => self.phase(b, ph, j)?,
             }
         }
-        self.time += dt;
-        self.steps += 1;
         Ok(())
     }
 
@@ -627,7 +638,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                         conduction,
                         dissipation: None,
                     },
-                    SkinTest { grid: &self.cells.grid_buf, pos_ref: &self.pos_ref },
+                    SkinTest { grid: &self.cells.grid_buf, pos_ref: &self.pos_ref, condition: self.condition },
                     fuse_prepare.then_some(FusedPrepare {
                         stab: self.stab,
                         params: &self.host_params,

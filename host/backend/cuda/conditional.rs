@@ -2,72 +2,35 @@
 //! in a conditional node").
 //!
 //! A rebuild's launches (zero, hash and count, the scan's levels, scatter, per-cell sort, the reorder's gather and
-//! copy-back, the Verlet list) are gated on the step's rebuild flag, which the predictor of the same step sets on
-//! the device. Captured as plain kernel nodes, a step that does not rebuild (85 of 86 inside the 150k reference
-//! cut) still pays for each of them: a launch whose blocks read the flag and return. Captured in the body of an
-//! IF node whose handle one single-thread kernel sets from the flag, they cost nothing when the flag is 0.
-//!
-//! That kernel calls the device runtime's `cudaGraphSetConditional`, which the driver resolves when it compiles the
-//! PTX. It is hand-written PTX in a module of its own (not an entry of `swarf-kernels`): a driver that cannot
-//! resolve the call fails to load this module only, and the steps are captured with the plain gated nodes as
-//! before, the same launches and the same bits.
+//! copy-back, the Verlet list, the pre-pass again) are gated on the step's rebuild flag, which the predictor of the
+//! same step sets on the device. Captured as plain kernel nodes, a step that does not rebuild (88 of 89 inside the
+//! 150k reference cut) still pays for each of them: a launch whose blocks read the flag and return. Captured in
+//! the body of an IF node, they cost nothing when the step does not rebuild. The node's handle is created with
+//! default 0, reset at each launch of the graph, and the step's predictor sets it to 1 where it sets the flag
+//! (`ptx::sph`, predict_entry: the device runtime's `cudaGraphSetConditional`, which the driver resolves when it
+//! compiles the PTX; `strip_graph_conditional` removes the call where it cannot, and the steps then keep the plain
+//! gated nodes: the same launches and the same bits).
 
 use cudarc::driver::sys::{
     self, CUDA_CONDITIONAL_NODE_PARAMS, CUgraph, CUgraphConditionalNodeType, CUgraphNode, CUgraphNodeParams,
     CUgraphNodeType, CUstream, CUstreamCaptureMode, CUstreamCaptureStatus, CUstreamUpdateCaptureDependencies_flags,
 };
-use cudarc::driver::{CudaContext, CudaFunction, CudaModule, CudaStream, DriverError};
+use cudarc::driver::{CudaContext, CudaStream, DriverError};
 use std::sync::Arc;
 
 use crate::{Error, Result};
 
-/// The kernel `swarf_rebuild_condition(handle, gate)`: one thread sets the IF node's handle to 1 when the u32 at
-/// `gate` (a step's `StepScalars::rebuild`) is nonzero, else to 0.
-const PTX: &str = r#"
-.version 7.0
-.target sm_60
-.address_size 64
-
-.extern .func cudaGraphSetConditional
-(
-    .param .b64 cudaGraphSetConditional_handle,
-    .param .b32 cudaGraphSetConditional_value
-)
-;
-
-.visible .entry swarf_rebuild_condition(
-    .param .u64 swarf_rebuild_condition_handle,
-    .param .u64 swarf_rebuild_condition_gate
-)
-{
-    .reg .pred %p<2>;
-    .reg .b32 %r<3>;
-    .reg .b64 %rd<4>;
-
-    ld.param.u64 %rd1, [swarf_rebuild_condition_handle];
-    ld.param.u64 %rd2, [swarf_rebuild_condition_gate];
-    cvta.to.global.u64 %rd3, %rd2;
-    ld.volatile.global.u32 %r1, [%rd3];
-    setp.ne.u32 %p1, %r1, 0;
-    selp.u32 %r2, 1, 0, %p1;
-    {
-    .param .b64 param0;
-    st.param.b64 [param0+0], %rd1;
-    .param .b32 param1;
-    st.param.b32 [param1+0], %r2;
-    call.uni cudaGraphSetConditional, (param0, param1);
-    }
-    ret;
-}
-"#;
-
 /// The oldest driver with conditional nodes filled by stream capture (`cuStreamBeginCaptureToGraph`): CUDA 12.4.
-const MIN_DRIVER: i32 = 12040;
+pub(super) const MIN_DRIVER: i32 = 12040;
 
-/// The loaded condition kernel and the stream that captures the IF nodes' bodies.
+/// `CU_GRAPH_COND_ASSIGN_DEFAULT`: the handle takes its default value at every launch of the graph.
+const ASSIGN_DEFAULT: u32 = 1;
+
+/// The device runtime function whose calls the predictor makes.
+const SET_CONDITIONAL: &str = "cudaGraphSetConditional";
+
+/// The stream that captures the IF nodes' bodies.
 pub(super) struct Conditional {
-    _module: Arc<CudaModule>,
-    set: CudaFunction,
     body: Arc<CudaStream>,
 }
 
@@ -77,23 +40,13 @@ fn check(op: &'static str, r: sys::CUresult) -> Result<()> {
 }
 
 impl Conditional {
-    /// Loads the condition kernel and creates the body stream; says why not where the driver is older than
-    /// [`MIN_DRIVER`] or cannot compile the kernel (the steps then keep their plain gated nodes).
-    pub(super) fn load(ctx: &Arc<CudaContext>, driver: i32) -> std::result::Result<Self, String> {
+    /// The body stream; says why not where the driver is older than [`MIN_DRIVER`].
+    pub(super) fn new(ctx: &Arc<CudaContext>, driver: i32) -> std::result::Result<Self, String> {
         if driver < MIN_DRIVER {
             return Err(format!("driver {driver} is older than {MIN_DRIVER} (conditional nodes by capture)"));
         }
-        let module = ctx
-            .load_module(cudarc::nvrtc::Ptx::from_src(PTX))
-            .map_err(|e| format!("the condition kernel did not load: {e}"))?;
-        let set = module.load_function("swarf_rebuild_condition").map_err(|e| format!("{e}"))?;
         let body = ctx.new_stream().map_err(|e| format!("stream: {e}"))?;
-        Ok(Conditional { _module: module, set, body })
-    }
-
-    /// The kernel that sets a handle from a gate (launched with one thread by the caller).
-    pub(super) fn set_kernel(&self) -> &CudaFunction {
-        &self.set
+        Ok(Conditional { body })
     }
 
     /// The stream that captures the IF node's body.
@@ -101,7 +54,7 @@ impl Conditional {
         self.body.cu_stream()
     }
 
-    /// A new IF handle of the graph that `stream` is capturing, default 0.
+    /// A new IF handle of the graph that `stream` is capturing, 0 at every launch of the graph.
     ///
     /// # Safety
     /// `stream` is capturing (`cuStreamBeginCapture`) in `ctx`.
@@ -109,7 +62,7 @@ impl Conditional {
         let (graph, _) = unsafe { capture_state(stream)? };
         let mut h = 0;
         check("cuGraphConditionalHandleCreate", unsafe {
-            sys::cuGraphConditionalHandleCreate(&mut h, graph, ctx.cu_ctx(), 0, 0)
+            sys::cuGraphConditionalHandleCreate(&mut h, graph, ctx.cu_ctx(), 0, ASSIGN_DEFAULT)
         })?;
         Ok(h)
     }
@@ -119,7 +72,7 @@ impl Conditional {
     /// switches the backend's launches to the body stream while `body` runs.
     ///
     /// # Safety
-    /// `stream` is capturing in `ctx`; `handle` belongs to its graph and was set by a node already captured.
+    /// `stream` is capturing in `ctx`; `handle` belongs to its graph and is set by a node already captured.
     pub(super) unsafe fn capture_if(
         &self,
         ctx: &CudaContext,
@@ -195,4 +148,45 @@ unsafe fn capture_state(stream: CUstream) -> Result<(CUgraph, Vec<CUgraphNode>)>
     let deps =
         if n == 0 || deps.is_null() { Vec::new() } else { unsafe { std::slice::from_raw_parts(deps, n) }.to_vec() };
     Ok((graph, deps))
+}
+
+/// The PTX without the device runtime's `cudaGraphSetConditional`: its `.extern` declaration and every call
+/// block (`{ // callseq … }`) that calls it removed, for a driver that cannot resolve it. The calls only set IF
+/// nodes' handles, which such a driver's graphs do not have; nothing else in the kernels changes.
+pub fn strip_graph_conditional(ptx: &str) -> String {
+    let mut out = String::with_capacity(ptx.len());
+    let mut lines = ptx.lines().peekable();
+    while let Some(line) = lines.next() {
+        let t = line.trim_start();
+        if t.starts_with(".extern .func") && t.contains(SET_CONDITIONAL) {
+            // The declaration runs to its closing ';'.
+            let mut l = line;
+            while !l.trim_end().ends_with(';') {
+                match lines.next() {
+                    Some(next) => l = next,
+                    None => break,
+                }
+            }
+            continue;
+        }
+        if t.starts_with("{ // callseq") {
+            let mut block = vec![line];
+            for next in lines.by_ref() {
+                block.push(next);
+                if next.trim_start().starts_with("} // callseq") {
+                    break;
+                }
+            }
+            if !block.iter().any(|l| l.contains(SET_CONDITIONAL)) {
+                for l in block {
+                    out.push_str(l);
+                    out.push('\n');
+                }
+            }
+            continue;
+        }
+        out.push_str(line);
+        out.push('\n');
+    }
+    out
 }

@@ -55,3 +55,16 @@ pub fn shfl_xor(v: u32, mask: u32) -> u32 {
     unsafe { asm!("shfl.sync.bfly.b32 {r}, {v}, {m}, 31, -1;", r = out(reg32) r, v = in(reg32) v, m = in(reg32) mask) };
     r
 }
+
+unsafe extern "C" {
+    /// The device runtime's `cudaGraphSetConditional(handle, value)` (CUDA 12.3+): sets the condition of a graph's
+    /// conditional node. The driver resolves it when it compiles the PTX (the one `.extern` of the module:
+    /// tests/ptx.rs; `backend::cuda` strips its calls where a driver cannot).
+    fn cudaGraphSetConditional(handle: u64, value: u32);
+}
+
+/// Sets a conditional graph node's handle (`handle` ≠ 0: the launch is part of a graph that holds the node).
+#[inline(always)]
+pub fn graph_set_conditional(handle: u64, value: u32) {
+    unsafe { cudaGraphSetConditional(handle, value) }
+}

@@ -49,7 +49,7 @@ density_entry!(swarf_density_2d_f64, f64, V2f64);
 density_entry!(swarf_density_3d_f32, f32, V3f32);
 density_entry!(swarf_density_3d_f64, f64, V3f64);
 
-use super::intrinsics::shfl_xor;
+use super::intrinsics::{graph_set_conditional, shfl_xor};
 use crate::contact::penalty::{ContactArrays, ContactParams, contact_particle};
 use crate::sph::heat::{HeatArrays, HeatParams, ThermalMaterial, heat_finish, heat_sum};
 use crate::sph::interact::{
@@ -206,7 +206,9 @@ fn shuffle_xor<T: LaneSum>(x: &T, mask: u32) -> T {
 /// cell list binned it (`GridParams::beyond_skin`): a particle beyond the skin sets the step's rebuild flag (every
 /// such thread stores the same 1). With a non-null `sig` the same thread then runs the pre-pass of the predicted
 /// particle (sph::interact::prepare_particle; `params` by value, `art`/`sound` null where off), so that a step that
-/// does not rebuild needs no pre-pass launch.
+/// does not rebuild needs no pre-pass launch. In a captured step `condition` is the handle of the IF node that
+/// holds the step's rebuild (0 otherwise; created with default 0 at each graph launch): the predictor sets it to 1
+/// where it sets the rebuild flag, so that no launch of its own has to read the flag for the node.
 macro_rules! predict_entry {
     ($name:ident, $r:ty, $d:ty) => {
         #[unsafe(no_mangle)]
@@ -230,6 +232,7 @@ macro_rules! predict_entry {
             temp0: *mut f64,
             temp_t: *const f64,
             pos_ref: *const Vec_<$r, $d>,
+            condition: u64,
             params: SphParams<$r>,
             mass: *const $r,
             sig: *mut Sym_<$r, $d>,
@@ -264,8 +267,16 @@ macro_rules! predict_entry {
                         let (iu, o) = (i as usize, PrepassArrays { sig, art, sound, vol });
                         prepare_particle::<$r, $d>(&params, &o, iu, *rho.add(iu), *mass.add(iu), &*stress.add(iu));
                     }
+                    let flag = core::ptr::addr_of_mut!((*scalars).rebuild);
+                    // A rebuild the host asked for (read before any thread of this launch sets the flag).
+                    if i == 0 && condition != 0 && core::ptr::read_volatile(flag) != 0 {
+                        graph_set_conditional(condition, 1);
+                    }
                     if (*grid).beyond_skin::<$r, Vec_<$r, $d>>(&x, &*pos_ref.add(i as usize)) {
-                        core::ptr::write_volatile(core::ptr::addr_of_mut!((*scalars).rebuild), 1);
+                        core::ptr::write_volatile(flag, 1);
+                        if condition != 0 {
+                            graph_set_conditional(condition, 1);
+                        }
                         if !is_finite_vec::<$r, Vec_<$r, $d>>(&x) {
                             core::ptr::write_volatile(core::ptr::addr_of_mut!((*scalars).non_finite), 1);
                         }
