@@ -36,6 +36,13 @@ pub fn report(choice: BackendChoice, kernels: bool) -> Result<String> {
         let _ = writeln!(s);
     }
     let _ = writeln!(s, "precisions:    f64 (reference), f32");
+    if let AnyBackend::Cuda(c) = &b {
+        // docs/architecture.md, "The rebuild in a conditional node".
+        let _ = match c.conditional_rebuild() {
+            Ok(()) => writeln!(s, "graph steps:   rebuilds in IF nodes"),
+            Err(why) => writeln!(s, "graph steps:   rebuilds in gated launches ({why})"),
+        };
+    }
     if kernels {
         match &b {
             AnyBackend::Cuda(c) => s.push_str(&kernel_table(&c.kernel_report()?)),
