@@ -468,8 +468,6 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         })
     }
 
-    /// Whether the interaction pass sums the conduction: Brookshaw conduction (on the interaction's own cell
-    /// list; PSE needs the wider stencil) and fusion on.
     /// The pre-pass runs inside the predictor's launch (`Backend::step_predict`; without thermal expansion, whose
     /// EOS reads the temperature), and its own launch only after a rebuild's reorder.
     fn fused_prepare(&self) -> bool {
@@ -482,6 +480,8 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         self.fuse_contact && self.contact.is_some() && self.plastic.is_some() && D::D == 2
     }
 
+    /// Whether the interaction pass sums the conduction: Brookshaw conduction (on the interaction's own cell
+    /// list; PSE needs the wider stencil) and fusion on.
     fn fused_conduction(&self) -> bool {
         self.fuse_conduction && self.thermal.as_ref().is_some_and(|th| th.conduction == Some(false))
     }
