@@ -540,11 +540,12 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
             // the HDF5 file), else by a thread while the next steps run.
             let last = solver.time >= end - 1e-9 * dt;
             let ckpt_due = solver.time >= next_ckpt - 1e-9 * dt && !last;
-            let job = OutputJob {
-                d: d.clone(),
-                host: host.clone(),
-                internal: [temp.clone(), eps.clone(), rate.clone()],
-                now: now.clone(),
+            let background = observer.is_none() && h5.is_none() && !ckpt_due && !last;
+            let mut job = OutputJob {
+                d,
+                host,
+                internal: [temp, eps, rate],
+                now,
                 initial: initial.clone(),
                 radius: 2.0 * s.h,
                 params: solver.host_params,
@@ -552,12 +553,15 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
                 time: solver.time,
                 steps: solver.steps,
             };
-            let background = observer.is_none() && h5.is_none() && !ckpt_due && !last;
-            let d = if background {
+            // The written job keeps the state for the observer and the end of the run; a job in the background is
+            // never read again here (no observer, not the last step).
+            let d = job.d.clone();
+            let kept = if background {
                 pending.start(job, &mut files);
-                d
+                None
             } else {
-                job.write(&mut files, &mut h5)?
+                job.write(&mut files, &mut h5)?;
+                Some(job)
             };
             frame += 1;
             next_out = frame as f64 * every;
@@ -612,22 +616,24 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
                 save_checkpoint(b, &solver, &ckpt_path, opts, dt, frame, next_out, next_ckpt)?;
                 log.line(&format!("checkpoint at t = {:e} s, step {}", solver.time, solver.steps))?;
             }
-            let keep_going = match observer.as_deref_mut() {
-                Some(f) => f(&Snapshot {
-                    diagnostics: &d,
-                    id: &host.id,
-                    pos: now.clone(),
-                    vel: crate::analysis::positions_f64::<R, _>(&host.vel),
-                    body: host.flags.iter().map(|f| f >> flags::BODY_SHIFT).collect(),
-                    temperature: temp.as_deref(),
-                    plastic_strain: eps.as_deref(),
+            let keep_going = match (observer.as_deref_mut(), kept.as_ref()) {
+                (Some(f), Some(j)) => f(&Snapshot {
+                    diagnostics: &j.d,
+                    id: &j.host.id,
+                    pos: j.now.clone(),
+                    vel: crate::analysis::positions_f64::<R, _>(&j.host.vel),
+                    body: j.host.flags.iter().map(|f| f >> flags::BODY_SHIFT).collect(),
+                    temperature: j.internal[0].as_deref(),
+                    plastic_strain: j.internal[1].as_deref(),
                 }),
-                None => true,
+                _ => true,
             };
-            if !background {
-                history.push(d);
+            if let Some(j) = kept.as_ref() {
+                history.push(j.d.clone());
             }
-            if !keep_going || solver.time >= end - 1e-9 * dt {
+            if (!keep_going || solver.time >= end - 1e-9 * dt)
+                && let Some(OutputJob { host, now, .. }) = kept
+            {
                 b.synchronize()?;
                 let pos = now;
                 let body: Vec<u32> = host.flags.iter().map(|f| f >> flags::BODY_SHIFT).collect();
@@ -813,15 +819,16 @@ struct OutputJob<R: Real, D: TensorOps<R>> {
 }
 
 impl<R: Real, D: TensorOps<R>> OutputJob<R, D> {
-    /// Completes the diagnostics and writes the rows and the frame; returns the completed diagnostics.
-    fn write(self, f: &mut OutputFiles, h5: &mut Option<H5>) -> Result<Diagnostics> {
-        let OutputJob { mut d, host, internal, now, initial, radius, params, frame, time, steps } = self;
+    /// Completes the diagnostics (`d`) and writes the rows and the frame.
+    fn write(&mut self, f: &mut OutputFiles, h5: &mut Option<H5>) -> Result<()> {
+        let OutputJob { d, host, internal, now, initial, radius, params, frame, time, steps } = self;
+        let (radius, time, steps) = (*radius, *time, *steps);
         // Closest approach of two mechanical particles (within 2h): pairing and interpenetration show here.
         // Of pairs that started at least 2h apart: contact between material that was apart (chip self-contact),
         // with where it is and which particles, to tell the tool face from the chip's back or the boundary.
         let mech: Vec<bool> = host.flags.iter().map(|f| f & flags::THERMAL_ONLY == 0).collect();
         let start: Vec<[f64; 3]> = host.id.iter().map(|&i| initial[i as usize]).collect();
-        let (all, apart) = crate::analysis::min_pair_distances(&now, &mech, radius, &start, &host.id)?;
+        let (all, apart) = crate::analysis::min_pair_distances(now, &mech, radius, &start, &host.id)?;
         d.min_pair_distance = all.unwrap_or(f64::NAN);
         if let Some(c) = apart {
             d.min_contact_distance = c.distance;
@@ -863,13 +870,13 @@ impl<R: Real, D: TensorOps<R>> OutputJob<R, D> {
         }
         if let Some((dir, index)) = frame {
             let name = format!("frame_{index:05}.vtu");
-            let [temp, eps, rate] = &internal;
+            let [temp, eps, rate] = &*internal;
             let internal = Internal { temp: temp.as_deref(), eps: eps.as_deref(), rate: rate.as_deref() };
-            write_frame(&dir.join(&name), h5, &host, &internal, &params, time, steps)?;
+            write_frame(&dir.join(&name), h5, host, &internal, params, time, steps)?;
             f.pvd.push(time, name).map_err(|e| io_err(f.pvd.path(), e))?;
             f.pvd.write().map_err(|e| io_err(f.pvd.path(), e))?;
         }
-        Ok(d)
+        Ok(())
     }
 }
 
@@ -887,7 +894,8 @@ impl PendingOutput {
     {
         let mut f = std::mem::replace(files, OutputFiles::empty());
         self.job = Some(std::thread::spawn(move || {
-            let r = job.write(&mut f, &mut None);
+            let mut job = job;
+            let r = job.write(&mut f, &mut None).map(|()| job.d);
             (f, r)
         }));
     }
