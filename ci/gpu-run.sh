@@ -279,13 +279,14 @@ gpu__time_duration.sum,sm__sass_thread_inst_executed_op_dfma_pred_on.sum,sm__sas
                     done
                 }
                 run abfrom abfrom ;;
-        abstep) # issue 7: as abfrom (one round), the reference cuts at t = 0 in both precisions (the f32 pair rate)
+        abstep) # issue 7: as abfrom (one round), the reference cuts at t = 0 in both precisions (the f32 pair rate;
+                # SWARF_AB_PRECISION=all adds the mixed precision)
                 abstep() {
                     local others; others=$(cd "$here" && ls swarf-* 2>/dev/null | grep -v '\.gz$')
                     for round in 1; do
                         for b in swarf $others; do
                             echo "== $b, round $round"
-                            "$here/$b" --backend gpu bench step --precision both --step-count 2048 \
+                            "$here/$b" --backend gpu bench step --precision "${SWARF_AB_PRECISION:-both}" --step-count 2048 \
                                 --scenes cases/cutting/reference-cut.toml,cases/cutting/reference-cut-150k.toml || return 1
                         done
                     done
@@ -361,10 +362,13 @@ gpu__time_duration.sum,sm__sass_thread_inst_executed_op_dfma_pred_on.sum,sm__sas
                     done
                 }
                 run ncusrc ncusrc ;;
-        refcut) # issue 7: the whole 6k reference cut (1 mm) in f64 and f32, wall time against the original's 201 / 182 s
+        refcut) # issue 7: the whole 6k reference cut (1 mm) in f64, f32 and mixed (SWARF_REFCUT_PRECISIONS), wall time
+                # against the original's 201 / 182 s
                 refcut() {
-                    cut reference-cut-f64 cases/cutting/reference-cut.toml \
-                        && cut reference-cut-f32 cases/cutting/reference-cut.toml --precision f32
+                    local p
+                    for p in ${SWARF_REFCUT_PRECISIONS:-f64 f32 mixed}; do
+                        cut reference-cut-$p cases/cutting/reference-cut.toml --precision $p || return 1
+                    done
                 }
                 run refcut refcut ;;
         refvar) # issue 7: how far round-off moves the 6k reference cut's forces: the whole f64 cut with each packed build

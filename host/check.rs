@@ -52,8 +52,10 @@ pub fn memory_estimate<R: Real, D: TensorOps<R>>(s: &crate::solver::Setup<R, D>)
         None => 0,
     } + if s.temperature.is_some() { 2 * 8 } else { 0 };
     let plastic = if s.plastic.is_some() { 4 * 8 } else { 0 };
+    // The mixed precision's position low parts and their spare.
+    let compensated = if s.pos_lo.is_some() { 2 * v } else { 0 };
     let cells = 4 * 4; // keys, slots, permutation, and a share of the scan workspace
-    n * (state + start + rates + prepass + thermal + plastic + cells) + (s.grid.n_cells as usize + 2) * 4
+    n * (state + start + rates + prepass + thermal + plastic + compensated + cells) + (s.grid.n_cells as usize + 2) * 4
 }
 
 /// Refuses a run that cannot fit the GPU's memory, naming the bytes needed and available (the CPU backend uses
@@ -66,11 +68,11 @@ pub fn fits(needed: usize, info: &crate::backend::DeviceInfo) -> Result<()> {
 }
 
 pub fn check(any: &AnyBackend, scene: &Scene, precision: Option<Precision>, probe_steps: u64) -> Result<CheckReport> {
-    let p = precision.unwrap_or(scene.precision);
-    with_backend!(any, b => match (scene.dim, p) {
-        (2, Precision::F32) => typed::<_, f32, Dim2>(b, scene, probe_steps),
+    let scene = &*scene.with_precision(precision);
+    with_backend!(any, b => match (scene.dim, scene.precision) {
+        (2, Precision::F32 | Precision::Mixed) => typed::<_, f32, Dim2>(b, scene, probe_steps),
         (2, Precision::F64) => typed::<_, f64, Dim2>(b, scene, probe_steps),
-        (_, Precision::F32) => typed::<_, f32, Dim3>(b, scene, probe_steps),
+        (_, Precision::F32 | Precision::Mixed) => typed::<_, f32, Dim3>(b, scene, probe_steps),
         (_, Precision::F64) => typed::<_, f64, Dim3>(b, scene, probe_steps),
     })
 }
@@ -99,7 +101,7 @@ fn typed<B: Backend, R: Real, D: TensorOps<R>>(b: &B, scene: &Scene, probe_steps
         memory_bytes: memory,
         seconds_per_step: t.elapsed().as_secs_f64() / probe as f64,
         backend: format!("{} ({})", info.backend, info.name),
-        precision: R::NAME,
+        precision: s.precision(),
         warnings: s.warnings.clone(),
     })
 }

@@ -100,6 +100,8 @@ struct RunArgs {
 enum PrecisionChoice {
     F32,
     F64,
+    /// f32 with compensated positions (each coordinate an f32 pair).
+    Mixed,
 }
 
 impl PrecisionChoice {
@@ -107,6 +109,7 @@ impl PrecisionChoice {
         match self {
             PrecisionChoice::F32 => swarf::scene::Precision::F32,
             PrecisionChoice::F64 => swarf::scene::Precision::F64,
+            PrecisionChoice::Mixed => swarf::scene::Precision::Mixed,
         }
     }
 }
@@ -153,7 +156,12 @@ enum Workload {
 enum PrecisionArg {
     F32,
     F64,
+    /// f32 with compensated positions (step and rings workloads).
+    Mixed,
+    /// f64 then f32.
     Both,
+    /// f64, f32 and mixed (step and rings workloads).
+    All,
 }
 
 #[derive(clap::Args)]
@@ -209,11 +217,22 @@ fn parse_count(s: &str) -> std::result::Result<usize, String> {
 }
 
 fn run_bench<B: Backend>(b: &B, a: &BenchArgs, sizes: &[usize]) -> Result<()> {
-    let precs: &[&str] = match a.precision {
-        PrecisionArg::F32 => &["f32"],
-        PrecisionArg::F64 => &["f64"],
-        PrecisionArg::Both => &["f64", "f32"],
+    use swarf::scene::Precision;
+    let precs: &[Precision] = match a.precision {
+        PrecisionArg::F32 => &[Precision::F32],
+        PrecisionArg::F64 => &[Precision::F64],
+        PrecisionArg::Mixed => &[Precision::Mixed],
+        PrecisionArg::Both => &[Precision::F64, Precision::F32],
+        PrecisionArg::All => &[Precision::F64, Precision::F32, Precision::Mixed],
     };
+    // The mixed precision differs from f32 in the corrector only: the workloads without one do not take it.
+    let integrates = matches!(a.workload, Workload::Step | Workload::Rings);
+    if !integrates && precs.contains(&Precision::Mixed) {
+        return Err(swarf::Error::Scene(
+            "bench: --precision mixed (or all) applies to the step and rings workloads; expected f32, f64 or both"
+                .into(),
+        ));
+    }
     if a.workload == Workload::Plasticity {
         let lib =
             swarf::material::Library::load_dir("cases/materials").map_err(|e| swarf::Error::Scene(e.to_string()))?;
@@ -233,10 +252,10 @@ fn run_bench<B: Backend>(b: &B, a: &BenchArgs, sizes: &[usize]) -> Result<()> {
         println!("{}", bench::rings_header());
         for &p in precs {
             for &k in &a.nbox {
-                let t = if p == "f32" {
-                    bench::rings::<B, f32, Dim2>(b, &a.scene, k, a.steps)?
+                let t = if p == Precision::F64 {
+                    bench::rings::<B, f64, Dim2>(b, &a.scene, k, a.steps, p)?
                 } else {
-                    bench::rings::<B, f64, Dim2>(b, &a.scene, k, a.steps)?
+                    bench::rings::<B, f32, Dim2>(b, &a.scene, k, a.steps, p)?
                 };
                 println!("{}", bench::rings_row(&t));
             }
@@ -248,9 +267,9 @@ fn run_bench<B: Backend>(b: &B, a: &BenchArgs, sizes: &[usize]) -> Result<()> {
         for &n in sizes {
             for &p in precs {
                 let t = match (d, p) {
-                    (2, "f32") => one::<B, f32, Dim2>(b, n, a.repeats)?,
+                    (2, Precision::F32) => one::<B, f32, Dim2>(b, n, a.repeats)?,
                     (2, _) => one::<B, f64, Dim2>(b, n, a.repeats)?,
-                    (_, "f32") => one::<B, f32, Dim3>(b, n, a.repeats)?,
+                    (_, Precision::F32) => one::<B, f32, Dim3>(b, n, a.repeats)?,
                     _ => one::<B, f64, Dim3>(b, n, a.repeats)?,
                 };
                 println!("{}", bench::row(&t));
@@ -339,10 +358,7 @@ fn run(cli: Cli) -> Result<()> {
             on_interrupt();
             let opts = swarf::run::RunOptions {
                 out_dir: out,
-                precision: a.precision.map(|p| match p {
-                    PrecisionChoice::F32 => swarf::scene::Precision::F32,
-                    PrecisionChoice::F64 => swarf::scene::Precision::F64,
-                }),
+                precision: a.precision.map(PrecisionChoice::precision),
                 frames: true,
                 hdf5: a.hdf5,
                 quiet: a.quiet,
@@ -438,10 +454,7 @@ fn run(cli: Cli) -> Result<()> {
             let sc = swarf::scene::Scene::load(&scene, &set).map_err(|e| swarf::Error::Scene(e.to_string()))?;
             let (any, line) = AnyBackend::select(cli.backend)?;
             eprintln!("{line}");
-            let p = precision.map(|p| match p {
-                PrecisionChoice::F32 => swarf::scene::Precision::F32,
-                PrecisionChoice::F64 => swarf::scene::Precision::F64,
-            });
+            let p = precision.map(PrecisionChoice::precision);
             let r = swarf::check::check(&any, &sc, p, 5)?;
             print!("{}", swarf::check::format(&sc, &r));
             Ok(())

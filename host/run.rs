@@ -145,12 +145,12 @@ pub fn run_observed(
     opts: &RunOptions,
     observer: Option<&mut dyn FnMut(&Snapshot) -> bool>,
 ) -> Result<RunReport> {
-    let precision = opts.precision.unwrap_or(scene.precision);
+    let scene = &*scene.with_precision(opts.precision);
     let obs = observer;
-    with_backend!(any, b => match (scene.dim, precision) {
-        (2, Precision::F32) => run_typed::<_, f32, Dim2>(b, scene, opts, obs),
+    with_backend!(any, b => match (scene.dim, scene.precision) {
+        (2, Precision::F32 | Precision::Mixed) => run_typed::<_, f32, Dim2>(b, scene, opts, obs),
         (2, Precision::F64) => run_typed::<_, f64, Dim2>(b, scene, opts, obs),
-        (_, Precision::F32) => run_typed::<_, f32, Dim3>(b, scene, opts, obs),
+        (_, Precision::F32 | Precision::Mixed) => run_typed::<_, f32, Dim3>(b, scene, opts, obs),
         (_, Precision::F64) => run_typed::<_, f64, Dim3>(b, scene, opts, obs),
     })
 }
@@ -244,6 +244,12 @@ pub fn setup<R: Real, D: TensorOps<R>>(scene: &Scene) -> Result<Setup<R, D>> {
         });
     }
     let n = pos.len();
+    // The mixed precision keeps each coordinate as a pair hi + lo in R: lo is what rounding it to R dropped.
+    let pos_lo = (scene.precision == Precision::Mixed).then(|| {
+        let lo =
+            |c: &[f64; 3]| D::Vec::<R>::new(std::array::from_fn(|k| R::from_f64(c[k] - R::from_f64(c[k]).to_f64())));
+        pos.iter().map(lo).collect()
+    });
     let particles = HostParticles::<R, D> {
         id: (0..n as u32).collect(),
         flags: fl,
@@ -365,6 +371,7 @@ pub fn setup<R: Real, D: TensorOps<R>>(scene: &Scene) -> Result<Setup<R, D>> {
     let temperature = if thermal.is_some() || plastic.is_some() || expands { Some(temperature) } else { None };
     Ok(Setup {
         particles,
+        pos_lo,
         params,
         stabilisers,
         bc_velocities: table.iter().map(conv).collect(),
@@ -449,7 +456,7 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
     let mut next_out = 0.0;
     if opts.resume {
         let (h, blobs) = crate::checkpoint::read(&ckpt_path)?;
-        if h.precision != R::NAME || h.dim != D::D || h.particles != n {
+        if h.precision != s.precision() || h.dim != D::D || h.particles != n {
             return Err(Error::Checkpoint(format!(
                 "{} holds a {}D {} run of {} particles; this scene is {}D {} with {n}",
                 ckpt_path.display(),
@@ -457,7 +464,7 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
                 h.precision,
                 h.particles,
                 D::D,
-                R::NAME
+                s.precision()
             )));
         }
         solver.load_state(b, &blobs)?;
@@ -492,7 +499,7 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
         "{}: {n} particles, {}D {}, h = {:.4e} m, c0 = {:.1} m/s, dt = {:.4e} s, about {} steps, {} ({})",
         scene.name,
         scene.dim,
-        R::NAME,
+        s.precision(),
         s.h,
         s.c0,
         dt,
@@ -529,7 +536,15 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
             if let Some((id, field)) = d.non_finite {
                 return Err(Error::NonFinite { id, field, time: solver.time, step: solver.steps });
             }
-            let now = crate::analysis::positions_f64::<R, _>(&host.pos);
+            let mut now = crate::analysis::positions_f64::<R, _>(&host.pos);
+            // The mixed precision's positions are hi + lo: the observers and the displacements see them whole.
+            if let Some(lo) = solver.download_pos_lo(b)? {
+                for (x, l) in now.iter_mut().zip(crate::analysis::positions_f64::<R, _>(&lo)) {
+                    for (c, d) in x.iter_mut().zip(l) {
+                        *c += d;
+                    }
+                }
+            }
             if let Some(c) = cut.as_mut() {
                 if c.due(solver.time) {
                     c.sample(b, &solver)?;
@@ -650,7 +665,7 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
                     &opts.overrides,
                     scene,
                     b.info(),
-                    R::NAME,
+                    s.precision(),
                     n,
                     (solver.steps, solver.cell_rebuilds(b)?),
                     s.dt,
@@ -712,7 +727,7 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
         steps: solver.steps,
         dt: s.dt,
         wall_s: t0.elapsed().as_secs_f64(),
-        precision: R::NAME,
+        precision: s.precision(),
         backend: b.info().backend.to_string(),
         history,
     })
@@ -758,7 +773,7 @@ fn save_checkpoint<B: Backend, R: Real, D: TensorOps<R>>(
     let state = solver.save_state(b)?;
     let h = crate::checkpoint::Header {
         overrides: opts.overrides.clone(),
-        precision: R::NAME.to_string(),
+        precision: solver.precision().to_string(),
         dim: D::D,
         particles: solver.n,
         time: solver.time,

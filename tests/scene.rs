@@ -302,6 +302,7 @@ fn overrides_take_effect() {
     assert_eq!(scene.time.dt, Some(1e-7));
     let scene = load("disk-rotation.toml", &["stabilisation.xsph.epsilon=0.25"]);
     assert_eq!(scene.stabilisation.xsph.as_ref().map(|x| x.epsilon), Some(0.25));
+    assert_eq!(load("rings.toml", &["precision=\"mixed\""]).precision, Precision::Mixed);
 }
 
 #[test]
@@ -323,6 +324,8 @@ fn bad_overrides_are_refused() {
     assert_has(&msg, &["--set body.0.velocity=[1.0]: body.0.velocity: expected a velocity [x, y] in m/s"]);
     let msg = refused(&text, &["stabilisation.xsph.enabled=maybe"]);
     assert_has(&msg, &["--set stabilisation.xsph.enabled=maybe: stabilisation.xsph.enabled: expected true or false"]);
+    let msg = refused(&text, &["precision=\"f16\""]);
+    assert_has(&msg, &["--set precision=\"f16\"", "expected \"f32\", \"f64\" or \"mixed\""]);
 }
 
 // ---------------------------------------------------------------------------------------------- bad input

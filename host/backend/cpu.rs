@@ -200,6 +200,13 @@ fn step_arrays<R: Real, D: Dim>(n: usize, f: StepFields<'_, CpuBackend, R, D>) -
         }
         None => (std::ptr::null_mut(), std::ptr::null()),
     };
+    let pos_lo = match f.pos_lo {
+        Some(l) => {
+            check("step position low parts", n, l.len())?;
+            l.as_mut_ptr()
+        }
+        None => std::ptr::null_mut(),
+    };
     Ok(SendStep(StepArrays {
         pos: f.y.pos.as_mut_ptr(),
         vel: f.y.vel.as_mut_ptr(),
@@ -218,6 +225,7 @@ fn step_arrays<R: Real, D: Dim>(n: usize, f: StepFields<'_, CpuBackend, R, D>) -
         temp_t,
         diss,
         diss_t,
+        pos_lo,
     }))
 }
 

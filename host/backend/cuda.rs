@@ -710,7 +710,7 @@ impl CudaBackend {
         &self,
         n: usize,
         f: StepFields<'_, Self, R, D>,
-    ) -> Result<([Arg<'static>; 15], [Arg<'static>; 2])> {
+    ) -> Result<([Arg<'static>; 15], [Arg<'static>; 3])> {
         let lens = [f.y.pos.len, f.y0.pos.len, f.rates.pos.len, f.y.stress.len, f.y0.stress.len, f.rates.stress.len];
         if lens.iter().any(|&l| l < n) {
             return Err(Error::Length { op: "step fields", expected: n, got: lens.into_iter().min().unwrap_or(0) });
@@ -720,9 +720,14 @@ impl CudaBackend {
             (Some(t), None) => (self.ptr_mut(t), 0, 0),
             _ => (0, 0, 0),
         };
+        if f.pos_lo.as_ref().is_some_and(|l| l.len < n) {
+            return Err(Error::Length { op: "step position low parts", expected: n, got: 0 });
+        }
+        let lo = f.pos_lo.map_or(0, |l| self.ptr_mut(l));
+        // The corrector's last parameters: the dissipation and its rate, then the positions' low parts.
         let diss = match f.dissipation {
-            Some((d, dt)) => [Arg::U64(self.ptr_mut(d)), Arg::U64(self.ptr(dt))],
-            None => [Arg::U64(0), Arg::U64(0)],
+            Some((d, dt)) => [Arg::U64(self.ptr_mut(d)), Arg::U64(self.ptr(dt)), Arg::U64(lo)],
+            None => [Arg::U64(0), Arg::U64(0), Arg::U64(lo)],
         };
         Ok((
             [

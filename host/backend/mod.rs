@@ -385,6 +385,9 @@ pub struct StepFields<'a, B: Backend, R: Real, D: Dim> {
     /// The artificial viscosity's accumulated dissipation and its rate from the interaction (with AV; the
     /// corrector integrates it, the predictor ignores it).
     pub dissipation: Option<Dissipation<'a, B, R>>,
+    /// The low part of the start position x0 = y0.pos + pos_lo, in the mixed precision: the corrector's position
+    /// sum is compensated (`sph::integrate::advance_compensated`); the predictor ignores it.
+    pub pos_lo: Option<&'a mut B::Buf<D::Vec<R>>>,
 }
 
 /// The accumulated dissipation per unit mass [J/kg] and its rate.

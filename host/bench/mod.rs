@@ -192,10 +192,12 @@ pub fn rings<B: Backend, R: Real, D: crate::kernels::sph::TensorOps<R>>(
     scene_path: &std::path::Path,
     nbox: usize,
     steps: Option<u64>,
+    precision: crate::scene::Precision,
 ) -> Result<RingsTimes> {
     let dx = 0.08 / (nbox as f64 - 1.0);
-    let scene = crate::scene::Scene::load(scene_path, &[format!("discretisation.dx={dx:e}")])
+    let mut scene = crate::scene::Scene::load(scene_path, &[format!("discretisation.dx={dx:e}")])
         .map_err(|e| crate::Error::Scene(e.to_string()))?;
+    scene.precision = precision;
     let s = crate::run::setup::<R, D>(&scene)?;
     let mut sv = crate::solver::Solver::<B, R, D>::new(b, &s)?;
     let steps_total = (scene.time.end / s.dt).ceil() as u64;
@@ -212,7 +214,7 @@ pub fn rings<B: Backend, R: Real, D: crate::kernels::sph::TensorOps<R>>(
     Ok(RingsTimes {
         nbox,
         n: s.particles.len(),
-        precision: R::NAME,
+        precision: s.precision(),
         steps_total,
         steps_run: run,
         ms_per_step: ms,

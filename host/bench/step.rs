@@ -99,7 +99,7 @@ pub fn step<B: Backend, R: Real, D: TensorOps<R>>(
     Ok(StepTimes {
         label: label.to_string(),
         particles: sv.n,
-        precision: R::NAME,
+        precision: sv.precision(),
         ms_per_step: ms / (batches * GRAPH_STEPS) as f64,
         phases_ms: phases,
         pairs,
@@ -275,7 +275,7 @@ pub fn row(t: &StepTimes, peak_gb_s: f64) -> String {
 pub fn scenes<B: Backend>(
     b: &B,
     paths: &[std::path::PathBuf],
-    precisions: &[&str],
+    precisions: &[crate::scene::Precision],
     steps: usize,
     options: bool,
 ) -> Result<()> {
@@ -287,11 +287,13 @@ pub fn scenes<B: Backend>(
             .map_err(|e| crate::Error::Scene(format!("{}: {e}", path.display())))?;
         let label = scene.name.clone();
         for &p in precisions {
-            let r = match (scene.dim, p) {
-                (3, "f32") => one::<B, f32, crate::kernels::Dim3>(b, &scene, &label, steps, options, peak)?,
-                (3, _) => one::<B, f64, crate::kernels::Dim3>(b, &scene, &label, steps, options, peak)?,
-                (_, "f32") => one::<B, f32, crate::kernels::Dim2>(b, &scene, &label, steps, options, peak)?,
-                _ => one::<B, f64, crate::kernels::Dim2>(b, &scene, &label, steps, options, peak)?,
+            use crate::kernels::{Dim2, Dim3};
+            let sc = &*scene.with_precision(Some(p));
+            let r = match (scene.dim, p == crate::scene::Precision::F64) {
+                (3, false) => one::<B, f32, Dim3>(b, sc, &label, steps, options, peak)?,
+                (3, true) => one::<B, f64, Dim3>(b, sc, &label, steps, options, peak)?,
+                (_, false) => one::<B, f32, Dim2>(b, sc, &label, steps, options, peak)?,
+                (_, true) => one::<B, f64, Dim2>(b, sc, &label, steps, options, peak)?,
             };
             costs.extend(r);
         }
@@ -315,11 +317,19 @@ pub fn checkpoints<B: Backend>(b: &B, dirs: &[std::path::PathBuf], steps: usize)
     for dir in dirs {
         let (scene, _) = crate::run::resume_scene(dir)?;
         let saved = crate::checkpoint::read(&dir.join("checkpoint.bin"))?;
-        match (scene.dim, saved.0.precision.as_str()) {
-            (3, "f32") => saved_rows::<B, f32, crate::kernels::Dim3>(b, &scene, &saved, steps, peak)?,
-            (3, _) => saved_rows::<B, f64, crate::kernels::Dim3>(b, &scene, &saved, steps, peak)?,
-            (_, "f32") => saved_rows::<B, f32, crate::kernels::Dim2>(b, &scene, &saved, steps, peak)?,
-            _ => saved_rows::<B, f64, crate::kernels::Dim2>(b, &scene, &saved, steps, peak)?,
+        use crate::kernels::{Dim2, Dim3};
+        use crate::scene::Precision;
+        let p = match saved.0.precision.as_str() {
+            "f32" => Precision::F32,
+            "mixed" => Precision::Mixed,
+            _ => Precision::F64,
+        };
+        let sc = &*scene.with_precision(Some(p));
+        match (scene.dim, p == Precision::F64) {
+            (3, false) => saved_rows::<B, f32, Dim3>(b, sc, &saved, steps, peak)?,
+            (3, true) => saved_rows::<B, f64, Dim3>(b, sc, &saved, steps, peak)?,
+            (_, false) => saved_rows::<B, f32, Dim2>(b, sc, &saved, steps, peak)?,
+            (_, true) => saved_rows::<B, f64, Dim2>(b, sc, &saved, steps, peak)?,
         }
     }
     Ok(())
@@ -344,16 +354,16 @@ fn saved_rows<B: Backend, R: Real, D: TensorOps<R>>(
     peak: f64,
 ) -> Result<()> {
     let h = &saved.0;
-    if h.precision != R::NAME || h.dim != D::D {
+    let s = crate::run::setup::<R, D>(scene)?;
+    if h.precision != s.precision() || h.dim != D::D {
         return Err(crate::Error::Checkpoint(format!(
             "a {}D {} checkpoint for a {}D {} scene",
             h.dim,
             h.precision,
             D::D,
-            R::NAME
+            s.precision()
         )));
     }
-    let s = crate::run::setup::<R, D>(scene)?;
     let at = format!("{} at t = {:.4e} s (step {})", scene.name, h.time, h.steps);
     let t = step::<B, R, D>(b, &s, &at, steps, 5, None, true, Some(saved))?;
     println!("{}", row(&t, peak));
@@ -411,7 +421,7 @@ fn one<B: Backend, R: Real, D: TensorOps<R>>(
                 let t = step::<B, R, D>(b, &v, label, steps, 1, None, true, None)?;
                 out.push(format!(
                     "| {label} | {} | {o} | {} | {:.4} | {:.4} | {:+.1} % |",
-                    R::NAME,
+                    s.precision(),
                     t.particles,
                     t.ms_per_step,
                     base.ms_per_step,

@@ -64,7 +64,8 @@ pub struct Scene {
     pub name: String,
     /// `dim` (required): 2 (plane strain, per unit depth) or 3.
     pub dim: usize,
-    /// `precision` (optional, default `"f64"`): `"f32"` or `"f64"`, the floating-point type of the particle state.
+    /// `precision` (optional, default `"f64"`): `"f32"` or `"f64"`, the floating-point type of the particle state,
+    /// or `"mixed"`: f32 with compensated positions (`Precision::Mixed`).
     pub precision: Precision,
     /// `[discretisation]` (required).
     pub discretisation: Discretisation,
@@ -220,6 +221,9 @@ pub enum Conduction {
 pub enum Precision {
     F32,
     F64,
+    /// f32 state with compensated positions: each coordinate an f32 pair hi + lo, the corrector's position sum
+    /// exact to the rounding of the step's displacement (docs/performance.md, "Mixed precision").
+    Mixed,
 }
 
 impl Precision {
@@ -227,6 +231,7 @@ impl Precision {
         match self {
             Precision::F32 => "f32",
             Precision::F64 => "f64",
+            Precision::Mixed => "mixed",
         }
     }
 }
@@ -498,6 +503,15 @@ pub struct Output {
 }
 
 impl Scene {
+    /// This scene with its precision replaced by `precision` where one is given (a command line's override):
+    /// the set-up reads the scene's precision.
+    pub fn with_precision(&self, precision: Option<Precision>) -> std::borrow::Cow<'_, Scene> {
+        match precision {
+            Some(p) if p != self.precision => std::borrow::Cow::Owned(Scene { precision: p, ..self.clone() }),
+            _ => std::borrow::Cow::Borrowed(self),
+        }
+    }
+
     /// Reads the scene file at `path`, applies the `--set key=value` `overrides` in order, and validates it.
     pub fn load(path: impl AsRef<Path>, overrides: &[String]) -> Result<Scene, SceneError> {
         let path = path.as_ref();

@@ -188,8 +188,10 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
     let name = root.required("name", name_expected, root.string("name", name_expected, |s| !s.trim().is_empty())?)?;
     let dim_expected = "2 (plane strain) or 3";
     let dim = root.required("dim", dim_expected, root.integer("dim", dim_expected, |d| d == 2 || d == 3)?)? as usize;
-    let precision = match root.string("precision", "\"f32\" or \"f64\"", |s| s == "f32" || s == "f64")? {
+    let precision_expected = "\"f32\", \"f64\" or \"mixed\"";
+    let precision = match root.string("precision", precision_expected, |s| matches!(s, "f32" | "f64" | "mixed"))? {
         Some("f32") => Precision::F32,
+        Some("mixed") => Precision::Mixed,
         _ => Precision::F64,
     };
 

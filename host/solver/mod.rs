@@ -72,6 +72,9 @@ pub struct ContactSetup {
 #[derive(Clone)]
 pub struct Setup<R: Real, D: TensorOps<R>> {
     pub particles: HostParticles<R, D>,
+    /// The mixed precision's low parts of the positions (x = pos + pos_lo, each rounded to R; `run::setup` with
+    /// `Precision::Mixed`), None otherwise.
+    pub pos_lo: Option<Vec<D::Vec<R>>>,
     pub params: SphParams<R>,
     pub stabilisers: params::StabiliserSettings,
     pub bc_velocities: Vec<D::Vec<R>>,
@@ -88,6 +91,13 @@ pub struct Setup<R: Real, D: TensorOps<R>> {
     pub contact: Option<ContactSetup>,
     /// Input that runs but whose result is not meaningful (`scene::degenerate_input_warnings`).
     pub warnings: Vec<String>,
+}
+
+impl<R: Real, D: TensorOps<R>> Setup<R, D> {
+    /// The run's precision as reports name it (as [`Solver::precision`]).
+    pub fn precision(&self) -> &'static str {
+        if self.pos_lo.is_some() { crate::scene::Precision::Mixed.as_str() } else { R::NAME }
+    }
 }
 
 struct ThermalState<B: Backend> {
@@ -199,6 +209,9 @@ pub struct Solver<B: Backend, R: Real, D: TensorOps<R>> {
     bc_vel: B::Buf<D::Vec<R>>,
     /// Temperature (present with heat or plasticity).
     temp: Option<Field<B, f64>>,
+    /// The low parts of the positions (mixed precision): the start position of a step is pos0 + pos_lo, its end
+    /// pos + pos_lo, and the corrector's sum is compensated (`sph::integrate::advance_compensated`).
+    pos_lo: Option<Field<B, D::Vec<R>>>,
     thermal: Option<ThermalState<B>>,
     plastic: Option<PlasticState<B>>,
     contact: Option<ContactState<B, R, D>>,
@@ -437,6 +450,10 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             host_params: setup.params,
             bc_vel: b.upload(&table, "boundary velocities")?,
             temp,
+            pos_lo: match &setup.pos_lo {
+                Some(lo) => Some(Field::upload(b, lo, "position low parts")?),
+                None => None,
+            },
             thermal,
             plastic,
             contact,
@@ -637,6 +654,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                         temp: if conduction.is_some() { self.temp.as_mut().map(|t| &mut t.cur) } else { None },
                         conduction,
                         dissipation: None,
+                        pos_lo: None,
                     },
                     SkinTest { grid: &self.cells.grid_buf, pos_ref: &self.pos_ref, condition: self.condition },
                     fuse_prepare.then_some(FusedPrepare {
@@ -662,6 +680,9 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                 s.stress.stage(b, batch);
                 if let Some(t) = self.temp.as_mut() {
                     t.stage(b, batch);
+                }
+                if let Some(lo) = self.pos_lo.as_mut() {
+                    lo.stage(b, batch);
                 }
                 if let Some(t0) = self.thermal.as_mut().and_then(|th| th.temp0.as_mut()) {
                     t0.stage(b, batch);
@@ -807,6 +828,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                         temp: self.temp.as_mut().map(|t| &mut t.cur),
                         conduction,
                         dissipation: self.dissipation.as_mut().map(|(d, rate)| (&mut d.cur, &*rate)),
+                        pos_lo: self.pos_lo.as_mut().map(|l| &mut l.cur),
                     },
                     plastic,
                     contact,
@@ -920,6 +942,16 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         self.contact.as_ref().map(|c| c.motion.offset_at(self.time))
     }
 
+    /// Host copies of the positions' low parts (mixed precision; state order): x = pos + pos_lo.
+    pub fn download_pos_lo(&self, b: &B) -> Result<Option<Vec<D::Vec<R>>>> {
+        self.pos_lo.as_ref().map(|l| l.read(b)).transpose()
+    }
+
+    /// The run's precision as reports name it: "mixed" with compensated positions, else R's name.
+    pub fn precision(&self) -> &'static str {
+        if self.pos_lo.is_some() { crate::scene::Precision::Mixed.as_str() } else { R::NAME }
+    }
+
     /// A host copy of the particle state (in the current sorted order).
     pub fn download(&self, b: &B) -> Result<HostParticles<R, D>> {
         self.particles.download(b)
@@ -993,6 +1025,9 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         if let Some(t) = &self.temp {
             dump(b, "temp", &t.cur, &mut o)?;
         }
+        if let Some(lo) = &self.pos_lo {
+            dump(b, "pos_lo", &lo.cur, &mut o)?;
+        }
         if let Some(th) = &self.thermal {
             if let Some(t0) = &th.temp0 {
                 dump(b, "temp0", &t0.cur, &mut o)?;
@@ -1043,6 +1078,9 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         crate::state::load_blob(b, "stress_t", &mut self.rates.stress, s)?;
         if let Some(t) = &mut self.temp {
             crate::state::load_blob(b, "temp", &mut t.cur, s)?;
+        }
+        if let Some(lo) = &mut self.pos_lo {
+            crate::state::load_blob(b, "pos_lo", &mut lo.cur, s)?;
         }
         if let Some(th) = &mut self.thermal {
             if let Some(t0) = &mut th.temp0 {

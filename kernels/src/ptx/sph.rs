@@ -260,6 +260,7 @@ macro_rules! predict_entry {
                     temp_t,
                     diss: core::ptr::null_mut(),
                     diss_t: core::ptr::null(),
+                    pos_lo: core::ptr::null_mut(),
                 };
                 unsafe {
                     let x = predict_particle(&a, (*scalars).dt, i as usize);
@@ -311,6 +312,7 @@ macro_rules! finish_entry {
             temp_t: *const f64,
             diss: *mut f64,
             diss_t: *const $r,
+            pos_lo: *mut Vec_<$r, $d>,
         ) {
             let i = global_index();
             if i < n {
@@ -332,6 +334,7 @@ macro_rules! finish_entry {
                     temp_t,
                     diss,
                     diss_t,
+                    pos_lo,
                 };
                 unsafe { correct_particle(&a, (*scalars).dt, i as usize) };
             }
@@ -372,6 +375,7 @@ macro_rules! finish_plastic_entry {
             temp_t: *const f64,
             diss: *mut f64,
             diss_t: *const $r,
+            pos_lo: *mut Vec_<$r, $d>,
             eps: *mut f64,
             rate: *mut f64,
             flags: *const u32,
@@ -406,6 +410,7 @@ macro_rules! finish_plastic_entry {
                     temp_t,
                     diss,
                     diss_t,
+                    pos_lo,
                 };
                 let p = PlasticArrays::<$r, Sym_<$r, $d>> {
                     stress,

@@ -3,6 +3,10 @@
 //!   predictor  y½ = y0 + ½Δt ẏ(previous midpoint),
 //!   corrector  y1 = y0 + Δt ẏ(y½),
 //! applied to x, v, ρ and S.
+//!
+//! In the mixed precision (f32 state, docs/performance.md "Mixed precision") the corrector's position sum is
+//! compensated: x is kept as an f32 pair hi + lo (`advance_compensated`), since a step's displacement on the
+//! 150k cut is 1–3 ulps of an f32 coordinate and a rounded sum loses 20–50 % of it (docs/stability.md).
 
 use crate::real::Real;
 use crate::vector::{SymTensor, Vector};
@@ -26,4 +30,31 @@ pub fn advance_sym<R: Real, S: SymTensor<R>>(y0: &S, c: R, yt: &S) -> S {
         k += 1;
     }
     out
+}
+
+/// Knuth's TwoSum: s = fl(a + b) and the exact error e with a + b = s + e (|e| ≤ ½ ulp(s)), six correctly
+/// rounded operations, without a branch on |a| ≥ |b| (Knuth, TAOCP vol. 2, §4.2.2, theorem B). Valid in any
+/// IEEE 754 binary format with round-to-nearest; the f32 build flags (`-fp-contract=fast`) fuse only a product
+/// into an add, and TwoSum has no product.
+#[inline(always)]
+pub fn two_sum<R: Real>(a: R, b: R) -> (R, R) {
+    let s = a + b;
+    let bb = s - a;
+    (s, (a - (s - bb)) + (b - bb))
+}
+
+/// The compensated y0 + c·ẏ of a vector kept as hi + lo: each component's increment c·ẏ joins the low part,
+/// then TwoSum with the high part gives the new pair. The sum hi + lo then carries about twice the format's
+/// significand bits (an f32 pair: 48), so each step's displacement is kept to the rounding of the increment
+/// itself, ½ ulp(c·ẏ + lo), not to ½ ulp(x).
+#[inline(always)]
+pub fn advance_compensated<R: Real, V: Vector<R>>(hi: &V, lo: &V, c: R, yt: &V) -> (V, V) {
+    let mut h = [R::ZERO; 3];
+    let mut l = [R::ZERO; 3];
+    let mut k = 0;
+    while k < V::DIM {
+        (h[k], l[k]) = two_sum(hi.get(k), lo.get(k) + c * yt.get(k));
+        k += 1;
+    }
+    (V::new(h), V::new(l))
 }

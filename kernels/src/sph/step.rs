@@ -10,7 +10,7 @@
 //! The step's scalars (Δt, the tool's state) are read from device memory ([`StepScalars`]) rather than passed by
 //! value, so that a step captured once in a CUDA graph replays with each step's values.
 
-use super::integrate::{advance_sym, advance_vec};
+use super::integrate::{advance_compensated, advance_sym, advance_vec};
 use crate::contact::ToolState;
 use crate::real::Real;
 
@@ -67,6 +67,10 @@ pub struct StepArrays<R: Real, V, S> {
     /// or in the predictor): the corrector adds Δt × the midpoint rate.
     pub diss: *mut f64,
     pub diss_t: *const R,
+    /// The low part of the start-of-step position x0 = pos0 + pos_lo (mixed precision; null otherwise): the
+    /// corrector's position sum is then compensated (`integrate::advance_compensated`). The predictor leaves it:
+    /// the midpoint position is used once and rounded, only x1 accumulates over the steps.
+    pub pos_lo: *mut V,
 }
 
 /// Predictor of particle i: y0 ← y; y ← y0 + ½Δt ẏ. Returns the predicted position.
@@ -100,7 +104,7 @@ pub unsafe fn predict_particle<R: Real, V: crate::vector::Vector<R>, S: crate::v
     }
 }
 
-/// Corrector of particle i: y ← y0 + Δt ẏ.
+/// Corrector of particle i: y ← y0 + Δt ẏ (x compensated where `pos_lo` is given).
 ///
 /// # Safety
 /// As [`predict_particle`].
@@ -112,7 +116,13 @@ pub unsafe fn correct_particle<R: Real, V: crate::vector::Vector<R>, S: crate::v
 ) {
     let c = R::from_f64(dt);
     unsafe {
-        *a.pos.add(i) = advance_vec(&*a.pos0.add(i), c, &*a.pos_t.add(i));
+        if a.pos_lo.is_null() {
+            *a.pos.add(i) = advance_vec(&*a.pos0.add(i), c, &*a.pos_t.add(i));
+        } else {
+            let (hi, lo) = advance_compensated(&*a.pos0.add(i), &*a.pos_lo.add(i), c, &*a.pos_t.add(i));
+            *a.pos.add(i) = hi;
+            *a.pos_lo.add(i) = lo;
+        }
         *a.vel.add(i) = advance_vec(&*a.vel0.add(i), c, &*a.vel_t.add(i));
         *a.rho.add(i) = *a.rho0.add(i) + c * *a.rho_t.add(i);
         *a.stress.add(i) = advance_sym(&*a.stress0.add(i), c, &*a.stress_t.add(i));
