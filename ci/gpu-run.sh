@@ -136,12 +136,14 @@ for p in $parts; do
                  }
                  run longcut longcut ;;
         study) # issue 7: wall time against error over resolutions × precisions (swarf study), the published studies
+               # (SWARF_STUDY_PRECISIONS, default f64,f32,mixed)
                studies() {
-                   "$here/swarf" --backend gpu study cases/rings.toml --levels 1,1/2,1/4 --precisions f64,f32 \
+                   local precs=${SWARF_STUDY_PRECISIONS:-f64,f32,mixed}
+                   "$here/swarf" --backend gpu study cases/rings.toml --levels 1,1/2,1/4 --precisions "$precs" \
                        --out /tmp/swarf-study/rings --quiet && cat /tmp/swarf-study/rings/study.md \
-                   && "$here/swarf" --backend gpu study cases/impact.toml --levels 2,1,1/2 --precisions f64,f32 \
+                   && "$here/swarf" --backend gpu study cases/impact.toml --levels 2,1,1/2 --precisions "$precs" \
                        --out /tmp/swarf-study/impact --quiet && cat /tmp/swarf-study/impact/study.md \
-                   && "$here/swarf" --backend gpu study cases/cutting/v0060.toml --levels 1,1/2,1/3 --precisions f64,f32 \
+                   && "$here/swarf" --backend gpu study cases/cutting/v0060.toml --levels 1,1/2,1/3 --precisions "$precs" \
                        --set time.end=7.868e-5 --out /tmp/swarf-study/v0060 --quiet && cat /tmp/swarf-study/v0060/study.md
                    local ok=$?
                    for s in rings impact v0060; do
