@@ -36,7 +36,7 @@ fn two_sum_error_term_is_exact() {
 }
 
 /// 10⁶ steps of Δt = 2.87e-10 s at v = (1, −0.37) m/s from x0 = (7.3e-4, 4.1e-4) m: the 150k cut's step, where
-/// one step moves a coordinate by 1–5 f32 ulps (docs/stability.md). The exact result of summing the f32
+/// one step moves a coordinate by 2.5–5 f32 ulps (docs/stability.md). The exact result of summing the f32
 /// increments d = fl(c·v) is x0 + N d (N d has at most 44 bits: exact in f64). The compensated sum may err by
 /// at most ½ ulp(lo + d) ≤ ½ ulp(2|d|) per step; the plain f32 sum rounds every step to the ulp grid and must
 /// be at least 1000 times further off (it is, by about 10⁵: each step's 4.9 ulps become 5).

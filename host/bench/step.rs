@@ -129,6 +129,7 @@ pub struct Fusion {
 /// reaches. With fused conduction the interaction reads T and the full masses and writes Ṫ, and the conduction
 /// pass is gone; with the pre-pass fused into the predictor it does not read ρ and S again, and with the contact
 /// fused into the plastic corrector (plastic 2D runs) the contact does not read x, v, ρ, the flags and T again.
+/// In the mixed precision the corrector also reads and writes the positions' low parts, and a reorder moves them.
 pub fn compulsory_bytes<R: Real, D: TensorOps<R>>(s: &Setup<R, D>, n: usize, fused: Fusion, rebuilds: f64) -> f64 {
     let (v, r, sym) = (size_of::<D::Vec<R>>(), size_of::<R>(), size_of::<D::Sym<R>>());
     let y = 2 * v + r + sym; // x, v, ρ, S
@@ -137,13 +138,16 @@ pub fn compulsory_bytes<R: Real, D: TensorOps<R>>(s: &Setup<R, D>, n: usize, fus
     let cond = s.thermal.as_ref().is_some_and(|t| t.conduction.is_some());
     let plastic = s.plastic.is_some();
     let contact = s.contact.is_some();
+    // The mixed precision's position low parts: read and written by the corrector, moved by a reorder.
+    let lo = if s.pos_lo.is_some() { v } else { 0 };
     let mut per = 0;
     per += 4 * y + v + if cond { 4 * 8 } else { 0 }; // predict
     let staged = 4 + 4 + y + r + y // id, flags, state, mass, start copies
         + if heat { 8 } else { 0 }
         + if cond { 8 } else { 0 }
         + if plastic { 3 * 8 } else { 0 }
-        + if contact { 2 * v } else { 0 };
+        + if contact { 2 * v } else { 0 }
+        + lo;
     // Hash and count (x in, key and slot out), scatter (key, slot in, perm out), sort (perm), gather (perm, every
     // field in and out, the binned positions out), copy back (every field in and out).
     let rebuild = v + 8 + 3 * 4 + 4 + (2 * staged + 4 + v) + 2 * staged;
@@ -160,7 +164,7 @@ pub fn compulsory_bytes<R: Real, D: TensorOps<R>>(s: &Setup<R, D>, n: usize, fus
     } else if cond {
         per += v + 2 * r + 8 + 4 + 8;
     }
-    per += 3 * y + if cond { 3 * 8 } else { 0 } + if plastic { 2 * (3 * 8) + 8 } else { 0 };
+    per += 3 * y + 2 * lo + if cond { 3 * 8 } else { 0 } + if plastic { 2 * (3 * 8) + 8 } else { 0 };
     if contact && fused.contact && plastic && D::D == 2 {
         per += r + 2 * 2 * v + if heat { 8 } else { 0 }; // mass in, forces in and out, T out
     } else if contact {

@@ -6,7 +6,7 @@
 //!
 //! In the mixed precision (f32 state, docs/performance.md "Mixed precision") the corrector's position sum is
 //! compensated: x is kept as an f32 pair hi + lo (`advance_compensated`), since a step's displacement on the
-//! 150k cut is 1–3 ulps of an f32 coordinate and a rounded sum loses 20–50 % of it (docs/stability.md).
+//! 150k cut is a few ulps of an f32 coordinate and a rounded sum misses up to 10–20 % of it (docs/stability.md).
 
 use crate::real::Real;
 use crate::vector::{SymTensor, Vector};
