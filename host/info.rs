@@ -35,7 +35,7 @@ pub fn report(choice: BackendChoice, kernels: bool) -> Result<String> {
         }
         let _ = writeln!(s);
     }
-    let _ = writeln!(s, "precisions:    f64 (reference), f32");
+    let _ = writeln!(s, "precisions:    f64 (reference), f32, mixed (f32 with compensated positions)");
     if let AnyBackend::Cuda(c) = &b {
         // docs/architecture.md, "The rebuild in a conditional node".
         let _ = match c.conditional_rebuild() {
