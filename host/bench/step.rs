@@ -323,11 +323,7 @@ pub fn checkpoints<B: Backend>(b: &B, dirs: &[std::path::PathBuf], steps: usize)
         let saved = crate::checkpoint::read(&dir.join("checkpoint.bin"))?;
         use crate::kernels::{Dim2, Dim3};
         use crate::scene::Precision;
-        let p = match saved.0.precision.as_str() {
-            "f32" => Precision::F32,
-            "mixed" => Precision::Mixed,
-            _ => Precision::F64,
-        };
+        let p = Precision::from_name(&saved.0.precision).unwrap_or(Precision::F64);
         let sc = &*scene.with_precision(Some(p));
         match (scene.dim, p == Precision::F64) {
             (3, false) => saved_rows::<B, f32, Dim3>(b, sc, &saved, steps, peak)?,

@@ -234,6 +234,11 @@ impl Precision {
             Precision::Mixed => "mixed",
         }
     }
+
+    /// The precision named `name` as [`Precision::as_str`] writes it (scene files, checkpoints), if any.
+    pub fn from_name(name: &str) -> Option<Precision> {
+        [Precision::F32, Precision::F64, Precision::Mixed].into_iter().find(|p| p.as_str() == name)
+    }
 }
 
 /// `[discretisation]`.

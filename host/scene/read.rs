@@ -189,11 +189,10 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
     let dim_expected = "2 (plane strain) or 3";
     let dim = root.required("dim", dim_expected, root.integer("dim", dim_expected, |d| d == 2 || d == 3)?)? as usize;
     let precision_expected = "\"f32\", \"f64\" or \"mixed\"";
-    let precision = match root.string("precision", precision_expected, |s| matches!(s, "f32" | "f64" | "mixed"))? {
-        Some("f32") => Precision::F32,
-        Some("mixed") => Precision::Mixed,
-        _ => Precision::F64,
-    };
+    let precision = root
+        .string("precision", precision_expected, |s| Precision::from_name(s).is_some())?
+        .and_then(Precision::from_name)
+        .unwrap_or(Precision::F64);
 
     // [discretisation]
     let disc_expected = "a table [discretisation] with dx (and h_over_dx, skin_over_h, verlet_list)";
