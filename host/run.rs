@@ -245,7 +245,8 @@ pub fn setup<R: Real, D: TensorOps<R>>(scene: &Scene) -> Result<Setup<R, D>> {
     }
     let n = pos.len();
     // The mixed precision keeps each coordinate as a pair hi + lo in R: lo is what rounding it to R dropped.
-    let pos_lo = (scene.precision == Precision::Mixed).then(|| {
+    // f32's only: the f64 corrector has no compensated sum (`sph::step::correct_particle`).
+    let pos_lo = (scene.precision == Precision::Mixed && size_of::<R>() == 4).then(|| {
         let lo =
             |c: &[f64; 3]| D::Vec::<R>::new(std::array::from_fn(|k| R::from_f64(c[k] - R::from_f64(c[k]).to_f64())));
         pos.iter().map(lo).collect()

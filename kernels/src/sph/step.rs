@@ -67,8 +67,8 @@ pub struct StepArrays<R: Real, V, S> {
     /// or in the predictor): the corrector adds Δt × the midpoint rate.
     pub diss: *mut f64,
     pub diss_t: *const R,
-    /// The low part of the start-of-step position x0 = pos0 + pos_lo (mixed precision; null otherwise): the
-    /// corrector's position sum is then compensated (`integrate::advance_compensated`). The predictor leaves it:
+    /// The low part of the start-of-step position x0 = pos0 + pos_lo (mixed precision, f32 only; null otherwise,
+    /// ignored in f64): the corrector's position sum is then compensated (`integrate::advance_compensated`). The predictor leaves it:
     /// the midpoint position is used once and rounded, only x1 accumulates over the steps.
     pub pos_lo: *mut V,
 }
@@ -116,7 +116,9 @@ pub unsafe fn correct_particle<R: Real, V: crate::vector::Vector<R>, S: crate::v
 ) {
     let c = R::from_f64(dt);
     unsafe {
-        if a.pos_lo.is_null() {
+        // The mixed precision is f32's: in f64 the test folds to false at compile time, so the f64 correctors never
+        // load `pos_lo` and keep their registers (they share the entry's parameter list).
+        if core::mem::size_of::<R>() != 4 || a.pos_lo.is_null() {
             *a.pos.add(i) = advance_vec(&*a.pos0.add(i), c, &*a.pos_t.add(i));
         } else {
             let (hi, lo) = advance_compensated(&*a.pos0.add(i), &*a.pos_lo.add(i), c, &*a.pos_t.add(i));
