@@ -96,8 +96,13 @@ pub struct Setup<R: Real, D: TensorOps<R>> {
 impl<R: Real, D: TensorOps<R>> Setup<R, D> {
     /// The run's precision as reports name it (as [`Solver::precision`]).
     pub fn precision(&self) -> &'static str {
-        if self.pos_lo.is_some() { crate::scene::Precision::Mixed.as_str() } else { R::NAME }
+        precision_name::<R>(self.pos_lo.is_some())
     }
+}
+
+/// "mixed" for an R state with compensated positions, else R's name.
+fn precision_name<R: Real>(compensated: bool) -> &'static str {
+    if compensated { crate::scene::Precision::Mixed.as_str() } else { R::NAME }
 }
 
 struct ThermalState<B: Backend> {
@@ -949,7 +954,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
 
     /// The run's precision as reports name it: "mixed" with compensated positions, else R's name.
     pub fn precision(&self) -> &'static str {
-        if self.pos_lo.is_some() { crate::scene::Precision::Mixed.as_str() } else { R::NAME }
+        precision_name::<R>(self.pos_lo.is_some())
     }
 
     /// A host copy of the particle state (in the current sorted order).
