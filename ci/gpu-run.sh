@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# whole150k bg150k wait150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abregs abblock abenv ncusrc refvar
+# whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -37,10 +37,24 @@ from_dirs() { # the checkpoints of fromcut/abfrom (made once per machine): print
         tail -n 2 $d/ref6k/run.log >&2
     fi
     local dirs=$d/ref6k
-    if [ -e carry150k/whole-150k-f64.tgz.partaa ]; then
-        [ -f $d/whole-150k-f64/checkpoint.bin ] || cat carry150k/whole-150k-f64.tgz.part* | tar xzf - -C $d
-        dirs=$dirs,$d/whole-150k-f64
+    # A 150k state being made in the background (part bgmake150k): wait for it, and return its parts.
+    [ -n "${SWARF_MAKING:-}" ] || while pgrep -f "gpu-run.sh make150k" > /dev/null; do sleep 5; done
+    if [ -e $d/make-out/whole-150k-f64.tgz.partaa ] && [ ! -e "$out/whole-150k-f64.tgz.partaa" ]; then
+        cp $d/make-out/whole-150k-f64.tgz.part* "$out/"; cat $d/make150k.out >&2
     fi
+    if [ -e carry150k/whole-150k-f64.tgz.partaa ] && [ ! -f $d/whole-150k-f64/checkpoint.bin ]; then
+        cat carry150k/whole-150k-f64.tgz.part* | tar xzf - -C $d
+    elif [ -n "${SWARF_MAKE_150K:-}" ] && [ ! -f $d/whole-150k-f64/checkpoint.bin ]; then
+        # No carried 150k state: run the 150k f64 cut to SWARF_MAKE_150K seconds of cut time (6.05e-4 s: about
+        # 2.1 M steps, 8 minutes on an H200) with checkpoints every 1e-4 s, and return the last one split into
+        # $out/whole-150k-f64.tgz.part* (what carry150k/ holds).
+        "$here/swarf" --backend gpu run cases/cutting/reference-cut-150k.toml --quiet --out $d/whole-150k-f64 \
+            --set time.end="$SWARF_MAKE_150K" --set output.every=1e-4 --checkpoint-every 1e-4 >&2 || return 1
+        tail -n 3 $d/whole-150k-f64/run.log >&2
+        tar czf - -C $d whole-150k-f64/checkpoint.bin whole-150k-f64/scene.toml \
+            | split -b 15m - "$out/whole-150k-f64.tgz.part"
+    fi
+    [ -f $d/whole-150k-f64/checkpoint.bin ] && dirs=$dirs,$d/whole-150k-f64
     echo "$dirs"
 }
 abenv() { # the checkpoints' step with each variant of $1 (space-separated; "default" or NAME=VALUE[,NAME=VALUE...]),
@@ -61,6 +75,15 @@ nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.max.sm --format=c
 for p in $parts; do
     case $p in
         info) run info "$here/swarf" --backend gpu info --kernels ;;
+        make150k) # issue 7: the 150k state of fromcut/abfrom/abenv where none is carried (from_dirs, SWARF_MAKE_150K,
+                  # default 6.05e-4 s); its parts come back in $OUT for carry150k/
+                  SWARF_MAKING=1 SWARF_MAKE_150K=${SWARF_MAKE_150K:-6.05e-4} run make150k from_dirs ;;
+        bgmake150k) # make150k in the background (its own session, so that it runs on after this call while the
+                    # machine is held); the next from_dirs waits for it and returns its parts
+                    mkdir -p /tmp/swarf-from
+                    OUT=/tmp/swarf-from/make-out setsid nohup bash "$here/gpu-run.sh" make150k \
+                        > /tmp/swarf-from/make150k.out 2>&1 < /dev/null &
+                    echo "making the 150k state in the background (pid $!) at $(date +%T)" ;;
         tests) run test-gpu "$here/test-gpu" --test-threads=1 --nocapture
                run test-ptx "$here/test-ptx" ;;
         regs) # issue 7: the register cap of the neighbour kernels (SWARF_MAXNREG) against the compiler's choice
@@ -214,8 +237,12 @@ for p in $parts; do
                 # waits for it and returns its summary, force trace and energies. Resumes from a checkpoint where
                 # the run folder has one (a carried carry150k/ is unpacked first, as in whole150k, unless
                 # SWARF_CUT_FRESH is set: then the cut starts at t = 0).
+                # An entry may add run-time settings after a second colon ("f64:1:SWARF_PAIR_ORDER=forward", commas
+                # between several): its run folder is then named after the GPU too (whole-150k-f64-g1).
                 for pg in ${SWARF_CUT_GPUS:-f64:0}; do
-                    prec=${pg%%:*} gpu=${pg##*:} d=runs/whole-150k-${pg%%:*}
+                    IFS=: read -r prec gpu envs <<< "$pg"
+                    label=$prec; [ -z "$envs" ] || label=$prec-g$gpu
+                    d=runs/whole-150k-$label
                     mkdir -p runs
                     if [ ! -f "$d/checkpoint.bin" ] && [ -e "carry150k/whole-150k-$prec.tgz.partaa" ] \
                         && [ -z "${SWARF_CUT_FRESH:-}" ]; then
@@ -224,9 +251,9 @@ for p in $parts; do
                     if [ -f "$d/checkpoint.bin" ]; then args=(run --resume "$d" --quiet)
                     else args=(run cases/cutting/reference-cut-150k.toml --precision "$prec" --out "$d" --quiet \
                                --checkpoint-every 5e-5); fi
-                    CUDA_VISIBLE_DEVICES=$gpu setsid nohup "$here/swarf" --backend gpu "${args[@]}" \
-                        > "runs/whole-150k-$prec.out" 2>&1 < /dev/null &
-                    echo "started the 150k cut in $prec on GPU $gpu (pid $!) at $(date +%T)"
+                    env CUDA_VISIBLE_DEVICES=$gpu ${envs//,/ } setsid nohup "$here/swarf" --backend gpu "${args[@]}" \
+                        > "runs/whole-150k-$label.out" 2>&1 < /dev/null &
+                    echo "started the 150k cut in $prec on GPU $gpu ${envs:+with $envs }(pid $!) at $(date +%T)"
                 done
                 sleep 20; nvidia-smi --query-gpu=index,utilization.gpu,memory.used --format=csv ;;
         wait150k) # waits (at most SWARF_WAIT_LIMIT s, default 540) for the background 150k cuts of bg150k and

@@ -629,11 +629,12 @@ fn final_state(
     (last, yielded)
 }
 
-/// Issue 7 on the GPU: the block size of the neighbour passes and of the plastic corrector (`SWARF_PAIR_BLOCK`,
-/// `SWARF_PLASTIC_BLOCK`) changes no bit: the thermal reference cut (contact, plastic flow with heating, fused
-/// conduction; its 7 069 particles take eight lanes each, a group always within one warp), run until particles
-/// yield, ends in the same state (positions, velocities, temperatures, plastic strains) with blocks of 256 (the
-/// default), 128, 96 and 64; sizes that are not whole warps are refused.
+/// Issue 7 on the GPU: the block size and the block order of the neighbour passes and of the plastic corrector
+/// (`SWARF_PAIR_BLOCK`, `SWARF_PLASTIC_BLOCK`, `SWARF_PAIR_ORDER`, `SWARF_PLASTIC_ORDER`) change no bit: the thermal
+/// reference cut (contact, plastic flow with heating, fused conduction; its 7 069 particles take eight lanes each, a
+/// group always within one warp), run until particles yield, ends in the same state (positions, velocities,
+/// temperatures, plastic strains) with blocks of 256 (the default), 128, 96 and 64, forward and reversed; sizes that
+/// are not whole warps are refused.
 #[test]
 fn block_sizes_change_no_bit() {
     let Some(mut g) = gpu() else { return };
@@ -646,24 +647,30 @@ fn block_sizes_change_no_bit() {
     let file = "cases/cutting/reference-cut.toml";
     let ov: Vec<String> = vec!["time.end=1.5e-5".into(), "output.every=5.0e-6".into()];
     let scene = Scene::load(file, &ov).expect("scene");
-    let mut finals: Vec<(u32, u32, Vec<u64>, usize)> = Vec::new();
-    for (pair, plastic) in [(256, 256), (128, 128), (96, 64), (64, 96)] {
+    let mut finals: Vec<(String, Vec<u64>, usize)> = Vec::new();
+    // Sizes, and the block orders (reverse: `ptx::ordered_index`) of the interaction and the corrector.
+    for (pair, plastic, pair_rev, plastic_rev) in
+        [(256, 256, false, false), (128, 128, true, true), (96, 64, false, true), (64, 96, true, false)]
+    {
         let mut b = gpu().expect("GPU");
         b.set_blocks(pair, plastic).expect("block sizes");
+        b.set_block_order(pair_rev, plastic_rev);
         let any = AnyBackend::Cuda(Box::new(b));
-        let dir = std::env::temp_dir().join(format!("swarf-gpu-blocks-{pair}-{plastic}-{}", std::process::id()));
+        let name = format!("{pair}{}/{plastic}{}", if pair_rev { "r" } else { "" }, if plastic_rev { "r" } else { "" });
+        let dir =
+            std::env::temp_dir().join(format!("swarf-gpu-blocks-{}-{}", name.replace('/', "-"), std::process::id()));
         let (state, yielded) =
             final_state(&any, &scene, &RunOptions { overrides: ov.clone(), ..RunOptions::quiet(dir) });
-        finals.push((pair, plastic, state, yielded));
+        finals.push((name, state, yielded));
     }
-    assert!(finals[0].3 > 0, "no particle yielded: the plastic corrector's block size is not exercised");
-    for (pair, plastic, state, _) in &finals[1..] {
-        assert!(*state == finals[0].2, "blocks {pair}/{plastic}: the final state differs from the default blocks'");
+    assert!(finals[0].2 > 0, "no particle yielded: the plastic corrector's block size is not exercised");
+    for (name, state, _) in &finals[1..] {
+        assert!(*state == finals[0].1, "blocks {name}: the final state differs from the default blocks'");
     }
     eprintln!(
-        "block sizes 256/256, 128/128, 96/64, 64/96: final states bitwise equal ({} words, {} particles yielded)",
-        finals[0].2.len(),
-        finals[0].3
+        "block sizes and orders 256/256, 128r/128r, 96/64r, 64r/96 (r: reverse): final states bitwise equal ({} words, {} particles yielded)",
+        finals[0].1.len(),
+        finals[0].2
     );
 }
 

@@ -210,6 +210,10 @@ pub struct CudaBackend {
     /// within a warp), so results are the same bits at any block size.
     pair_block: u32,
     plastic_block: u32,
+    /// Block order (0 forward, 1 reverse: `ptx::ordered_index`) of the pair interaction (`SWARF_PAIR_ORDER`) and
+    /// of the corrector with the plastic update (`SWARF_PLASTIC_ORDER`); like the block sizes they change no bit.
+    pair_reverse: u32,
+    plastic_reverse: u32,
     /// The IF nodes of captured rebuilds (`conditional`), or why there are none.
     conditional: std::result::Result<Conditional, String>,
     /// Captured rebuilds go in IF nodes (default; `SWARF_NO_CONDITIONAL=1` or `set_conditional_rebuild` turn it
@@ -224,6 +228,25 @@ fn block_from_env(var: &str) -> Result<u32> {
     match std::env::var(var) {
         Err(_) => Ok(BLOCK),
         Ok(v) => v.trim().parse::<u32>().map_err(|_| bad_block(var, &v)).and_then(|b| check_block(var, b)),
+    }
+}
+
+/// Whether the pair interaction and the plastic corrector take their blocks in reverse order by default
+/// (`ptx::ordered_index`). Measured inside the 150k reference cut on an H200 (docs/performance.md, "Block order"):
+/// the interaction reversed 0.1270–0.1273 ms against 0.1298–0.1306 forward, the step −1.0 %, nothing at t = 0
+/// or at 6k; the corrector reversed −0.2 % (noise), so it stays forward.
+const PAIR_REVERSE: bool = true;
+const PLASTIC_REVERSE: bool = false;
+
+/// A block order from the environment variable `var` ("forward" or "reverse"; `default` when unset): 1 for reverse.
+fn order_from_env(var: &str, default: bool) -> Result<u32> {
+    match std::env::var(var) {
+        Err(_) => Ok(default as u32),
+        Ok(v) => match v.trim() {
+            "forward" => Ok(0),
+            "reverse" => Ok(1),
+            other => Err(Error::GpuUnavailable(format!("{var} = {other}: expected \"forward\" or \"reverse\""))),
+        },
     }
 }
 
@@ -287,8 +310,6 @@ impl CudaBackend {
             .collect()
     }
 
-    /// Sets the threads per block of the neighbour passes and of the plastic corrector (what `SWARF_PAIR_BLOCK` and
-    /// `SWARF_PLASTIC_BLOCK` set at start-up); an error for a size that is not a multiple of 32 from 32 to 1024.
     /// Whether captured steps put their rebuild in IF nodes (`Ok`), or why not: the driver cannot, or it was
     /// turned off (`SWARF_NO_CONDITIONAL=1`, [`CudaBackend::set_conditional_rebuild`]).
     pub fn conditional_rebuild(&self) -> std::result::Result<(), String> {
@@ -304,10 +325,19 @@ impl CudaBackend {
         self.use_conditional.store(on, Ordering::Relaxed);
     }
 
+    /// Sets the threads per block of the neighbour passes and of the plastic corrector (what `SWARF_PAIR_BLOCK` and
+    /// `SWARF_PLASTIC_BLOCK` set at start-up); an error for a size that is not a multiple of 32 from 32 to 1024.
     pub fn set_blocks(&mut self, pair: u32, plastic: u32) -> Result<()> {
         self.pair_block = check_block("pair block", pair)?;
         self.plastic_block = check_block("plastic block", plastic)?;
         Ok(())
+    }
+
+    /// Sets the block order of the pair interaction and of the plastic corrector (true: reverse; what
+    /// `SWARF_PAIR_ORDER` and `SWARF_PLASTIC_ORDER` set at start-up).
+    pub fn set_block_order(&mut self, pair_reverse: bool, plastic_reverse: bool) {
+        self.pair_reverse = pair_reverse as u32;
+        self.plastic_reverse = plastic_reverse as u32;
     }
 
     /// Opens device `ordinal` and loads the embedded PTX; says why if that is impossible.
@@ -423,6 +453,8 @@ impl CudaBackend {
             capturing: AtomicBool::new(false),
             pair_block: block_from_env("SWARF_PAIR_BLOCK")?,
             plastic_block: block_from_env("SWARF_PLASTIC_BLOCK")?,
+            pair_reverse: order_from_env("SWARF_PAIR_ORDER", PAIR_REVERSE)?,
+            plastic_reverse: order_from_env("SWARF_PLASTIC_ORDER", PLASTIC_REVERSE)?,
         })
     }
 
@@ -1009,6 +1041,7 @@ impl Backend for CudaBackend {
         let args = [
             Arg::U32(n as u32),
             Arg::U32(lanes),
+            Arg::U32(self.pair_reverse),
             Arg::Bytes(bytemuck::bytes_of(params)),
             Arg::U64(self.ptr(grid)),
             Arg::U64(self.ptr(starts)),
@@ -1231,6 +1264,7 @@ impl Backend for CudaBackend {
         let yield_ptr = p.yield_stress.map_or(0, |y| self.ptr_mut(y));
         let mut args = vec_args(&[
             Arg::U32(n as u32),
+            Arg::U32(self.plastic_reverse),
             sc,
             // By value (`ptx::sph`, finish_plastic_entry).
             Arg::Bytes(p.model.param_bytes()),

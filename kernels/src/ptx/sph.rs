@@ -1,6 +1,6 @@
 //! SPH entry points.
 
-use super::global_index;
+use super::{global_index, ordered_index};
 use crate::neighbour::{GridParams, Neighbours};
 use crate::real::Real;
 use crate::sph::CubicSpline;
@@ -112,6 +112,7 @@ macro_rules! rates_entry {
         pub unsafe extern "ptx-kernel" fn $name(
             n: u32,
             lanes: u32,
+            reverse: u32,
             params: SphParams<$r>,
             grid: *const GridParams,
             starts: *const u32,
@@ -140,7 +141,7 @@ macro_rules! rates_entry {
             materials: *const ThermalMaterial,
             temp_t: *mut f64,
         ) {
-            let t = global_index();
+            let t = ordered_index(reverse);
             let lanes = clamp_lanes(lanes);
             let (i, lane) = (t / lanes, t % lanes);
             let a =
@@ -354,6 +355,7 @@ macro_rules! finish_plastic_entry {
         #[unsafe(no_mangle)]
         pub unsafe extern "ptx-kernel" fn $name(
             n: u32,
+            reverse: u32,
             scalars: *const StepScalars,
             model: $m,
             shear: f64,
@@ -390,7 +392,7 @@ macro_rules! finish_plastic_entry {
             contact_yield: *const f64,
             wear: *mut f64,
         ) {
-            let i = global_index();
+            let i = ordered_index(reverse);
             if i < n {
                 let a = StepArrays {
                     pos,
