@@ -32,7 +32,7 @@ impl<B: Backend> CellList<B> {
         let buckets = grid.n_cells as usize + 2;
         let list = if grid.list_capacity > 0 {
             grid.list_stride = u32::try_from(n).map_err(|_| Error::Grid(format!("{n} particles exceed u32")))?;
-            Some(b.alloc((grid.list_capacity as usize + 1) * n, "Verlet list")?)
+            Some(b.alloc(grid.list_words(), "Verlet list")?)
         } else {
             grid.list_stride = 0;
             None

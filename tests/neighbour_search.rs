@@ -440,3 +440,64 @@ fn rebuild_distance_is_half_the_skin_with_a_verlet_list() {
     let r = g.list_radius2().sqrt();
     assert!(r < reach && r > 0.35 * (1.0 + 1e-6), "list radius {r} against reach {reach} and 2h + s = 0.35");
 }
+
+/// The Verlet list stores candidates as 16-bit offsets j − i (`kernels::neighbour::verlet`): a row with a candidate
+/// more than `MAX_OFFSET` sorted places away is marked `FAR` and walks the stencil. A strip three particles tall and
+/// 40 000 wide (a cell row of it holds 40 000–80 000 particles, so every candidate in the next cell row is that far
+/// away) beside a small separate block (whose candidates are a few places away): the strip's rows are far, the
+/// block's are listed, and every particle gets exactly the pairs within the support that the stencil gives.
+#[test]
+fn verlet_rows_beyond_the_offset_range_walk_the_stencil() {
+    use swarf::grid::grid_with_skin;
+    use swarf::kernels::neighbour::verlet::{FAR, MAX_OFFSET};
+    use swarf::kernels::neighbour::{Neighbours, for_each_candidate};
+    use swarf::kernels::vector::V2f64;
+    use swarf::state::{HostParticles, Particles};
+    let b = CpuBackend::new();
+    let (h, dx) = (1.5, 1.0);
+    let mut pos: Vec<V2f64> = Vec::new();
+    for y in 0..3 {
+        for x in 0..40_000 {
+            pos.push(V2f64::new([x as f64 * dx, y as f64 * dx, 0.0]));
+        }
+    }
+    for y in 0..10 {
+        for x in 0..10 {
+            pos.push(V2f64::new([100.0 + x as f64 * dx, 100.0 + y as f64 * dx, 0.0]));
+        }
+    }
+    let n = pos.len();
+    let (lo, hi) = bounding_box::<f64, V2f64>(&pos);
+    let mut grid = grid_with_skin(lo, hi, 2, 2.0 * h, 0.1 * h).expect("grid");
+    grid.list_capacity = swarf::neighbour::verlet_capacity(&grid, dx);
+    let host = HostParticles::<f64, Dim2>::at_rest(pos, 1.0, 1.0);
+    let mut p = Particles::<CpuBackend, f64, Dim2>::upload(&b, &host).expect("upload");
+    let mut cl = swarf::neighbour::CellList::new(&b, grid, n).expect("cell list");
+    cl.build::<f64, Dim2>(&b, &p.pos.cur).expect("build");
+    p.reorder(&b, &cl.perm).expect("reorder");
+    cl.build_list::<f64, Dim2>(&b, &p.pos.cur, None).expect("Verlet list");
+    let sorted = p.download(&b).expect("download").pos;
+    let list = cl.list.as_ref().expect("list");
+    let far = (0..n).filter(|&i| list[i] == FAR).count();
+    let listed = (0..n).filter(|&i| list[i] <= cl.grid.list_capacity).count();
+    assert!(far >= 100_000, "only {far} of the strip's 120 000 rows are marked far (offsets beyond {MAX_OFFSET})");
+    assert!(listed >= 100, "only {listed} rows are listed: the block's 100 must be");
+    assert_eq!(far + listed, n, "rows neither far nor listed: the capacity {} overflowed", cl.grid.list_capacity);
+    let support2 = 4.0 * h * h;
+    let with_list = listed_pairs::<f64, Dim2>(&cl, &sorted, support2);
+    // The same walk with no list: the stencil's pairs.
+    let nb = Neighbours { grid: &cl.grid, starts: cl.starts.as_ptr(), list: std::ptr::null() };
+    for (i, l) in with_list.iter().enumerate() {
+        let xi = sorted[i];
+        let mut s = Vec::new();
+        // SAFETY: the cell list was built for these sorted particles.
+        unsafe {
+            for_each_candidate::<f64, V2f64, _>(&nb, &xi, i as u32, |j| {
+                if j != i as u32 && xi.dist2(&sorted[j as usize]) < support2 {
+                    s.push(j);
+                }
+            })
+        };
+        assert_eq!(l, &s, "particle {i} (count word {}): the list's pairs differ from the stencil's", list[i]);
+    }
+}

@@ -164,7 +164,7 @@ fn list_ptr(op: &'static str, n: usize, g: &GridParams, list: Option<&Vec<u32>>)
     if g.list_capacity == 0 || stride < n {
         return Err(Error::Length { op, expected: n, got: stride });
     }
-    check(op, (g.list_capacity as usize + 1) * stride, l.len())?;
+    check(op, g.list_words(), l.len())?;
     Ok(SendPtr(l.as_ptr() as *mut u32))
 }
 

@@ -195,7 +195,7 @@ pub trait Backend: Sized + Send + Sync {
         cells: CellBuffers<'_, Self>,
     ) -> Result<()>;
     /// The Verlet list (`neighbour::verlet::verlet_row`) of the n sorted particles at `pos` on the cell list
-    /// `grid`/`starts`, into `list` ((capacity + 1) · stride entries, `GridParams::list_capacity`/`list_stride`);
+    /// `grid`/`starts`, into `list` (`GridParams::list_words` entries);
     /// with a gate, only when that step rebuilds.
     fn verlet_build<R: Real, D: Dim>(
         &self,

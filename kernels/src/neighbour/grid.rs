@@ -31,8 +31,8 @@ pub struct GridParams {
     /// Most neighbours the Verlet list holds per particle (`neighbour::verlet`); 0: no list, the pair loops walk
     /// the stencil and the rebuild waits for a displacement of s instead of s/2.
     pub list_capacity: u32,
-    /// The list's row length (the particle count it was sized for): entry k of particle i is at
-    /// (k + 1)·stride + i.
+    /// The list's row length (the particle count it was sized for): particle i's count is at i, its candidates k
+    /// and k + 1 (k even) share the word at (k/2 + 1)·stride + i (`neighbour::verlet`).
     pub list_stride: u32,
 }
 
@@ -60,6 +60,13 @@ impl GridParams {
     #[inline]
     pub fn cell_for(support_radius: f64, stencil: u32) -> f64 {
         support_radius / stencil as f64 * (1.0 + CELL_MARGIN)
+    }
+
+    /// The Verlet list's length in words: a row of counts and one row for each two candidates of the capacity
+    /// (`neighbour::verlet`), `list_stride` words each.
+    #[inline(always)]
+    pub fn list_words(&self) -> usize {
+        (self.list_capacity as usize).div_ceil(2).saturating_add(1) * self.list_stride as usize
     }
 
     /// How far a particle may move from where it was binned before the lists must be rebuilt: the skin s for the

@@ -3,12 +3,18 @@
 //!
 //! The stencil walk of a 2D cell list of (2h + s)/2 visits 25 cells, about 62 candidates at h = 1.5 Δx for 24
 //! neighbours, and a warp steps through the longest of its threads' walks, running the pair term wherever one of
-//! them has a neighbour; the list holds about 28. Its layout: `list[i]` is particle i's count and
-//! `list[(k + 1)·stride + i]` its k-th candidate (k < capacity), column-major so that a warp's threads read
-//! consecutive words. Candidates are in increasing sorted index, which is the order of the stencil walk (keys
-//! are row-major and the walk visits rows in increasing order, each a contiguous range), so a sum over the list
-//! equals the sum over the stencil bit for bit when the pair term skips j beyond the support, as every pair term
-//! does. A particle with more candidates than the capacity keeps its true count and walks the stencil instead.
+//! them has a neighbour; the list holds about 28. Its layout: `list[i]` is particle i's count; a candidate j is
+//! stored as its offset j − i in 16 bits (two's complement), two to a word: candidates k and k + 1 (k even) in the
+//! low and high halves of `list[(k/2 + 1)·stride + i]` (k < capacity). Column-major, so that a warp's threads
+//! read consecutive words; packed, because the list is the one array of the pair loop that streams from DRAM
+//! every step (20 MB of indices inside the 150k cut as 32-bit words: 28 candidates of 183 199 particles), and one
+//! load serves two candidates. Candidates are in increasing sorted index, which is the order of the stencil walk
+//! (keys are row-major and the walk visits rows in increasing order, each a contiguous range), so a sum over the
+//! list equals the sum over the stencil bit for bit when the pair term skips j beyond the support, as every pair
+//! term does. A particle with more candidates than the capacity keeps its true count and walks the stencil
+//! instead; so does one with a candidate more than [`MAX_OFFSET`] sorted places away (count [`FAR`]): neighbours
+//! sit within a few cell rows in the sorted order, far less than that in every 2D scene, but a 3D stencil spans
+//! two layers of cells (nx·ny cells each), so a large 3D domain has far rows.
 
 use super::grid::{GridParams, dist2_f64};
 use super::search::{for_each_neighbour, for_each_neighbour_strided};
@@ -39,15 +45,34 @@ impl Neighbours<'_> {
         if c <= self.grid.list_capacity { Some(c) } else { None }
     }
 
-    /// Candidate k of particle i.
+    /// The word that holds candidates 2m and 2m + 1 of particle i.
     ///
     /// # Safety
-    /// i has at least k + 1 listed candidates.
+    /// i has at least 2m + 1 listed candidates.
     #[inline(always)]
-    unsafe fn entry(&self, i: u32, k: u32) -> u32 {
-        let at = (k as usize + 1) * self.grid.list_stride as usize + i as usize;
+    unsafe fn word(&self, i: u32, m: u32) -> u32 {
+        let at = (m as usize + 1) * self.grid.list_stride as usize + i as usize;
         unsafe { *self.list.add(at) }
     }
+}
+
+/// The largest |j − i| the list stores (an i16 offset).
+pub const MAX_OFFSET: u32 = i16::MAX as u32;
+
+/// The count of a row with a candidate more than [`MAX_OFFSET`] sorted places away: beyond any capacity, so the
+/// pair loops walk the stencil for it.
+pub const FAR: u32 = u32::MAX;
+
+/// The candidate of particle i whose offset is the low 16 bits of `half`.
+#[inline(always)]
+fn decode(i: u32, half: u32) -> u32 {
+    i.wrapping_add(half as u16 as i16 as i32 as u32)
+}
+
+/// Candidate k of a listed row, from the word `w` that holds it.
+#[inline(always)]
+fn candidate(i: u32, w: u32, k: u32) -> u32 {
+    decode(i, if k & 1 == 0 { w } else { w >> 16 })
 }
 
 /// Calls `f(j)` for every candidate of sorted particle i at `x`: its listed candidates, or (without a list, or
@@ -61,14 +86,12 @@ pub unsafe fn for_each_candidate<R: Real, V: Vector<R>, F: FnMut(u32)>(nb: &Neig
     unsafe {
         match nb.listed(i) {
             Some(c) => {
-                // The next index is loaded before the current pair term runs: the list streams from DRAM, and
-                // its load would otherwise stand at the head of every iteration's chain (index → position → term).
-                let mut next = if c > 0 { nb.entry(i, 0) } else { 0 };
+                let mut w = if c > 0 { nb.word(i, 0) } else { 0 };
                 let mut k = 0;
                 while k < c {
-                    let j = next;
-                    if k + 1 < c {
-                        next = nb.entry(i, k + 1);
+                    let j = candidate(i, w, k);
+                    if k & 1 == 1 && k + 1 < c {
+                        w = nb.word(i, (k + 1) / 2);
                     }
                     f(j);
                     k += 1;
@@ -96,16 +119,19 @@ pub unsafe fn for_each_candidate_strided<R: Real, V: Vector<R>, F: FnMut(u32)>(
     unsafe {
         match nb.listed(i) {
             Some(c) => {
-                // As in `for_each_candidate`: the next index is in flight while the current term runs.
-                let mut next = if lane < c { nb.entry(i, lane) } else { 0 };
+                // The word of the next candidate is loaded before the current pair term runs: the list streams
+                // from DRAM, and its load would otherwise stand at the head of every iteration's chain (index →
+                // position → term). With one lane a word serves two iterations, so every other one loads.
+                let mut w = if lane < c { nb.word(i, lane / 2) } else { 0 };
                 let mut k = lane;
                 while k < c {
-                    let j = next;
-                    if k + lanes < c {
-                        next = nb.entry(i, k + lanes);
+                    let j = candidate(i, w, k);
+                    let next = k + lanes;
+                    if next < c && next / 2 != k / 2 {
+                        w = nb.word(i, next / 2);
                     }
                     f(j);
-                    k += lanes;
+                    k = next;
                 }
             }
             None => for_each_neighbour_strided::<R, V, _>(nb.grid, nb.starts, x, lane, lanes, f),
@@ -114,12 +140,14 @@ pub unsafe fn for_each_candidate_strided<R: Real, V: Vector<R>, F: FnMut(u32)>(
 }
 
 /// Builds sorted particle i's row of the Verlet list: every j ≠ i of the stencil with |x_i − x_j|² <
-/// `grid.list_radius2()` (in f64: positions widen exactly), in increasing j; the first `list_capacity` are stored,
-/// the count is stored whole (a count beyond the capacity sends the pair loops to the stencil).
+/// `grid.list_radius2()` (in f64: positions widen exactly), in increasing j; the first `list_capacity` are stored
+/// as offsets j − i, two to a word (module doc), the count is stored whole (a count beyond the capacity sends the
+/// pair loops to the stencil), or [`FAR`] where an offset exceeds [`MAX_OFFSET`] (the words already written for
+/// that row are never read).
 ///
 /// # Safety
 /// `pos` holds the sorted particles of the cell list `starts`/`grid` (i < n ≤ `grid.list_stride`), and `list` has
-/// (capacity + 1) · stride entries.
+/// `grid.list_words()` entries.
 #[inline(always)]
 pub unsafe fn verlet_row<R: Real, V: Vector<R>>(
     grid: &GridParams,
@@ -132,16 +160,25 @@ pub unsafe fn verlet_row<R: Real, V: Vector<R>>(
     let r2 = grid.list_radius2();
     let iu = i as usize;
     let xi = unsafe { *pos.add(iu) };
-    let mut c = 0u32;
+    let (mut c, mut far, mut low) = (0u32, false, 0u32);
     unsafe {
         for_each_neighbour::<R, V, _>(grid, starts, &xi, |j| {
             if j != i && dist2_f64::<R, V>(&xi, &*pos.add(j as usize)) < r2 {
+                far |= j.abs_diff(i) > MAX_OFFSET;
                 if c < cap {
-                    *list.add((c as usize + 1) * stride + iu) = j;
+                    let half = j.wrapping_sub(i) & 0xffff;
+                    let at = (c as usize / 2 + 1) * stride + iu;
+                    // An even candidate opens its word (the high half 0 until the next one comes).
+                    if c & 1 == 0 {
+                        low = half;
+                        *list.add(at) = half;
+                    } else {
+                        *list.add(at) = low | half << 16;
+                    }
                 }
                 c += 1;
             }
         });
-        *list.add(iu) = c;
+        *list.add(iu) = if far { FAR } else { c };
     }
 }
