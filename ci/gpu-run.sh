@@ -238,10 +238,13 @@ for p in $parts; do
                 # the run folder has one (a carried carry150k/ is unpacked first, as in whole150k, unless
                 # SWARF_CUT_FRESH is set: then the cut starts at t = 0).
                 # An entry may add run-time settings after a second colon ("f64:1:SWARF_PAIR_ORDER=forward", commas
-                # between several): its run folder is then named after the GPU too (whole-150k-f64-g1).
+                # between several; SWARF_BIN=swarf-<name> runs that packed build): its run folder is then named
+                # after the GPU too (whole-150k-f64-g1).
                 for pg in ${SWARF_CUT_GPUS:-f64:0}; do
                     IFS=: read -r prec gpu envs <<< "$pg"
                     label=$prec; [ -z "$envs" ] || label=$prec-g$gpu
+                    bin=swarf
+                    case ",$envs," in *,SWARF_BIN=*) bin=${envs#*SWARF_BIN=}; bin=${bin%%,*} ;; esac
                     d=runs/whole-150k-$label
                     mkdir -p runs
                     if [ ! -f "$d/checkpoint.bin" ] && [ -e "carry150k/whole-150k-$prec.tgz.partaa" ] \
@@ -251,7 +254,7 @@ for p in $parts; do
                     if [ -f "$d/checkpoint.bin" ]; then args=(run --resume "$d" --quiet)
                     else args=(run cases/cutting/reference-cut-150k.toml --precision "$prec" --out "$d" --quiet \
                                --checkpoint-every 5e-5); fi
-                    env CUDA_VISIBLE_DEVICES=$gpu ${envs//,/ } setsid nohup "$here/swarf" --backend gpu "${args[@]}" \
+                    env CUDA_VISIBLE_DEVICES=$gpu ${envs//,/ } setsid nohup "$here/$bin" --backend gpu "${args[@]}" \
                         > "runs/whole-150k-$label.out" 2>&1 < /dev/null &
                     echo "started the 150k cut in $prec on GPU $gpu ${envs:+with $envs }(pid $!) at $(date +%T)"
                 done

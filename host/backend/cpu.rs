@@ -815,7 +815,7 @@ impl Backend for CpuBackend {
         let (st, p) = (SendPtr(starts.as_ptr() as *mut u32), SendPtr(pos.as_ptr() as *mut u32));
         (0..n).into_par_iter().for_each(|i| {
             let out = &out;
-            // SAFETY: sizes checked above; task i writes only row i (entries (k + 1)·stride + i and i).
+            // SAFETY: sizes checked above; task i writes only row i (the words (m + 1)·stride + i and i).
             unsafe { verlet_row::<R, D::Vec<R>>(&g, st.get(), p.get() as *const D::Vec<R>, i as u32, out.get()) }
         });
         Ok(())
