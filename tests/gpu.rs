@@ -633,8 +633,8 @@ fn final_state(
 /// (`SWARF_PAIR_BLOCK`, `SWARF_PLASTIC_BLOCK`, `SWARF_PAIR_ORDER`, `SWARF_PLASTIC_ORDER`) change no bit: the thermal
 /// reference cut (contact, plastic flow with heating, fused conduction; its 7 069 particles take eight lanes each, a
 /// group always within one warp), run until particles yield, ends in the same state (positions, velocities,
-/// temperatures, plastic strains) with blocks of 256 (the default), 128, 96 and 64, forward and reversed; sizes that
-/// are not whole warps are refused.
+/// temperatures, plastic strains) with blocks of 256, 128, 96 and 64 (the defaults: 64 for the neighbour passes,
+/// 256 for the corrector), forward and reversed; sizes that are not whole warps are refused.
 #[test]
 fn block_sizes_change_no_bit() {
     let Some(mut g) = gpu() else { return };
