@@ -91,7 +91,7 @@ pub unsafe fn for_each_candidate<R: Real, V: Vector<R>, F: FnMut(u32)>(nb: &Neig
                 while k < c {
                     let j = candidate(i, w, k);
                     if k & 1 == 1 && k + 1 < c {
-                        w = nb.word(i, (k + 1) / 2);
+                        w = nb.word(i, k / 2 + 1);
                     }
                     f(j);
                     k += 1;
