@@ -338,6 +338,23 @@ fn skin_test_bounds_and_non_finite_positions() {
     assert!(!g.beyond_skin::<f64, V2f64>(&x0, &x0), "an unmoved particle never asks for a rebuild");
 }
 
+/// The cell list and Verlet list of `pos` on `grid` (with its capacity), built as the solver builds them (bin,
+/// reorder, list), and the positions in their sorted order.
+fn verlet_list_on<R: Real, D: Dim>(
+    b: &CpuBackend,
+    pos: &[D::Vec<R>],
+    grid: GridParams,
+) -> (swarf::neighbour::CellList<CpuBackend>, Vec<D::Vec<R>>) {
+    use swarf::state::{HostParticles, Particles};
+    let host = HostParticles::<R, D>::at_rest(pos.to_vec(), R::ONE, R::ONE);
+    let mut p = Particles::<CpuBackend, R, D>::upload(b, &host).expect("upload");
+    let mut cl = swarf::neighbour::CellList::new(b, grid, pos.len()).expect("cell list");
+    cl.build::<R, D>(b, &p.pos.cur).expect("build");
+    p.reorder(b, &cl.perm).expect("reorder");
+    cl.build_list::<R, D>(b, &p.pos.cur, None).expect("Verlet list");
+    (cl, p.download(b).expect("download").pos)
+}
+
 /// The pairs within the support that the Verlet list (or, past its capacity, the stencil) offers sorted particle
 /// i at `x`, sorted (`kernels::neighbour::for_each_candidate`, the pair loops' walk).
 fn listed_pairs<R: Real, D: Dim>(
@@ -375,7 +392,6 @@ fn listed_pairs<R: Real, D: Dim>(
 /// the cell list alone allows) loses pairs, which shows that the check can fail.
 fn verlet_list_is_exact_within_half_the_skin<R: Real, D: Dim>(n: usize, seed: u64) {
     use swarf::grid::grid_with_skin;
-    use swarf::state::{HostParticles, Particles};
     let b = CpuBackend::new();
     let h = h_for(n, D::D);
     let skin = 0.3 * h;
@@ -387,13 +403,7 @@ fn verlet_list_is_exact_within_half_the_skin<R: Real, D: Dim>(n: usize, seed: u6
     let full = swarf::neighbour::verlet_capacity(&grid, spacing);
     for capacity in [full, 3] {
         grid.list_capacity = capacity;
-        let host = HostParticles::<R, D>::at_rest(pos.clone(), R::ONE, R::ONE);
-        let mut p = Particles::<CpuBackend, R, D>::upload(&b, &host).expect("upload");
-        let mut cl = swarf::neighbour::CellList::new(&b, grid, n).expect("cell list");
-        cl.build::<R, D>(&b, &p.pos.cur).expect("build");
-        p.reorder(&b, &cl.perm).expect("reorder");
-        cl.build_list::<R, D>(&b, &p.pos.cur, None).expect("Verlet list");
-        let binned = p.download(&b).expect("download").pos;
+        let (cl, binned) = verlet_list_on::<R, D>(&b, &pos, grid);
         let list = cl.list.as_ref().expect("list");
         let overflows = (0..n).filter(|&i| list[i] > capacity).count();
         if capacity == full {
@@ -452,7 +462,6 @@ fn verlet_rows_beyond_the_offset_range_walk_the_stencil() {
     use swarf::kernels::neighbour::verlet::{FAR, MAX_OFFSET};
     use swarf::kernels::neighbour::{Neighbours, for_each_candidate};
     use swarf::kernels::vector::V2f64;
-    use swarf::state::{HostParticles, Particles};
     let b = CpuBackend::new();
     let (h, dx) = (1.5, 1.0);
     let mut pos: Vec<V2f64> = Vec::new();
@@ -470,13 +479,7 @@ fn verlet_rows_beyond_the_offset_range_walk_the_stencil() {
     let (lo, hi) = bounding_box::<f64, V2f64>(&pos);
     let mut grid = grid_with_skin(lo, hi, 2, 2.0 * h, 0.1 * h).expect("grid");
     grid.list_capacity = swarf::neighbour::verlet_capacity(&grid, dx);
-    let host = HostParticles::<f64, Dim2>::at_rest(pos, 1.0, 1.0);
-    let mut p = Particles::<CpuBackend, f64, Dim2>::upload(&b, &host).expect("upload");
-    let mut cl = swarf::neighbour::CellList::new(&b, grid, n).expect("cell list");
-    cl.build::<f64, Dim2>(&b, &p.pos.cur).expect("build");
-    p.reorder(&b, &cl.perm).expect("reorder");
-    cl.build_list::<f64, Dim2>(&b, &p.pos.cur, None).expect("Verlet list");
-    let sorted = p.download(&b).expect("download").pos;
+    let (cl, sorted) = verlet_list_on::<f64, Dim2>(&b, &pos, grid);
     let list = cl.list.as_ref().expect("list");
     let far = (0..n).filter(|&i| list[i] == FAR).count();
     let listed = (0..n).filter(|&i| list[i] <= cl.grid.list_capacity).count();
