@@ -55,8 +55,8 @@ pub fn memory_estimate<R: Real, D: TensorOps<R>>(s: &crate::solver::Setup<R, D>)
     // The mixed precision's position low parts and their spare.
     let compensated = if s.pos_lo.is_some() { 2 * v } else { 0 };
     let cells = 4 * 4; // keys, slots, permutation, and a share of the scan workspace
-    // The Verlet list: a count and two 16-bit candidates per word (`neighbour::verlet`).
-    let list = if s.grid.list_capacity > 0 { 4 * (s.grid.list_capacity as usize).div_ceil(2) + 4 } else { 0 };
+    // The Verlet list: one 32-bit word per particle in each of its rows.
+    let list = 4 * s.grid.list_rows();
     n * (state + start + rates + prepass + thermal + plastic + compensated + cells + list)
         + (s.grid.n_cells as usize + 2) * 4
 }

@@ -62,11 +62,17 @@ impl GridParams {
         support_radius / stencil as f64 * (1.0 + CELL_MARGIN)
     }
 
-    /// The Verlet list's length in words: a row of counts and one row for each two candidates of the capacity
-    /// (`neighbour::verlet`), `list_stride` words each.
+    /// The Verlet list's rows (`neighbour::verlet`): a row of counts and one row for each two candidates of the
+    /// capacity; 0 without a list.
+    #[inline(always)]
+    pub fn list_rows(&self) -> usize {
+        if self.list_capacity == 0 { 0 } else { (self.list_capacity as usize).div_ceil(2) + 1 }
+    }
+
+    /// The Verlet list's length in words: [`GridParams::list_rows`] rows of `list_stride` words.
     #[inline(always)]
     pub fn list_words(&self) -> usize {
-        (self.list_capacity as usize).div_ceil(2).saturating_add(1) * self.list_stride as usize
+        self.list_rows() * self.list_stride as usize
     }
 
     /// How far a particle may move from where it was binned before the lists must be rebuilt: the skin s for the
