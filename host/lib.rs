@@ -11,6 +11,7 @@ pub mod checkpoint;
 pub mod cutting;
 pub mod error;
 pub mod grid;
+pub mod identify;
 pub mod info;
 pub mod material;
 pub mod neighbour;
