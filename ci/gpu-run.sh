@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
-# Arguments select parts: info tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
+# Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
 # whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
@@ -31,6 +31,8 @@ cut() { # a cutting run on the GPU: out-name, scene, extra args; prints its summ
 }
 from_dirs() { # the checkpoints of fromcut/abfrom (made once per machine): prints their folders, comma separated
     local d=/tmp/swarf-from; mkdir -p $d
+    # A carried 6k state (carry150k/ref6k.tgz, made by an earlier build), so that builds compare on one state.
+    [ -e carry150k/ref6k.tgz ] && [ ! -f $d/ref6k/checkpoint.bin ] && tar xzf carry150k/ref6k.tgz -C $d
     if [ ! -f $d/ref6k/checkpoint.bin ]; then
         "$here/swarf" --backend gpu run cases/cutting/reference-cut.toml --quiet --out $d/ref6k \
             --set time.end=4.4e-4 --checkpoint-every 1e-4 >&2 || return 1
@@ -75,6 +77,24 @@ nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.max.sm --format=c
 for p in $parts; do
     case $p in
         info) run info "$here/swarf" --backend gpu info --kernels ;;
+        firstrun) # issue 21: the main job (`swarf run`, the default scene) on an empty JIT cache and again on the filled
+                  # one, with this build and each packed earlier one (swarf-<name>); whole-process wall times
+                  firstrun() {
+                      local b k t0 t1
+                      for b in swarf $(cd "$here" && ls swarf-* 2>/dev/null | grep -v '\.gz$'); do
+                          rm -rf "${CUDA_CACHE_PATH:-$HOME/.nv/ComputeCache}"
+                          for k in first second; do
+                              t0=$(date +%s%N)
+                              "$here/$b" --backend gpu run --quiet --out /tmp/swarf-first/$b-$k || return 1
+                              t1=$(date +%s%N)
+                              echo "== $b, $k run (JIT cache $([ $k = first ] && echo empty || echo filled)):" \
+                                  "$(( (t1 - t0) / 1000000 )) ms wall"
+                              tail -n 2 /tmp/swarf-first/$b-$k/run.log
+                          done
+                          du -sh "${CUDA_CACHE_PATH:-$HOME/.nv/ComputeCache}" 2>/dev/null
+                      done
+                  }
+                  run firstrun firstrun ;;
         make150k) # issue 7: the 150k state of fromcut/abfrom/abenv where none is carried (from_dirs, SWARF_MAKE_150K,
                   # default 6.05e-4 s); its parts come back in $OUT for carry150k/
                   SWARF_MAKING=1 SWARF_MAKE_150K=${SWARF_MAKE_150K:-6.05e-4} run make150k from_dirs ;;
