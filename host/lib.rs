@@ -4,6 +4,7 @@
 //! an NVIDIA GPU through CUDA) and never re-implements physics, which lives once in `swarf_kernels`.
 
 pub mod analysis;
+pub mod analytic;
 pub mod backend;
 pub mod bench;
 pub mod check;

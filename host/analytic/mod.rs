@@ -1,0 +1,3 @@
+//! Closed-form models that predict what a simulation should give, for comparison beside its results.
+
+pub mod nairn;
