@@ -237,7 +237,8 @@ pub fn setup<R: Real, D: TensorOps<R>>(scene: &Scene) -> Result<Setup<R, D>> {
             });
         }
         contact = Some(crate::solver::ContactSetup {
-            params: crate::cutting::setup::contact_params(scene, t, tool, model.as_ref()),
+            params: crate::cutting::setup::contact_params(scene, t, model.as_ref()),
+            tool,
             motion,
             tool_velocity_index,
             wear: t.usui.is_some(),

@@ -8,7 +8,8 @@
 
 use std::f64::consts::FRAC_PI_2;
 
-use swarf::kernels::contact::penalty::{ContactParams, ContactResult, ToolState, cap, contact_force, friction_update};
+use swarf::kernels::contact::ToolState;
+use swarf::kernels::contact::penalty::{ContactParams, ContactResult, cap, contact_force, friction_update};
 use swarf::kernels::contact::tool2d::{ARC, BACK, FLANK, RAKE, ShapeError, TOP, Tool2d, ToolShape};
 use swarf::rng::SplitMix64;
 
@@ -777,12 +778,23 @@ const DT: f64 = 1e-9;
 const KAPPA: f64 = 0.1;
 const MU: f64 = 0.35;
 
-fn params(tool: Tool2d) -> ContactParams {
-    ContactParams { tool, kappa: KAPPA, friction_kappa: KAPPA, friction: MU, ..Default::default() }
+fn params() -> ContactParams {
+    ContactParams { kappa: KAPPA, friction_kappa: KAPPA, friction: MU, ..Default::default() }
+}
+
+/// A translating tool in the plane.
+fn tool_state(offset: V2, velocity: V2, dt: f64, step: f64) -> ToolState {
+    ToolState {
+        offset: [offset[0], offset[1], 0.0],
+        velocity: [velocity[0], velocity[1], 0.0],
+        dt,
+        step,
+        ..Default::default()
+    }
 }
 
 fn at_rest(dt: f64) -> ToolState {
-    ToolState { offset: [0.0, 0.0], velocity: [0.0, 0.0], dt, step: dt }
+    tool_state([0.0, 0.0], [0.0, 0.0], dt, dt)
 }
 
 fn reference_tool() -> (Tool2d, Outline) {
@@ -800,14 +812,15 @@ fn face(o: &Outline, prim: u32, t: f64) -> (V2, V2, V2) {
 #[test]
 fn at42_penalty_force_is_kappa_m_d_n_over_dt2() {
     let (tool, o) = reference_tool();
-    let c = params(tool);
+    let c = params();
     for (prim, t) in [(RAKE as u32, 0.5), (RAKE as u32, 0.1), (FLANK as u32, 0.5), (FLANK as u32, 0.97), (ARC, 0.4)] {
         let piece = o.pieces.iter().find(|p| p.prim() == prim).unwrap();
         let (p, n) = piece.at(t);
         for d in [1e-9, 1e-7, 1e-6, 5e-6] {
             for dt in [DT, 4.7e-10] {
                 let x = sub(p, scale(d, n));
-                let r = contact_force(&c, &at_rest(dt), x, [3.0, -1.0], [0.0, 0.0], MASS, RHO, 300.0, 560.0, 1e9);
+                let r =
+                    contact_force(&c, &tool, &at_rest(dt), x, [3.0, -1.0], [0.0, 0.0], MASS, RHO, 300.0, 560.0, 1e9);
                 let what = format!("primitive {prim} t = {t}, d = {d:e}, Δt = {dt:e}");
                 // (5.116) with the tool's exact depth and normal: relative 1e-14 (a few roundings).
                 let g = tool.closest(x);
@@ -827,16 +840,16 @@ fn at42_penalty_force_is_kappa_m_d_n_over_dt2() {
     let (p, n, _) = face(&o, FLANK as u32, 0.5);
     let x = sub(p, scale(1e-6, n));
     let off = [1.234e-3, -0.5e-3];
-    let moved = ToolState { offset: off, velocity: [0.0, 0.0], dt: DT, step: DT };
-    let r0 = contact_force(&c, &at_rest(DT), x, [0.0; 2], [0.0; 2], MASS, RHO, 300.0, 560.0, 0.0);
-    let r1 = contact_force(&c, &moved, add(x, off), [0.0; 2], [0.0; 2], MASS, RHO, 300.0, 560.0, 0.0);
+    let moved = tool_state(off, [0.0, 0.0], DT, DT);
+    let r0 = contact_force(&c, &tool, &at_rest(DT), x, [0.0; 2], [0.0; 2], MASS, RHO, 300.0, 560.0, 0.0);
+    let r1 = contact_force(&c, &tool, &moved, add(x, off), [0.0; 2], [0.0; 2], MASS, RHO, 300.0, 560.0, 0.0);
     assert_vec_rel(r1.normal, r0.normal, 1e-9, "offset tool");
 }
 
 #[test]
 fn at42_no_force_outside_the_tool() {
     let (tool, o) = reference_tool();
-    let mut c = params(tool);
+    let mut c = params();
     (c.heat_fraction, c.usui_psi, c.usui_xi) = (0.9, 1e-9, 1000.0);
     let history = [1.0e3, -2.0e3];
     let mut points = vec![[0.0, 0.0], o.top_left, [0.0, -1e-12], [1e-3, 1e-3], [-1e-3, 0.2e-3]];
@@ -854,7 +867,7 @@ fn at42_no_force_outside_the_tool() {
         if g.distance < 0.0 {
             continue;
         }
-        let r = contact_force(&c, &at_rest(DT), x, [5.0, 1.0], history, MASS, RHO, 900.0, 560.0, 1e9);
+        let r = contact_force(&c, &tool, &at_rest(DT), x, [5.0, 1.0], history, MASS, RHO, 900.0, 560.0, 1e9);
         assert_eq!(r, ContactResult::default(), "at {x:?} (distance {:e})", g.distance);
         tested += 1;
     }
@@ -940,7 +953,7 @@ fn at43_friction_grows_saturates_and_reverses_without_chatter() {
 #[test]
 fn at43_friction_through_contact_force_sliding_on_the_rake() {
     let (tool, o) = reference_tool();
-    let c = params(tool);
+    let c = params();
     let k = KAPPA * MASS / DT;
     let d = 1e-6;
     let (p, n, t) = face(&o, RAKE as u32, 0.5);
@@ -950,12 +963,12 @@ fn at43_friction_through_contact_force_sliding_on_the_rake() {
     // The particle slides up the rake at 9 m/s relative to a moving tool, plus a normal velocity component that the
     // tangential slip must not see: v − v_tool = 9 t + 3 n.
     let v_tool = [2.0, 0.5];
-    let state = ToolState { offset: [0.0, 0.0], velocity: v_tool, dt: DT, step: DT };
+    let state = tool_state([0.0, 0.0], v_tool, DT, DT);
     let v = add(v_tool, add(scale(9.0, t), scale(3.0, n)));
     let inc = k * 9.0;
     let mut f = [0.0, 0.0];
     for step in 1..=60 {
-        let r = contact_force(&c, &state, x, v, f, MASS, RHO, 300.0, 560.0, 0.0);
+        let r = contact_force(&c, &tool, &state, x, v, f, MASS, RHO, 300.0, 560.0, 0.0);
         let what = format!("step {step}");
         // No normal component (1e-12 of the force), opposite to the relative tangential velocity.
         assert!(dot(r.friction, n).abs() <= 1e-12 * norm(r.friction), "{what}: normal part {:e}", dot(r.friction, n));
@@ -966,10 +979,10 @@ fn at43_friction_through_contact_force_sliding_on_the_rake() {
     }
     // The friction history is projected on the current tangent: its normal part is dropped. With no slip
     // (v = v_tool), the history's tangential part is kept (stick, 1e-12) or capped at μ|f_c| (slip, 1e-14).
-    let rest = ToolState { offset: [0.0, 0.0], velocity: v_tool, dt: DT, step: DT };
+    let rest = tool_state([0.0, 0.0], v_tool, DT, DT);
     for (f_n, f_t) in [(5.0e3, 3.0e3), (-4.0e4, -1.0e4), (2.0e3, 3.0e4)] {
         let old = add(scale(f_n, n), scale(f_t, t));
-        let r = contact_force(&c, &rest, x, v_tool, old, MASS, RHO, 300.0, 560.0, 0.0);
+        let r = contact_force(&c, &tool, &rest, x, v_tool, old, MASS, RHO, 300.0, 560.0, 0.0);
         let want = scale(f_t.signum() * f_t.abs().min(f_max), t);
         assert_vec_rel(r.friction, want, 1e-12, &format!("history ({f_n:e}, {f_t:e})"));
     }
@@ -978,22 +991,22 @@ fn at43_friction_through_contact_force_sliding_on_the_rake() {
 #[test]
 fn at43_relative_velocity_tool_moving_over_a_resting_particle() {
     let (tool, o) = reference_tool();
-    let c = params(tool);
+    let c = params();
     let k = KAPPA * MASS / DT;
     let (p, n, _) = face(&o, FLANK as u32, 0.5);
     let x = sub(p, scale(1e-6, n));
     // The tool moves at +1 m/s in x over a particle at rest on its flank (errata 25: v_rel = v − v_tool). The
     // slip is −(e_x − (e_x·n) n), so the friction on the particle is k(e_x − (e_x·n) n): along +x (the tool drags
     // the particle), tangential, of size k cos α < μ|f_c| (stick), 1e-12 relative.
-    let state = ToolState { offset: [0.0, 0.0], velocity: [1.0, 0.0], dt: DT, step: DT };
-    let r = contact_force(&c, &state, x, [0.0, 0.0], [0.0, 0.0], MASS, RHO, 300.0, 560.0, 0.0);
+    let state = tool_state([0.0, 0.0], [1.0, 0.0], DT, DT);
+    let r = contact_force(&c, &tool, &state, x, [0.0, 0.0], [0.0, 0.0], MASS, RHO, 300.0, 560.0, 0.0);
     let e_t = sub([1.0, 0.0], scale(n[0], n));
     assert_vec_rel(r.friction, scale(k, e_t), 1e-12, "drag");
     assert!(r.friction[0] > 0.0, "friction {:?}", r.friction);
     assert!(dot(r.friction, n).abs() <= 1e-12 * norm(r.friction));
     assert_rel(norm(r.friction), k * 8f64.to_radians().cos(), 1e-12, "k cos α");
     // Moving with the tool: no slip, no friction (exactly zero from a zero history).
-    let r = contact_force(&c, &state, x, [1.0, 0.0], [0.0, 0.0], MASS, RHO, 300.0, 560.0, 0.0);
+    let r = contact_force(&c, &tool, &state, x, [1.0, 0.0], [0.0, 0.0], MASS, RHO, 300.0, 560.0, 0.0);
     assert_eq!(r.friction, [0.0, 0.0]);
 }
 
@@ -1007,8 +1020,8 @@ fn friction_shear_stress_cap() {
     // Fast sliding (k|v_t| = 8.9e4 N/m > every cap here): the friction slides at its limit in one step.
     let v = scale(2000.0, t);
     let run = |mode: u32, cap_stress: f64, sy: f64| {
-        let c = ContactParams { cap_mode: mode, cap_stress, ..params(tool) };
-        contact_force(&c, &at_rest(DT), x, v, [0.0, 0.0], MASS, RHO, 300.0, 560.0, sy)
+        let c = ContactParams { cap_mode: mode, cap_stress, ..params() };
+        contact_force(&c, &tool, &at_rest(DT), x, v, [0.0, 0.0], MASS, RHO, 300.0, 560.0, sy)
     };
     // STATIC (7.6): F_max = min(μ|f_c|, τ A), A = √(m/ρ) (klippel (9.21), 2D face per unit depth); 1e-14 relative.
     for tau in [1e7, 5.0e8, 1.0e9, 5.0e9, 1e12] {
@@ -1044,14 +1057,14 @@ fn friction_heating_and_usui_wear() {
     let area = (MASS / RHO).sqrt();
     let cp = 560.0;
     let (eta, psi, xi, temp) = (0.9, 1.0e-12, 1500.0, 800.0);
-    let c = ContactParams { heat_fraction: eta, usui_psi: psi, usui_xi: xi, ..params(tool) };
+    let c = ContactParams { heat_fraction: eta, usui_psi: psi, usui_xi: xi, ..params() };
     // Slip of 7 m/s along the flank relative to the tool, with a small normal component.
     let v_tool = [-1.0, 0.0];
-    let state = ToolState { offset: [0.0, 0.0], velocity: v_tool, dt: DT, step: DT };
+    let state = tool_state([0.0, 0.0], v_tool, DT, DT);
     let slip = 7.0;
     let v = add(v_tool, add(scale(slip, t), scale(0.01, n)));
     for history in [[0.0, 0.0], scale(-3e3, t), scale(5e4, t)] {
-        let r = contact_force(&c, &state, x, v, history, MASS, RHO, temp, cp, 0.0);
+        let r = contact_force(&c, &tool, &state, x, v, history, MASS, RHO, temp, cp, 0.0);
         assert!(norm(r.friction) > 0.0 && norm(r.normal) > 0.0);
         // Friction heat ΔT = η Δt |f_t| |v_t| / (m c_p) (roethlin §5.2 step 12; here step = Δt): 1e-14 relative.
         let heat = eta * DT * norm(r.friction) * slip / (MASS * cp);
@@ -1063,15 +1076,15 @@ fn friction_heating_and_usui_wear() {
     // A step cut short (ToolState::step < dt, to land on an output time): the heat is η·step·|f_t||v_t|/(m c_p)
     // (1e-14), while the penalty and friction keep the nominal Δt's stiffness (identical forces).
     let short = ToolState { step: 0.3 * DT, ..state };
-    let r_full = contact_force(&c, &state, x, v, [0.0; 2], MASS, RHO, temp, cp, 0.0);
-    let r_short = contact_force(&c, &short, x, v, [0.0; 2], MASS, RHO, temp, cp, 0.0);
+    let r_full = contact_force(&c, &tool, &state, x, v, [0.0; 2], MASS, RHO, temp, cp, 0.0);
+    let r_short = contact_force(&c, &tool, &short, x, v, [0.0; 2], MASS, RHO, temp, cp, 0.0);
     assert_eq!((r_short.normal, r_short.friction, r_short.wear), (r_full.normal, r_full.friction, r_full.wear));
     let heat = eta * 0.3 * DT * norm(r_short.friction) * slip / (MASS * cp);
     assert_rel(r_short.heating, heat, 1e-14, "heating over a short step");
     // Both off: exactly zero, with the forces unchanged.
     let off = ContactParams { heat_fraction: 0.0, usui_psi: 0.0, ..c };
-    let r_on = contact_force(&c, &state, x, v, [0.0; 2], MASS, RHO, temp, cp, 0.0);
-    let r_off = contact_force(&off, &state, x, v, [0.0; 2], MASS, RHO, temp, cp, 0.0);
+    let r_on = contact_force(&c, &tool, &state, x, v, [0.0; 2], MASS, RHO, temp, cp, 0.0);
+    let r_off = contact_force(&off, &tool, &state, x, v, [0.0; 2], MASS, RHO, temp, cp, 0.0);
     assert_eq!((r_off.heating, r_off.wear), (0.0, 0.0));
     assert!(r_on.heating > 0.0 && r_on.wear > 0.0);
     assert_eq!((r_off.normal, r_off.friction), (r_on.normal, r_on.friction));

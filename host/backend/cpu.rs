@@ -6,6 +6,7 @@ use super::{
     Backend, Buffer, CellBuffers, ContactInputs, DeviceInfo, Element, FieldsMut, FusedContact, FusedHeat, FusedPrepare,
     HeatInputs, PlasticInputs, PlasticPass, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields,
 };
+use crate::kernels::contact::Tool2d;
 use crate::kernels::contact::penalty::{ContactArrays, ContactParams, contact_particle};
 use crate::kernels::neighbour::search::neighbour_row;
 use crate::kernels::neighbour::{GatherField, GridParams, Neighbours, sort::sort_cell, verlet::verlet_row};
@@ -151,6 +152,11 @@ struct SendStep<R: Real, D: Dim>(StepArrays<R, D::Vec<R>, D::Sym<R>>);
 
 unsafe impl<R: Real, D: Dim> Send for SendStep<R, D> {}
 unsafe impl<R: Real, D: Dim> Sync for SendStep<R, D> {}
+
+/// The single element of a one-element buffer.
+fn one<'a, T>(buf: &'a [T], op: &'static str) -> Result<&'a T> {
+    buf.first().ok_or(Error::Length { op, expected: 1, got: 0 })
+}
 
 /// The step's scalars at `s.index`.
 fn scalars(s: &ScalarsAt<'_, CpuBackend>) -> Result<StepScalars> {
@@ -894,6 +900,7 @@ impl Backend for CpuBackend {
                 }
                 Some((
                     k.params[0],
+                    one(k.tool, "step_finish (the tool's shape)")?,
                     SendContact(ContactArrays::<R, D::Vec<R>> {
                         pos,
                         vel,
@@ -916,8 +923,8 @@ impl Backend for CpuBackend {
             unsafe {
                 correct_particle(&a.0, dt, i);
                 plastic_particle::<R, D, M>(m, &c, &arr.0, i);
-                if let Some((cp, ca)) = touch {
-                    contact_particle::<R, D::Vec<R>>(cp, &tool, &ca.0, i);
+                if let Some((cp, shape, ca)) = touch {
+                    contact_particle::<R, D::Vec<R>, Tool2d>(cp, shape, &tool, &ca.0, i);
                 }
             }
         }));
@@ -976,6 +983,7 @@ impl Backend for CpuBackend {
         &self,
         n: usize,
         params: &Vec<ContactParams>,
+        shape: &Vec<Tool2d>,
         s: ScalarsAt<'_, Self>,
         a: ContactInputs<'_, Self, R, D>,
     ) -> Result<()> {
@@ -1007,6 +1015,7 @@ impl Backend for CpuBackend {
             check_bodies("contact materials", &a.flags[..n], m.len())?;
         }
         let c = params[0];
+        let shape = one(shape, "contact (the tool's shape)")?;
         let arr = SendContact(ContactArrays::<R, D::Vec<R>> {
             pos: a.pos.as_ptr(),
             vel: a.vel.as_ptr(),
@@ -1023,7 +1032,7 @@ impl Backend for CpuBackend {
         (0..n).into_par_iter().for_each(|i| {
             let arr = &arr;
             // SAFETY: lengths checked above; each particle i is touched by one task only.
-            unsafe { contact_particle::<R, D::Vec<R>>(&c, &tool, &arr.0, i) }
+            unsafe { contact_particle::<R, D::Vec<R>, Tool2d>(&c, shape, &tool, &arr.0, i) }
         });
         Ok(())
     }

@@ -1289,7 +1289,7 @@ impl Backend for CudaBackend {
             Arg::U64(p.work.map_or(0, |w| self.ptr_mut(w))),
         ]);
         match contact {
-            None => args.extend_from_slice(&[Arg::U64(0); 7]),
+            None => args.extend_from_slice(&[Arg::U64(0); 8]),
             Some(c) => {
                 if c.yield_stress && yield_ptr == 0 {
                     return Err(Error::Length {
@@ -1311,6 +1311,7 @@ impl Backend for CudaBackend {
                 }
                 args.extend_from_slice(&[
                     Arg::U64(self.ptr(c.params)),
+                    Arg::U64(self.ptr(c.tool)),
                     Arg::U64(self.ptr(c.mass)),
                     Arg::U64(self.ptr_mut(c.normal)),
                     Arg::U64(self.ptr_mut(c.friction)),
@@ -1432,6 +1433,7 @@ impl Backend for CudaBackend {
         &self,
         n: usize,
         params: &CudaBuf<crate::kernels::contact::ContactParams>,
+        tool: &CudaBuf<crate::kernels::contact::Tool2d>,
         s: ScalarsAt<'_, Self>,
         a: ContactInputs<'_, Self, R, D>,
     ) -> Result<()> {
@@ -1441,6 +1443,7 @@ impl Backend for CudaBackend {
         let args = [
             Arg::U32(n as u32),
             Arg::U64(self.ptr(params)),
+            Arg::U64(self.ptr(tool)),
             self.scalars(&s)?,
             Arg::U64(self.ptr(a.pos)),
             Arg::U64(self.ptr(a.vel)),

@@ -284,6 +284,7 @@ pub trait Backend: Sized + Send + Sync {
         &self,
         n: usize,
         params: &Self::Buf<crate::kernels::contact::ContactParams>,
+        tool: &Self::Buf<crate::kernels::contact::Tool2d>,
         s: ScalarsAt<'_, Self>,
         a: ContactInputs<'_, Self, R, D>,
     ) -> Result<()>;
@@ -456,6 +457,8 @@ pub struct FusedPrepare<'a, B: Backend, R: Real, D: Dim> {
 /// the plastic pass's flags and (with `yield_stress`) its yield stresses.
 pub struct FusedContact<'a, B: Backend, R: Real, D: Dim> {
     pub params: &'a B::Buf<crate::kernels::contact::ContactParams>,
+    /// The tool's shape (one element).
+    pub tool: &'a B::Buf<crate::kernels::contact::Tool2d>,
     /// The particles' own masses.
     pub mass: &'a B::Buf<R>,
     pub normal: &'a mut B::Buf<D::Vec<R>>,

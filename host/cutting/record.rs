@@ -94,7 +94,7 @@ impl CutRecorder {
     /// Takes a sample of the solver's state.
     pub fn sample<B: Backend, R: Real, D: TensorOps<R>>(&mut self, b: &B, s: &Solver<B, R, D>) -> Result<()> {
         let Some(c) = s.contact_sample(b)? else { return Ok(()) };
-        let offset = s.tool_offset().unwrap_or([0.0; 2]);
+        let offset = s.tool_offset().unwrap_or([0.0; 3]);
         let (pos, fl) = s.positions(b)?;
         let mut st = self.station;
         st.rake_point = [st.rake_point[0] + offset[0], st.rake_point[1] + offset[1]];

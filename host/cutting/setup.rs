@@ -3,7 +3,7 @@
 
 use crate::kernels::contact::penalty::cap;
 use crate::kernels::contact::tool2d::{BACK, TOP};
-use crate::kernels::contact::{ContactParams, Tool2d, ToolShape};
+use crate::kernels::contact::{ContactParams, Tool2d, ToolGeometry, ToolShape};
 use crate::material::FlowModel;
 use crate::scene::{FrictionCap, Scene, Tool};
 use crate::{Error, Result};
@@ -22,15 +22,15 @@ pub fn build_tool(t: &Tool) -> Result<Tool2d> {
     .map_err(|e| Error::Scene(format!("tool: {e:?}")))
 }
 
-/// The tool's motion.
+/// The tool's motion (a translation in the plane: the scene's `[tool]` has no rotation yet).
 pub fn motion(t: &Tool) -> ToolMotion {
-    ToolMotion { start: t.position, velocity: t.velocity, ramp: t.ramp }
+    ToolMotion::planar(t.position, t.velocity, t.ramp)
 }
 
 /// The contact constants: κ, μ, the friction cap (static: κ_fric σ_y(0, ε̇0, T0)/√3 with T0 the initial
 /// temperature; current: κ_fric/√3 times each particle's σ_y), friction heating, Usui's constants and the melt
 /// temperature that caps friction heating.
-pub fn contact_params(scene: &Scene, t: &Tool, tool: Tool2d, model: Option<&FlowModel>) -> ContactParams {
+pub fn contact_params(scene: &Scene, t: &Tool, model: Option<&FlowModel>) -> ContactParams {
     let inv_sqrt3 = 1.0 / 3f64.sqrt();
     let (cap_mode, cap_stress) = match (t.friction_cap, model) {
         (FrictionCap::Static, Some(m)) => {
@@ -40,7 +40,6 @@ pub fn contact_params(scene: &Scene, t: &Tool, tool: Tool2d, model: Option<&Flow
         _ => (cap::NONE, 0.0),
     };
     ContactParams {
-        tool,
         kappa: t.contact_stiffness,
         friction_kappa: t.friction_stiffness.unwrap_or(t.contact_stiffness),
         friction: t.friction,
@@ -82,27 +81,27 @@ pub fn tool_particles(tool: &Tool2d, t: &Tool, dx: f64, band: f64) -> ToolPartic
 }
 
 /// Refuses a tool that overlaps the workpiece at t = 0 (a particle strictly inside: the penalty force would
-/// explode) or never meets it before the end of the run (nothing would be cut): the tool and the particles, moving
-/// on with their initial velocities, are checked at 400 instants.
-pub fn check_engagement(
+/// explode) or never meets it before the end of the run (nothing would be cut): the tool, in its motion, and the
+/// particles, moving on with their initial velocities, are checked at 400 instants.
+pub fn check_engagement<G: ToolGeometry>(
     scene: &Scene,
-    tool: &Tool2d,
+    tool: &G,
     motion: &ToolMotion,
     pos: &[[f64; 3]],
     vel: &[[f64; 3]],
 ) -> Result<()> {
     let at = |time: f64| {
-        let o = motion.offset_at(time);
+        let s = motion.state_at(time, 0.0, 0.0);
         pos.iter()
             .zip(vel)
-            .filter(|(p, v)| tool.contains([p[0] + v[0] * time - o[0], p[1] + v[1] * time - o[1]]))
+            .filter(|(p, v)| tool.contains(s.to_tool(std::array::from_fn(|k| p[k] + v[k] * time))))
             .count()
     };
     // At t = 0 only a particle inside by more than 1e-6 Δx is refused: one on the outline (its distance is 0 up to
     // rounding) is a legitimate start, e.g. a block resting on the tool.
-    let o = motion.offset_at(0.0);
+    let s = motion.state_at(0.0, 0.0, 0.0);
     let tol = 1e-6 * scene.discretisation.dx;
-    let inside = pos.iter().filter(|p| tool.closest([p[0] - o[0], p[1] - o[1]]).distance < -tol).count();
+    let inside = pos.iter().filter(|p| tool.query(s.to_tool(**p)).distance < -tol).count();
     if inside > 0 {
         return Err(Error::Scene(format!(
             "{}: tool.position: {inside} particles lie inside the tool at t = 0; expected the tool clear of the \

@@ -28,7 +28,7 @@ use crate::backend::{
     Backend, Conduction, ContactInputs, FieldsMut, FieldsRef, FusedContact, FusedHeat, FusedPrepare, HeatInputs,
     PlasticPass, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields,
 };
-use crate::kernels::contact::{ContactParams, ToolState, penalty::cap};
+use crate::kernels::contact::{ContactParams, Tool2d, penalty::cap};
 use crate::kernels::neighbour::GridParams;
 use crate::kernels::sph::heat::{HeatParams, ThermalMaterial};
 use crate::kernels::sph::params::flags;
@@ -60,7 +60,10 @@ pub struct PlasticSetup {
 /// The rigid tool of a cutting run (2D).
 #[derive(Clone, Debug)]
 pub struct ContactSetup {
+    /// The contact law's constants.
     pub params: ContactParams,
+    /// The tool's shape.
+    pub tool: Tool2d,
     pub motion: ToolMotion,
     /// Index of the tool particles' velocity in the prescribed-velocity table (rewritten during a start-up ramp).
     pub tool_velocity_index: Option<usize>,
@@ -126,6 +129,7 @@ struct PlasticState<B: Backend> {
 
 struct ContactState<B: Backend, R: Real, D: Dim> {
     params: B::Buf<ContactParams>,
+    tool: B::Buf<Tool2d>,
     motion: ToolMotion,
     normal: Field<B, D::Vec<R>>,
     friction: Field<B, D::Vec<R>>,
@@ -145,8 +149,8 @@ struct ContactState<B: Backend, R: Real, D: Dim> {
 /// The tool's force on the workpiece and its contact statistics at one instant.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ContactSample {
-    /// Σ (f_c + f_t) over the particles: the force of the tool on the workpiece [N per m of depth in 2D].
-    pub force: [f64; 2],
+    /// Σ (f_c + f_t) over the particles: the force of the tool on the workpiece [N per m of depth in 2D; z = 0].
+    pub force: [f64; 3],
     /// Particles in contact.
     pub contacts: usize,
     /// Mean Usui wear rate over the contacting particles [m/s] (NaN when wear is off or nothing touches).
@@ -403,6 +407,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                 }
                 Some(ContactState {
                     params: b.upload(&[c.params], "contact parameters")?,
+                    tool: b.upload(&[c.tool], "tool shape")?,
                     motion: c.motion,
                     normal: Field::upload(b, &zeros_v, "contact forces")?,
                     friction: Field::upload(b, &zeros_v, "friction forces")?,
@@ -573,7 +578,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         {
             // The tool particles follow the ramp: their prescribed velocity at this step's midpoint.
             let v = c.motion.velocity_at(self.time + 0.5 * dt);
-            c.bc_table[k] = D::Vec::<R>::new([R::from_f64(v[0]), R::from_f64(v[1]), R::ZERO]);
+            c.bc_table[k] = D::Vec::<R>::new(v.map(R::from_f64));
             b.write(&mut self.bc_vel, &c.bc_table)?;
         }
         Ok(())
@@ -587,12 +592,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             t += dt;
             *s = StepScalars { dt, ..Default::default() };
             if let Some(c) = &self.contact {
-                s.tool = ToolState {
-                    offset: c.motion.offset_at(t),
-                    velocity: c.motion.velocity_at(t),
-                    dt: dt.max(c.nominal_dt),
-                    step: dt,
-                };
+                s.tool = c.motion.state_at(t, dt.max(c.nominal_dt), dt);
             }
         }
         if let Some(first) = self.host_scalars.first_mut() {
@@ -795,10 +795,11 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             Phase::Correct => {
                 let (materials, conduction) = thermal_views(self.thermal.as_mut());
                 let (yield_stress, contact) = match self.contact.as_mut() {
-                    Some(ContactState { params, normal, friction, yield_stress, wear, heating, .. }) => {
+                    Some(ContactState { params, tool, normal, friction, yield_stress, wear, heating, .. }) => {
                         let cap = yield_stress.is_some();
                         let fused = fuse_contact.then_some(FusedContact {
                             params: &*params,
+                            tool: &*tool,
                             mass: &p.mass.cur,
                             normal: &mut normal.cur,
                             friction: &mut friction.cur,
@@ -848,6 +849,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                     b.contact::<R, D>(
                         n,
                         &c.params,
+                        &c.tool,
                         ScalarsAt { buf: &self.scalars, index: j },
                         ContactInputs {
                             pos: &p.pos.cur,
@@ -903,10 +905,12 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         let mut s = ContactSample::default();
         let mut wear_sum = 0.0;
         for i in 0..self.n {
-            let f = [fc[i].get(0).to_f64() + ft[i].get(0).to_f64(), fc[i].get(1).to_f64() + ft[i].get(1).to_f64()];
-            s.force[0] += f[0];
-            s.force[1] += f[1];
-            if fc[i].get(0) != R::ZERO || fc[i].get(1) != R::ZERO {
+            // Components past the dimension read as zero (`Vector::get`).
+            let f: [f64; 3] = std::array::from_fn(|k| fc[i].get(k).to_f64() + ft[i].get(k).to_f64());
+            for (sum, fk) in s.force.iter_mut().zip(f) {
+                *sum += fk;
+            }
+            if (0..D::D).any(|k| fc[i].get(k) != R::ZERO) {
                 s.contacts += 1;
                 if let Some(w) = &wear {
                     wear_sum += w[i];
@@ -942,8 +946,8 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         Ok((self.particles.pos.read(b)?, self.particles.flags.read(b)?))
     }
 
-    /// Where the tool's frame origin is at the current time, with a tool.
-    pub fn tool_offset(&self) -> Option<[f64; 2]> {
+    /// Where the tool's frame origin is at the current time (its translation; z = 0 in 2D), with a tool.
+    pub fn tool_offset(&self) -> Option<[f64; 3]> {
         self.contact.as_ref().map(|c| c.motion.offset_at(self.time))
     }
 

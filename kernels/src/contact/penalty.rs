@@ -9,7 +9,7 @@
 //!   trial friction  f*  = P_t f_t,old − κ_t m v_t / Δt,        v_t = (v − v_tool) − ((v − v_tool)·n) n
 //!   friction        f_t = f* if |f*| ≤ F_max, else F_max f*/|f*|,  F_max = min(μ |f_c|, τ_max A)
 //! with P_t the projection onto the current tangent (the normal turns along the edge arc), τ_max = κ_fric σ_y/√3
-//! (the optional shear-stress cap; σ_y static A or current), A the particle's face per unit depth, √(m/ρ) in 2D, and
+//! (the optional shear-stress cap; σ_y static A or current), A the particle's face per unit depth, √(m/ρ) in 2D ((m/ρ)^(2/3) in 3D), and
 //! κ_t the friction stiffness (κ in Röthlin's code, 1 in the theses' equations).
 //! Without penetration both forces and the friction history are zero.
 //!
@@ -17,7 +17,8 @@
 //! Usui wear rate Ẇ = Ψ exp(−ξ/T) p |v_t| with p = |f_c|/A is an optional output; the theses print exp(+ξ/T),
 //! Usui's law has the minus sign (roethlin erratum 16).
 
-use super::tool2d::Tool2d;
+use super::geometry::ToolGeometry;
+use super::motion::ToolState;
 use crate::real::Real;
 use crate::sph::params::flags;
 use crate::vector::Vector;
@@ -33,11 +34,11 @@ pub mod cap {
     pub const CURRENT: u32 = 2;
 }
 
-/// Constants of the contact pass (uploaded once; the tool's position and velocity are launch arguments).
+/// Constants of the contact law (uploaded once; the tool's shape is its own parameter, a [`ToolGeometry`], and its
+/// position and velocity are the step's [`ToolState`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct ContactParams {
-    pub tool: Tool2d,
     /// Penalty fraction κ (0 < κ ≤ 1).
     pub kappa: f64,
     /// Stiffness fraction κ_t of the friction update f* = f_old − κ_t m v_t/Δt: Röthlin's code uses κ_t = κ,
@@ -59,77 +60,141 @@ pub struct ContactParams {
     pub _pad: u32,
 }
 
-/// Where the tool is at the end of the step (the frame translation of [`Tool2d`]) and how fast it moves.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct ToolState {
-    pub offset: [f64; 2],
-    pub velocity: [f64; 2],
-    /// The run's time step Δt, which scales the penalty and friction stiffness (κ m/Δt², κ m/Δt). A step cut short
-    /// to land on an output time must not stiffen the contact by (Δt/step)², so this is the nominal step.
-    pub dt: f64,
-    /// The length of this step, for the friction heat.
-    pub step: f64,
+/// a·b over the first D components, summed in index order (a₀b₀ + a₁b₁ in 2D).
+#[inline(always)]
+fn dot<const D: usize>(a: &[f64; D], b: &[f64; D]) -> f64 {
+    let mut s = a[0] * b[0];
+    let mut k = 1;
+    while k < D {
+        s += a[k] * b[k];
+        k += 1;
+    }
+    s
+}
+
+/// The first D components of a 3-vector.
+#[inline(always)]
+fn narrow<const D: usize>(a: [f64; 3]) -> [f64; D] {
+    let mut r = [0.0; D];
+    let mut k = 0;
+    while k < D {
+        r[k] = a[k];
+        k += 1;
+    }
+    r
+}
+
+/// A D-vector as a 3-vector (z = 0 in 2D).
+#[inline(always)]
+fn widen<const D: usize>(a: &[f64; D]) -> [f64; 3] {
+    let mut r = [0.0; 3];
+    let mut k = 0;
+    while k < D {
+        r[k] = a[k];
+        k += 1;
+    }
+    r
 }
 
 /// The LS-DYNA incremental stick/slip update (4.47–4.48): the trial force f* = f_old − k v_t (k = κ m/Δt) sticks
 /// when |f*| ≤ f_max and slides at f_max along f* otherwise.
 #[inline(always)]
-pub fn friction_update(f_old: [f64; 2], v_t: [f64; 2], k: f64, f_max: f64) -> [f64; 2] {
-    let fs = [f_old[0] - k * v_t[0], f_old[1] - k * v_t[1]];
-    let m2 = fs[0] * fs[0] + fs[1] * fs[1];
+pub fn friction_update<const D: usize>(f_old: [f64; D], v_t: [f64; D], k: f64, f_max: f64) -> [f64; D] {
+    let mut fs = [0.0; D];
+    let mut j = 0;
+    while j < D {
+        fs[j] = f_old[j] - k * v_t[j];
+        j += 1;
+    }
+    let m2 = dot(&fs, &fs);
     if m2 <= f_max * f_max {
         fs
     } else {
         let s = f_max / <f64 as Real>::sqrt(m2);
-        [s * fs[0], s * fs[1]]
+        let mut out = [0.0; D];
+        let mut j = 0;
+        while j < D {
+            out[j] = s * fs[j];
+            j += 1;
+        }
+        out
     }
 }
 
-/// Contact forces and their by-products for one particle.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct ContactResult {
-    pub normal: [f64; 2],
-    pub friction: [f64; 2],
+/// Contact forces and their by-products for one particle (D components: 2 or 3).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactResult<const D: usize> {
+    pub normal: [f64; D],
+    pub friction: [f64; D],
     /// Temperature rise from friction [K].
     pub heating: f64,
     /// Usui wear rate [m/s] (0 without contact or with wear off).
     pub wear: f64,
 }
 
-/// The contact of one particle at position `x` and velocity `v`, with the friction history `f_old`, mass `m`,
-/// density `rho`, temperature `temp`, specific heat `cp` and current yield stress `yield_stress` (used by the
-/// CURRENT cap only).
+impl<const D: usize> Default for ContactResult<D> {
+    #[inline(always)]
+    fn default() -> Self {
+        ContactResult { normal: [0.0; D], friction: [0.0; D], heating: 0.0, wear: 0.0 }
+    }
+}
+
+/// The contact of one particle at world position `x` and velocity `v` (D components: 2 or 3), with the friction
+/// history `f_old`, mass `m`, density `rho`, temperature `temp`, specific heat `cp` and current yield stress
+/// `yield_stress` (used by the CURRENT cap only), against the tool of shape `g` in the motion `s`. The particle is
+/// mapped into the tool's frame ([`ToolState::to_tool`]), the normal back into the world's, and the relative
+/// velocity is taken against the tool's material velocity at the particle ([`ToolState::velocity_at`]).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-pub fn contact_force(
+pub fn contact_force<const D: usize, G: ToolGeometry>(
     c: &ContactParams,
+    g: &G,
     s: &ToolState,
-    x: [f64; 2],
-    v: [f64; 2],
-    f_old: [f64; 2],
+    x: [f64; D],
+    v: [f64; D],
+    f_old: [f64; D],
     m: f64,
     rho: f64,
     temp: f64,
     cp: f64,
     yield_stress: f64,
-) -> ContactResult {
-    let q = c.tool.closest([x[0] - s.offset[0], x[1] - s.offset[1]]);
+) -> ContactResult<D> {
+    let xw = widen(&x);
+    let q = g.query(s.to_tool(xw));
     // Outside, on the outline, or NaN: no contact.
     if q.distance.partial_cmp(&0.0) != Some(core::cmp::Ordering::Less) {
         return ContactResult::default();
     }
-    let n = q.normal;
+    let n: [f64; D] = narrow(s.direction_to_world(q.normal));
+    let v_tool: [f64; D] = narrow(s.velocity_at(xw));
     let dt = s.dt;
     let depth = -q.distance;
     let fc = c.kappa * m * depth / (dt * dt);
-    let normal = [fc * n[0], fc * n[1]];
-    let vr = [v[0] - s.velocity[0], v[1] - s.velocity[1]];
-    let vn = vr[0] * n[0] + vr[1] * n[1];
-    let vt = [vr[0] - vn * n[0], vr[1] - vn * n[1]];
-    let on = f_old[0] * n[0] + f_old[1] * n[1];
-    let f_prev = [f_old[0] - on * n[0], f_old[1] - on * n[1]];
-    let area = <f64 as Real>::sqrt(m / rho);
+    let mut normal = [0.0; D];
+    let mut vr = [0.0; D];
+    let mut k = 0;
+    while k < D {
+        normal[k] = fc * n[k];
+        vr[k] = v[k] - v_tool[k];
+        k += 1;
+    }
+    let vn = dot(&vr, &n);
+    let on = dot(&f_old, &n);
+    let mut vt = [0.0; D];
+    let mut f_prev = [0.0; D];
+    let mut k = 0;
+    while k < D {
+        vt[k] = vr[k] - vn * n[k];
+        f_prev[k] = f_old[k] - on * n[k];
+        k += 1;
+    }
+    // The particle's face: √V per unit depth in 2D, V^(2/3) in 3D.
+    let area = if D == 2 {
+        <f64 as Real>::sqrt(m / rho)
+    } else {
+        let l = libm::cbrt(m / rho);
+        l * l
+    };
     let mut f_max = c.friction * fc;
     if c.cap_mode != cap::NONE {
         let tau = if c.cap_mode == cap::CURRENT { c.cap_stress * yield_stress } else { c.cap_stress };
@@ -139,8 +204,8 @@ pub fn contact_force(
         }
     }
     let friction = friction_update(f_prev, vt, c.friction_kappa * m / dt, f_max);
-    let ft = <f64 as Real>::sqrt(friction[0] * friction[0] + friction[1] * friction[1]);
-    let slip = <f64 as Real>::sqrt(vt[0] * vt[0] + vt[1] * vt[1]);
+    let ft = <f64 as Real>::sqrt(dot(&friction, &friction));
+    let slip = <f64 as Real>::sqrt(dot(&vt, &vt));
     let heating = if c.heat_fraction > 0.0 && cp > 0.0 { c.heat_fraction * s.step * ft * slip / (m * cp) } else { 0.0 };
     let wear = if c.usui_psi > 0.0 && temp > 0.0 {
         c.usui_psi * libm::exp(-c.usui_xi / temp) * (fc / area) * slip
@@ -171,14 +236,15 @@ pub struct ContactArrays<R: Real, V> {
     pub wear: *mut f64,
 }
 
-/// The contact pass for sorted particle i: writes its normal and friction forces, heats it and records its wear
-/// rate. Fixed and thermal-only particles carry no contact force.
+/// The contact pass for sorted particle i against the tool of shape `g` in the motion `s`: writes its normal and
+/// friction forces, heats it and records its wear rate. Fixed and thermal-only particles carry no contact force.
 ///
 /// # Safety
 /// All non-null arrays hold at least i + 1 particles; `materials` covers every body index.
 #[inline(always)]
-pub unsafe fn contact_particle<R: Real, V: Vector<R>>(
+pub unsafe fn contact_particle<R: Real, V: Vector<R>, G: ToolGeometry>(
     c: &ContactParams,
+    g: &G,
     s: &ToolState,
     a: &ContactArrays<R, V>,
     i: usize,
@@ -194,7 +260,6 @@ pub unsafe fn contact_particle<R: Real, V: Vector<R>>(
             }
             return;
         }
-        let (x, v, f) = (*a.pos.add(i), *a.vel.add(i), *a.friction.add(i));
         let temp = if a.temp.is_null() { 0.0 } else { *a.temp.add(i) };
         let cp = if a.materials.is_null() {
             0.0
@@ -202,25 +267,63 @@ pub unsafe fn contact_particle<R: Real, V: Vector<R>>(
             (*a.materials.add((fl >> flags::BODY_SHIFT) as usize)).specific_heat
         };
         let sy = if a.yield_stress.is_null() { 0.0 } else { *a.yield_stress.add(i) };
-        let r = contact_force(
-            c,
-            s,
-            [x.get(0).to_f64(), x.get(1).to_f64()],
-            [v.get(0).to_f64(), v.get(1).to_f64()],
-            [f.get(0).to_f64(), f.get(1).to_f64()],
-            (*a.mass.add(i)).to_f64(),
-            (*a.rho.add(i)).to_f64(),
-            temp,
-            cp,
-            sy,
-        );
-        *a.normal.add(i) = V::new([R::from_f64(r.normal[0]), R::from_f64(r.normal[1]), R::ZERO]);
-        *a.friction.add(i) = V::new([R::from_f64(r.friction[0]), R::from_f64(r.friction[1]), R::ZERO]);
-        if r.heating > 0.0 && !a.temp.is_null() && fl & flags::FIXED_TEMPERATURE == 0 {
-            *a.temp.add(i) = crate::material::heated_temperature(temp, r.heating, c.melt);
+        let (m, rho) = ((*a.mass.add(i)).to_f64(), (*a.rho.add(i)).to_f64());
+        let (heating, wear) = if V::DIM == 2 {
+            let (x, v) = (load::<R, V, 2>(a.pos, i), load::<R, V, 2>(a.vel, i));
+            let r = contact_force::<2, G>(c, g, s, x, v, load::<R, V, 2>(a.friction, i), m, rho, temp, cp, sy);
+            store(a, i, r.normal, r.friction);
+            (r.heating, r.wear)
+        } else {
+            let (x, v) = (load::<R, V, 3>(a.pos, i), load::<R, V, 3>(a.vel, i));
+            let r = contact_force::<3, G>(c, g, s, x, v, load::<R, V, 3>(a.friction, i), m, rho, temp, cp, sy);
+            store(a, i, r.normal, r.friction);
+            (r.heating, r.wear)
+        };
+        if heating > 0.0 && !a.temp.is_null() && fl & flags::FIXED_TEMPERATURE == 0 {
+            *a.temp.add(i) = crate::material::heated_temperature(temp, heating, c.melt);
         }
         if !a.wear.is_null() {
-            *a.wear.add(i) = r.wear;
+            *a.wear.add(i) = wear;
         }
+    }
+}
+
+/// The first D components of particle i's vector, in f64.
+///
+/// # Safety
+/// `p` holds at least i + 1 vectors.
+#[inline(always)]
+unsafe fn load<R: Real, V: Vector<R>, const D: usize>(p: *const V, i: usize) -> [f64; D] {
+    let x = unsafe { *p.add(i) };
+    let mut r = [0.0; D];
+    let mut k = 0;
+    while k < D {
+        r[k] = x.get(k).to_f64();
+        k += 1;
+    }
+    r
+}
+
+/// Writes particle i's normal and friction forces, rounded to R.
+///
+/// # Safety
+/// `a.normal` and `a.friction` hold at least i + 1 vectors.
+#[inline(always)]
+unsafe fn store<R: Real, V: Vector<R>, const D: usize>(
+    a: &ContactArrays<R, V>,
+    i: usize,
+    normal: [f64; D],
+    friction: [f64; D],
+) {
+    let (mut n, mut f) = ([R::ZERO; 3], [R::ZERO; 3]);
+    let mut k = 0;
+    while k < D {
+        n[k] = R::from_f64(normal[k]);
+        f[k] = R::from_f64(friction[k]);
+        k += 1;
+    }
+    unsafe {
+        *a.normal.add(i) = V::new(n);
+        *a.friction.add(i) = V::new(f);
     }
 }

@@ -50,6 +50,7 @@ density_entry!(swarf_density_3d_f32, f32, V3f32);
 density_entry!(swarf_density_3d_f64, f64, V3f64);
 
 use super::intrinsics::{graph_set_conditional, shfl_xor};
+use crate::contact::Tool2d;
 use crate::contact::penalty::{ContactArrays, ContactParams, contact_particle};
 use crate::sph::heat::{HeatArrays, HeatParams, ThermalMaterial, heat_finish, heat_sum};
 use crate::sph::interact::{
@@ -349,7 +350,7 @@ macro_rules! finish_entry {
 /// thread then runs the tool's contact pass for the particle (contact::penalty::contact_particle: it reads only
 /// the particle's own corrected state, its temperature and yield stress after the plastic update), so that the
 /// step needs no launch of its own for it; `contact_materials` is null without friction heating, `contact_yield`
-/// without the CURRENT friction cap, `wear` without the wear output.
+/// without the CURRENT friction cap, `wear` without the wear output; `contact_tool` is the tool's shape.
 macro_rules! finish_plastic_entry {
     ($name:ident, $m:ty, $r:ty, $d:ty) => {
         #[unsafe(no_mangle)]
@@ -385,6 +386,7 @@ macro_rules! finish_plastic_entry {
             yield_stress: *mut f64,
             work: *mut f64,
             contact: *const ContactParams,
+            contact_tool: *const Tool2d,
             mass: *const $r,
             normal: *mut Vec_<$r, $d>,
             friction: *mut Vec_<$r, $d>,
@@ -444,7 +446,13 @@ macro_rules! finish_plastic_entry {
                             yield_stress: contact_yield,
                             wear,
                         };
-                        contact_particle::<$r, Vec_<$r, $d>>(&*contact, &(*scalars).tool, &ca, i as usize);
+                        contact_particle::<$r, Vec_<$r, $d>, Tool2d>(
+                            &*contact,
+                            &*contact_tool,
+                            &(*scalars).tool,
+                            &ca,
+                            i as usize,
+                        );
                     }
                 }
             }
@@ -719,6 +727,7 @@ macro_rules! contact_entry {
         pub unsafe extern "ptx-kernel" fn $name(
             n: u32,
             params: *const ContactParams,
+            tool: *const Tool2d,
             scalars: *const StepScalars,
             pos: *const Vec_<$r, Dim2>,
             vel: *const Vec_<$r, Dim2>,
@@ -747,7 +756,7 @@ macro_rules! contact_entry {
                     yield_stress,
                     wear,
                 };
-                unsafe { contact_particle::<$r, Vec_<$r, Dim2>>(&*params, &(*scalars).tool, &a, i) };
+                unsafe { contact_particle::<$r, Vec_<$r, Dim2>, Tool2d>(&*params, &*tool, &(*scalars).tool, &a, i) };
             }
         }
     };
