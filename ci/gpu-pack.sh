@@ -35,5 +35,8 @@ strip "${bins[@]}"
 # Compressed: the tree sent to the device is limited to 64 MiB (gpu-run.sh unpacks).
 gzip -9 "${bins[@]}"
 cp ci/gpu-run.sh "$pack/gpu-run.sh"
+# Earlier builds to compare with (parts firstrun, abfrom, abstep): SWARF_PACK_OLD names packed binaries
+# (swarf-<name>.gz, e.g. kept from an earlier gpu-pack/swarf.gz), copied as they are.
+for old in ${SWARF_PACK_OLD-}; do cp "$old" "$pack/"; done
 git rev-parse --short HEAD > "$pack/COMMIT" 2>/dev/null || echo unknown > "$pack/COMMIT"
 du -sh "$pack"
