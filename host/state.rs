@@ -132,8 +132,9 @@ pub fn load_blob<B: Backend, T: Element>(
     b.write(buf, &v)
 }
 
-/// Declares the particle fields once; upload, download and reorder are generated from the list, so a field
-/// cannot be left out of the reorder.
+/// Declares the particle fields once; upload, download and reorder are generated from the list. The solver's
+/// in-place reorder and checkpoint go through its field registry (`solver::fields`), which lists these fields
+/// with every other per-particle buffer.
 macro_rules! particle_fields {
     ($( $(#[$doc:meta])* $name:ident : $t:ty ),* $(,)?) => {
         /// Particle state on the host.
@@ -187,23 +188,6 @@ macro_rules! particle_fields {
             /// Reorders every field through one permutation (`CellList::perm`).
             pub fn reorder(&mut self, b: &B, perm: &B::Buf<u32>) -> Result<()> {
                 $( self.$name.reorder(b, self.n, perm)?; )*
-                Ok(())
-            }
-
-            /// Stages every field for a fused in-place reorder ([`Field::stage`]).
-            pub fn stage(&mut self, b: &B, batch: &mut ReorderBatch) {
-                $( self.$name.stage(b, batch); )*
-            }
-
-            /// Raw copies of every field, named as declared (for checkpoints).
-            pub fn save(&self, b: &B, out: &mut Vec<(String, Vec<u8>)>) -> Result<()> {
-                $( out.push((stringify!($name).to_string(), bytemuck::cast_slice::<_, u8>(&self.$name.read(b)?).to_vec())); )*
-                Ok(())
-            }
-
-            /// Restores every field from [`Particles::save`]'s copies.
-            pub fn load(&mut self, b: &B, blobs: &[(String, Vec<u8>)]) -> Result<()> {
-                $( self.$name.load(b, stringify!($name), blobs)?; )*
                 Ok(())
             }
         }
