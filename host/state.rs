@@ -39,11 +39,6 @@ impl<B: Backend, T: Element> Field<B, T> {
     pub fn read(&self, b: &B) -> Result<Vec<T>> {
         b.read(&self.cur)
     }
-
-    /// Overwrites the field with the bytes saved under `name` (a checkpoint), checking their length.
-    pub fn load(&mut self, b: &B, name: &str, blobs: &[(String, Vec<u8>)]) -> Result<()> {
-        load_blob(b, name, &mut self.cur, blobs)
-    }
 }
 
 /// Most fields one reorder launch moves.
@@ -150,6 +145,9 @@ macro_rules! particle_fields {
         }
 
         impl<R: Real, D: Dim> HostParticles<R, D> {
+            /// The fields' names, as declared (each is also an entry of the solver's field registry).
+            pub const FIELD_NAMES: &[&str] = &[$( stringify!($name) ),*];
+
             /// Number of particles; every field has this length.
             pub fn len(&self) -> usize {
                 self.id.len()

@@ -10,7 +10,7 @@ use swarf::kernels::{Dim2, Dim3, Real};
 use swarf::scene::{Precision, Scene};
 use swarf::solver::Solver;
 use swarf::solver::fields::{Checkpoint, FIELDS, When, max_reorder_entries};
-use swarf::state::MAX_REORDER;
+use swarf::state::{HostParticles, MAX_REORDER};
 
 /// Builds the solver of `scene` in `R` on a fresh CPU backend and checks, exactly: the bytes `Solver::new`
 /// allocates equal `check::memory_estimate`; `save_state` names the registered checkpointed fields whose condition
@@ -119,4 +119,15 @@ fn checkpoint_names_are_unchanged() {
     assert_eq!(names, before);
     let frames: Vec<&str> = FIELDS.iter().filter_map(|f| f.frame).collect();
     assert_eq!(frames, ["temperature", "plastic_strain", "plastic_strain_rate"]);
+}
+
+/// The particle state's fields (`state::particle_fields!`) are registry entries too, reordered, always present and
+/// checkpointed under their own names: a particle field added there and not to the registry fails here (and the
+/// estimate's test).
+#[test]
+fn every_particle_field_is_registered() {
+    for name in HostParticles::<f64, Dim2>::FIELD_NAMES {
+        let f = FIELDS.iter().find(|f| f.name == *name).unwrap_or_else(|| panic!("particle field {name} unregistered"));
+        assert!(f.reordered && f.when == When::Always && f.checkpoint == Checkpoint::Save, "{name}: {f:?}");
+    }
 }

@@ -1,18 +1,23 @@
 //! The field registry: every per-particle buffer the solver allocates, declared once with its roles. The in-place
-//! reorder, the checkpoint, the memory estimate and the frame writer iterate it, so adding a field is one entry
-//! here (plus its storage and allocation in `Solver`, and the kernels that use it).
+//! reorder (`Solver::stage_fields`), the checkpoint (`Solver::save_state`/`load_state`), the memory estimate
+//! ([`memory_bytes`], `check::memory_estimate`) and the frame writer (`Solver::download_frame_fields`) iterate it.
 //!
 //! An entry reads `"name": type = storage [path] if condition, checkpoint role[, frame "vtu name"];`:
 //! - `type`: the element type, in the run's `R` and `D`;
 //! - `storage`: `field` (a [`Field`](crate::state::Field) with a spare buffer: reordered with the particles) or
-//!   `buf` (one buffer, rewritten before it is read, never reordered);
+//!   `buf` (one buffer, not reordered as a field: the rates, the scratch buffers, `pos_ref`);
 //! - `[path]`: where the solver keeps it, as fields (`.name`) and options (`?`) from the solver;
-//! - `condition`: the [`When`] under which `Solver::new` allocates it;
+//! - `condition`: the [`When`] under which `Solver::new` allocates it (`Solver::new` asks the same `When`);
 //! - checkpoint role: `save` (saved under `name` and required on restore), `optional` (a restore without it goes
-//!   on: `pos_ref`) or `scratch` (rebuilt each step; the path is then not read);
+//!   on: `pos_ref`) or `scratch` (not saved; the path is then not read);
 //! - `frame "vtu name"`: written to every frame under that name, as a Float64 scalar (f64 fields only).
 //!
-//! The order is the checkpoint's order (`checkpoint.bin` lists the saved fields in it).
+//! The order is the checkpoint's order (`checkpoint.bin` lists the saved fields in it) and the frames' order.
+//!
+//! Adding a per-particle field: its storage in `Solver` (or a sub-state), its allocation in `Solver::new` under a
+//! [`When`] (a new condition: a variant, its `holds` arm and its place in `When::ALL`), and one entry here. A field of
+//! the particle state itself is declared in `state::particle_fields!` and entered here (tests/fields.rs checks).
+//! tests/fields.rs compares the estimate with the bytes the CPU backend allocates for every scene.
 
 use super::{GRAPH_STEPS, Setup, Solver, StateBlobs};
 use crate::Result;
