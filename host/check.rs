@@ -35,30 +35,11 @@ impl CheckReport {
     }
 }
 
-/// Bytes the solver allocates: every per-particle buffer (state and spares, start-of-step copies and rates, the
-/// pre-pass outputs, thermal and plastic fields when modelled, the cell list's per-particle arrays) and the cell
-/// prefix array.
+/// Bytes the solver allocates: every per-particle buffer of the field registry (`solver::fields::FIELDS`, spares
+/// included) and the buffers that are not per particle (cell starts, scan workspace, Verlet list, parameter
+/// blocks); equal to what the backend allocates (tests/fields.rs).
 pub fn memory_estimate<R: Real, D: TensorOps<R>>(s: &crate::solver::Setup<R, D>) -> usize {
-    let n = s.particles.len();
-    let (v, r, sym) = (size_of::<D::Vec<R>>(), size_of::<R>(), size_of::<D::Sym<R>>());
-    let state = 2 * crate::state::HostParticles::<R, D>::bytes_per_particle();
-    let start = 2 * (2 * v + r + sym);
-    let rates = 2 * v + r + sym;
-    let stab = s.stabilisers.switches();
-    let prepass = sym + if stab.stress { sym } else { 0 } + if stab.viscosity { r } else { 0 };
-    let thermal = match &s.thermal {
-        Some(t) if t.conduction.is_some() => 2 * 8 + 2 * 8 + 8,
-        Some(_) => 0,
-        None => 0,
-    } + if s.temperature.is_some() { 2 * 8 } else { 0 };
-    let plastic = if s.plastic.is_some() { 4 * 8 } else { 0 };
-    // The mixed precision's position low parts and their spare.
-    let compensated = if s.pos_lo.is_some() { 2 * v } else { 0 };
-    let cells = 4 * 4; // keys, slots, permutation, and a share of the scan workspace
-    // The Verlet list: one 32-bit word per particle in each of its rows.
-    let list = 4 * s.grid.list_rows();
-    n * (state + start + rates + prepass + thermal + plastic + compensated + cells + list)
-        + (s.grid.n_cells as usize + 2) * 4
+    crate::solver::fields::memory_bytes(s)
 }
 
 /// Refuses a run that cannot fit the GPU's memory, naming the bytes needed and available (the CPU backend uses

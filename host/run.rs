@@ -562,6 +562,7 @@ fn run_typed<B: Backend, R: Real, D: TensorOps<R>>(
                 d,
                 host,
                 internal: [temp, eps, rate],
+                fields: if opts.frames { solver.download_frame_fields(b)? } else { Vec::new() },
                 now,
                 initial: initial.clone(),
                 radius: 2.0 * s.h,
@@ -823,6 +824,8 @@ struct OutputJob<R: Real, D: TensorOps<R>> {
     host: HostParticles<R, D>,
     /// Temperature, plastic strain and its rate, where modelled.
     internal: [Option<Vec<f64>>; 3],
+    /// The field registry's frame fields (`Solver::download_frame_fields`), when frames are written.
+    fields: Vec<(&'static str, Vec<f64>)>,
     now: Vec<[f64; 3]>,
     /// Every particle's position at t = 0 by id.
     initial: std::sync::Arc<Vec<[f64; 3]>>,
@@ -838,7 +841,7 @@ struct OutputJob<R: Real, D: TensorOps<R>> {
 impl<R: Real, D: TensorOps<R>> OutputJob<R, D> {
     /// Completes the diagnostics (`d`) and writes the rows and the frame.
     fn write(&mut self, f: &mut OutputFiles, h5: &mut Option<H5>) -> Result<()> {
-        let OutputJob { d, host, internal, now, initial, radius, params, frame, time, steps } = self;
+        let OutputJob { d, host, internal, fields, now, initial, radius, params, frame, time, steps } = self;
         let (radius, time, steps) = (*radius, *time, *steps);
         // Closest approach of two mechanical particles (within 2h): pairing and interpenetration show here.
         // Of pairs that started at least 2h apart: contact between material that was apart (chip self-contact),
@@ -887,9 +890,8 @@ impl<R: Real, D: TensorOps<R>> OutputJob<R, D> {
         }
         if let Some((dir, index)) = frame {
             let name = format!("frame_{index:05}.vtu");
-            let [temp, eps, rate] = &*internal;
-            let internal = Internal { temp: temp.as_deref(), eps: eps.as_deref(), rate: rate.as_deref() };
-            write_frame(&dir.join(&name), h5, host, &internal, params, time, steps)?;
+            let temp = internal[0].as_deref();
+            write_frame(&dir.join(&name), h5, host, temp, fields, params, time, steps)?;
             f.pvd.push(time, name).map_err(|e| io_err(f.pvd.path(), e))?;
             f.pvd.write().map_err(|e| io_err(f.pvd.path(), e))?;
         }
@@ -942,12 +944,6 @@ impl OutputFiles {
     }
 }
 
-struct Internal<'a> {
-    temp: Option<&'a [f64]>,
-    eps: Option<&'a [f64]>,
-    rate: Option<&'a [f64]>,
-}
-
 #[cfg(feature = "hdf5")]
 type H5 = crate::output::hdf5::H5Writer;
 /// Without the `hdf5` feature there is no HDF5 writer.
@@ -979,7 +975,8 @@ fn write_frame<R: Real, D: TensorOps<R>>(
     path: &Path,
     h5: &mut Option<H5>,
     p: &HostParticles<R, D>,
-    internal: &Internal,
+    temp: Option<&[f64]>,
+    fields: &[(&'static str, Vec<f64>)],
     params: &SphParams<R>,
     time: f64,
     step: u64,
@@ -992,9 +989,7 @@ fn write_frame<R: Real, D: TensorOps<R>>(
         .rho
         .iter()
         .enumerate()
-        .map(|(i, r)| {
-            crate::kernels::sph::interact::pressure_at(params, *r, internal.temp.map_or(0.0, |t| t[i])).to_f64()
-        })
+        .map(|(i, r)| crate::kernels::sph::interact::pressure_at(params, *r, temp.map_or(0.0, |t| t[i])).to_f64())
         .collect();
     let mut stress = Vec::with_capacity(6 * n);
     let mut vm = Vec::with_capacity(n);
@@ -1018,12 +1013,8 @@ fn write_frame<R: Real, D: TensorOps<R>>(
         Array { name: "stress", components: 6, values: Values::F64(&stress) },
         Array { name: "von_mises", components: 1, values: Values::F64(&vm) },
     ];
-    for (name, v) in
-        [("temperature", internal.temp), ("plastic_strain", internal.eps), ("plastic_strain_rate", internal.rate)]
-    {
-        if let Some(v) = v {
-            point_data.push(Array { name, components: 1, values: Values::F64(v) });
-        }
+    for (name, v) in fields {
+        point_data.push(Array { name, components: 1, values: Values::F64(v) });
     }
     let frame = Frame { time, points: Values::F64(&pts), point_data, field_data: vec![("STEP", step as f64)] };
     vtu::write(path, &frame).map_err(|e| io_err(path, e))?;

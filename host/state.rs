@@ -39,11 +39,6 @@ impl<B: Backend, T: Element> Field<B, T> {
     pub fn read(&self, b: &B) -> Result<Vec<T>> {
         b.read(&self.cur)
     }
-
-    /// Overwrites the field with the bytes saved under `name` (a checkpoint), checking their length.
-    pub fn load(&mut self, b: &B, name: &str, blobs: &[(String, Vec<u8>)]) -> Result<()> {
-        load_blob(b, name, &mut self.cur, blobs)
-    }
 }
 
 /// Most fields one reorder launch moves.
@@ -132,8 +127,9 @@ pub fn load_blob<B: Backend, T: Element>(
     b.write(buf, &v)
 }
 
-/// Declares the particle fields once; upload, download and reorder are generated from the list, so a field
-/// cannot be left out of the reorder.
+/// Declares the particle fields once; upload, download and reorder are generated from the list. The solver's
+/// in-place reorder and checkpoint go through its field registry (`solver::fields`), which lists these fields
+/// with every other per-particle buffer.
 macro_rules! particle_fields {
     ($( $(#[$doc:meta])* $name:ident : $t:ty ),* $(,)?) => {
         /// Particle state on the host.
@@ -149,6 +145,9 @@ macro_rules! particle_fields {
         }
 
         impl<R: Real, D: Dim> HostParticles<R, D> {
+            /// The fields' names, as declared (each is also an entry of the solver's field registry).
+            pub const FIELD_NAMES: &[&str] = &[$( stringify!($name) ),*];
+
             /// Number of particles; every field has this length.
             pub fn len(&self) -> usize {
                 self.id.len()
@@ -187,23 +186,6 @@ macro_rules! particle_fields {
             /// Reorders every field through one permutation (`CellList::perm`).
             pub fn reorder(&mut self, b: &B, perm: &B::Buf<u32>) -> Result<()> {
                 $( self.$name.reorder(b, self.n, perm)?; )*
-                Ok(())
-            }
-
-            /// Stages every field for a fused in-place reorder ([`Field::stage`]).
-            pub fn stage(&mut self, b: &B, batch: &mut ReorderBatch) {
-                $( self.$name.stage(b, batch); )*
-            }
-
-            /// Raw copies of every field, named as declared (for checkpoints).
-            pub fn save(&self, b: &B, out: &mut Vec<(String, Vec<u8>)>) -> Result<()> {
-                $( out.push((stringify!($name).to_string(), bytemuck::cast_slice::<_, u8>(&self.$name.read(b)?).to_vec())); )*
-                Ok(())
-            }
-
-            /// Restores every field from [`Particles::save`]'s copies.
-            pub fn load(&mut self, b: &B, blobs: &[(String, Vec<u8>)]) -> Result<()> {
-                $( self.$name.load(b, stringify!($name), blobs)?; )*
                 Ok(())
             }
         }

@@ -28,6 +28,8 @@ impl<T: Send + Sync> Buffer<T> for Vec<T> {
 
 pub struct CpuBackend {
     info: DeviceInfo,
+    /// Bytes handed out by `alloc` and `upload` so far (the memory estimate's test compares with it).
+    allocated: std::sync::atomic::AtomicUsize,
 }
 
 impl Default for CpuBackend {
@@ -46,7 +48,13 @@ impl CpuBackend {
                 units: rayon::current_num_threads(),
                 ..Default::default()
             },
+            allocated: Default::default(),
         }
+    }
+
+    /// Bytes of every buffer `alloc` and `upload` have made so far (never decremented: buffers are plain `Vec`s).
+    pub fn allocated_bytes(&self) -> usize {
+        self.allocated.load(std::sync::atomic::Ordering::Relaxed)
     }
 }
 
@@ -320,10 +328,12 @@ impl Backend for CpuBackend {
     }
 
     fn alloc<T: Element>(&self, n: usize, _what: &'static str) -> Result<Vec<T>> {
+        self.allocated.fetch_add(n * size_of::<T>(), std::sync::atomic::Ordering::Relaxed);
         Ok(vec![T::zeroed(); n])
     }
 
     fn upload<T: Element>(&self, data: &[T], _what: &'static str) -> Result<Vec<T>> {
+        self.allocated.fetch_add(size_of_val(data), std::sync::atomic::Ordering::Relaxed);
         Ok(data.to_vec())
     }
 

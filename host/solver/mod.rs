@@ -19,6 +19,7 @@
 //! rewrites them. Buffers of a stabiliser that is off are not allocated.
 
 pub mod diagnostics;
+pub mod fields;
 pub mod params;
 
 pub use crate::cutting::motion::ToolMotion;
@@ -28,7 +29,7 @@ use crate::backend::{
     Backend, Conduction, ContactInputs, FieldsMut, FieldsRef, FusedContact, FusedHeat, FusedPrepare, HeatInputs,
     PlasticPass, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields,
 };
-use crate::kernels::contact::{ContactParams, Tool2d, penalty::cap};
+use crate::kernels::contact::{ContactParams, Tool2d};
 use crate::kernels::neighbour::GridParams;
 use crate::kernels::sph::heat::{HeatParams, ThermalMaterial};
 use crate::kernels::sph::params::flags;
@@ -38,6 +39,7 @@ use crate::kernels::{Dim, Real, Vector};
 use crate::material::FlowModel;
 use crate::neighbour::CellList;
 use crate::state::{Field, HostParticles, Particles, ReorderBatch};
+use fields::When;
 
 /// Heat physics of a run.
 #[derive(Clone, Debug)]
@@ -234,7 +236,6 @@ pub struct Solver<B: Backend, R: Real, D: TensorOps<R>> {
     /// Scalars of the next steps (Δt, the tool), read by the step's kernels.
     scalars: B::Buf<StepScalars>,
     host_scalars: Vec<StepScalars>,
-    batch: ReorderBatch,
     /// Captured batches of GRAPH_STEPS steps, by the address of the position buffer they start from.
     graphs: Vec<(u64, B::Graph)>,
     /// Steps run one by one so far (the first uploads the reorder tables a capture needs).
@@ -371,7 +372,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                 g.stencil = 3;
                 // PSE reaches beyond the Verlet list: it walks the stencil.
                 g.list_capacity = 0;
-                let conducting = t.conduction.is_some();
+                let conducting = When::Conduction.holds(setup);
                 Some(ThermalState {
                     temp0: if conducting { Some(Field::upload(b, &zeros_f, "temperature")?) } else { None },
                     temp_t: if conducting { Some(b.alloc(n, "temperature rate")?) } else { None },
@@ -398,7 +399,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                 if D::D != 2 {
                     return Err(crate::Error::Scene("the parametric tool is 2D only".into()));
                 }
-                let current = c.params.cap_mode == cap::CURRENT;
+                let current = When::CurrentCap.holds(setup);
                 if current && setup.plastic.is_none() {
                     return Err(crate::Error::Scene("the current-yield friction cap needs plasticity".into()));
                 }
@@ -412,7 +413,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                     normal: Field::upload(b, &zeros_v, "contact forces")?,
                     friction: Field::upload(b, &zeros_v, "friction forces")?,
                     yield_stress: if current { Some(b.alloc(n, "yield stress")?) } else { None },
-                    wear: if c.wear { Some(b.alloc(n, "wear rate")?) } else { None },
+                    wear: if When::Wear.holds(setup) { Some(b.alloc(n, "wear rate")?) } else { None },
                     tool_velocity_index: c.tool_velocity_index,
                     heating: c.params.heat_fraction > 0.0,
                     nominal_dt: setup.dt,
@@ -421,7 +422,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             }
             None => None,
         };
-        let mech_mass = if particles.flags.iter().any(|f| f & flags::THERMAL_ONLY != 0) {
+        let mech_mass = if When::ThermalOnly.holds(setup) {
             let m: Vec<R> = particles
                 .mass
                 .iter()
@@ -450,8 +451,8 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                 stress: Field::upload(b, &zeros_s, "start-of-step state")?,
             },
             sig: b.alloc(n, "stress over density squared")?,
-            art: if stab.stress { Some(b.alloc(n, "artificial stress")?) } else { None },
-            sound: if stab.viscosity { Some(b.alloc(n, "sound speed")?) } else { None },
+            art: if When::ArtificialStress.holds(setup) { Some(b.alloc(n, "artificial stress")?) } else { None },
+            sound: if When::Viscosity.holds(setup) { Some(b.alloc(n, "sound speed")?) } else { None },
             vol: b.alloc(n, "particle volume")?,
             cells: CellList::new(b, setup.grid, n)?,
             pos_ref: b.alloc(n, "cell-list reference positions")?,
@@ -468,7 +469,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             plastic,
             contact,
             mech_mass,
-            dissipation: if stab.viscosity {
+            dissipation: if When::Viscosity.holds(setup) {
                 Some((Field::upload(b, &zeros_f, "viscous dissipation")?, b.alloc(n, "viscous dissipation rate")?))
             } else {
                 None
@@ -477,7 +478,6 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             stab,
             scalars: b.alloc(GRAPH_STEPS, "step scalars")?,
             host_scalars: vec![StepScalars::default(); GRAPH_STEPS],
-            batch: ReorderBatch::default(),
             graphs: Vec::new(),
             plain_steps: 0,
             use_graphs: std::env::var("SWARF_NO_GRAPHS").map_or(true, |v| v != "1"),
@@ -677,38 +677,11 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                 self.cells.rebuild::<R, D>(b, &p.pos.cur, ScalarsAt { buf: &self.scalars, index: j })?;
             }
             Phase::Reorder => {
-                let batch = &mut self.batch;
-                p.stage(b, batch);
-                s.pos.stage(b, batch);
-                s.vel.stage(b, batch);
-                s.rho.stage(b, batch);
-                s.stress.stage(b, batch);
-                if let Some(t) = self.temp.as_mut() {
-                    t.stage(b, batch);
-                }
-                if let Some(lo) = self.pos_lo.as_mut() {
-                    lo.stage(b, batch);
-                }
-                if let Some(t0) = self.thermal.as_mut().and_then(|th| th.temp0.as_mut()) {
-                    t0.stage(b, batch);
-                }
-                if let Some(pl) = self.plastic.as_mut() {
-                    pl.eps.stage(b, batch);
-                    pl.rate.stage(b, batch);
-                    pl.work.stage(b, batch);
-                }
-                if let Some(c) = self.contact.as_mut() {
-                    c.normal.stage(b, batch);
-                    c.friction.stage(b, batch);
-                }
-                if let Some(m) = self.mech_mass.as_mut() {
-                    m.stage(b, batch);
-                }
-                if let Some((d, _)) = self.dissipation.as_mut() {
-                    d.stage(b, batch);
-                }
+                // On the stack, fixed capacity: the step loop allocates nothing.
+                let mut batch = ReorderBatch::default();
+                self.stage_fields(b, &mut batch);
                 // The binned positions: the skin test's reference until the next rebuild.
-                batch.snapshot(b, &p.pos.cur, &mut self.pos_ref);
+                batch.snapshot(b, &self.particles.pos.cur, &mut self.pos_ref);
                 batch.run(b, n, &self.cells.perm, ScalarsAt { buf: &self.scalars, index: j })?;
                 self.cells.build_list::<R, D>(b, &self.pos_ref, Some(ScalarsAt { buf: &self.scalars, index: j }))?;
             }
@@ -1007,118 +980,35 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
 /// binned positions). Scratch buffers (pre-pass outputs, the cell list itself) are rebuilt and not included.
 pub type StateBlobs = Vec<(String, Vec<u8>)>;
 
-fn dump<B: Backend, T: crate::backend::Element>(
-    b: &B,
-    name: &str,
-    buf: &B::Buf<T>,
-    out: &mut StateBlobs,
-) -> Result<()> {
-    out.push((name.to_string(), bytemuck::cast_slice::<T, u8>(&b.read(buf)?).to_vec()));
-    Ok(())
-}
-
 impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
-    /// Copies of every stateful buffer, for a checkpoint.
+    /// Copies of every stateful buffer, for a checkpoint: the registry's checkpointed fields
+    /// ([`fields::FIELDS`]), in its order.
     pub fn save_state(&self, b: &B) -> Result<StateBlobs> {
         let mut o = Vec::new();
-        self.particles.save(b, &mut o)?;
-        dump(b, "pos0", &self.start.pos.cur, &mut o)?;
-        dump(b, "pos_ref", &self.pos_ref, &mut o)?;
-        dump(b, "vel0", &self.start.vel.cur, &mut o)?;
-        dump(b, "rho0", &self.start.rho.cur, &mut o)?;
-        dump(b, "stress0", &self.start.stress.cur, &mut o)?;
-        dump(b, "pos_t", &self.rates.pos, &mut o)?;
-        dump(b, "vel_t", &self.rates.vel, &mut o)?;
-        dump(b, "rho_t", &self.rates.rho, &mut o)?;
-        dump(b, "stress_t", &self.rates.stress, &mut o)?;
-        if let Some(t) = &self.temp {
-            dump(b, "temp", &t.cur, &mut o)?;
-        }
-        if let Some(lo) = &self.pos_lo {
-            dump(b, "pos_lo", &lo.cur, &mut o)?;
-        }
-        if let Some(th) = &self.thermal {
-            if let Some(t0) = &th.temp0 {
-                dump(b, "temp0", &t0.cur, &mut o)?;
-            }
-            if let Some(tt) = &th.temp_t {
-                dump(b, "temp_t", tt, &mut o)?;
-            }
-        }
-        if let Some(pl) = &self.plastic {
-            dump(b, "eps", &pl.eps.cur, &mut o)?;
-            dump(b, "eps_rate", &pl.rate.cur, &mut o)?;
-            dump(b, "plastic_work", &pl.work.cur, &mut o)?;
-        }
-        if let Some(c) = &self.contact {
-            dump(b, "contact_normal", &c.normal.cur, &mut o)?;
-            dump(b, "contact_friction", &c.friction.cur, &mut o)?;
-        }
-        if let Some(m) = &self.mech_mass {
-            dump(b, "mech_mass", &m.cur, &mut o)?;
-        }
-        if let Some((d, _)) = &self.dissipation {
-            dump(b, "viscous_dissipation", &d.cur, &mut o)?;
-        }
+        self.save_fields(b, &mut o)?;
         Ok(o)
     }
 
     /// Restores the buffers saved by [`Solver::save_state`] (the solver must have been built from the same scene).
     pub fn load_state(&mut self, b: &B, s: &StateBlobs) -> Result<()> {
-        self.particles.load(b, s)?;
-        crate::state::load_blob(b, "pos0", &mut self.start.pos.cur, s)?;
+        self.load_fields(b, s)?;
         // The cell list of the saved state: the particles are in the order of its last build, so building it
         // again on the binned positions gives the same cells and the identity permutation, and the run goes on
         // bit for bit. A state saved without them rebuilds at the next step.
         if s.iter().any(|(name, _)| name == "pos_ref") {
-            crate::state::load_blob(b, "pos_ref", &mut self.pos_ref, s)?;
             self.cells.build::<R, D>(b, &self.pos_ref)?;
             self.cells.build_list::<R, D>(b, &self.pos_ref, None)?;
             self.force_rebuild = false;
         } else {
             self.force_rebuild = true;
         }
-        crate::state::load_blob(b, "vel0", &mut self.start.vel.cur, s)?;
-        crate::state::load_blob(b, "rho0", &mut self.start.rho.cur, s)?;
-        crate::state::load_blob(b, "stress0", &mut self.start.stress.cur, s)?;
-        crate::state::load_blob(b, "pos_t", &mut self.rates.pos, s)?;
-        crate::state::load_blob(b, "vel_t", &mut self.rates.vel, s)?;
-        crate::state::load_blob(b, "rho_t", &mut self.rates.rho, s)?;
-        crate::state::load_blob(b, "stress_t", &mut self.rates.stress, s)?;
-        if let Some(t) = &mut self.temp {
-            crate::state::load_blob(b, "temp", &mut t.cur, s)?;
-        }
-        if let Some(lo) = &mut self.pos_lo {
-            crate::state::load_blob(b, "pos_lo", &mut lo.cur, s)?;
-        }
-        if let Some(th) = &mut self.thermal {
-            if let Some(t0) = &mut th.temp0 {
-                crate::state::load_blob(b, "temp0", &mut t0.cur, s)?;
-            }
-            if let Some(tt) = &mut th.temp_t {
-                crate::state::load_blob(b, "temp_t", tt, s)?;
-            }
-        }
-        if let Some(pl) = &mut self.plastic {
-            crate::state::load_blob(b, "eps", &mut pl.eps.cur, s)?;
-            crate::state::load_blob(b, "eps_rate", &mut pl.rate.cur, s)?;
-            crate::state::load_blob(b, "plastic_work", &mut pl.work.cur, s)?;
-        }
         if let Some(c) = &mut self.contact {
-            crate::state::load_blob(b, "contact_normal", &mut c.normal.cur, s)?;
-            crate::state::load_blob(b, "contact_friction", &mut c.friction.cur, s)?;
             // The ramp's table entry is rewritten by the next step while the ramp lasts; after it, it is final.
             if let Some(k) = c.tool_velocity_index {
                 let v = c.motion.velocity_at(self.time);
                 c.bc_table[k] = D::Vec::<R>::new([R::from_f64(v[0]), R::from_f64(v[1]), R::ZERO]);
                 b.write(&mut self.bc_vel, &c.bc_table)?;
             }
-        }
-        if let Some(m) = &mut self.mech_mass {
-            crate::state::load_blob(b, "mech_mass", &mut m.cur, s)?;
-        }
-        if let Some((d, _)) = &mut self.dissipation {
-            crate::state::load_blob(b, "viscous_dissipation", &mut d.cur, s)?;
         }
         Ok(())
     }
