@@ -22,7 +22,7 @@
 use super::{GRAPH_STEPS, Setup, Solver, StateBlobs};
 use crate::Result;
 use crate::backend::{Backend, SCAN_TILE};
-use crate::kernels::contact::{ContactParams, penalty::cap};
+use crate::kernels::contact::{ContactParams, Tool2d, penalty::cap};
 use crate::kernels::neighbour::GridParams;
 use crate::kernels::sph::heat::ThermalMaterial;
 use crate::kernels::sph::params::flags;
@@ -344,7 +344,7 @@ fn scan_words(n: usize) -> usize {
 
 /// Bytes of the solver's buffers that are not one entry per particle: the cell list's starts, scan workspace,
 /// rebuild counter and grid block, the Verlet list (rows of n words), the parameter blocks, the boundary-velocity
-/// table, the step scalars, and the thermal and contact blocks where modelled.
+/// table, the step scalars, and the thermal and contact blocks (the law's constants, the tool's shape) where modelled.
 pub fn fixed_bytes<R: Real, D: TensorOps<R>>(s: &Setup<R, D>) -> usize {
     let n = s.particles.len();
     let buckets = s.grid.n_cells as usize + 2;
@@ -353,7 +353,8 @@ pub fn fixed_bytes<R: Real, D: TensorOps<R>>(s: &Setup<R, D>) -> usize {
     let run = size_of::<SphParams<R>>() + table + GRAPH_STEPS * size_of::<StepScalars>();
     let thermal =
         s.thermal.as_ref().map_or(0, |t| t.materials.len() * size_of::<ThermalMaterial>() + size_of::<GridParams>());
-    let contact = if s.contact.is_some() { size_of::<ContactParams>() } else { 0 };
+    // The contact law's constants and the tool's shape, one block each.
+    let contact = if s.contact.is_some() { size_of::<ContactParams>() + size_of::<Tool2d>() } else { 0 };
     cells + run + thermal + contact
 }
 
