@@ -24,10 +24,9 @@ use std::path::Path;
 pub const FORCE_COLUMNS: &[&str] =
     &["time", "step", "fc_n_per_mm", "ff_n_per_mm", "contacts", "chip_thickness_um", "wear_rate_m_per_s", "tool_x"];
 
-/// The scalar results a cutting run adds to summary.json, with their units (the keys of [`CutAnalysis::json`]):
-/// the observables `swarf study` compares and `[experiment]` may give measured values for.
-pub const SUMMARY_OBSERVABLES: &[(&str, &str)] =
-    &[("fc_n_per_mm", "N/mm"), ("ff_n_per_mm", "N/mm"), ("chip_thickness_um", "µm"), ("segmentation", "-")];
+/// The scalar results a cutting run adds to summary.json (the keys of [`CutAnalysis::json`]): the observables
+/// `swarf study` compares and `[experiment]` may give measured values for; declared with the scene's observables.
+pub use crate::scene::observe::SUMMARY_OBSERVABLES;
 
 /// Largest relative drift of F_c over the steady part for the run to count as steady.
 pub const MAX_DRIFT: f64 = 0.1;

@@ -460,7 +460,7 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
 
     // [experiment]
     let experiment = match root.table("experiment", "experiment", "a table [experiment] of measured observables")? {
-        Some(t) => experiment(&t, &crate::study::observe::catalogue(dim, tool.is_some(), &bodies))?,
+        Some(t) => experiment(&t, &super::observe::catalogue(dim, tool.is_some(), &bodies))?,
         None => Vec::new(),
     };
 
@@ -484,7 +484,7 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
 
 /// The `[experiment]` table: each key names an observable of the scene (`catalogue`), each value is
 /// `{ value, uncertainty }` or a bare number.
-fn experiment(t: &Tab<'_>, catalogue: &[crate::study::observe::Observable]) -> Result<Vec<Measurement>> {
+fn experiment(t: &Tab<'_>, catalogue: &[super::observe::Observable]) -> Result<Vec<Measurement>> {
     let names: Vec<&str> = catalogue.iter().map(|o| o.name.as_str()).collect();
     t.check_keys(&names, &[], "")?;
     let value_expected = "a finite, non-zero measured value (errors are relative to it)";
