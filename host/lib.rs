@@ -13,6 +13,7 @@ pub mod error;
 pub mod grid;
 pub mod info;
 pub mod material;
+pub mod method;
 pub mod neighbour;
 pub mod output;
 pub mod plot;
@@ -23,6 +24,7 @@ pub mod scene;
 pub mod solver;
 pub mod state;
 pub mod study;
+pub mod tuning;
 
 pub use error::{Error, Result};
 pub use swarf_kernels as kernels;

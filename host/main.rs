@@ -253,9 +253,9 @@ fn run_bench<B: Backend>(b: &B, a: &BenchArgs, sizes: &[usize]) -> Result<()> {
         for &p in precs {
             for &k in &a.nbox {
                 let t = if p == Precision::F64 {
-                    bench::rings::<B, f64, Dim2>(b, &a.scene, k, a.steps, p)?
+                    bench::rings::<B, swarf::solver::Solver<B, f64, Dim2>>(b, &a.scene, k, a.steps, p)?
                 } else {
-                    bench::rings::<B, f32, Dim2>(b, &a.scene, k, a.steps, p)?
+                    bench::rings::<B, swarf::solver::Solver<B, f32, Dim2>>(b, &a.scene, k, a.steps, p)?
                 };
                 println!("{}", bench::rings_row(&t));
             }
