@@ -2,13 +2,11 @@
 //! the run will be: particles, h, c0, Δt, steps, the memory the backend needs, and the expected run time on this
 //! backend, measured by timing a few steps of the real solver.
 
+use crate::Result;
 use crate::backend::{AnyBackend, Backend};
-use crate::kernels::sph::TensorOps;
-use crate::kernels::{Dim2, Dim3, Real};
-use crate::run::setup;
+use crate::method::{Method, MethodFn};
 use crate::scene::{Precision, Scene};
-use crate::solver::Solver;
-use crate::{Result, with_backend};
+use crate::tuning::Tuning;
 use std::fmt::Write;
 
 /// What a scene will cost.
@@ -35,12 +33,7 @@ impl CheckReport {
     }
 }
 
-/// Bytes the solver allocates: every per-particle buffer of the field registry (`solver::fields::FIELDS`, spares
-/// included) and the buffers that are not per particle (cell starts, scan workspace, Verlet list, parameter
-/// blocks); equal to what the backend allocates (tests/fields.rs).
-pub fn memory_estimate<R: Real, D: TensorOps<R>>(s: &crate::solver::Setup<R, D>) -> usize {
-    crate::solver::fields::memory_bytes(s)
-}
+pub use crate::method::sph::memory_estimate;
 
 /// Refuses a run that cannot fit the GPU's memory, naming the bytes needed and available (the CPU backend uses
 /// host memory and is not checked).
@@ -53,41 +46,42 @@ pub fn fits(needed: usize, info: &crate::backend::DeviceInfo) -> Result<()> {
 
 pub fn check(any: &AnyBackend, scene: &Scene, precision: Option<Precision>, probe_steps: u64) -> Result<CheckReport> {
     let scene = &*scene.with_precision(precision);
-    with_backend!(any, b => match (scene.dim, scene.precision) {
-        (2, Precision::F32 | Precision::Mixed) => typed::<_, f32, Dim2>(b, scene, probe_steps),
-        (2, Precision::F64) => typed::<_, f64, Dim2>(b, scene, probe_steps),
-        (_, Precision::F32 | Precision::Mixed) => typed::<_, f32, Dim3>(b, scene, probe_steps),
-        (_, Precision::F64) => typed::<_, f64, Dim3>(b, scene, probe_steps),
-    })
+    crate::method::with_method(any, scene, Probe(probe_steps))
 }
 
-fn typed<B: Backend, R: Real, D: TensorOps<R>>(b: &B, scene: &Scene, probe_steps: u64) -> Result<CheckReport> {
-    let s = setup::<R, D>(scene)?;
-    let memory = memory_estimate(&s);
-    let info = b.info();
-    fits(memory, info)?;
-    let steps = (scene.time.end / s.dt).ceil() as u64;
-    let mut solver = Solver::<B, R, D>::new(b, &s)?;
-    solver.step(b, s.dt)?;
-    b.synchronize()?;
-    let probe = probe_steps.clamp(1, steps.max(1));
-    let t = std::time::Instant::now();
-    for _ in 0..probe {
-        solver.step(b, s.dt)?;
+/// `check` for [`crate::method::with_method`]: times this many steps after one warm-up step.
+struct Probe(u64);
+
+impl MethodFn for Probe {
+    type Out = CheckReport;
+    fn call<B: Backend, M: Method<B>>(self, b: &B, scene: &Scene) -> Result<CheckReport> {
+        let s = M::setup(scene, Tuning::current()?)?;
+        let plan = M::plan(&s);
+        let info = b.info();
+        fits(plan.memory_bytes, info)?;
+        let steps = (scene.time.end / plan.dt).ceil() as u64;
+        let mut method = M::new(b, &s)?;
+        method.step(b, plan.dt)?;
+        b.synchronize()?;
+        let probe = self.0.clamp(1, steps.max(1));
+        let t = std::time::Instant::now();
+        for _ in 0..probe {
+            method.step(b, plan.dt)?;
+        }
+        b.synchronize()?;
+        Ok(CheckReport {
+            particles: plan.particles,
+            h: plan.h,
+            c0: plan.c0,
+            dt: plan.dt,
+            steps,
+            memory_bytes: plan.memory_bytes,
+            seconds_per_step: t.elapsed().as_secs_f64() / probe as f64,
+            backend: format!("{} ({})", info.backend, info.name),
+            precision: plan.precision,
+            warnings: plan.warnings,
+        })
     }
-    b.synchronize()?;
-    Ok(CheckReport {
-        particles: s.particles.len(),
-        h: s.h,
-        c0: s.c0,
-        dt: s.dt,
-        steps,
-        memory_bytes: memory,
-        seconds_per_step: t.elapsed().as_secs_f64() / probe as f64,
-        backend: format!("{} ({})", info.backend, info.name),
-        precision: s.precision(),
-        warnings: s.warnings.clone(),
-    })
 }
 
 pub fn format(scene: &Scene, r: &CheckReport) -> String {

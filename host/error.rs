@@ -47,6 +47,9 @@ pub enum Error {
         "interrupted at t = {time:e} s, step {step}; checkpoint written to {path}; continue with `swarf run --resume {dir}`"
     )]
     Interrupted { time: f64, step: u64, path: String, dir: String },
+    /// A `SWARF_*` tuning switch with a value it does not accept (the message names it and what it accepts).
+    #[error("tuning switch: {0}")]
+    Tuning(#[from] crate::tuning::TuningError),
     #[error("{0}")]
     Io(#[from] std::io::Error),
 }

@@ -8,6 +8,8 @@ use std::fmt::Write;
 pub fn report(choice: BackendChoice, kernels: bool) -> Result<String> {
     let mut s = String::new();
     let _ = writeln!(s, "swarf {}", env!("CARGO_PKG_VERSION"));
+    // A bad switch is refused here too, naming the variable, before any backend is chosen.
+    let tuning = crate::tuning::Tuning::current()?;
     let (b, line) = AnyBackend::select(choice)?;
     let _ = writeln!(s, "{line}");
     let i = b.info();
@@ -36,6 +38,7 @@ pub fn report(choice: BackendChoice, kernels: bool) -> Result<String> {
         let _ = writeln!(s);
     }
     let _ = writeln!(s, "precisions:    f64 (reference), f32, mixed (f32 with compensated positions)");
+    let _ = writeln!(s, "tuning:        {}", tuning.line());
     if let AnyBackend::Cuda(c) = &b {
         // docs/architecture.md, "The rebuild in a conditional node".
         let _ = match c.conditional_rebuild() {

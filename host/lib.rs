@@ -15,6 +15,7 @@ pub mod grid;
 pub mod identify;
 pub mod info;
 pub mod material;
+pub mod method;
 pub mod neighbour;
 pub mod output;
 pub mod plot;
@@ -25,6 +26,7 @@ pub mod scene;
 pub mod solver;
 pub mod state;
 pub mod study;
+pub mod tuning;
 
 pub use error::{Error, Result};
 pub use swarf_kernels as kernels;

@@ -253,9 +253,9 @@ fn run_bench<B: Backend>(b: &B, a: &BenchArgs, sizes: &[usize]) -> Result<()> {
         for &p in precs {
             for &k in &a.nbox {
                 let t = if p == Precision::F64 {
-                    bench::rings::<B, f64, Dim2>(b, &a.scene, k, a.steps, p)?
+                    bench::rings::<B, swarf::solver::Solver<B, f64, Dim2>>(b, &a.scene, k, a.steps, p)?
                 } else {
-                    bench::rings::<B, f32, Dim2>(b, &a.scene, k, a.steps, p)?
+                    bench::rings::<B, swarf::solver::Solver<B, f32, Dim2>>(b, &a.scene, k, a.steps, p)?
                 };
                 println!("{}", bench::rings_row(&t));
             }
@@ -330,126 +330,9 @@ fn run(cli: Cli) -> Result<()> {
             print!("{}", swarf::info::report(cli.backend, kernels)?);
             Ok(())
         }
-        Cmd::Run(a) => {
-            let (scene, overrides, out) = match &a.resume {
-                Some(dir) => {
-                    let (sc, ov) = swarf::run::resume_scene(dir)?;
-                    (sc, ov, dir.clone())
-                }
-                None => {
-                    let path = a.scene.clone().unwrap_or_else(swarf::run::default_scene);
-                    let sc =
-                        swarf::scene::Scene::load(&path, &a.set).map_err(|e| swarf::Error::Scene(e.to_string()))?;
-                    let out = a.out.clone().unwrap_or_else(|| std::path::PathBuf::from("runs").join(&sc.name));
-                    (sc, a.set.clone(), out)
-                }
-            };
-            if let Some(c) = a.checkpoint_every
-                && !(c.is_finite() && c > 0.0)
-            {
-                eprintln!("error: --checkpoint-every {c}: expected a positive time in seconds");
-                std::process::exit(2);
-            }
-            let (any, line) = AnyBackend::select(cli.backend)?;
-            if !a.quiet {
-                eprintln!("{line}");
-            }
-            // Ctrl-C: checkpoint before the next step and stop; a second Ctrl-C stops at once.
-            on_interrupt();
-            let opts = swarf::run::RunOptions {
-                out_dir: out,
-                precision: a.precision.map(PrecisionChoice::precision),
-                frames: true,
-                hdf5: a.hdf5,
-                quiet: a.quiet,
-                verbose: a.verbose,
-                overrides,
-                checkpoint_every: a.checkpoint_every,
-                resume: a.resume.is_some(),
-            };
-            let r = swarf::run::run(&any, &scene, &opts)?;
-            if !a.quiet {
-                eprintln!(
-                    "done: {} particles, {} steps, {:.2} s wall ({:.3e} particle-steps/s), {} {}, output in {}",
-                    r.particles,
-                    r.steps,
-                    r.wall_s,
-                    r.particles as f64 * r.steps as f64 / r.wall_s.max(1e-9),
-                    r.backend,
-                    r.precision,
-                    opts.out_dir.display()
-                );
-            }
-            Ok(())
-        }
-        Cmd::Study(a) => {
-            let mut levels = Vec::new();
-            for l in &a.levels {
-                match swarf::study::Level::parse(l) {
-                    Ok(level) => levels.push(level),
-                    Err(e) => {
-                        eprintln!("error: --levels: {e}");
-                        std::process::exit(2);
-                    }
-                }
-            }
-            // Validate the scene (and name its output folder) before a backend is started.
-            let sc = swarf::scene::Scene::load(&a.scene, &a.set).map_err(|e| swarf::Error::Scene(e.to_string()))?;
-            let out =
-                a.out.clone().unwrap_or_else(|| std::path::PathBuf::from("runs").join(format!("study-{}", sc.name)));
-            let choices = if a.backends.is_empty() { vec![cli.backend] } else { a.backends.clone() };
-            let mut backends = Vec::new();
-            for c in choices {
-                let (any, line) = AnyBackend::select(c)?;
-                if !a.quiet {
-                    eprintln!("{line}");
-                }
-                backends.push(any);
-            }
-            on_interrupt();
-            let opts = swarf::study::StudyOptions {
-                scene: a.scene.clone(),
-                overrides: a.set.clone(),
-                levels,
-                precisions: a.precisions.iter().map(|p| p.precision()).collect(),
-                out_dir: out.clone(),
-                quiet: a.quiet,
-            };
-            swarf::study::study(&backends, &opts)?;
-            if !a.quiet {
-                eprintln!(
-                    "study: {} written in {}",
-                    [swarf::study::CSV, swarf::study::MARKDOWN, swarf::study::PNG].join(", "),
-                    out.display()
-                );
-            }
-            Ok(())
-        }
-        Cmd::Material { name, at, plot, library } => {
-            let lib = swarf::material::Library::load_dir(&library).map_err(|e| swarf::Error::Scene(e.to_string()))?;
-            let Some(name) = name else {
-                print!("{}", swarf::material::report::list(&lib));
-                return Ok(());
-            };
-            let m = lib.get(&name).map_err(|e| swarf::Error::Scene(e.to_string()))?;
-            let mut points = Vec::new();
-            for a in &at {
-                let v: Vec<f64> = a.split(',').filter_map(|x| x.trim().parse::<f64>().ok()).collect();
-                if v.len() != 3 || v[0] < 0.0 || v[1] < 0.0 || v[2] <= 0.0 {
-                    eprintln!(
-                        "error: --at {a}: expected STRAIN,RATE,TEMP with strain >= 0, rate >= 0 1/s, temperature > 0 K"
-                    );
-                    std::process::exit(2);
-                }
-                points.push([v[0], v[1], v[2]]);
-            }
-            print!("{}", swarf::material::report::describe(m, &points));
-            if let Some(p) = plot {
-                swarf::material::report::plot(m, &points, &p).map_err(swarf::Error::Output)?;
-                println!("wrote {}", p.display());
-            }
-            Ok(())
-        }
+        Cmd::Run(a) => cmd_run(cli.backend, &a),
+        Cmd::Study(a) => cmd_study(cli.backend, &a),
+        Cmd::Material { name, at, plot, library } => cmd_material(name, &at, plot, &library),
         Cmd::Check { scene, precision, set } => {
             let sc = swarf::scene::Scene::load(&scene, &set).map_err(|e| swarf::Error::Scene(e.to_string()))?;
             let (any, line) = AnyBackend::select(cli.backend)?;
@@ -487,4 +370,131 @@ fn run(cli: Cli) -> Result<()> {
             with_backend!(&any, b => run_bench(b, &a, &sizes))
         }
     }
+}
+
+/// `swarf run`: a scene (or a run folder to resume) into its output folder.
+fn cmd_run(backend: BackendChoice, a: &RunArgs) -> Result<()> {
+    let (scene, overrides, out) = match &a.resume {
+        Some(dir) => {
+            let (sc, ov) = swarf::run::resume_scene(dir)?;
+            (sc, ov, dir.clone())
+        }
+        None => {
+            let path = a.scene.clone().unwrap_or_else(swarf::run::default_scene);
+            let sc = swarf::scene::Scene::load(&path, &a.set).map_err(|e| swarf::Error::Scene(e.to_string()))?;
+            let out = a.out.clone().unwrap_or_else(|| std::path::PathBuf::from("runs").join(&sc.name));
+            (sc, a.set.clone(), out)
+        }
+    };
+    if let Some(c) = a.checkpoint_every
+        && !(c.is_finite() && c > 0.0)
+    {
+        eprintln!("error: --checkpoint-every {c}: expected a positive time in seconds");
+        std::process::exit(2);
+    }
+    let (any, line) = AnyBackend::select(backend)?;
+    if !a.quiet {
+        eprintln!("{line}");
+    }
+    // Ctrl-C: checkpoint before the next step and stop; a second Ctrl-C stops at once.
+    on_interrupt();
+    let opts = swarf::run::RunOptions {
+        out_dir: out,
+        precision: a.precision.map(PrecisionChoice::precision),
+        frames: true,
+        hdf5: a.hdf5,
+        quiet: a.quiet,
+        verbose: a.verbose,
+        overrides,
+        checkpoint_every: a.checkpoint_every,
+        resume: a.resume.is_some(),
+    };
+    let r = swarf::run::run(&any, &scene, &opts)?;
+    if !a.quiet {
+        eprintln!(
+            "done: {} particles, {} steps, {:.2} s wall ({:.3e} particle-steps/s), {} {}, output in {}",
+            r.particles,
+            r.steps,
+            r.wall_s,
+            r.particles as f64 * r.steps as f64 / r.wall_s.max(1e-9),
+            r.backend,
+            r.precision,
+            opts.out_dir.display()
+        );
+    }
+    Ok(())
+}
+
+/// `swarf study`: the scene at several resolutions, precisions and backends.
+fn cmd_study(backend: BackendChoice, a: &StudyArgs) -> Result<()> {
+    let mut levels = Vec::new();
+    for l in &a.levels {
+        match swarf::study::Level::parse(l) {
+            Ok(level) => levels.push(level),
+            Err(e) => {
+                eprintln!("error: --levels: {e}");
+                std::process::exit(2);
+            }
+        }
+    }
+    // Validate the scene (and name its output folder) before a backend is started.
+    let sc = swarf::scene::Scene::load(&a.scene, &a.set).map_err(|e| swarf::Error::Scene(e.to_string()))?;
+    let out = a.out.clone().unwrap_or_else(|| std::path::PathBuf::from("runs").join(format!("study-{}", sc.name)));
+    let choices = if a.backends.is_empty() { vec![backend] } else { a.backends.clone() };
+    let mut backends = Vec::new();
+    for c in choices {
+        let (any, line) = AnyBackend::select(c)?;
+        if !a.quiet {
+            eprintln!("{line}");
+        }
+        backends.push(any);
+    }
+    on_interrupt();
+    let opts = swarf::study::StudyOptions {
+        scene: a.scene.clone(),
+        overrides: a.set.clone(),
+        levels,
+        precisions: a.precisions.iter().map(|p| p.precision()).collect(),
+        out_dir: out.clone(),
+        quiet: a.quiet,
+    };
+    swarf::study::study(&backends, &opts)?;
+    if !a.quiet {
+        eprintln!(
+            "study: {} written in {}",
+            [swarf::study::CSV, swarf::study::MARKDOWN, swarf::study::PNG].join(", "),
+            out.display()
+        );
+    }
+    Ok(())
+}
+
+/// `swarf material`: the library, or one material's flow stress at given points and its curves.
+fn cmd_material(
+    name: Option<String>,
+    at: &[String],
+    plot: Option<std::path::PathBuf>,
+    library: &std::path::Path,
+) -> Result<()> {
+    let lib = swarf::material::Library::load_dir(library).map_err(|e| swarf::Error::Scene(e.to_string()))?;
+    let Some(name) = name else {
+        print!("{}", swarf::material::report::list(&lib));
+        return Ok(());
+    };
+    let m = lib.get(&name).map_err(|e| swarf::Error::Scene(e.to_string()))?;
+    let mut points = Vec::new();
+    for a in at {
+        let v: Vec<f64> = a.split(',').filter_map(|x| x.trim().parse::<f64>().ok()).collect();
+        if v.len() != 3 || v[0] < 0.0 || v[1] < 0.0 || v[2] <= 0.0 {
+            eprintln!("error: --at {a}: expected STRAIN,RATE,TEMP with strain >= 0, rate >= 0 1/s, temperature > 0 K");
+            std::process::exit(2);
+        }
+        points.push([v[0], v[1], v[2]]);
+    }
+    print!("{}", swarf::material::report::describe(m, &points));
+    if let Some(p) = plot {
+        swarf::material::report::plot(m, &points, &p).map_err(swarf::Error::Output)?;
+        println!("wrote {}", p.display());
+    }
+    Ok(())
 }

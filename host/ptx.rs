@@ -11,7 +11,7 @@ pub fn targets() -> Vec<&'static str> {
 /// one named by `SWARF_PTX_TARGET`; with `fast`, its `-fast` build (the f32 LLVM flags; `swarf --fast-math`).
 pub fn select(cc_major: i32, cc_minor: i32, fast: bool) -> Option<(&'static str, &'static str)> {
     let suffix = if fast { "-fast" } else { "" };
-    if let Ok(forced) = std::env::var("SWARF_PTX_TARGET") {
+    if let Some(forced) = crate::tuning::Tuning::current().ok().and_then(|t| t.ptx_target.as_deref()) {
         let want = format!("{}{suffix}", forced.trim_end_matches("-fast"));
         return PTX.iter().find(|(t, _)| *t == want).copied();
     }
@@ -27,5 +27,5 @@ pub fn select(cc_major: i32, cc_minor: i32, fast: bool) -> Option<(&'static str,
 
 /// Whether this process loads the `-fast` PTX: `swarf --fast-math`, or `SWARF_FAST_MATH=1`.
 pub fn fast_math() -> bool {
-    std::env::var("SWARF_FAST_MATH").is_ok_and(|v| v == "1")
+    crate::tuning::Tuning::current().is_ok_and(|t| t.fast_math)
 }

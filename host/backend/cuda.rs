@@ -229,32 +229,12 @@ pub struct CudaBackend {
 /// list"). Smaller blocks let the multiprocessors take the last blocks of the launch in finer pieces.
 const PAIR_BLOCK: u32 = 64;
 
-/// A block size from the environment variable `var` (`default` when unset), checked by [`check_block`].
-fn block_from_env(var: &str, default: u32) -> Result<u32> {
-    match std::env::var(var) {
-        Err(_) => Ok(default),
-        Ok(v) => v.trim().parse::<u32>().map_err(|_| bad_block(var, &v)).and_then(|b| check_block(var, b)),
-    }
-}
-
 /// Whether the pair interaction and the plastic corrector take their blocks in reverse order by default
 /// (`ptx::ordered_index`). Measured inside the 150k reference cut on an H200 (docs/performance.md, "Block order"):
 /// the interaction reversed 0.1270–0.1273 ms against 0.1298–0.1306 forward, the step −1.0 %, nothing at t = 0
 /// or at 6k; the corrector reversed −0.2 % (noise), so it stays forward.
 const PAIR_REVERSE: bool = true;
 const PLASTIC_REVERSE: bool = false;
-
-/// A block order from the environment variable `var` ("forward" or "reverse"; `default` when unset): 1 for reverse.
-fn order_from_env(var: &str, default: bool) -> Result<u32> {
-    match std::env::var(var) {
-        Err(_) => Ok(default as u32),
-        Ok(v) => match v.trim() {
-            "forward" => Ok(0),
-            "reverse" => Ok(1),
-            other => Err(Error::GpuUnavailable(format!("{var} = {other}: expected \"forward\" or \"reverse\""))),
-        },
-    }
-}
 
 /// `block` if it is a multiple of 32 from 32 to 1024 (whole warps: the lanes of a particle stay in one), else an
 /// error naming `what`.
@@ -366,6 +346,7 @@ impl CudaBackend {
         // A stream of its own: the legacy default stream cannot be captured into a graph.
         let stream = ctx.new_stream().map_err(cuda("cuStreamCreate"))?;
         let cc = ctx.compute_capability().map_err(cuda("compute capability"))?;
+        let tuning = crate::tuning::Tuning::current()?;
         let fast = crate::ptx::fast_math();
         let (target, ptx) = crate::ptx::select(cc.0, cc.1, fast).ok_or_else(|| {
             Error::GpuUnavailable(format!(
@@ -375,8 +356,7 @@ impl CudaBackend {
                 crate::ptx::targets()
             ))
         })?;
-        let env = |k: &str| std::env::var(k).ok().and_then(|v| v.parse::<u32>().ok());
-        let ptx = register_caps(ptx, env("SWARF_MAXNREG"), env("SWARF_PLASTIC_MAXNREG"));
+        let ptx = register_caps(ptx, tuning.maxnreg, tuning.plastic_maxnreg);
         let mut driver = 0i32;
         // SAFETY: plain query into a local.
         unsafe { cudarc::driver::sys::cuDriverGetVersion(&mut driver) };
@@ -445,7 +425,7 @@ impl CudaBackend {
                 .map_err(cuda("multiprocessor count"))? as usize,
             ptx_target: Some(target),
         };
-        let no_conditional = std::env::var("SWARF_NO_CONDITIONAL").is_ok_and(|v| v == "1");
+        let no_conditional = tuning.no_conditional;
         Ok(CudaBackend {
             conditional,
             use_conditional: AtomicBool::new(!no_conditional),
@@ -457,10 +437,11 @@ impl CudaBackend {
             info,
             gather_tables: Mutex::new(HashMap::new()),
             capturing: AtomicBool::new(false),
-            pair_block: block_from_env("SWARF_PAIR_BLOCK", PAIR_BLOCK)?,
-            plastic_block: block_from_env("SWARF_PLASTIC_BLOCK", BLOCK)?,
-            pair_reverse: order_from_env("SWARF_PAIR_ORDER", PAIR_REVERSE)?,
-            plastic_reverse: order_from_env("SWARF_PLASTIC_ORDER", PLASTIC_REVERSE)?,
+            pair_block: tuning.pair_block.unwrap_or(PAIR_BLOCK),
+            plastic_block: tuning.plastic_block.unwrap_or(BLOCK),
+            pair_reverse: tuning.pair_order.map_or(PAIR_REVERSE, |o| o == crate::tuning::Order::Reverse) as u32,
+            plastic_reverse: tuning.plastic_order.map_or(PLASTIC_REVERSE, |o| o == crate::tuning::Order::Reverse)
+                as u32,
         })
     }
 

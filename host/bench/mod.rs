@@ -187,7 +187,7 @@ pub struct RingsTimes {
 
 /// Rubber rings with nbox lattice points per ring side (N = 4232 at nbox = 80): `steps` steps, or the whole run
 /// when `steps` is None. Timed from the first step (after setup and upload) to the end of the last.
-pub fn rings<B: Backend, R: Real, D: crate::kernels::sph::TensorOps<R>>(
+pub fn rings<B: Backend, M: crate::method::Method<B>>(
     b: &B,
     scene_path: &std::path::Path,
     nbox: usize,
@@ -198,23 +198,24 @@ pub fn rings<B: Backend, R: Real, D: crate::kernels::sph::TensorOps<R>>(
     let mut scene = crate::scene::Scene::load(scene_path, &[format!("discretisation.dx={dx:e}")])
         .map_err(|e| crate::Error::Scene(e.to_string()))?;
     scene.precision = precision;
-    let s = crate::run::setup::<R, D>(&scene)?;
-    let mut sv = crate::solver::Solver::<B, R, D>::new(b, &s)?;
-    let steps_total = (scene.time.end / s.dt).ceil() as u64;
+    let s = M::setup(&scene, crate::tuning::Tuning::current()?)?;
+    let plan = M::plan(&s);
+    let mut sv = M::new(b, &s)?;
+    let steps_total = (scene.time.end / plan.dt).ceil() as u64;
     let run = steps.unwrap_or(steps_total).min(steps_total).max(1);
     // One warm-up step (module JIT, first allocations of the driver) outside the timing.
-    sv.step(b, s.dt)?;
+    sv.step(b, plan.dt)?;
     b.synchronize()?;
     let t = std::time::Instant::now();
-    sv.advance(b, s.dt, (run - 1) as usize)?;
+    sv.advance(b, plan.dt, (run - 1) as usize)?;
     b.synchronize()?;
     let wall = t.elapsed().as_secs_f64();
     let ms = wall * 1e3 / (run - 1).max(1) as f64;
     let measured = run == steps_total;
     Ok(RingsTimes {
         nbox,
-        n: s.particles.len(),
-        precision: s.precision(),
+        n: plan.particles,
+        precision: plan.precision,
         steps_total,
         steps_run: run,
         ms_per_step: ms,

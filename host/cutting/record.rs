@@ -10,13 +10,9 @@
 
 use super::chip::{ChipGeometry, Station, chip_geometry, chip_thickness};
 use super::steady::{Steady, detect, mean_from};
-use crate::backend::Backend;
 use crate::kernels::contact::Tool2d;
-use crate::kernels::sph::TensorOps;
-use crate::kernels::{Real, Vector};
 use crate::output::TimeSeries;
 use crate::scene::Scene;
-use crate::solver::Solver;
 use crate::{Error, Result};
 use std::path::Path;
 
@@ -24,16 +20,32 @@ use std::path::Path;
 pub const FORCE_COLUMNS: &[&str] =
     &["time", "step", "fc_n_per_mm", "ff_n_per_mm", "contacts", "chip_thickness_um", "wear_rate_m_per_s", "tool_x"];
 
-/// The scalar results a cutting run adds to summary.json, with their units (the keys of [`CutAnalysis::json`]):
-/// the observables `swarf study` compares and `[experiment]` may give measured values for.
-pub const SUMMARY_OBSERVABLES: &[(&str, &str)] =
-    &[("fc_n_per_mm", "N/mm"), ("ff_n_per_mm", "N/mm"), ("chip_thickness_um", "µm"), ("segmentation", "-")];
+/// The scalar results a cutting run adds to summary.json (the keys of [`CutAnalysis::json`]): the observables
+/// `swarf study` compares and `[experiment]` may give measured values for; declared with the scene's observables.
+pub use crate::scene::observe::SUMMARY_OBSERVABLES;
 
 /// Largest relative drift of F_c over the steady part for the run to count as steady.
 pub const MAX_DRIFT: f64 = 0.1;
 
 /// Samples per output interval.
 pub const SAMPLES_PER_OUTPUT: f64 = 10.0;
+
+/// The tool's state at one instant, for the cutting record: the force of the tool on the workpiece, its contact
+/// statistics, where the tool's frame origin is, and the workpiece's positions (2D, f64).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ToolSample {
+    pub time: f64,
+    pub steps: u64,
+    /// Σ (f_c + f_t) over the particles [N per m of depth in 2D; z = 0 there].
+    pub force: [f64; 3],
+    pub contacts: usize,
+    /// Mean Usui wear rate over the contacting particles [m/s] (NaN when wear is off or nothing touches).
+    pub wear_rate: f64,
+    /// The tool's translation (z = 0 in 2D).
+    pub offset: [f64; 3],
+    /// The mechanical (not thermal-only) particles' positions.
+    pub workpiece: Vec<[f64; 2]>,
+}
 
 pub struct CutRecorder {
     pub series: TimeSeries,
@@ -91,26 +103,17 @@ impl CutRecorder {
         self.next
     }
 
-    /// Takes a sample of the solver's state.
-    pub fn sample<B: Backend, R: Real, D: TensorOps<R>>(&mut self, b: &B, s: &Solver<B, R, D>) -> Result<()> {
-        let Some(c) = s.contact_sample(b)? else { return Ok(()) };
-        let offset = s.tool_offset().unwrap_or([0.0; 3]);
-        let (pos, fl) = s.positions(b)?;
+    /// Takes a sample of the tool's state (`method::Method::tool_sample`).
+    pub fn sample(&mut self, c: &ToolSample) -> Result<()> {
+        let offset = c.offset;
         let mut st = self.station;
         st.rake_point = [st.rake_point[0] + offset[0], st.rake_point[1] + offset[1]];
-        let only_thermal = crate::kernels::sph::params::flags::THERMAL_ONLY;
-        let h = chip_thickness(
-            &st,
-            pos.iter()
-                .zip(&fl)
-                .filter(|(_, f)| **f & only_thermal == 0)
-                .map(|(p, _)| [p.get(0).to_f64(), p.get(1).to_f64()]),
-        );
+        let h = chip_thickness(&st, c.workpiece.iter().copied());
         let fc = 1e-3 * (c.force[0] * self.dir[0] + c.force[1] * self.dir[1]);
         let ff = 0.0 - 1e-3 * (c.force[0] * self.up[0] + c.force[1] * self.up[1]);
         self.push(&[
-            s.time,
-            s.steps as f64,
+            c.time,
+            c.steps as f64,
             fc,
             ff,
             c.contacts as f64,

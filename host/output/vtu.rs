@@ -358,56 +358,7 @@ fn parse(bytes: &[u8]) -> Result<ReadFrame, String> {
         .ok_or("no '_' at the start of the appended data")?;
     let data = &bytes[underscore + 1..];
 
-    let mut section: Option<&str> = None;
-    let mut counts: Option<(usize, usize)> = None;
-    let mut vtk_file = false;
-    let mut decls = Vec::new();
-    for tag in tags(header)? {
-        match tag.name {
-            "VTKFile" if !tag.closing => {
-                let expect = [("type", "UnstructuredGrid"), ("byte_order", "LittleEndian"), ("header_type", "UInt64")];
-                for (key, value) in expect {
-                    if tag.attr(key) != Some(value) {
-                        return Err(format!("<VTKFile> {key} is {:?}, expected \"{value}\"", tag.attr(key)));
-                    }
-                }
-                vtk_file = true;
-            }
-            "Piece" if !tag.closing => {
-                if counts.is_some() {
-                    return Err("more than one <Piece>".into());
-                }
-                let points = number(tag.attr("NumberOfPoints"), "NumberOfPoints")?;
-                counts = Some((points, number(tag.attr("NumberOfCells"), "NumberOfCells")?));
-            }
-            s if SECTIONS.contains(&s) => section = (!tag.closing && !tag.self_closing).then_some(s),
-            "DataArray" if !tag.closing => {
-                let section = section.ok_or("<DataArray> outside FieldData, PointData, Points or Cells")?;
-                if tag.attr("format") != Some("appended") {
-                    return Err(format!("<DataArray> format {:?}, expected \"appended\"", tag.attr("format")));
-                }
-                let name = tag.attr("Name").unwrap_or("");
-                decls.push(Decl {
-                    section,
-                    ty: tag.attr("type").ok_or("<DataArray> without type")?,
-                    name: unescape_attr(name).ok_or_else(|| format!("bad character reference in name {name:?}"))?,
-                    components: match tag.attr("NumberOfComponents") {
-                        Some(c) => number(Some(c), "NumberOfComponents")?,
-                        None => 1,
-                    },
-                    offset: number(tag.attr("offset"), "offset")?,
-                });
-            }
-            _ => {}
-        }
-    }
-    if !vtk_file {
-        return Err("no <VTKFile> element".into());
-    }
-    let (n, cells) = counts.ok_or("no <Piece>")?;
-    if cells != n {
-        return Err(format!("{cells} cells for {n} points; expected one vertex per point"));
-    }
+    let (n, decls) = declarations(header)?;
 
     let mut end = 0; // end of the last block, to check what follows the data
     let mut block = |offset: usize| -> Result<&[u8], String> {
@@ -494,6 +445,62 @@ fn parse(bytes: &[u8]) -> Result<ReadFrame, String> {
         return Err("the file does not end with </VTKFile> after the data".into());
     }
     Ok(ReadFrame { n, time, points: points.ok_or("no <Points> array")?, point_data, field_data })
+}
+
+/// The XML header's checks (an UnstructuredGrid, little-endian, 64-bit headers, one piece of vertex cells) and its
+/// points count and `<DataArray>` declarations, in order.
+fn declarations(header: &str) -> Result<(usize, Vec<Decl<'_>>), String> {
+    let mut section: Option<&str> = None;
+    let mut counts: Option<(usize, usize)> = None;
+    let mut vtk_file = false;
+    let mut decls = Vec::new();
+    for tag in tags(header)? {
+        match tag.name {
+            "VTKFile" if !tag.closing => {
+                let expect = [("type", "UnstructuredGrid"), ("byte_order", "LittleEndian"), ("header_type", "UInt64")];
+                for (key, value) in expect {
+                    if tag.attr(key) != Some(value) {
+                        return Err(format!("<VTKFile> {key} is {:?}, expected \"{value}\"", tag.attr(key)));
+                    }
+                }
+                vtk_file = true;
+            }
+            "Piece" if !tag.closing => {
+                if counts.is_some() {
+                    return Err("more than one <Piece>".into());
+                }
+                let points = number(tag.attr("NumberOfPoints"), "NumberOfPoints")?;
+                counts = Some((points, number(tag.attr("NumberOfCells"), "NumberOfCells")?));
+            }
+            s if SECTIONS.contains(&s) => section = (!tag.closing && !tag.self_closing).then_some(s),
+            "DataArray" if !tag.closing => {
+                let section = section.ok_or("<DataArray> outside FieldData, PointData, Points or Cells")?;
+                if tag.attr("format") != Some("appended") {
+                    return Err(format!("<DataArray> format {:?}, expected \"appended\"", tag.attr("format")));
+                }
+                let name = tag.attr("Name").unwrap_or("");
+                decls.push(Decl {
+                    section,
+                    ty: tag.attr("type").ok_or("<DataArray> without type")?,
+                    name: unescape_attr(name).ok_or_else(|| format!("bad character reference in name {name:?}"))?,
+                    components: match tag.attr("NumberOfComponents") {
+                        Some(c) => number(Some(c), "NumberOfComponents")?,
+                        None => 1,
+                    },
+                    offset: number(tag.attr("offset"), "offset")?,
+                });
+            }
+            _ => {}
+        }
+    }
+    if !vtk_file {
+        return Err("no <VTKFile> element".into());
+    }
+    let (n, cells) = counts.ok_or("no <Piece>")?;
+    if cells != n {
+        return Err(format!("{cells} cells for {n} points; expected one vertex per point"));
+    }
+    Ok((n, decls))
 }
 
 fn number(value: Option<&str>, what: &str) -> Result<usize, String> {

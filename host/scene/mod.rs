@@ -36,6 +36,7 @@
 mod doc;
 mod error;
 mod generate;
+pub mod observe;
 mod read;
 
 use std::fmt::Write as _;
@@ -85,7 +86,7 @@ pub struct Scene {
     pub physics: Physics,
     /// `[tool]` (optional, 2D): a rigid cutting tool with penalty contact and friction.
     pub tool: Option<Tool>,
-    /// `[experiment]` (optional): measured values of the scene's observables ([`crate::study::observe`]), the
+    /// `[experiment]` (optional): measured values of the scene's observables ([`observe`]), the
     /// reference `swarf study` reports its error against; in the order of the scene's observables.
     pub experiment: Vec<Measurement>,
 }

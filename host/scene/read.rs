@@ -208,6 +208,71 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
     let verlet_list = disc.boolean("verlet_list", "true or false")?.unwrap_or(true);
 
     // [material]
+    let material = material(&root, doc)?;
+
+    // [physics]
+    let physics = physics(&root, &material)?;
+
+    // [[body]]
+    let bodies = bodies(&root, &disc, (dim, dx), &material, &physics)?;
+
+    // [[boundary]]
+    let boundaries = boundaries(&root, dim, &bodies)?;
+
+    // [stabilisation]
+    let stabilisation = stabilisation(&root)?;
+
+    // [time]
+    let time_expected = "a table [time] with end (and cfl, dt)";
+    let t = root.required("time", time_expected, root.table("time", "time", time_expected)?)?;
+    t.check_keys(&["end", "cfl", "dt"], &[], "")?;
+    let e = "a positive time in seconds";
+    let end = t.required("end", e, t.number("end", e, positive)?)?;
+    let cfl = t.number("cfl", "a CFL number in (0, 1]", |x| x > 0.0 && x <= 1.0)?.unwrap_or(0.5);
+    let dt = t.number("dt", "a positive time step in seconds", positive)?;
+    let time = Time { end, cfl, dt };
+
+    // [output]
+    let mut output = Output { every: end / 50.0 };
+    if let Some(o) = root.table("output", "output", "a table [output] with every")? {
+        o.check_keys(&["every"], &[], "")?;
+        if let Some(every) = o.number("every", "a positive time in seconds", positive)? {
+            output.every = every;
+        }
+    }
+
+    // [tool]
+    let tool = match root.table("tool", "tool", "a table [tool]")? {
+        Some(t) => Some(tool(&t, doc, dim, dx, &physics, &bodies)?),
+        None => None,
+    };
+
+    // [experiment]
+    let experiment = match root.table("experiment", "experiment", "a table [experiment] of measured observables")? {
+        Some(t) => experiment(&t, &super::observe::catalogue(dim, tool.is_some(), &bodies))?,
+        None => Vec::new(),
+    };
+
+    Ok(Scene {
+        origin: doc.file.clone(),
+        name: name.to_string(),
+        dim,
+        precision,
+        discretisation: Discretisation { dx, h_over_dx, skin_over_h, verlet_list },
+        material,
+        bodies,
+        boundaries,
+        stabilisation,
+        time,
+        output,
+        physics,
+        tool,
+        experiment,
+    })
+}
+
+/// `[material]`: a library material and/or the elastic constants (the library's where not given).
+fn material(root: &Tab<'_>, doc: &Doc) -> Result<Material> {
     let mat_expected = "a table [material] with a library name and/or density, youngs_modulus and poisson_ratio";
     let mat = root.required("material", mat_expected, root.table("material", "material", mat_expected)?)?;
     mat.check_keys(&["name", "density", "youngs_modulus", "poisson_ratio"], &[], "")?;
@@ -256,9 +321,12 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
             None => mat.required("poisson_ratio", e, None)?,
         },
     };
-    let material = Material { library, density, youngs_modulus, poisson_ratio };
+    Ok(Material { library, density, youngs_modulus, poisson_ratio })
+}
 
-    // [physics]
+/// `[physics]`, with the defaults the material gives (plasticity where it has a flow-stress model, heating where
+/// it also has a specific heat).
+fn physics(root: &Tab<'_>, material: &Material) -> Result<Physics> {
     let lib = material.library.as_ref();
     let thermal = lib.and_then(|m| m.thermal);
     let has_flow = lib.is_some_and(|m| m.flow_stress.is_some());
@@ -332,8 +400,20 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
     if !physics.plasticity {
         physics.plastic_heating = false;
     }
+    Ok(physics)
+}
 
-    // [[body]]
+/// `[[body]]`: one or more bodies, each checked against the scene material and the conduction, and their lattice
+/// points against the limit (an error at `disc`'s dx).
+fn bodies(
+    root: &Tab<'_>,
+    disc: &Tab<'_>,
+    dims: (usize, f64),
+    material: &Material,
+    physics: &Physics,
+) -> Result<Vec<Body>> {
+    let (dim, dx) = dims;
+    let doc = root.doc;
     let body_expected = "one or more [[body]] tables";
     let body_tables = root.tables("body", body_expected)?;
     if body_tables.is_empty() {
@@ -383,17 +463,24 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
             ),
         ));
     }
+    Ok(bodies)
+}
 
-    // [[boundary]]
+/// `[[boundary]]`: the boundary conditions, on the bodies they name.
+fn boundaries(root: &Tab<'_>, dim: usize, bodies: &[Body]) -> Result<Vec<Boundary>> {
+    let doc = root.doc;
     let boundary_tables = root.tables("boundary", "[[boundary]] tables")?;
     let boundary_paths: Vec<String> = (0..boundary_tables.len()).map(|i| format!("boundary.{i}")).collect();
     let mut boundaries = Vec::new();
     for (i, &(node, entries)) in boundary_tables.iter().enumerate() {
         let t = Tab { doc, path: &boundary_paths[i], node, entries };
-        boundaries.push(boundary(&t, dim, &bodies)?);
+        boundaries.push(boundary(&t, dim, bodies)?);
     }
+    Ok(boundaries)
+}
 
-    // [stabilisation]
+/// `[stabilisation]`: artificial viscosity, artificial stress and XSPH, each with its defaults.
+fn stabilisation(root: &Tab<'_>) -> Result<Stabilisation> {
     let mut stabilisation = Stabilisation::default();
     let stab_expected = "a table [stabilisation] with artificial_viscosity, artificial_stress and/or xsph";
     if let Some(st) = root.table("stabilisation", "stabilisation", stab_expected)? {
@@ -432,59 +519,12 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
             }
         }
     }
-
-    // [time]
-    let time_expected = "a table [time] with end (and cfl, dt)";
-    let t = root.required("time", time_expected, root.table("time", "time", time_expected)?)?;
-    t.check_keys(&["end", "cfl", "dt"], &[], "")?;
-    let e = "a positive time in seconds";
-    let end = t.required("end", e, t.number("end", e, positive)?)?;
-    let cfl = t.number("cfl", "a CFL number in (0, 1]", |x| x > 0.0 && x <= 1.0)?.unwrap_or(0.5);
-    let dt = t.number("dt", "a positive time step in seconds", positive)?;
-    let time = Time { end, cfl, dt };
-
-    // [output]
-    let mut output = Output { every: end / 50.0 };
-    if let Some(o) = root.table("output", "output", "a table [output] with every")? {
-        o.check_keys(&["every"], &[], "")?;
-        if let Some(every) = o.number("every", "a positive time in seconds", positive)? {
-            output.every = every;
-        }
-    }
-
-    // [tool]
-    let tool = match root.table("tool", "tool", "a table [tool]")? {
-        Some(t) => Some(tool(&t, doc, dim, dx, &physics, &bodies)?),
-        None => None,
-    };
-
-    // [experiment]
-    let experiment = match root.table("experiment", "experiment", "a table [experiment] of measured observables")? {
-        Some(t) => experiment(&t, &crate::study::observe::catalogue(dim, tool.is_some(), &bodies))?,
-        None => Vec::new(),
-    };
-
-    Ok(Scene {
-        origin: doc.file.clone(),
-        name: name.to_string(),
-        dim,
-        precision,
-        discretisation: Discretisation { dx, h_over_dx, skin_over_h, verlet_list },
-        material,
-        bodies,
-        boundaries,
-        stabilisation,
-        time,
-        output,
-        physics,
-        tool,
-        experiment,
-    })
+    Ok(stabilisation)
 }
 
 /// The `[experiment]` table: each key names an observable of the scene (`catalogue`), each value is
 /// `{ value, uncertainty }` or a bare number.
-fn experiment(t: &Tab<'_>, catalogue: &[crate::study::observe::Observable]) -> Result<Vec<Measurement>> {
+fn experiment(t: &Tab<'_>, catalogue: &[super::observe::Observable]) -> Result<Vec<Measurement>> {
     let names: Vec<&str> = catalogue.iter().map(|o| o.name.as_str()).collect();
     t.check_keys(&names, &[], "")?;
     let value_expected = "a finite, non-zero measured value (errors are relative to it)";
@@ -779,13 +819,48 @@ fn body(t: &Tab<'_>, index: usize, dim: usize, dx: f64, earlier: &[Body]) -> Res
         return Err(t.invalid("shape", t.get("shape"), format!("{shape_expected} (dim = {dim})")));
     }
 
+    let (shape, extents) = shape(t, kind, dim)?;
+
+    let e = point_text("a velocity", dim, "m/s");
+    let velocity = t.vector("velocity", dim, &e)?.unwrap_or([0.0; 3]);
+    let angular_velocity = t.number("angular_velocity", "an angular velocity in rad/s", any)?.unwrap_or(0.0);
+    let lattice = match t.string("lattice", "\"nodes\" or \"cells\"", |s| s == "nodes" || s == "cells")? {
+        Some("nodes") => Lattice::Nodes,
+        Some(_) => Lattice::Cells,
+        None => shape.default_lattice(),
+    };
+    let points = (0..dim).map(|k| points_on_axis(extents[k], dx, lattice) as f64).product();
+    // A body's own library material supplies its thermal data (per-material conductivity and heat capacity);
+    // mechanics uses the scene's material, so a body material must not disagree with it elastically.
+    let material = match t.string("material", "the name of a material of the library", |s| !s.trim().is_empty())? {
+        Some(mname) => {
+            let dir = super::library_dir(&t.doc.file);
+            let lib = crate::material::Library::load_dir(&dir).map_err(|e| {
+                t.invalid("material", t.get("material"), format!("a material of the library {} ({e})", dir.display()))
+            })?;
+            match lib.get(mname) {
+                Ok(m) => Some(m.clone()),
+                Err(_) => {
+                    let names = lib.names().collect::<Vec<_>>().join(", ");
+                    return Err(t.invalid("material", t.get("material"), format!("one of {names}")));
+                }
+            }
+        }
+        None => None,
+    };
+    let temperature = t.number("temperature", "a positive temperature in K", positive)?;
+    Ok((Body { name, shape, velocity, angular_velocity, lattice, material, temperature }, points))
+}
+
+/// A body's shape (`kind`, already checked against the dimension) and its extents along each axis [m].
+fn shape(t: &Tab<'_>, kind: &str, dim: usize) -> Result<(Shape, [f64; 3])> {
     let radius_text = "a positive radius in m";
     let inner_text = |outer: &str| format!("a radius in m, >= 0 and < {outer}");
     let center = |t: &Tab<'_>| {
         let e = point_text("a point", dim, "m");
         t.required("center", &e, t.vector("center", dim, &e)?)
     };
-    let (shape, extents) = match kind {
+    Ok(match kind {
         "rectangle" | "box" => {
             let e = point_text("a point", dim, "m");
             let min = t.required("min", &e, t.vector("min", dim, &e)?)?;
@@ -835,37 +910,7 @@ fn body(t: &Tab<'_>, index: usize, dim: usize, dx: f64, earlier: &[Body]) -> Res
             (Shape::Cylinder { center: c, radius, height, inner_radius: inner }, [2.0 * radius, 2.0 * radius, height])
         }
         _ => unreachable!("shape checked above"),
-    };
-
-    let e = point_text("a velocity", dim, "m/s");
-    let velocity = t.vector("velocity", dim, &e)?.unwrap_or([0.0; 3]);
-    let angular_velocity = t.number("angular_velocity", "an angular velocity in rad/s", any)?.unwrap_or(0.0);
-    let lattice = match t.string("lattice", "\"nodes\" or \"cells\"", |s| s == "nodes" || s == "cells")? {
-        Some("nodes") => Lattice::Nodes,
-        Some(_) => Lattice::Cells,
-        None => shape.default_lattice(),
-    };
-    let points = (0..dim).map(|k| points_on_axis(extents[k], dx, lattice) as f64).product();
-    // A body's own library material supplies its thermal data (per-material conductivity and heat capacity);
-    // mechanics uses the scene's material, so a body material must not disagree with it elastically.
-    let material = match t.string("material", "the name of a material of the library", |s| !s.trim().is_empty())? {
-        Some(mname) => {
-            let dir = super::library_dir(&t.doc.file);
-            let lib = crate::material::Library::load_dir(&dir).map_err(|e| {
-                t.invalid("material", t.get("material"), format!("a material of the library {} ({e})", dir.display()))
-            })?;
-            match lib.get(mname) {
-                Ok(m) => Some(m.clone()),
-                Err(_) => {
-                    let names = lib.names().collect::<Vec<_>>().join(", ");
-                    return Err(t.invalid("material", t.get("material"), format!("one of {names}")));
-                }
-            }
-        }
-        None => None,
-    };
-    let temperature = t.number("temperature", "a positive temperature in K", positive)?;
-    Ok((Body { name, shape, velocity, angular_velocity, lattice, material, temperature }, points))
+    })
 }
 
 fn dim_of(shape: &str) -> usize {

@@ -96,6 +96,8 @@ pub struct Setup<R: Real, D: TensorOps<R>> {
     pub contact: Option<ContactSetup>,
     /// Input that runs but whose result is not meaningful (`scene::degenerate_input_warnings`).
     pub warnings: Vec<String>,
+    /// The tuning switches the solver takes its lanes, graphs and fusions from.
+    pub tuning: crate::tuning::Tuning,
 }
 
 impl<R: Real, D: TensorOps<R>> Setup<R, D> {
@@ -480,15 +482,12 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             host_scalars: vec![StepScalars::default(); GRAPH_STEPS],
             graphs: Vec::new(),
             plain_steps: 0,
-            use_graphs: std::env::var("SWARF_NO_GRAPHS").map_or(true, |v| v != "1"),
-            fuse_conduction: std::env::var("SWARF_NO_FUSE").map_or(true, |v| v != "1"),
-            fuse_contact: std::env::var("SWARF_NO_FUSE_CONTACT").map_or(true, |v| v != "1"),
-            fuse_prepare: std::env::var("SWARF_NO_FUSE_PREPARE").map_or(true, |v| v != "1"),
+            use_graphs: !setup.tuning.no_graphs,
+            fuse_conduction: !setup.tuning.no_fuse,
+            fuse_contact: !setup.tuning.no_fuse_contact,
+            fuse_prepare: !setup.tuning.no_fuse_prepare,
             condition: 0,
-            lanes: match std::env::var("SWARF_LANES").ok().and_then(|v| v.parse().ok()) {
-                Some(l @ (1 | 2 | 4 | 8)) => l,
-                _ => default_lanes(n),
-            },
+            lanes: setup.tuning.lanes.unwrap_or_else(|| default_lanes(n)),
             n,
             time: 0.0,
             steps: 0,

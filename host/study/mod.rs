@@ -19,7 +19,8 @@
 //!   recorded as failed with its message; the study goes on. The tables and the plot are rewritten (atomically)
 //!   after every run, so an interrupted study leaves the results so far.
 
-pub mod observe;
+/// The observables moved below the scene reader (which checks `[experiment]` against them).
+pub use crate::scene::observe;
 pub mod plot;
 pub mod table;
 

@@ -4,7 +4,7 @@
 //! The set depends on the kind of scene, decided from the scene itself (never from its name):
 //!
 //! - **A scene with a `[tool]`** (a cut): the steady-state numbers the cutting recorder writes to `summary.json`
-//!   ([`crate::cutting::record::SUMMARY_OBSERVABLES`]: `fc_n_per_mm`, `ff_n_per_mm`, `chip_thickness_um`,
+//!   ([`SUMMARY_OBSERVABLES`]: `fc_n_per_mm`, `ff_n_per_mm`, `chip_thickness_um`,
 //!   `segmentation`). They are what the experiments measure; a run that cannot measure one (too few chip samples)
 //!   writes null, and the study reports it as missing.
 //! - **Any other scene**: the state at the end of the run, which every run writes: the kinetic and elastic energy
@@ -21,7 +21,7 @@
 
 use std::path::Path;
 
-use crate::scene::{Body, Shape};
+use super::{Body, Shape};
 use crate::{Error, Result};
 
 /// Where a run folder holds an observable.
@@ -47,12 +47,18 @@ pub struct Observable {
     pub source: Source,
 }
 
+/// The scalar results a cutting run adds to summary.json, with their units (the keys of
+/// `cutting::record::CutAnalysis::json`): the observables of a scene with a tool. Declared here, below the
+/// cutting recorder, so that the scene reader can check `[experiment]` against them.
+pub const SUMMARY_OBSERVABLES: &[(&str, &str)] =
+    &[("fc_n_per_mm", "N/mm"), ("ff_n_per_mm", "N/mm"), ("chip_thickness_um", "µm"), ("segmentation", "-")];
+
 const AXES: [&str; 3] = ["x", "y", "z"];
 
 /// The observables of a scene of dimension `dim`, with or without a tool, with `bodies` (see the module docs).
 pub fn catalogue(dim: usize, has_tool: bool, bodies: &[Body]) -> Vec<Observable> {
     if has_tool {
-        return crate::cutting::record::SUMMARY_OBSERVABLES
+        return SUMMARY_OBSERVABLES
             .iter()
             .map(|&(key, unit)| Observable { name: key.to_string(), unit, source: Source::Summary(key) })
             .collect();

@@ -1,0 +1,463 @@
+//! The SPH method (roethlin-solver.md): its set-up from a scene (particles, boundary flags, the tool's contact and
+//! thermal particles, parameters, grid, Δt, heat and plasticity), its memory estimate, and [`Method`] for the
+//! [`Solver`].
+
+use super::{Method, Output, Plan, StateBlobs, ToolSample};
+use crate::backend::Backend;
+use crate::grid::grid_with_skin;
+use crate::kernels::sph::TensorOps;
+use crate::kernels::sph::heat::{HeatParams, ThermalMaterial};
+use crate::kernels::sph::params::flags;
+use crate::kernels::{Real, Vector};
+use crate::scene::{Bc, Conduction, ParticleSet, Precision, Scene};
+use crate::solver::diagnostics::compute;
+use crate::solver::params::{StabiliserSettings, cfl_time_step, sph_params};
+use crate::solver::{ContactSetup, PlasticSetup, Solver, ThermalSetup};
+use crate::state::HostParticles;
+use crate::tuning::Tuning;
+use crate::{Error, Result};
+
+pub use crate::solver::Setup;
+
+/// The index of prescribed velocity `v` in the table the flags point into, adding it if new.
+fn velocity_index(table: &mut Vec<[f64; 3]>, v: [f64; 3], scene: &Scene) -> Result<usize> {
+    let k = table.iter().position(|t| *t == v).unwrap_or_else(|| {
+        table.push(v);
+        table.len() - 1
+    });
+    if k > flags::VEL_INDEX_MASK as usize {
+        return Err(Error::Scene(format!(
+            "{}: more than {} distinct prescribed velocities",
+            scene.origin,
+            flags::VEL_INDEX_MASK + 1
+        )));
+    }
+    Ok(k)
+}
+
+/// The particles of a set-up in f64, before they are rounded to the run's precision: the generated bodies, then
+/// the tool's thermal-only particles.
+struct Initial {
+    flags: Vec<u32>,
+    pos: Vec<[f64; 3]>,
+    vel: Vec<[f64; 3]>,
+    mass: Vec<f64>,
+    density: Vec<f64>,
+    temperature: Vec<f64>,
+    /// The prescribed-velocity table the flags point into.
+    table: Vec<[f64; 3]>,
+}
+
+impl Initial {
+    /// The generated bodies with their boundary flags.
+    fn bodies(scene: &Scene, set: &ParticleSet) -> Result<Initial> {
+        let n = set.len();
+        let mut table: Vec<[f64; 3]> = Vec::new();
+        let mut fl = Vec::with_capacity(n);
+        for i in 0..n {
+            let (kind, idx) = match set.bc[i] {
+                Bc::Free => (flags::FREE, 0),
+                Bc::Fixed => (flags::FIXED, 0),
+                Bc::Velocity(v) => (flags::VELOCITY, velocity_index(&mut table, v, scene)? as u32),
+            };
+            let thermal_fix = if set.fixed_temperature[i] { flags::FIXED_TEMPERATURE } else { 0 };
+            fl.push(kind | thermal_fix | idx << flags::VEL_INDEX_SHIFT | set.body[i] << flags::BODY_SHIFT);
+        }
+        Ok(Initial {
+            flags: fl,
+            pos: set.pos.clone(),
+            vel: set.vel.clone(),
+            mass: vec![set.mass; n],
+            density: vec![scene.material.density; n],
+            temperature: set.temperature.clone(),
+            table,
+        })
+    }
+
+    /// The cutting tool: its contact set-up, and its thermal-only particles appended as one more body (with
+    /// their thermal material).
+    fn tool(&mut self, scene: &Scene, set: &ParticleSet) -> Result<(Option<ContactSetup>, Option<ThermalMaterial>)> {
+        let Some(t) = &scene.tool else { return Ok((None, None)) };
+        let m = &scene.material;
+        let tool = crate::cutting::setup::build_tool(t)?;
+        let motion = crate::cutting::setup::motion(t);
+        crate::cutting::setup::check_engagement(scene, &tool, &motion, &set.pos, &set.vel)?;
+        let model = scene.material.library.as_ref().and_then(|l| l.flow_stress);
+        let mut tool_velocity_index = None;
+        let mut tool_thermal = None;
+        if let Some(th) = &t.thermal
+            && let Some(mat) = th.material.as_ref().and_then(|m| m.thermal)
+        {
+            let dx = scene.discretisation.dx;
+            let tp = crate::cutting::setup::tool_particles(&tool, t, dx, th.fixed_width);
+            let v0 = motion.velocity_at(0.0);
+            let v = [t.velocity[0], t.velocity[1], 0.0];
+            let k = velocity_index(&mut self.table, v, scene)?;
+            tool_velocity_index = (t.ramp > 0.0).then_some(k);
+            let body = scene.bodies.len() as u32;
+            let rho_t = mat.density.unwrap_or(m.density);
+            for (p, held) in tp.pos.iter().zip(&tp.held) {
+                let hold = if *held { flags::FIXED_TEMPERATURE } else { 0 };
+                self.flags.push(
+                    flags::VELOCITY
+                        | flags::THERMAL_ONLY
+                        | hold
+                        | (k as u32) << flags::VEL_INDEX_SHIFT
+                        | body << flags::BODY_SHIFT,
+                );
+                self.pos.push([p[0], p[1], 0.0]);
+                self.vel.push([v0[0], v0[1], 0.0]);
+                self.mass.push(rho_t * set.volume);
+                self.density.push(rho_t);
+                self.temperature.push(th.temperature);
+            }
+            tool_thermal = Some(ThermalMaterial {
+                conductivity: mat.conductivity.unwrap_or(0.0),
+                specific_heat: mat.specific_heat.unwrap_or(1.0),
+            });
+        }
+        let contact = ContactSetup {
+            params: crate::cutting::setup::contact_params(scene, t, model.as_ref()),
+            tool,
+            motion,
+            tool_velocity_index,
+            wear: t.usui.is_some(),
+        };
+        Ok((Some(contact), tool_thermal))
+    }
+}
+
+/// Builds the particles, parameters, grid and time step of `scene`, with the process's tuning switches
+/// ([`Tuning::current`]).
+pub fn setup<R: Real, D: TensorOps<R>>(scene: &Scene) -> Result<Setup<R, D>> {
+    setup_with(scene, Tuning::current()?)
+}
+
+/// Builds the particles, parameters, grid and time step of `scene`, with the tuning switches `tuning`.
+pub fn setup_with<R: Real, D: TensorOps<R>>(scene: &Scene, tuning: &Tuning) -> Result<Setup<R, D>> {
+    let set = scene.generate().map_err(|e| Error::Scene(e.to_string()))?;
+    let warnings = crate::scene::degenerate_input_warnings(scene, &set);
+    let mut init = Initial::bodies(scene, &set)?;
+    let (contact, tool_thermal) = init.tool(scene, &set)?;
+    let conv = |c: &[f64; 3]| D::Vec::<R>::new(std::array::from_fn(|k| R::from_f64(c[k])));
+    let Initial { flags: fl, pos, vel, mass, density, temperature, table } = init;
+    let n = pos.len();
+    // The mixed precision keeps each coordinate as a pair hi + lo in R: lo is what rounding it to R dropped.
+    // f32's only: the f64 corrector has no compensated sum (`sph::step::correct_particle`).
+    let pos_lo = (scene.precision == Precision::Mixed && size_of::<R>() == 4).then(|| {
+        let lo =
+            |c: &[f64; 3]| D::Vec::<R>::new(std::array::from_fn(|k| R::from_f64(c[k] - R::from_f64(c[k]).to_f64())));
+        pos.iter().map(lo).collect()
+    });
+    let particles = HostParticles::<R, D> {
+        id: (0..n as u32).collect(),
+        flags: fl,
+        pos: pos.iter().map(conv).collect(),
+        vel: vel.iter().map(conv).collect(),
+        mass: mass.iter().map(|&x| R::from_f64(x)).collect(),
+        rho: density.iter().map(|&x| R::from_f64(x)).collect(),
+        stress: vec![Default::default(); n],
+    };
+    let st = &scene.stabilisation;
+    let stabilisers = StabiliserSettings {
+        viscosity: st.artificial_viscosity.as_ref().map(|a| (a.alpha, a.beta, a.eta)),
+        stress: st.artificial_stress.as_ref().map(|a| (a.epsilon, a.exponent)),
+        xsph: st.xsph.as_ref().map(|x| x.epsilon),
+    };
+    let elastic = scene.material.elastic();
+    let dx = scene.discretisation.dx;
+    let h = scene.h();
+    let mut params = sph_params::<R>(&elastic, dx, h, scene.dim, &stabilisers);
+    params.expansion = R::from_f64(3.0 * scene.physics.thermal_expansion);
+    params.expansion_t0 = R::from_f64(scene.physics.expansion_reference);
+    let grid = grid(scene, &pos, contact.as_ref(), h)?;
+    let c0 = elastic.sound_speed();
+    let dt = time_step(scene, h, c0, &vel)?;
+    let thermal = thermal(scene, h, tool_thermal);
+    let ph = &scene.physics;
+    let plastic = match (ph.plasticity, scene.material.library.as_ref().and_then(|l| l.flow_stress)) {
+        (true, Some(model)) => {
+            Some(PlasticSetup { model, taylor_quinney: if ph.plastic_heating { ph.taylor_quinney } else { 0.0 } })
+        }
+        _ => None,
+    };
+    let expands = ph.thermal_expansion > 0.0;
+    let temperature = if thermal.is_some() || plastic.is_some() || expands { Some(temperature) } else { None };
+    Ok(Setup {
+        particles,
+        pos_lo,
+        params,
+        stabilisers,
+        bc_velocities: table.iter().map(conv).collect(),
+        grid,
+        dt,
+        c0,
+        h,
+        shear: elastic.shear_modulus(),
+        temperature,
+        thermal,
+        plastic,
+        contact,
+        warnings,
+        tuning: tuning.clone(),
+    })
+}
+
+/// A fixed ("locked") grid over the initial bodies with room to move; particles leaving it are clamped into its
+/// boundary cells, which keeps the search exact (docs/neighbour-search.md).
+fn grid(
+    scene: &Scene,
+    pos: &[[f64; 3]],
+    contact: Option<&ContactSetup>,
+    h: f64,
+) -> Result<crate::kernels::neighbour::GridParams> {
+    let mut corners: Vec<crate::kernels::vector::V3f64> =
+        pos.iter().map(|p| crate::kernels::vector::V3f64([p[0], p[1], p[2], 0.0])).collect();
+    if let (Some(t), Some(c)) = (&scene.tool, contact) {
+        // The tool's path, and room above the workpiece for the chip (a tool height): cutting runs keep their
+        // particles inside the grid instead of clamping the chip into boundary cells.
+        let end = c.motion.offset_at(scene.time.end);
+        let top = pos.iter().map(|p| p[1]).fold(f64::NEG_INFINITY, f64::max);
+        for o in [c.motion.start, end] {
+            corners.push(crate::kernels::vector::V3f64([o[0] - t.length, o[1], 0.0, 0.0]));
+            corners.push(crate::kernels::vector::V3f64([o[0], o[1] + t.height, 0.0, 0.0]));
+        }
+        corners.push(crate::kernels::vector::V3f64([end[0], top + t.height, 0.0, 0.0]));
+    }
+    let (lo, hi) = crate::grid::bounding_box::<f64, _>(&corners);
+    let mut glo = [0.0; 3];
+    let mut ghi = [0.0; 3];
+    for k in 0..scene.dim {
+        let margin = 0.25 * (hi[k] - lo[k]) + 4.0 * h;
+        glo[k] = lo[k] - margin;
+        ghi[k] = hi[k] + margin;
+    }
+    let mut grid = grid_with_skin(glo, ghi, scene.dim, 2.0 * h, scene.discretisation.skin_over_h * h)?;
+    if scene.discretisation.verlet_list {
+        grid.list_capacity = crate::neighbour::verlet_capacity(&grid, scene.discretisation.dx);
+    }
+    Ok(grid)
+}
+
+/// The run's Δt: the scene's `time.dt` if it is stable, else the stability limit: the CFL step, and with
+/// conduction 0.1 h² ρ c / k (Cleary & Monaghan's bound for the Brookshaw form; PSE is no less restrictive) over
+/// the largest diffusivity of the scene's bodies and the tool.
+fn time_step(scene: &Scene, h: f64, c0: f64, vel: &[[f64; 3]]) -> Result<f64> {
+    let m = &scene.material;
+    let vmax0 = vel.iter().map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()).fold(0.0, f64::max);
+    let mut limit = cfl_time_step(scene.time.cfl, h, c0, vmax0);
+    if scene.physics.conduction != Conduction::Off {
+        let lib_th = m.library.as_ref().and_then(|l| l.thermal);
+        for bd in &scene.bodies {
+            let t = bd.material.as_ref().and_then(|l| l.thermal).or(lib_th);
+            if let (Some(k), Some(c)) = (t.and_then(|t| t.conductivity), t.and_then(|t| t.specific_heat)) {
+                limit = limit.min(0.1 * h * h * m.density * c / k);
+            }
+        }
+        if let Some(tm) = scene.tool.as_ref().and_then(|t| t.thermal.as_ref()).and_then(|t| t.material.as_ref())
+            && let Some(t) = tm.thermal
+            && let (Some(rho), Some(c), Some(k)) = (t.density, t.specific_heat, t.conductivity)
+        {
+            limit = limit.min(0.1 * h * h * rho * c / k);
+        }
+    }
+    match scene.time.dt {
+        Some(dt) if dt > limit => Err(Error::Scene(format!(
+            "{}: time.dt = {dt:e} s is above the stability limit {limit:e} s (cfl {} · h {h:e} m / (c0 {c0:.1} m/s + |v|max {vmax0:.1} m/s), and 0.1 h² ρ c / k with conduction)",
+            scene.origin, scene.time.cfl
+        ))),
+        Some(dt) => Ok(dt),
+        None => Ok(limit),
+    }
+}
+
+/// Heat, from `[physics]` and the library material (scene validation already checked that the data it needs
+/// exist): each body's thermal data (its own library material if it names one, else the scene material's), then
+/// the tool's.
+fn thermal(scene: &Scene, h: f64, tool_thermal: Option<ThermalMaterial>) -> Option<ThermalSetup> {
+    let ph = &scene.physics;
+    let th = scene.material.library.as_ref().and_then(|l| l.thermal);
+    let friction_heat = scene.tool.as_ref().is_some_and(|t| t.friction_heating > 0.0);
+    let needs_heat = ph.conduction != Conduction::Off || ph.plastic_heating || friction_heat;
+    if !needs_heat {
+        return None;
+    }
+    let mut materials: Vec<ThermalMaterial> = scene
+        .bodies
+        .iter()
+        .map(|bd| {
+            let t = bd.material.as_ref().and_then(|m| m.thermal).or(th);
+            ThermalMaterial {
+                conductivity: t.and_then(|t| t.conductivity).unwrap_or(0.0),
+                specific_heat: t.and_then(|t| t.specific_heat).unwrap_or(1.0),
+            }
+        })
+        .collect();
+    materials.extend(tool_thermal);
+    Some(ThermalSetup {
+        materials,
+        conduction: match ph.conduction {
+            Conduction::Off => None,
+            Conduction::Brookshaw => Some(false),
+            Conduction::Pse => Some(true),
+        },
+        heat: HeatParams::new(h, scene.dim),
+    })
+}
+
+/// Bytes the solver allocates: every per-particle buffer of the field registry (`solver::fields::FIELDS`, spares
+/// included) and the buffers that are not per particle (cell starts, scan workspace, Verlet list, parameter
+/// blocks); equal to what the backend allocates (tests/fields.rs).
+pub fn memory_estimate<R: Real, D: TensorOps<R>>(s: &crate::solver::Setup<R, D>) -> usize {
+    crate::solver::fields::memory_bytes(s)
+}
+
+/// The f64 positions of `p` (as `analysis::positions_f64`).
+fn positions_f64<R: Real, V: Vector<R>>(pos: &[V]) -> Vec<[f64; 3]> {
+    pos.iter().map(|p| std::array::from_fn(|k| p.get(k).to_f64())).collect()
+}
+
+/// The f64 positions of `p` (z = 0 in 2D).
+fn widened<R: Real, D: TensorOps<R>>(p: &[D::Vec<R>]) -> Vec<[f64; 3]> {
+    p.iter().map(|x| std::array::from_fn(|k| if k < D::D { x.get(k).to_f64() } else { 0.0 })).collect()
+}
+
+impl<B: Backend, R: Real, D: TensorOps<R>> Method<B> for Solver<B, R, D> {
+    type R = R;
+    type D = D;
+    type Setup = Setup<R, D>;
+
+    fn setup(scene: &Scene, tuning: &Tuning) -> Result<Setup<R, D>> {
+        setup_with(scene, tuning)
+    }
+
+    fn plan(s: &Setup<R, D>) -> Plan {
+        let host = &s.particles;
+        let p = positions_f64(&host.pos);
+        // Every particle's position at t = 0 by id, for the contact distance of the diagnostics.
+        let mut initial = vec![[0.0; 3]; p.len()];
+        for (k, &id) in host.id.iter().enumerate() {
+            if let Some(slot) = initial.get_mut(id as usize) {
+                *slot = p[k];
+            }
+        }
+        let workpiece = widened::<R, D>(&host.pos)
+            .into_iter()
+            .zip(&host.flags)
+            .filter(|(_, f)| **f & flags::THERMAL_ONLY == 0)
+            .map(|(x, _)| x)
+            .collect();
+        Plan {
+            particles: host.len(),
+            dt: s.dt,
+            h: s.h,
+            c0: s.c0,
+            precision: s.precision(),
+            memory_bytes: memory_estimate(s),
+            temperature: s.temperature.is_some(),
+            warnings: s.warnings.clone(),
+            initial,
+            workpiece,
+        }
+    }
+
+    fn new(b: &B, s: &Setup<R, D>) -> Result<Self> {
+        Solver::new(b, s)
+    }
+
+    fn time(&self) -> f64 {
+        self.time
+    }
+
+    fn steps(&self) -> u64 {
+        self.steps
+    }
+
+    fn set_clock(&mut self, time: f64, steps: u64) {
+        self.time = time;
+        self.steps = steps;
+    }
+
+    fn particles(&self) -> usize {
+        self.n
+    }
+
+    fn precision(&self) -> &'static str {
+        Solver::precision(self)
+    }
+
+    fn set_nominal_dt(&mut self, dt: f64) {
+        Solver::set_nominal_dt(self, dt);
+    }
+
+    fn step(&mut self, b: &B, dt: f64) -> Result<()> {
+        Solver::step(self, b, dt)
+    }
+
+    fn advance(&mut self, b: &B, dt: f64, count: usize) -> Result<()> {
+        Solver::advance(self, b, dt, count)
+    }
+
+    fn non_finite_seen(&self, b: &B) -> Result<bool> {
+        Solver::non_finite_seen(self, b)
+    }
+
+    fn rebuilds(&self, b: &B) -> Result<u32> {
+        self.cell_rebuilds(b)
+    }
+
+    fn output(&self, b: &B) -> Result<Output<R, D>> {
+        let host = self.download(b)?;
+        let (temp, eps, rate) = self.download_internal(b)?;
+        let mut d = compute(&host, &self.host_params, self.time, self.steps, temp.as_deref());
+        crate::solver::diagnostics::internal(&mut d, &host.id, temp.as_deref(), eps.as_deref());
+        let (work, diss) = self.download_dissipated(b)?;
+        crate::solver::diagnostics::dissipated(&mut d, &host, work.as_deref(), diss.as_deref());
+        let mut now = positions_f64(&host.pos);
+        // The mixed precision's positions are hi + lo: the observers and the displacements see them whole.
+        if let Some(lo) = self.download_pos_lo(b)? {
+            for (x, l) in now.iter_mut().zip(positions_f64(&lo)) {
+                for (c, d) in x.iter_mut().zip(l) {
+                    *c += d;
+                }
+            }
+        }
+        let fields = self.download_frame_fields(b)?;
+        Ok(Output {
+            diagnostics: d,
+            host,
+            internal: [temp, eps, rate],
+            fields,
+            positions: now,
+            params: self.host_params,
+        })
+    }
+
+    fn tool_sample(&self, b: &B) -> Result<Option<ToolSample>> {
+        let Some(c) = self.contact_sample(b)? else { return Ok(None) };
+        let (pos, fl) = self.positions(b)?;
+        let workpiece = pos
+            .iter()
+            .zip(&fl)
+            .filter(|(_, f)| **f & flags::THERMAL_ONLY == 0)
+            .map(|(p, _)| [p.get(0).to_f64(), p.get(1).to_f64()])
+            .collect();
+        Ok(Some(ToolSample {
+            time: self.time,
+            steps: self.steps,
+            force: c.force,
+            contacts: c.contacts,
+            wear_rate: c.wear_rate,
+            offset: self.tool_offset().unwrap_or([0.0; 3]),
+            workpiece,
+        }))
+    }
+
+    fn save_state(&self, b: &B) -> Result<StateBlobs> {
+        Solver::save_state(self, b)
+    }
+
+    fn load_state(&mut self, b: &B, state: &StateBlobs) -> Result<()> {
+        Solver::load_state(self, b, state)
+    }
+}
