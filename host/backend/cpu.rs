@@ -10,7 +10,7 @@ use crate::kernels::contact::penalty::{ContactArrays, ContactParams, contact_par
 use crate::kernels::neighbour::search::neighbour_row;
 use crate::kernels::neighbour::{GatherField, GridParams, Neighbours, sort::sort_cell, verlet::verlet_row};
 use crate::kernels::sph::heat::{HeatArrays, HeatParams, heat_rate};
-use crate::kernels::sph::interact::{Arrays, PrepassArrays, prepare, prepare_particle, rates, rates_heat};
+use crate::kernels::sph::interact::{PrepassArrays, prepare, prepare_particle, rates, rates_heat};
 use crate::kernels::sph::plastic::{PlasticArrays, PlasticConsts, plastic_particle};
 use crate::kernels::sph::step::{StepArrays, StepScalars, correct_particle, is_finite_vec, predict_particle};
 use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers, TensorOps, density::density_sum};
@@ -141,11 +141,17 @@ struct SendHeat<R: Real, V: crate::kernels::Vector<R>>(HeatArrays<R, V>);
 unsafe impl<R: Real, V: crate::kernels::Vector<R>> Send for SendHeat<R, V> {}
 unsafe impl<R: Real, V: crate::kernels::Vector<R>> Sync for SendHeat<R, V> {}
 
-/// The kernel crate's array views, shared by parallel tasks that only read through them.
-struct SendArrays<R: Real, D: Dim>(Arrays<R, D>);
-// SAFETY: read-only views of buffers that outlive the parallel loop.
-unsafe impl<R: Real, D: Dim> Send for SendArrays<R, D> {}
-unsafe impl<R: Real, D: Dim> Sync for SendArrays<R, D> {}
+/// A pass's argument struct (`kernels::pass`), shared by parallel tasks that write disjoint particles.
+struct Shared<T>(T);
+// SAFETY: the structs' pointers name buffers that outlive the parallel loop; each task writes its own particles.
+unsafe impl<T> Send for Shared<T> {}
+unsafe impl<T> Sync for Shared<T> {}
+impl<T> Shared<T> {
+    /// The struct (a method, so that a closure captures the whole wrapper, not its field).
+    fn get(&self) -> &T {
+        &self.0
+    }
+}
 
 struct SendStep<R: Real, D: Dim>(StepArrays<R, D::Vec<R>, D::Sym<R>>);
 
@@ -563,91 +569,55 @@ impl Backend for CpuBackend {
         dissipation: Option<&mut Vec<R>>,
         heat: Option<FusedHeat<'_, Self, R, D>>,
     ) -> Result<()> {
-        for (what, len) in [
-            ("pos", input.pos.len()),
-            ("vel", input.vel.len()),
-            ("rho", input.rho.len()),
-            ("mass", input.mass.len()),
-            ("vol", input.vol.len()),
-            ("stress", input.stress.len()),
-            ("sig", input.sig.len()),
-            ("flags", input.flags.len()),
-            ("pos_t", out.pos.len()),
-            ("vel_t", out.vel.len()),
-            ("rho_t", out.rho.len()),
-            ("stress_t", out.stress.len()),
-        ] {
-            check(what, n, len)?;
-        }
         check("sph_rates starts", grid[0].n_cells as usize + 2, starts.len())?;
-        if stab.stress {
-            check("sph_rates art", n, input.art.map_or(0, |a| a.len()))?;
+        list_ptr("sph_rates list", n, &grid[0], list)?;
+        if let Some(h) = &heat {
+            check_bodies(
+                "sph_rates (fused conduction)",
+                &h.input.flags[..n.min(h.input.flags.len())],
+                h.input.materials.len(),
+            )?;
         }
-        if stab.viscosity {
-            check("sph_rates sound", n, input.sound.map_or(0, |a| a.len()))?;
-        }
-        let (p, g) = (*params, grid[0]);
-        let a = SendArrays(Arrays::<R, D> {
-            pos: input.pos.as_ptr(),
-            vel: input.vel.as_ptr(),
-            rho: input.rho.as_ptr(),
-            mass: input.mass.as_ptr(),
-            vol: input.vol.as_ptr(),
-            stress: input.stress.as_ptr(),
-            sig: input.sig.as_ptr(),
-            art: input.art.map_or(std::ptr::null(), |v| v.as_ptr()),
-            sound: input.sound.map_or(std::ptr::null(), |v| v.as_ptr()),
-            flags: input.flags.as_ptr(),
-            bc_vel: input.bc_vel.as_ptr(),
-            normal: input.contact.map_or(std::ptr::null(), |c| c.0.as_ptr()),
-            friction: input.contact.map_or(std::ptr::null(), |c| c.1.as_ptr()),
-        });
-        let st = SendPtr(starts.as_ptr() as *mut u32);
-        let lp = list_ptr("sph_rates list", n, &g, list)?;
-        let (vel_t, rho_t, stress_t) = (
-            SendPtr(out.vel.as_mut_ptr() as *mut u32),
-            SendPtr(out.rho.as_mut_ptr() as *mut u32),
-            SendPtr(out.stress.as_mut_ptr() as *mut u32),
-        );
-        let diss_t = match dissipation {
-            Some(d) => {
-                check("sph_rates dissipation", n, d.len())?;
-                SendPtr(d.as_mut_ptr() as *mut u32)
-            }
-            None => SendPtr(std::ptr::null_mut()),
-        };
-        let fused = match heat {
-            Some(f) => {
-                check("sph_rates temp_t", n, f.temp_t.len())?;
-                let a = heat_arrays::<R, D>(n, &f.input, "sph_rates (fused conduction)")?;
-                Some((*f.params, a, SendPtr(f.temp_t.as_mut_ptr() as *mut u32)))
-            }
-            None => None,
-        };
+        let fused = heat.is_some();
+        let args = Shared(super::args::rates_args(
+            self,
+            n,
+            lanes,
+            0,
+            stab,
+            params,
+            grid,
+            starts,
+            list,
+            input,
+            out,
+            dissipation,
+            heat,
+        )?);
         macro_rules! go {
             ($av:literal, $as:literal, $xs:literal) => {
-                out.pos[..n].par_iter_mut().enumerate().for_each(|(i, pt)| {
-                    let a = &a;
-                    let nb = Neighbours { grid: &g, starts: st.get(), list: lp.get() };
-                    // SAFETY: every array was checked to hold n sorted particles, starts and the list belong to the
-                    // grid, and each index i is written by one task only.
+                (0..n).into_par_iter().for_each(|i| {
+                    let a = args.get();
+                    // SAFETY: `rates_args` checked that every array holds n sorted particles, starts and the list
+                    // belong to the grid (above), and each index i is written by one task only.
                     unsafe {
-                        let o = match &fused {
-                            Some((hp, h, temp_t)) => {
-                                let (o, tt) =
-                                    rates_heat::<R, D, $av, $as, $xs>(&p, hp, &nb, &a.0, &h.0, i as u32, lanes);
-                                *(temp_t.get() as *mut f64).add(i) = tt;
-                                o
-                            }
-                            None => rates::<R, D, $av, $as, $xs>(&p, &nb, &a.0, i as u32, lanes),
+                        let (arr, nb) = (a.arrays(), a.neighbours());
+                        let o = if fused {
+                            let (o, tt) = rates_heat::<R, D, $av, $as, $xs>(
+                                &a.params,
+                                &a.hp,
+                                &nb,
+                                &arr,
+                                &a.heat_arrays(),
+                                i as u32,
+                                a.lanes,
+                            );
+                            *a.temp_t.add(i) = tt;
+                            o
+                        } else {
+                            rates::<R, D, $av, $as, $xs>(&a.params, &nb, &arr, i as u32, a.lanes)
                         };
-                        *pt = o.pos_t;
-                        *(vel_t.get() as *mut D::Vec<R>).add(i) = o.vel_t;
-                        *(rho_t.get() as *mut R).add(i) = o.rho_t;
-                        *(stress_t.get() as *mut D::Sym<R>).add(i) = o.stress_t;
-                        if !diss_t.is_null() {
-                            *(diss_t.get() as *mut R).add(i) = o.dissipation_t;
-                        }
+                        a.store(i, &o);
                     }
                 })
             };

@@ -51,9 +51,10 @@ density_entry!(swarf_density_3d_f64, f64, V3f64);
 
 use super::intrinsics::{graph_set_conditional, shfl_xor};
 use crate::contact::penalty::{ContactArrays, ContactParams, contact_particle};
+use crate::pass::RatesArgs;
 use crate::sph::heat::{HeatArrays, HeatParams, ThermalMaterial, heat_finish, heat_sum};
 use crate::sph::interact::{
-    Arrays, HeatPairSums, PairSums, PrepassArrays, finish_rates, pair_sums, pair_sums_heat, prepare, prepare_particle,
+    HeatPairSums, PairSums, PrepassArrays, finish_rates, pair_sums, pair_sums_heat, prepare, prepare_particle,
 };
 use crate::sph::lanes::{LaneSum, clamp_lanes};
 use crate::sph::params::SphParams;
@@ -109,45 +110,14 @@ macro_rules! prepare_entry {
 macro_rules! rates_entry {
     ($name:ident, $r:ty, $d:ty, $av:literal, $as:literal, $xs:literal, $heat:literal) => {
         #[unsafe(no_mangle)]
-        pub unsafe extern "ptx-kernel" fn $name(
-            n: u32,
-            lanes: u32,
-            reverse: u32,
-            params: SphParams<$r>,
-            grid: *const GridParams,
-            starts: *const u32,
-            list: *const u32,
-            pos: *const Vec_<$r, $d>,
-            vel: *const Vec_<$r, $d>,
-            rho: *const $r,
-            mass: *const $r,
-            vol: *const $r,
-            stress: *const Sym_<$r, $d>,
-            sig: *const Sym_<$r, $d>,
-            art: *const Sym_<$r, $d>,
-            sound: *const $r,
-            flags: *const u32,
-            bc_vel: *const Vec_<$r, $d>,
-            normal: *const Vec_<$r, $d>,
-            friction: *const Vec_<$r, $d>,
-            pos_t: *mut Vec_<$r, $d>,
-            vel_t: *mut Vec_<$r, $d>,
-            rho_t: *mut $r,
-            stress_t: *mut Sym_<$r, $d>,
-            dissipation_t: *mut $r,
-            hp: HeatParams,
-            heat_vol: *const $r,
-            temp: *const f64,
-            materials: *const ThermalMaterial,
-            temp_t: *mut f64,
-        ) {
+        pub unsafe extern "ptx-kernel" fn $name(args: RatesArgs<$r, $d>) {
+            let RatesArgs { n, lanes, reverse, params, hp, .. } = args;
             let t = ordered_index(reverse);
             let lanes = clamp_lanes(lanes);
             let (i, lane) = (t / lanes, t % lanes);
-            let a =
-                Arrays::<$r, $d> { pos, vel, rho, mass, vol, stress, sig, art, sound, flags, bc_vel, normal, friction };
-            let h = HeatArrays::<$r, Vec_<$r, $d>> { pos, rho, vol: heat_vol, temp, flags, materials };
-            let nb = Neighbours { grid: unsafe { &*grid }, starts, list };
+            let a = args.arrays();
+            let h = args.heat_arrays();
+            let nb = unsafe { args.neighbours() };
             // Every lane takes part in the shuffles, also past the last particle.
             let live = i < n;
             unsafe {
@@ -169,16 +139,9 @@ macro_rules! rates_entry {
                 };
                 if live && lane == 0 {
                     let o = finish_rates::<$r, $d, $xs>(&params, &a, i, &mech);
-                    let iu = i as usize;
-                    *pos_t.add(iu) = o.pos_t;
-                    *vel_t.add(iu) = o.vel_t;
-                    *rho_t.add(iu) = o.rho_t;
-                    *stress_t.add(iu) = o.stress_t;
-                    if !dissipation_t.is_null() {
-                        *dissipation_t.add(iu) = o.dissipation_t;
-                    }
+                    args.store(i as usize, &o);
                     if $heat {
-                        *temp_t.add(iu) = heat_finish(&h, i, heat);
+                        *args.temp_t.add(i as usize) = heat_finish(&h, i, heat);
                     }
                 }
             }
