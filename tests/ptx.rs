@@ -150,20 +150,43 @@ fn entry_params(ptx: &str) -> Vec<(String, Vec<(usize, usize)>)> {
 /// bytes, so any difference would shift every field after it.
 #[test]
 fn argument_structs_match_the_entries_parameter_blocks() {
-    use swarf::kernels::pass::RatesArgs;
+    use swarf::kernels::material::*;
+    use swarf::kernels::pass::{FinishArgs, FinishPlasticArgs, RatesArgs};
     use swarf::kernels::{Dim2, Dim3};
     fn block<T>() -> Vec<(usize, usize)> {
         vec![(size_of::<T>(), align_of::<T>())]
     }
+    /// The host's block of a generic struct `$s<R, D, ...>` for the variant `$v`.
+    macro_rules! by_variant {
+        ($v:expr, $s:ident $(, $m:ty)?) => {
+            match $v {
+                "2d_f32" => block::<$s<f32, Dim2 $(, $m)?>>(),
+                "2d_f64" => block::<$s<f64, Dim2 $(, $m)?>>(),
+                "3d_f32" => block::<$s<f32, Dim3 $(, $m)?>>(),
+                _ => block::<$s<f64, Dim3 $(, $m)?>>(),
+            }
+        };
+    }
+    /// The plastic corrector's block of the model tagged `tag` (the kernels' one model list).
+    macro_rules! finish_plastic {
+        ($(($t:ident, $tag:ident)),* $(,)?) => {
+            fn finish_plastic(tag: &str, variant: &str) -> Option<Vec<(usize, usize)>> {
+                $(if tag == stringify!($tag) {
+                    return Some(by_variant!(variant, FinishPlasticArgs, $t));
+                })*
+                None
+            }
+        };
+    }
+    swarf::kernels::for_each_flow_model!(finish_plastic);
     let want = |name: &str| -> Option<Vec<(usize, usize)>> {
         let variant = ["2d_f32", "2d_f64", "3d_f32", "3d_f64"].into_iter().find(|v| name.contains(v))?;
         if name.starts_with("swarf_sph_rates_") {
-            Some(match variant {
-                "2d_f32" => block::<RatesArgs<f32, Dim2>>(),
-                "2d_f64" => block::<RatesArgs<f64, Dim2>>(),
-                "3d_f32" => block::<RatesArgs<f32, Dim3>>(),
-                _ => block::<RatesArgs<f64, Dim3>>(),
-            })
+            Some(by_variant!(variant, RatesArgs))
+        } else if name == format!("swarf_step_finish_{variant}") {
+            Some(by_variant!(variant, FinishArgs))
+        } else if let Some(tag) = name.strip_prefix("swarf_step_finish_") {
+            finish_plastic(tag.trim_end_matches(&format!("_{variant}")), variant)
         } else {
             None
         }
@@ -176,8 +199,10 @@ fn argument_structs_match_the_entries_parameter_blocks() {
                 checked += 1;
             }
         }
-        // 4 variants × 8 stabiliser combinations × plain and fused.
-        assert_eq!(checked, 64, "{target}: entries checked");
+        // 4 variants × (8 stabiliser combinations × plain and fused + the elastic corrector + one plastic
+        // corrector per flow-stress model).
+        let models = swarf::kernels::pass::FLOW_MODEL_TAGS.len();
+        assert_eq!(checked, 4 * (16 + 1 + models), "{target}: entries checked");
     }
 }
 

@@ -3,10 +3,13 @@
 //! adds the checks that read buffer contents (the cell starts against the grid, the bodies against the
 //! materials), which the GPU's memory does not allow.
 
-use super::{Backend, Buffer, Element, FieldsMut, FusedHeat, SphInputs};
+use super::{
+    Backend, Buffer, Element, FieldsMut, FusedContact, FusedHeat, PlasticPass, ScalarsAt, SphInputs, StepFields,
+};
 use crate::kernels::neighbour::GridParams;
-use crate::kernels::pass::RatesArgs;
+use crate::kernels::pass::{FinishArgs, FinishPlasticArgs, RatesArgs, StepPtrs};
 use crate::kernels::sph::heat::HeatParams;
+use crate::kernels::sph::step::StepScalars;
 use crate::kernels::sph::{SphParams, Stabilisers};
 use crate::kernels::{Dim, Real};
 use crate::{Error, Result};
@@ -122,4 +125,123 @@ fn null<T>() -> *const T {
 /// A stabiliser's buffer that is on but was not given.
 fn missing(what: &'static str) -> Error {
     Error::Length { op: what, expected: 1, got: 0 }
+}
+
+/// The address of the step's scalars (entry `s.index` of `s.buf`).
+pub fn scalars_ptr<B: Backend>(b: &B, s: &ScalarsAt<'_, B>) -> Result<*const StepScalars> {
+    check_len("step scalars", s.index + 1, s.buf.len())?;
+    Ok((b.address(s.buf) as *const StepScalars).wrapping_add(s.index))
+}
+
+/// The addresses of the fields a step integrates, each checked to hold n particles.
+pub fn step_ptrs<B: Backend, R: Real, D: Dim>(b: &B, n: usize, f: StepFields<'_, B, R, D>) -> Result<StepPtrs<R, D>> {
+    let (temp, temp0, temp_t) = match (f.temp, f.conduction) {
+        (Some(t), Some((t0, tt))) => (
+            output(b, "step temperature", n, t)?,
+            output(b, "step temperature", n, t0)?,
+            input(b, "step temperature", n, tt)?,
+        ),
+        (Some(t), None) => (output(b, "step temperature", n, t)?, std::ptr::null_mut(), null()),
+        _ => (std::ptr::null_mut(), std::ptr::null_mut(), null()),
+    };
+    let (diss, diss_t) = match f.dissipation {
+        Some((d, dt)) => (output(b, "step dissipation", n, d)?, input(b, "step dissipation", n, dt)?),
+        None => (std::ptr::null_mut(), null()),
+    };
+    Ok(StepPtrs {
+        pos: output(b, "step fields", n, f.y.pos)?,
+        vel: output(b, "step fields", n, f.y.vel)?,
+        rho: output(b, "step fields", n, f.y.rho)?,
+        stress: output(b, "step fields", n, f.y.stress)?,
+        pos0: output(b, "step fields", n, f.y0.pos)?,
+        vel0: output(b, "step fields", n, f.y0.vel)?,
+        rho0: output(b, "step fields", n, f.y0.rho)?,
+        stress0: output(b, "step fields", n, f.y0.stress)?,
+        pos_t: input(b, "step fields", n, f.rates.pos)?,
+        vel_t: input(b, "step fields", n, f.rates.vel)?,
+        rho_t: input(b, "step fields", n, f.rates.rho)?,
+        stress_t: input(b, "step fields", n, f.rates.stress)?,
+        temp,
+        temp0,
+        temp_t,
+        diss,
+        diss_t,
+        pos_lo: output_opt(b, "step position low parts", n, f.pos_lo)?,
+    })
+}
+
+/// The corrector's arguments ([`Backend::step_finish`] without plasticity).
+pub fn finish_args<B: Backend, R: Real, D: Dim>(
+    b: &B,
+    n: usize,
+    s: &ScalarsAt<'_, B>,
+    f: StepFields<'_, B, R, D>,
+) -> Result<FinishArgs<R, D>> {
+    Ok(FinishArgs { n: count(n)?, scalars: scalars_ptr(b, s)?, step: step_ptrs(b, n, f)? })
+}
+
+/// The arguments of the corrector with the plastic update of `model` (the kernel type of `p.model`) and, with
+/// `contact`, the tool's contact pass ([`Backend::step_finish`]).
+#[allow(clippy::too_many_arguments)]
+pub fn finish_plastic_args<B: Backend, R: Real, D: Dim, M>(
+    b: &B,
+    n: usize,
+    reverse: u32,
+    s: &ScalarsAt<'_, B>,
+    f: StepFields<'_, B, R, D>,
+    p: PlasticPass<'_, B>,
+    model: M,
+    contact: Option<FusedContact<'_, B, R, D>>,
+) -> Result<FinishPlasticArgs<R, D, M>> {
+    if f.temp.is_none() {
+        return Err(Error::Length { op: "step_finish (plasticity needs temperature)", expected: n, got: 0 });
+    }
+    if p.taylor_quinney > 0.0 && p.materials.is_none() {
+        return Err(Error::Length { op: "step_finish (thermal materials missing)", expected: 1, got: 0 });
+    }
+    let yield_stress = output_opt(b, "yield_stress", n, p.yield_stress)?;
+    let mut a = FinishPlasticArgs {
+        n: count(n)?,
+        reverse,
+        scalars: scalars_ptr(b, s)?,
+        model,
+        shear: p.shear,
+        taylor_quinney: p.taylor_quinney,
+        step: step_ptrs(b, n, f)?,
+        eps: output(b, "eps", n, p.eps)?,
+        rate: output(b, "rate", n, p.rate)?,
+        flags: input(b, "flags", n, p.flags)?,
+        materials: p.materials.map_or(null(), |m| b.address(m) as *const _),
+        yield_stress,
+        work: output_opt(b, "plastic work", n, p.work)?,
+        contact: null(),
+        mass: null(),
+        normal: std::ptr::null_mut(),
+        friction: std::ptr::null_mut(),
+        contact_materials: null(),
+        contact_yield: null(),
+        wear: std::ptr::null_mut(),
+    };
+    if let Some(c) = contact {
+        if c.yield_stress && yield_stress.is_null() {
+            return Err(Error::Length { op: "step_finish (the friction cap's yield stresses)", expected: 1, got: 0 });
+        }
+        a.contact = input(b, "contact parameters", 1, c.params)?;
+        a.mass = input(b, "mass", n, c.mass)?;
+        a.normal = output(b, "normal", n, c.normal)?;
+        a.friction = output(b, "friction", n, c.friction)?;
+        a.contact_materials = c.materials.map_or(null(), |m| b.address(m) as *const _);
+        a.contact_yield = if c.yield_stress { yield_stress } else { null() };
+        a.wear = output_opt(b, "wear", n, c.wear)?;
+    }
+    Ok(a)
+}
+
+/// A particle count as the kernels take it.
+fn count(n: usize) -> Result<u32> {
+    u32::try_from(n).map_err(|_| Error::Length {
+        op: "particles (at most 2^32 - 1)",
+        expected: u32::MAX as usize,
+        got: n,
+    })
 }

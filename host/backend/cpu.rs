@@ -12,7 +12,7 @@ use crate::kernels::neighbour::{GatherField, GridParams, Neighbours, sort::sort_
 use crate::kernels::sph::heat::{HeatArrays, HeatParams, heat_rate};
 use crate::kernels::sph::interact::{PrepassArrays, prepare, prepare_particle, rates, rates_heat};
 use crate::kernels::sph::plastic::{PlasticArrays, PlasticConsts, plastic_particle};
-use crate::kernels::sph::step::{StepArrays, StepScalars, correct_particle, is_finite_vec, predict_particle};
+use crate::kernels::sph::step::{StepArrays, StepScalars, is_finite_vec, predict_particle};
 use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers, TensorOps, density::density_sum};
 use crate::kernels::{Dim, Real};
 use crate::material::FlowModel;
@@ -235,50 +235,53 @@ fn step_arrays<R: Real, D: Dim>(n: usize, f: StepFields<'_, CpuBackend, R, D>) -
     }))
 }
 
-/// Runs `$body` with `$m` bound to the concrete flow-stress model of `$model` and `$t` naming its type.
+/// Runs `$body` with `$m` bound to the concrete flow-stress model of `$model` and `$t` naming its type: the host's
+/// one map from `FlowModel` to the kernel types (both backends use it; the CUDA backend takes the model's entries
+/// from `kernels::pass::ModelEntry`).
 macro_rules! with_model {
     ($model:expr, $t:ident, $m:ident => $body:expr) => {{
         use crate::kernels::material as km;
         match $model {
-            FlowModel::JohnsonCook($m) => {
+            $crate::material::FlowModel::JohnsonCook($m) => {
                 type $t = km::JohnsonCook;
                 $body
             }
-            FlowModel::Calamaz2008($m) => {
+            $crate::material::FlowModel::Calamaz2008($m) => {
                 type $t = km::Calamaz2008;
                 $body
             }
-            FlowModel::Calamaz2010($m) => {
+            $crate::material::FlowModel::Calamaz2010($m) => {
                 type $t = km::Calamaz2010;
                 $body
             }
-            FlowModel::Calamaz2011($m) => {
+            $crate::material::FlowModel::Calamaz2011($m) => {
                 type $t = km::Calamaz2011;
                 $body
             }
-            FlowModel::SimaOzel1($m) => {
+            $crate::material::FlowModel::SimaOzel1($m) => {
                 type $t = km::SimaOzel1;
                 $body
             }
-            FlowModel::SimaOzel2($m) => {
+            $crate::material::FlowModel::SimaOzel2($m) => {
                 type $t = km::SimaOzel2;
                 $body
             }
-            FlowModel::SimaOzel3($m) => {
+            $crate::material::FlowModel::SimaOzel3($m) => {
                 type $t = km::SimaOzel3;
                 $body
             }
-            FlowModel::Scgl($m) => {
+            $crate::material::FlowModel::Scgl($m) => {
                 type $t = km::Scgl;
                 $body
             }
-            FlowModel::Bilinear($m) => {
+            $crate::material::FlowModel::Bilinear($m) => {
                 type $t = km::Bilinear;
                 $body
             }
         }
     }};
 }
+pub(crate) use with_model;
 
 /// The address of an optional per-particle output, checked to hold n values (null when absent).
 fn out_ptr(b: Option<&mut Vec<f64>>, what: &'static str, n: usize) -> Result<*mut f64> {
@@ -799,8 +802,6 @@ impl Backend for CpuBackend {
         plastic: Option<PlasticPass<'_, Self>>,
         contact: Option<FusedContact<'_, Self, R, D>>,
     ) -> Result<()> {
-        let sc = scalars(&s)?;
-        let (dt, tool) = (sc.dt, sc.tool);
         if contact.is_some() && (plastic.is_none() || D::D != 2) {
             return Err(Error::Length {
                 op: "step_finish (the fused contact needs plasticity, 2D)",
@@ -808,89 +809,31 @@ impl Backend for CpuBackend {
                 got: D::D,
             });
         }
-        let mut f = f;
-        let (stress, rho) = (f.y.stress.as_mut_ptr(), f.y.rho.as_ptr());
-        let (pos, vel) = (f.y.pos.as_ptr(), f.y.vel.as_ptr());
-        let temp = f.temp.as_mut().map(|t| t.as_mut_ptr());
-        let a = step_arrays::<R, D>(n, f)?;
         let Some(p) = plastic else {
+            let a = Shared(super::args::finish_args(self, n, &s, f)?);
             (0..n).into_par_iter().for_each(|i| {
-                let a = &a;
-                // SAFETY: lengths checked by step_arrays; each particle i is touched by one task only.
-                unsafe { correct_particle(&a.0, dt, i) }
+                // SAFETY: `finish_args` checked the lengths; each particle i is touched by one task only.
+                unsafe { a.get().particle(i) }
             });
             return Ok(());
         };
-        let temp =
-            temp.ok_or(Error::Length { op: "step_finish (plasticity needs temperature)", expected: n, got: 0 })?;
-        for (what, len) in [("eps", p.eps.len()), ("rate", p.rate.len()), ("flags", p.flags.len())] {
-            check(what, n, len)?;
-        }
+        // The checks that read the flags (the GPU cannot).
+        check("flags", n, p.flags.len())?;
         if p.taylor_quinney > 0.0 {
             check_bodies("step_finish materials", &p.flags[..n], p.materials.map_or(0, |m| m.len()))?;
         }
-        let arr = SendPlastic(PlasticArrays::<R, D::Sym<R>> {
-            stress,
-            rho,
-            eps: p.eps.as_mut_ptr(),
-            rate: p.rate.as_mut_ptr(),
-            temp,
-            flags: p.flags.as_ptr(),
-            materials: p.materials.map_or(std::ptr::null(), |m| m.as_ptr()),
-            yield_stress: out_ptr(p.yield_stress, "yield_stress", n)?,
-            work: out_ptr(p.work, "plastic work", n)?,
+        if let Some(m) = contact.as_ref().and_then(|c| c.materials) {
+            check_bodies("contact materials", &p.flags[..n], m.len())?;
+        }
+        let model = p.model;
+        with_model!(model, M, m => {
+            let a = Shared(super::args::finish_plastic_args::<_, R, D, M>(self, n, 0, &s, f, p, *m, contact)?);
+            (0..n).into_par_iter().for_each(|i| {
+                let a = a.get();
+                // SAFETY: `finish_plastic_args` checked the lengths; each particle i is touched by one task only.
+                unsafe { a.particle(&a.model, i) }
+            });
         });
-        let c = PlasticConsts { shear: p.shear, dt, taylor_quinney: p.taylor_quinney, _pad: 0.0 };
-        // The fused contact (as the CUDA entry): the same particle's contact pass after its plastic update.
-        let touch = match contact {
-            None => None,
-            Some(k) => {
-                for (what, len) in [("mass", k.mass.len()), ("normal", k.normal.len()), ("friction", k.friction.len())]
-                {
-                    check(what, n, len)?;
-                }
-                if let Some(w) = k.wear.as_ref() {
-                    check("wear", n, w.len())?;
-                }
-                if let Some(m) = k.materials {
-                    check_bodies("contact materials", &p.flags[..n], m.len())?;
-                }
-                if k.yield_stress && arr.0.yield_stress.is_null() {
-                    return Err(Error::Length {
-                        op: "step_finish (the friction cap's yield stresses)",
-                        expected: 1,
-                        got: 0,
-                    });
-                }
-                Some((
-                    k.params[0],
-                    SendContact(ContactArrays::<R, D::Vec<R>> {
-                        pos,
-                        vel,
-                        mass: k.mass.as_ptr(),
-                        rho,
-                        flags: p.flags.as_ptr(),
-                        normal: k.normal.as_mut_ptr(),
-                        friction: k.friction.as_mut_ptr(),
-                        temp,
-                        materials: k.materials.map_or(std::ptr::null(), |m| m.as_ptr()),
-                        yield_stress: if k.yield_stress { arr.0.yield_stress as *const f64 } else { std::ptr::null() },
-                        wear: k.wear.map_or(std::ptr::null_mut(), |w| w.as_mut_ptr()),
-                    }),
-                ))
-            }
-        };
-        with_model!(p.model, M, m => (0..n).into_par_iter().for_each(|i| {
-            let (a, arr, touch) = (&a, &arr, &touch);
-            // SAFETY: lengths checked above; each particle i is touched by one task only.
-            unsafe {
-                correct_particle(&a.0, dt, i);
-                plastic_particle::<R, D, M>(m, &c, &arr.0, i);
-                if let Some((cp, ca)) = touch {
-                    contact_particle::<R, D::Vec<R>>(cp, &tool, &ca.0, i);
-                }
-            }
-        }));
         Ok(())
     }
 

@@ -8,6 +8,7 @@ use super::{
 };
 use crate::kernels::neighbour::GatherField;
 use crate::kernels::neighbour::GridParams;
+use crate::kernels::pass::{FLOW_MODEL_TAGS, ModelEntry};
 use crate::kernels::sph::heat::HeatParams;
 use crate::kernels::sph::step::StepScalars;
 use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers, TensorOps};
@@ -72,7 +73,7 @@ pub fn kernel_names() -> Vec<String> {
         for c in 0..4 {
             v.push(format!("swarf_sph_prepare_{var}_{}", prepare_suffix(c)));
         }
-        for m in PLASTIC_MODELS {
+        for m in FLOW_MODEL_TAGS {
             v.push(format!("swarf_plastic_{m}_{var}"));
             v.push(format!("swarf_step_finish_{m}_{var}"));
         }
@@ -84,31 +85,9 @@ pub fn kernel_names() -> Vec<String> {
     v
 }
 
-/// Flow-stress models in `FlowModel` order, as named in the plastic entry points.
-const PLASTIC_MODELS: [&str; 9] = [
-    "jc",
-    "calamaz_2008",
-    "calamaz_2010",
-    "calamaz_2011",
-    "sima_ozel_1",
-    "sima_ozel_2",
-    "sima_ozel_3",
-    "scgl",
-    "bilinear",
-];
-
+/// The index of `m`'s entries in the kernel tables (`kernels::pass::models`: the one list of models).
 fn model_index(m: &FlowModel) -> usize {
-    match m {
-        FlowModel::JohnsonCook(_) => 0,
-        FlowModel::Calamaz2008(_) => 1,
-        FlowModel::Calamaz2010(_) => 2,
-        FlowModel::Calamaz2011(_) => 3,
-        FlowModel::SimaOzel1(_) => 4,
-        FlowModel::SimaOzel2(_) => 5,
-        FlowModel::SimaOzel3(_) => 6,
-        FlowModel::Scgl(_) => 7,
-        FlowModel::Bilinear(_) => 8,
-    }
+    super::cpu::with_model!(m, M, _m => <M as ModelEntry>::INDEX)
 }
 
 /// Suffix of the pre-pass entry for stabiliser combination c = 2·AV + AS.
@@ -417,7 +396,7 @@ impl CudaBackend {
             ]))
         };
         let k = Kernels {
-            plastic: PLASTIC_MODELS.iter().map(|m| v(&format!("swarf_plastic_{m}"), "")).collect::<Result<_>>()?,
+            plastic: FLOW_MODEL_TAGS.iter().map(|m| v(&format!("swarf_plastic_{m}"), "")).collect::<Result<_>>()?,
             contact: [f("swarf_contact_2d_f32")?, f("swarf_contact_2d_f64")?],
             heat_brookshaw: v("swarf_heat_brookshaw", "")?,
             heat_pse: v("swarf_heat_pse", "")?,
@@ -426,7 +405,7 @@ impl CudaBackend {
             sph_rates_heat: (0..8).map(|c| v("swarf_sph_rates_heat", &rates_suffix(c))).collect::<Result<_>>()?,
             step_predict: v("swarf_step_predict", "")?,
             step_finish: v("swarf_step_finish", "")?,
-            step_finish_plastic: PLASTIC_MODELS
+            step_finish_plastic: FLOW_MODEL_TAGS
                 .iter()
                 .map(|m| v(&format!("swarf_step_finish_{m}"), ""))
                 .collect::<Result<_>>()?,
@@ -1261,7 +1240,6 @@ impl Backend for CudaBackend {
         plastic: Option<PlasticPass<'_, Self>>,
         contact: Option<FusedContact<'_, Self, R, D>>,
     ) -> Result<()> {
-        let sc = self.scalars(&s)?;
         if contact.is_some() && (plastic.is_none() || D::D != 2) {
             return Err(Error::Length {
                 op: "step_finish (the fused contact needs plasticity, 2D)",
@@ -1270,73 +1248,16 @@ impl Backend for CudaBackend {
             });
         }
         let Some(p) = plastic else {
-            let mut args = vec_args(&[Arg::U32(n as u32), sc]);
-            let (fields, diss) = self.step_args(n, f)?;
-            args.extend_from_slice(&fields);
-            args.extend_from_slice(&diss);
-            return self.launch(&self.k.step_finish.0[variant::<R, D>()], n, BLOCK, args.get()?);
+            let args = super::args::finish_args(self, n, &s, f)?;
+            return self.launch_pass(&self.k.step_finish.0[variant::<R, D>()], n, BLOCK, &args);
         };
-        if f.temp.is_none() {
-            return Err(Error::Length { op: "step_finish (plasticity needs temperature)", expected: n, got: 0 });
-        }
-        if p.taylor_quinney > 0.0 && p.materials.is_none() {
-            return Err(Error::Length { op: "step_finish (thermal materials missing)", expected: 1, got: 0 });
-        }
-        let yield_ptr = p.yield_stress.map_or(0, |y| self.ptr_mut(y));
-        let mut args = vec_args(&[
-            Arg::U32(n as u32),
-            Arg::U32(self.plastic_reverse),
-            sc,
-            // By value (`ptx::sph`, finish_plastic_entry).
-            Arg::Bytes(p.model.param_bytes()),
-            Arg::F64(p.shear),
-            Arg::F64(p.taylor_quinney),
-        ]);
-        let (fields, diss) = self.step_args(n, f)?;
-        args.extend_from_slice(&fields);
-        args.extend_from_slice(&diss);
-        args.extend_from_slice(&[
-            Arg::U64(self.ptr_mut(p.eps)),
-            Arg::U64(self.ptr_mut(p.rate)),
-            Arg::U64(self.ptr(p.flags)),
-            Arg::U64(p.materials.map_or(0, |m| self.ptr(m))),
-            Arg::U64(yield_ptr),
-            Arg::U64(p.work.map_or(0, |w| self.ptr_mut(w))),
-        ]);
-        match contact {
-            None => args.extend_from_slice(&[Arg::U64(0); 7]),
-            Some(c) => {
-                if c.yield_stress && yield_ptr == 0 {
-                    return Err(Error::Length {
-                        op: "step_finish (the friction cap's yield stresses)",
-                        expected: 1,
-                        got: 0,
-                    });
-                }
-                if c.mass.len < n
-                    || c.normal.len < n
-                    || c.friction.len < n
-                    || c.wear.as_ref().is_some_and(|w| w.len < n)
-                {
-                    return Err(Error::Length {
-                        op: "step_finish (contact fields)",
-                        expected: n,
-                        got: c.mass.len.min(c.normal.len),
-                    });
-                }
-                args.extend_from_slice(&[
-                    Arg::U64(self.ptr(c.params)),
-                    Arg::U64(self.ptr(c.mass)),
-                    Arg::U64(self.ptr_mut(c.normal)),
-                    Arg::U64(self.ptr_mut(c.friction)),
-                    Arg::U64(c.materials.map_or(0, |m| self.ptr(m))),
-                    Arg::U64(if c.yield_stress { yield_ptr } else { 0 }),
-                    Arg::U64(c.wear.map_or(0, |w| self.ptr_mut(w))),
-                ]);
-            }
-        }
-        let f = &self.k.step_finish_plastic[model_index(p.model)].0[variant::<R, D>()];
-        self.launch(f, n, self.plastic_block, args.get()?)
+        let model = p.model;
+        let k = &self.k.step_finish_plastic[model_index(model)].0[variant::<R, D>()];
+        let reverse = self.plastic_reverse;
+        super::cpu::with_model!(model, M, m => {
+            let args = super::args::finish_plastic_args::<_, R, D, M>(self, n, reverse, &s, f, p, *m, contact)?;
+            self.launch_pass(k, n, self.plastic_block, &args)
+        })
     }
 
     fn address<T: Element>(&self, buf: &CudaBuf<T>) -> u64 {

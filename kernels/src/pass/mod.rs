@@ -6,6 +6,10 @@
 //! the per-particle loads and stores. tests/ptx.rs checks each entry's parameter block against
 //! `size_of`/`align_of` of its struct.
 
+pub mod finish;
+pub mod models;
 pub mod rates;
 
+pub use finish::{FinishArgs, FinishPlasticArgs, StepPtrs};
+pub use models::{FLOW_MODEL_TAGS, ModelEntry};
 pub use rates::RatesArgs;
