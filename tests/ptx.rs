@@ -117,3 +117,143 @@ fn default_register_caps_mark_the_2d_neighbour_kernels_and_the_plastic_corrector
         assert_eq!(register_caps(ptx, Some(0), Some(0)), *ptx, "{target}: caps 0 must leave the PTX as built");
     }
 }
+
+/// The PTX's view of each entry's parameter list: (size, alignment) of every `.param`, in order.
+fn entry_params(ptx: &str) -> Vec<(String, Vec<(usize, usize)>)> {
+    let mut out = Vec::new();
+    for body in ptx.split(".visible .entry ").skip(1) {
+        let name = body.split('(').next().unwrap_or("?").trim().to_string();
+        let head = &body[..body.find("\n)").expect("parameter list")];
+        let params = head
+            .lines()
+            .filter_map(|l| l.trim().strip_prefix(".param "))
+            .map(|p| {
+                if let Some(rest) = p.strip_prefix(".align ") {
+                    // `.align N .b8 name[size]`: a struct by value.
+                    let align: usize = rest.split_whitespace().next().and_then(|a| a.parse().ok()).expect("align");
+                    let size = p.split('[').nth(1).and_then(|s| s.split(']').next()).and_then(|s| s.parse().ok());
+                    (size.expect("size"), align)
+                } else {
+                    let bytes =
+                        if p.starts_with(".u64") || p.starts_with(".b64") || p.starts_with(".f64") { 8 } else { 4 };
+                    (bytes, bytes)
+                }
+            })
+            .collect();
+        out.push((name, params));
+    }
+    out
+}
+
+/// Every entry that takes a pass's argument struct (`kernels::pass`) declares one parameter of exactly the host's
+/// `size_of` and `align_of` of that struct for its dimension and precision: the launch copies the host struct's
+/// bytes, so any difference would shift every field after it.
+#[test]
+fn argument_structs_match_the_entries_parameter_blocks() {
+    use swarf::kernels::material::*;
+    use swarf::kernels::pass::{FinishArgs, FinishPlasticArgs, RatesArgs};
+    use swarf::kernels::{Dim2, Dim3};
+    fn block<T>() -> Vec<(usize, usize)> {
+        vec![(size_of::<T>(), align_of::<T>())]
+    }
+    /// The host's block of a generic struct `$s<R, D, ...>` for the variant `$v`.
+    macro_rules! by_variant {
+        ($v:expr, $s:ident $(, $m:ty)?) => {
+            match $v {
+                "2d_f32" => block::<$s<f32, Dim2 $(, $m)?>>(),
+                "2d_f64" => block::<$s<f64, Dim2 $(, $m)?>>(),
+                "3d_f32" => block::<$s<f32, Dim3 $(, $m)?>>(),
+                _ => block::<$s<f64, Dim3 $(, $m)?>>(),
+            }
+        };
+    }
+    /// The plastic corrector's block of the model tagged `tag` (the kernels' one model list).
+    macro_rules! finish_plastic {
+        ($(($t:ident, $tag:ident)),* $(,)?) => {
+            fn finish_plastic(tag: &str, variant: &str) -> Option<Vec<(usize, usize)>> {
+                $(if tag == stringify!($tag) {
+                    return Some(by_variant!(variant, FinishPlasticArgs, $t));
+                })*
+                None
+            }
+        };
+    }
+    swarf::kernels::for_each_flow_model!(finish_plastic);
+    let want = |name: &str| -> Option<Vec<(usize, usize)>> {
+        let variant = ["2d_f32", "2d_f64", "3d_f32", "3d_f64"].into_iter().find(|v| name.contains(v))?;
+        if name.starts_with("swarf_sph_rates_") {
+            Some(by_variant!(variant, RatesArgs))
+        } else if name == format!("swarf_step_finish_{variant}") {
+            Some(by_variant!(variant, FinishArgs))
+        } else if let Some(tag) = name.strip_prefix("swarf_step_finish_") {
+            finish_plastic(tag.trim_end_matches(&format!("_{variant}")), variant)
+        } else {
+            None
+        }
+    };
+    for (target, ptx) in swarf::ptx::PTX {
+        let mut checked = 0;
+        for (name, params) in entry_params(ptx) {
+            if let Some(w) = want(&name) {
+                assert_eq!(params, w, "{target}: {name}: (size, align) of the parameters against the host's");
+                checked += 1;
+            }
+        }
+        // 4 variants × (8 stabiliser combinations × plain and fused + the elastic corrector + one plastic
+        // corrector per flow-stress model).
+        let models = swarf::kernels::pass::FLOW_MODEL_TAGS.len();
+        assert_eq!(checked, 4 * (16 + 1 + models), "{target}: entries checked");
+    }
+}
+
+/// Lazy loading (host/backend/cuda/split.rs): the module of each entry the backend loads is the header, the
+/// shared items it reaches and that entry alone; every shared item an entry names is in that entry's module,
+/// and every shared item but the panic handler (reached by none) is in some module. The register caps and the
+/// stripped `cudaGraphSetConditional` survive the split.
+#[test]
+fn per_entry_modules_keep_every_entry_and_shared_item() {
+    use swarf::backend::cuda::register_caps;
+    use swarf::backend::cuda::split::SplitPtx;
+    for (target, ptx) in swarf::ptx::PTX {
+        let capped = register_caps(ptx, None, None);
+        let split = SplitPtx::parse(&capped).expect("the PTX splits");
+        let items: Vec<_> = split.items(&capped).collect();
+        let entries: Vec<&str> = items.iter().filter(|i| i.entry).map(|i| i.name).collect();
+        assert_eq!(entries.len(), capped.matches(".visible .entry ").count(), "{target}: entries found");
+        let mut reached_any = vec![false; items.len()];
+        for name in &entries {
+            let reached = split.reached(&capped, name).expect("entry");
+            for &k in &reached {
+                reached_any[k] = true;
+            }
+            let module = split.module(&capped, name).expect("module");
+            let sm = target.trim_end_matches("-fast");
+            assert!(module.contains(".version") && module.contains(&format!(".target {sm}\n")), "{target}: header");
+            assert_eq!(module.matches(".visible .entry ").count(), 1, "{target}: {name}: one entry per module");
+            assert!(module.contains(&format!(".visible .entry {name}(")), "{target}: {name} missing from its module");
+            assert_eq!(module.matches('{').count(), module.matches('}').count(), "{target}: {name}: braces");
+            let entry = items.iter().find(|i| i.entry && i.name == *name).expect("entry");
+            for (k, it) in items.iter().enumerate() {
+                if !it.entry && entry.text.contains(it.name) {
+                    assert!(reached.contains(&k), "{target}: {name} names {} but its module lacks it", it.name);
+                }
+            }
+            if name.starts_with("swarf_sph_rates_2d_") {
+                assert!(module.contains(".maxnreg 128\n"), "{target}: {name}: register cap lost");
+            }
+            if name.starts_with("swarf_step_predict_") {
+                assert!(module.contains(".extern .func cudaGraphSetConditional"), "{target}: {name}");
+                let stripped = strip_graph_conditional(&module);
+                assert!(!stripped.contains("cudaGraphSetConditional"), "{target}: {name}: not stripped");
+            }
+        }
+        for name in kernel_names() {
+            assert!(entries.contains(&name.as_str()), "{target}: {name} has no module");
+        }
+        for (k, it) in items.iter().enumerate() {
+            if !it.entry && !it.name.contains("rust_begin_unwind") {
+                assert!(reached_any[k], "{target}: shared item {} is in no module", it.name);
+            }
+        }
+    }
+}

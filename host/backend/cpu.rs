@@ -11,9 +11,9 @@ use crate::kernels::contact::penalty::{ContactArrays, ContactParams, contact_par
 use crate::kernels::neighbour::search::neighbour_row;
 use crate::kernels::neighbour::{GatherField, GridParams, Neighbours, sort::sort_cell, verlet::verlet_row};
 use crate::kernels::sph::heat::{HeatArrays, HeatParams, heat_rate};
-use crate::kernels::sph::interact::{Arrays, PrepassArrays, prepare, prepare_particle, rates, rates_heat};
+use crate::kernels::sph::interact::{PrepassArrays, prepare, prepare_particle, rates, rates_heat};
 use crate::kernels::sph::plastic::{PlasticArrays, PlasticConsts, plastic_particle};
-use crate::kernels::sph::step::{StepArrays, StepScalars, correct_particle, is_finite_vec, predict_particle};
+use crate::kernels::sph::step::{StepArrays, StepScalars, is_finite_vec, predict_particle};
 use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers, TensorOps, density::density_sum};
 use crate::kernels::{Dim, Real};
 use crate::material::FlowModel;
@@ -150,11 +150,17 @@ struct SendHeat<R: Real, V: crate::kernels::Vector<R>>(HeatArrays<R, V>);
 unsafe impl<R: Real, V: crate::kernels::Vector<R>> Send for SendHeat<R, V> {}
 unsafe impl<R: Real, V: crate::kernels::Vector<R>> Sync for SendHeat<R, V> {}
 
-/// The kernel crate's array views, shared by parallel tasks that only read through them.
-struct SendArrays<R: Real, D: Dim>(Arrays<R, D>);
-// SAFETY: read-only views of buffers that outlive the parallel loop.
-unsafe impl<R: Real, D: Dim> Send for SendArrays<R, D> {}
-unsafe impl<R: Real, D: Dim> Sync for SendArrays<R, D> {}
+/// A pass's argument struct (`kernels::pass`), shared by parallel tasks that write disjoint particles.
+struct Shared<T>(T);
+// SAFETY: the structs' pointers name buffers that outlive the parallel loop; each task writes its own particles.
+unsafe impl<T> Send for Shared<T> {}
+unsafe impl<T> Sync for Shared<T> {}
+impl<T> Shared<T> {
+    /// The struct (a method, so that a closure captures the whole wrapper, not its field).
+    fn get(&self) -> &T {
+        &self.0
+    }
+}
 
 struct SendStep<R: Real, D: Dim>(StepArrays<R, D::Vec<R>, D::Sym<R>>);
 
@@ -243,50 +249,53 @@ fn step_arrays<R: Real, D: Dim>(n: usize, f: StepFields<'_, CpuBackend, R, D>) -
     }))
 }
 
-/// Runs `$body` with `$m` bound to the concrete flow-stress model of `$model` and `$t` naming its type.
+/// Runs `$body` with `$m` bound to the concrete flow-stress model of `$model` and `$t` naming its type: the host's
+/// one map from `FlowModel` to the kernel types (both backends use it; the CUDA backend takes the model's entries
+/// from `kernels::pass::ModelEntry`).
 macro_rules! with_model {
     ($model:expr, $t:ident, $m:ident => $body:expr) => {{
         use crate::kernels::material as km;
         match $model {
-            FlowModel::JohnsonCook($m) => {
+            $crate::material::FlowModel::JohnsonCook($m) => {
                 type $t = km::JohnsonCook;
                 $body
             }
-            FlowModel::Calamaz2008($m) => {
+            $crate::material::FlowModel::Calamaz2008($m) => {
                 type $t = km::Calamaz2008;
                 $body
             }
-            FlowModel::Calamaz2010($m) => {
+            $crate::material::FlowModel::Calamaz2010($m) => {
                 type $t = km::Calamaz2010;
                 $body
             }
-            FlowModel::Calamaz2011($m) => {
+            $crate::material::FlowModel::Calamaz2011($m) => {
                 type $t = km::Calamaz2011;
                 $body
             }
-            FlowModel::SimaOzel1($m) => {
+            $crate::material::FlowModel::SimaOzel1($m) => {
                 type $t = km::SimaOzel1;
                 $body
             }
-            FlowModel::SimaOzel2($m) => {
+            $crate::material::FlowModel::SimaOzel2($m) => {
                 type $t = km::SimaOzel2;
                 $body
             }
-            FlowModel::SimaOzel3($m) => {
+            $crate::material::FlowModel::SimaOzel3($m) => {
                 type $t = km::SimaOzel3;
                 $body
             }
-            FlowModel::Scgl($m) => {
+            $crate::material::FlowModel::Scgl($m) => {
                 type $t = km::Scgl;
                 $body
             }
-            FlowModel::Bilinear($m) => {
+            $crate::material::FlowModel::Bilinear($m) => {
                 type $t = km::Bilinear;
                 $body
             }
         }
     }};
 }
+pub(crate) use with_model;
 
 /// The address of an optional per-particle output, checked to hold n values (null when absent).
 fn out_ptr(b: Option<&mut Vec<f64>>, what: &'static str, n: usize) -> Result<*mut f64> {
@@ -579,91 +588,55 @@ impl Backend for CpuBackend {
         dissipation: Option<&mut Vec<R>>,
         heat: Option<FusedHeat<'_, Self, R, D>>,
     ) -> Result<()> {
-        for (what, len) in [
-            ("pos", input.pos.len()),
-            ("vel", input.vel.len()),
-            ("rho", input.rho.len()),
-            ("mass", input.mass.len()),
-            ("vol", input.vol.len()),
-            ("stress", input.stress.len()),
-            ("sig", input.sig.len()),
-            ("flags", input.flags.len()),
-            ("pos_t", out.pos.len()),
-            ("vel_t", out.vel.len()),
-            ("rho_t", out.rho.len()),
-            ("stress_t", out.stress.len()),
-        ] {
-            check(what, n, len)?;
-        }
         check("sph_rates starts", grid[0].n_cells as usize + 2, starts.len())?;
-        if stab.stress {
-            check("sph_rates art", n, input.art.map_or(0, |a| a.len()))?;
+        list_ptr("sph_rates list", n, &grid[0], list)?;
+        if let Some(h) = &heat {
+            check_bodies(
+                "sph_rates (fused conduction)",
+                &h.input.flags[..n.min(h.input.flags.len())],
+                h.input.materials.len(),
+            )?;
         }
-        if stab.viscosity {
-            check("sph_rates sound", n, input.sound.map_or(0, |a| a.len()))?;
-        }
-        let (p, g) = (*params, grid[0]);
-        let a = SendArrays(Arrays::<R, D> {
-            pos: input.pos.as_ptr(),
-            vel: input.vel.as_ptr(),
-            rho: input.rho.as_ptr(),
-            mass: input.mass.as_ptr(),
-            vol: input.vol.as_ptr(),
-            stress: input.stress.as_ptr(),
-            sig: input.sig.as_ptr(),
-            art: input.art.map_or(std::ptr::null(), |v| v.as_ptr()),
-            sound: input.sound.map_or(std::ptr::null(), |v| v.as_ptr()),
-            flags: input.flags.as_ptr(),
-            bc_vel: input.bc_vel.as_ptr(),
-            normal: input.contact.map_or(std::ptr::null(), |c| c.0.as_ptr()),
-            friction: input.contact.map_or(std::ptr::null(), |c| c.1.as_ptr()),
-        });
-        let st = SendPtr(starts.as_ptr() as *mut u32);
-        let lp = list_ptr("sph_rates list", n, &g, list)?;
-        let (vel_t, rho_t, stress_t) = (
-            SendPtr(out.vel.as_mut_ptr() as *mut u32),
-            SendPtr(out.rho.as_mut_ptr() as *mut u32),
-            SendPtr(out.stress.as_mut_ptr() as *mut u32),
-        );
-        let diss_t = match dissipation {
-            Some(d) => {
-                check("sph_rates dissipation", n, d.len())?;
-                SendPtr(d.as_mut_ptr() as *mut u32)
-            }
-            None => SendPtr(std::ptr::null_mut()),
-        };
-        let fused = match heat {
-            Some(f) => {
-                check("sph_rates temp_t", n, f.temp_t.len())?;
-                let a = heat_arrays::<R, D>(n, &f.input, "sph_rates (fused conduction)")?;
-                Some((*f.params, a, SendPtr(f.temp_t.as_mut_ptr() as *mut u32)))
-            }
-            None => None,
-        };
+        let fused = heat.is_some();
+        let args = Shared(super::args::rates_args(
+            self,
+            n,
+            lanes,
+            0,
+            stab,
+            params,
+            grid,
+            starts,
+            list,
+            input,
+            out,
+            dissipation,
+            heat,
+        )?);
         macro_rules! go {
             ($av:literal, $as:literal, $xs:literal) => {
-                out.pos[..n].par_iter_mut().enumerate().for_each(|(i, pt)| {
-                    let a = &a;
-                    let nb = Neighbours { grid: &g, starts: st.get(), list: lp.get() };
-                    // SAFETY: every array was checked to hold n sorted particles, starts and the list belong to the
-                    // grid, and each index i is written by one task only.
+                (0..n).into_par_iter().for_each(|i| {
+                    let a = args.get();
+                    // SAFETY: `rates_args` checked that every array holds n sorted particles, starts and the list
+                    // belong to the grid (above), and each index i is written by one task only.
                     unsafe {
-                        let o = match &fused {
-                            Some((hp, h, temp_t)) => {
-                                let (o, tt) =
-                                    rates_heat::<R, D, $av, $as, $xs>(&p, hp, &nb, &a.0, &h.0, i as u32, lanes);
-                                *(temp_t.get() as *mut f64).add(i) = tt;
-                                o
-                            }
-                            None => rates::<R, D, $av, $as, $xs>(&p, &nb, &a.0, i as u32, lanes),
+                        let (arr, nb) = (a.arrays(), a.neighbours());
+                        let o = if fused {
+                            let (o, tt) = rates_heat::<R, D, $av, $as, $xs>(
+                                &a.params,
+                                &a.hp,
+                                &nb,
+                                &arr,
+                                &a.heat_arrays(),
+                                i as u32,
+                                a.lanes,
+                            );
+                            *a.temp_t.add(i) = tt;
+                            o
+                        } else {
+                            rates::<R, D, $av, $as, $xs>(&a.params, &nb, &arr, i as u32, a.lanes)
                         };
-                        *pt = o.pos_t;
-                        *(vel_t.get() as *mut D::Vec<R>).add(i) = o.vel_t;
-                        *(rho_t.get() as *mut R).add(i) = o.rho_t;
-                        *(stress_t.get() as *mut D::Sym<R>).add(i) = o.stress_t;
-                        if !diss_t.is_null() {
-                            *(diss_t.get() as *mut R).add(i) = o.dissipation_t;
-                        }
+                        a.store(i, &o);
                     }
                 })
             };
@@ -845,8 +818,6 @@ impl Backend for CpuBackend {
         plastic: Option<PlasticPass<'_, Self>>,
         contact: Option<FusedContact<'_, Self, R, D>>,
     ) -> Result<()> {
-        let sc = scalars(&s)?;
-        let (dt, tool) = (sc.dt, sc.tool);
         if contact.is_some() && (plastic.is_none() || D::D != 2) {
             return Err(Error::Length {
                 op: "step_finish (the fused contact needs plasticity, 2D)",
@@ -854,90 +825,31 @@ impl Backend for CpuBackend {
                 got: D::D,
             });
         }
-        let mut f = f;
-        let (stress, rho) = (f.y.stress.as_mut_ptr(), f.y.rho.as_ptr());
-        let (pos, vel) = (f.y.pos.as_ptr(), f.y.vel.as_ptr());
-        let temp = f.temp.as_mut().map(|t| t.as_mut_ptr());
-        let a = step_arrays::<R, D>(n, f)?;
         let Some(p) = plastic else {
+            let a = Shared(super::args::finish_args(self, n, &s, f)?);
             (0..n).into_par_iter().for_each(|i| {
-                let a = &a;
-                // SAFETY: lengths checked by step_arrays; each particle i is touched by one task only.
-                unsafe { correct_particle(&a.0, dt, i) }
+                // SAFETY: `finish_args` checked the lengths; each particle i is touched by one task only.
+                unsafe { a.get().particle(i) }
             });
             return Ok(());
         };
-        let temp =
-            temp.ok_or(Error::Length { op: "step_finish (plasticity needs temperature)", expected: n, got: 0 })?;
-        for (what, len) in [("eps", p.eps.len()), ("rate", p.rate.len()), ("flags", p.flags.len())] {
-            check(what, n, len)?;
-        }
+        // The checks that read the flags (the GPU cannot).
+        check("flags", n, p.flags.len())?;
         if p.taylor_quinney > 0.0 {
             check_bodies("step_finish materials", &p.flags[..n], p.materials.map_or(0, |m| m.len()))?;
         }
-        let arr = SendPlastic(PlasticArrays::<R, D::Sym<R>> {
-            stress,
-            rho,
-            eps: p.eps.as_mut_ptr(),
-            rate: p.rate.as_mut_ptr(),
-            temp,
-            flags: p.flags.as_ptr(),
-            materials: p.materials.map_or(std::ptr::null(), |m| m.as_ptr()),
-            yield_stress: out_ptr(p.yield_stress, "yield_stress", n)?,
-            work: out_ptr(p.work, "plastic work", n)?,
+        if let Some(m) = contact.as_ref().and_then(|c| c.materials) {
+            check_bodies("contact materials", &p.flags[..n], m.len())?;
+        }
+        let model = p.model;
+        with_model!(model, M, m => {
+            let a = Shared(super::args::finish_plastic_args::<_, R, D, M>(self, n, 0, &s, f, p, *m, contact)?);
+            (0..n).into_par_iter().for_each(|i| {
+                let a = a.get();
+                // SAFETY: `finish_plastic_args` checked the lengths; each particle i is touched by one task only.
+                unsafe { a.particle(&a.model, i) }
+            });
         });
-        let c = PlasticConsts { shear: p.shear, dt, taylor_quinney: p.taylor_quinney, _pad: 0.0 };
-        // The fused contact (as the CUDA entry): the same particle's contact pass after its plastic update.
-        let touch = match contact {
-            None => None,
-            Some(k) => {
-                for (what, len) in [("mass", k.mass.len()), ("normal", k.normal.len()), ("friction", k.friction.len())]
-                {
-                    check(what, n, len)?;
-                }
-                if let Some(w) = k.wear.as_ref() {
-                    check("wear", n, w.len())?;
-                }
-                if let Some(m) = k.materials {
-                    check_bodies("contact materials", &p.flags[..n], m.len())?;
-                }
-                if k.yield_stress && arr.0.yield_stress.is_null() {
-                    return Err(Error::Length {
-                        op: "step_finish (the friction cap's yield stresses)",
-                        expected: 1,
-                        got: 0,
-                    });
-                }
-                Some((
-                    k.params[0],
-                    one(k.tool, "step_finish (the tool's shape)")?,
-                    SendContact(ContactArrays::<R, D::Vec<R>> {
-                        pos,
-                        vel,
-                        mass: k.mass.as_ptr(),
-                        rho,
-                        flags: p.flags.as_ptr(),
-                        normal: k.normal.as_mut_ptr(),
-                        friction: k.friction.as_mut_ptr(),
-                        temp,
-                        materials: k.materials.map_or(std::ptr::null(), |m| m.as_ptr()),
-                        yield_stress: if k.yield_stress { arr.0.yield_stress as *const f64 } else { std::ptr::null() },
-                        wear: k.wear.map_or(std::ptr::null_mut(), |w| w.as_mut_ptr()),
-                    }),
-                ))
-            }
-        };
-        with_model!(p.model, M, m => (0..n).into_par_iter().for_each(|i| {
-            let (a, arr, touch) = (&a, &arr, &touch);
-            // SAFETY: lengths checked above; each particle i is touched by one task only.
-            unsafe {
-                correct_particle(&a.0, dt, i);
-                plastic_particle::<R, D, M>(m, &c, &arr.0, i);
-                if let Some((cp, shape, ca)) = touch {
-                    contact_particle::<R, D::Vec<R>, Tool2d>(cp, shape, &tool, &ca.0, i);
-                }
-            }
-        }));
         Ok(())
     }
 

@@ -8,6 +8,7 @@ use super::{
 };
 use crate::kernels::neighbour::GatherField;
 use crate::kernels::neighbour::GridParams;
+use crate::kernels::pass::{FLOW_MODEL_TAGS, ModelEntry};
 use crate::kernels::sph::heat::HeatParams;
 use crate::kernels::sph::step::StepScalars;
 use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers, TensorOps};
@@ -23,8 +24,15 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
 mod conditional;
+mod lazy;
+pub mod split;
 use conditional::Conditional;
 pub use conditional::strip_graph_conditional;
+use lazy::{Kernel, Loader};
+
+/// The entry whose module decides whether the driver resolves `cudaGraphSetConditional` (the predictor calls it),
+/// loaded when the backend starts.
+const PROBE: &str = "swarf_step_predict_2d_f64";
 
 /// The (dimension, precision) suffixes of generic entry points, in `variant` order.
 const VARIANTS: [&str; 4] = ["2d_f32", "2d_f64", "3d_f32", "3d_f64"];
@@ -65,7 +73,7 @@ pub fn kernel_names() -> Vec<String> {
         for c in 0..4 {
             v.push(format!("swarf_sph_prepare_{var}_{}", prepare_suffix(c)));
         }
-        for m in PLASTIC_MODELS {
+        for m in FLOW_MODEL_TAGS {
             v.push(format!("swarf_plastic_{m}_{var}"));
             v.push(format!("swarf_step_finish_{m}_{var}"));
         }
@@ -77,31 +85,9 @@ pub fn kernel_names() -> Vec<String> {
     v
 }
 
-/// Flow-stress models in `FlowModel` order, as named in the plastic entry points.
-const PLASTIC_MODELS: [&str; 9] = [
-    "jc",
-    "calamaz_2008",
-    "calamaz_2010",
-    "calamaz_2011",
-    "sima_ozel_1",
-    "sima_ozel_2",
-    "sima_ozel_3",
-    "scgl",
-    "bilinear",
-];
-
+/// The index of `m`'s entries in the kernel tables (`kernels::pass::models`: the one list of models).
 fn model_index(m: &FlowModel) -> usize {
-    match m {
-        FlowModel::JohnsonCook(_) => 0,
-        FlowModel::Calamaz2008(_) => 1,
-        FlowModel::Calamaz2010(_) => 2,
-        FlowModel::Calamaz2011(_) => 3,
-        FlowModel::SimaOzel1(_) => 4,
-        FlowModel::SimaOzel2(_) => 5,
-        FlowModel::SimaOzel3(_) => 6,
-        FlowModel::Scgl(_) => 7,
-        FlowModel::Bilinear(_) => 8,
-    }
+    super::cpu::with_model!(m, M, _m => <M as ModelEntry>::INDEX)
 }
 
 /// Suffix of the pre-pass entry for stabiliser combination c = 2·AV + AS.
@@ -152,7 +138,7 @@ enum Arg<'a> {
 }
 
 /// The four (dimension, precision) variants of a generic entry point: 2d_f32, 2d_f64, 3d_f32, 3d_f64.
-struct Variants([CudaFunction; 4]);
+struct Variants([Kernel; 4]);
 
 fn variant<R: Real, D: Dim>() -> usize {
     (D::D == 3) as usize * 2 + (size_of::<R>() == 8) as usize
@@ -165,7 +151,7 @@ fn real_arg<R: Real>(x: R) -> Arg<'static> {
 struct Kernels {
     plastic: Vec<Variants>,
     /// 2D f32, 2D f64.
-    contact: [CudaFunction; 2],
+    contact: [Kernel; 2],
     heat_brookshaw: Variants,
     heat_pse: Variants,
     sph_prepare: Vec<Variants>,
@@ -182,22 +168,22 @@ struct Kernels {
     neighbour_list: Variants,
     verlet_build: Variants,
     density: Variants,
-    count_cells: CudaFunction,
-    zero_gated: CudaFunction,
-    scan_reduce: CudaFunction,
-    scan_apply: CudaFunction,
-    scatter: CudaFunction,
-    sort_cells: CudaFunction,
-    gather_b4: CudaFunction,
-    gather_b8: CudaFunction,
-    gather_b16: CudaFunction,
-    gather_fields: CudaFunction,
+    count_cells: Kernel,
+    zero_gated: Kernel,
+    scan_reduce: Kernel,
+    scan_apply: Kernel,
+    scatter: Kernel,
+    sort_cells: Kernel,
+    gather_b4: Kernel,
+    gather_b8: Kernel,
+    gather_b16: Kernel,
+    gather_fields: Kernel,
 }
 
 pub struct CudaBackend {
     ctx: Arc<CudaContext>,
-    /// The loaded PTX module (for the compiler report of [`CudaBackend::kernel_report`]).
-    module: Arc<cudarc::driver::CudaModule>,
+    /// Loads each entry point as its own module on its first launch.
+    loader: Loader,
     stream: Arc<CudaStream>,
     k: Kernels,
     info: DeviceInfo,
@@ -281,7 +267,7 @@ impl CudaBackend {
         kernel_names()
             .into_iter()
             .map(|name| {
-                let f = self.module.load_function(&name).map_err(cuda("loading a kernel"))?;
+                let f = self.loader.load(&name)?;
                 let blocks =
                     f.occupancy_max_active_blocks_per_multiprocessor(BLOCK, 0, None).map_err(cuda("occupancy"))?;
                 Ok(KernelReport {
@@ -361,20 +347,25 @@ impl CudaBackend {
         // SAFETY: plain query into a local.
         unsafe { cudarc::driver::sys::cuDriverGetVersion(&mut driver) };
         // A driver that cannot resolve the predictor's `cudaGraphSetConditional` loads the kernels without it, and
-        // the captured steps keep their rebuild in plain gated nodes.
-        let (module, conditional) = match ctx.load_module(cudarc::nvrtc::Ptx::from_src(ptx.clone())) {
-            Ok(m) => (m, Conditional::new(&ctx, driver)),
+        // the captured steps keep their rebuild in plain gated nodes. The predictor's module decides it, loaded
+        // now; every other entry loads on its first launch (`Loader`).
+        let mut loader = Loader::new(ctx.clone(), ptx)?;
+        let conditional = match loader.load(PROBE) {
+            Ok(_) => Conditional::new(&ctx, driver),
             Err(e) => {
-                let stripped = conditional::strip_graph_conditional(&ptx);
-                if stripped == ptx {
-                    return Err(Error::Cuda { op: "loading the PTX module", source: e });
-                }
-                let m =
-                    ctx.load_module(cudarc::nvrtc::Ptx::from_src(stripped)).map_err(cuda("loading the PTX module"))?;
-                (m, Err(format!("the driver did not resolve cudaGraphSetConditional ({e})")))
+                loader.strip = true;
+                loader.load(PROBE)?;
+                Err(format!("the driver did not resolve cudaGraphSetConditional ({e})"))
             }
         };
-        let f = |name: &str| module.load_function(name).map_err(cuda("loading a kernel"));
+        // Every slot names an entry of the PTX (checked now; loaded on first use).
+        let f = |name: &str| -> Result<Kernel> {
+            if loader.has(name) {
+                Ok(Kernel::new(name))
+            } else {
+                Err(Error::GpuUnavailable(format!("no entry point {name} in the embedded PTX")))
+            }
+        };
         let v = |base: &str, suffix: &str| -> Result<Variants> {
             let sfx = if suffix.is_empty() { String::new() } else { format!("_{suffix}") };
             Ok(Variants([
@@ -385,7 +376,7 @@ impl CudaBackend {
             ]))
         };
         let k = Kernels {
-            plastic: PLASTIC_MODELS.iter().map(|m| v(&format!("swarf_plastic_{m}"), "")).collect::<Result<_>>()?,
+            plastic: FLOW_MODEL_TAGS.iter().map(|m| v(&format!("swarf_plastic_{m}"), "")).collect::<Result<_>>()?,
             contact: [f("swarf_contact_2d_f32")?, f("swarf_contact_2d_f64")?],
             heat_brookshaw: v("swarf_heat_brookshaw", "")?,
             heat_pse: v("swarf_heat_pse", "")?,
@@ -394,7 +385,7 @@ impl CudaBackend {
             sph_rates_heat: (0..8).map(|c| v("swarf_sph_rates_heat", &rates_suffix(c))).collect::<Result<_>>()?,
             step_predict: v("swarf_step_predict", "")?,
             step_finish: v("swarf_step_finish", "")?,
-            step_finish_plastic: PLASTIC_MODELS
+            step_finish_plastic: FLOW_MODEL_TAGS
                 .iter()
                 .map(|m| v(&format!("swarf_step_finish_{m}"), ""))
                 .collect::<Result<_>>()?,
@@ -430,7 +421,7 @@ impl CudaBackend {
             conditional,
             use_conditional: AtomicBool::new(!no_conditional),
             in_body: AtomicBool::new(false),
-            module: module.clone(),
+            loader,
             ctx,
             stream,
             k,
@@ -457,10 +448,11 @@ impl CudaBackend {
 
     /// Launches `f` over `threads` threads in blocks of `block`. Arguments live in a stack array for the call,
     /// so a launch allocates nothing.
-    fn launch(&self, f: &CudaFunction, threads: usize, block: u32, args: &[Arg]) -> Result<()> {
+    fn launch(&self, k: &Kernel, threads: usize, block: u32, args: &[Arg]) -> Result<()> {
         if threads == 0 {
             return Ok(());
         }
+        let f = self.function(k)?;
         let blocks = threads.div_ceil(block as usize);
         if blocks > i32::MAX as usize || args.len() > MAX_ARGS {
             return Err(Error::Length {
@@ -506,9 +498,36 @@ impl CudaBackend {
         .map_err(cuda("kernel launch"))
     }
 
+    /// Launches `f`, an entry that takes the pass's argument struct `args` by value as its single parameter
+    /// (`kernels::pass`; tests/ptx.rs checks its size and alignment against the entry's), over `threads` threads
+    /// in blocks of `block`.
+    fn launch_pass<A: Copy>(&self, f: &Kernel, threads: usize, block: u32, args: &A) -> Result<()> {
+        // SAFETY: A is `#[repr(C)]` and plain (`Copy`): the driver copies size_of::<A>() bytes, which is the size
+        // the entry declares.
+        let bytes = unsafe { std::slice::from_raw_parts(args as *const A as *const u8, size_of::<A>()) };
+        self.launch(f, threads, block, &[Arg::Bytes(bytes)])
+    }
+
+    /// The function of `k`, loaded on its first use. A module load inside a graph capture would end the capture
+    /// (and fail), so it is refused with a clear error: the solver's first step runs uncaptured and launches
+    /// every pass a captured step launches.
+    fn function<'k>(&self, k: &'k Kernel) -> Result<&'k CudaFunction> {
+        if let Some(f) = k.f.get() {
+            return Ok(f);
+        }
+        if self.capturing.load(Ordering::Relaxed) {
+            return Err(Error::GpuUnavailable(format!(
+                "kernel {} was first launched inside a graph capture; launch it once uncaptured first",
+                k.name
+            )));
+        }
+        let f = self.loader.load(&k.name)?;
+        Ok(k.f.get_or_init(|| f))
+    }
+
     /// Launches a grid-stride kernel over `items` (the gated kernels of a rebuild): at most GATED_BLOCKS
     /// blocks, so that a step that does not rebuild costs a few hundred blocks, whatever the particle count.
-    fn launch_strided(&self, f: &CudaFunction, items: usize, args: &[Arg]) -> Result<()> {
+    fn launch_strided(&self, f: &Kernel, items: usize, args: &[Arg]) -> Result<()> {
         self.launch(f, items.min(GATED_BLOCKS * BLOCK as usize), BLOCK, args)
     }
 
@@ -1015,51 +1034,26 @@ impl Backend for CudaBackend {
         dissipation: Option<&mut CudaBuf<R>>,
         heat: Option<FusedHeat<'_, Self, R, D>>,
     ) -> Result<()> {
-        let art = if stab.stress { i.art.map(|a| self.ptr(a)).unwrap_or(0) } else { 0 };
-        let sound = if stab.viscosity { i.sound.map(|c| self.ptr(c)).unwrap_or(0) } else { 0 };
-        if (stab.stress && art == 0) || (stab.viscosity && sound == 0) {
-            return Err(Error::Length { op: "sph_rates (stabiliser buffer missing)", expected: n, got: 0 });
-        }
-        let c = (stab.viscosity as usize) << 2 | (stab.stress as usize) << 1 | stab.xsph as usize;
-        let heat_on = heat.is_some();
-        // The parameter blocks by value (`ptx::sph`; a plain entry ignores the heat block).
-        let none = HeatParams::default();
-        let hp = heat.as_ref().map_or(&none, |h| h.params);
-        let args = [
-            Arg::U32(n as u32),
-            Arg::U32(lanes),
-            Arg::U32(self.pair_reverse),
-            Arg::Bytes(bytemuck::bytes_of(params)),
-            Arg::U64(self.ptr(grid)),
-            Arg::U64(self.ptr(starts)),
-            Arg::U64(list.map_or(0, |l| self.ptr(l))),
-            Arg::U64(self.ptr(i.pos)),
-            Arg::U64(self.ptr(i.vel)),
-            Arg::U64(self.ptr(i.rho)),
-            Arg::U64(self.ptr(i.mass)),
-            Arg::U64(self.ptr(i.vol)),
-            Arg::U64(self.ptr(i.stress)),
-            Arg::U64(self.ptr(i.sig)),
-            Arg::U64(art),
-            Arg::U64(sound),
-            Arg::U64(self.ptr(i.flags)),
-            Arg::U64(self.ptr(i.bc_vel)),
-            Arg::U64(i.contact.map_or(0, |c| self.ptr(c.0))),
-            Arg::U64(i.contact.map_or(0, |c| self.ptr(c.1))),
-            Arg::U64(self.ptr_mut(out.pos)),
-            Arg::U64(self.ptr_mut(out.vel)),
-            Arg::U64(self.ptr_mut(out.rho)),
-            Arg::U64(self.ptr_mut(out.stress)),
-            Arg::U64(dissipation.map_or(0, |d| self.ptr_mut(d))),
-            Arg::Bytes(bytemuck::bytes_of(hp)),
-            Arg::U64(heat.as_ref().map_or(0, |h| self.ptr(h.input.vol))),
-            Arg::U64(heat.as_ref().map_or(0, |h| self.ptr(h.input.temp))),
-            Arg::U64(heat.as_ref().map_or(0, |h| self.ptr(h.input.materials))),
-            Arg::U64(heat.map_or(0, |h| self.ptr_mut(h.temp_t))),
-        ];
         check_lanes(lanes)?;
-        let f = if heat_on { &self.k.sph_rates_heat[c] } else { &self.k.sph_rates[c] };
-        self.launch(&f.0[variant::<R, D>()], n * lanes as usize, self.pair_block, &args)
+        let c = (stab.viscosity as usize) << 2 | (stab.stress as usize) << 1 | stab.xsph as usize;
+        let f = if heat.is_some() { &self.k.sph_rates_heat[c] } else { &self.k.sph_rates[c] };
+        let reverse = self.pair_reverse;
+        let args = super::args::rates_args(
+            self,
+            n,
+            lanes,
+            reverse,
+            stab,
+            params,
+            grid,
+            starts,
+            list,
+            i,
+            out,
+            dissipation,
+            heat,
+        )?;
+        self.launch_pass(&f.0[variant::<R, D>()], n * lanes as usize, self.pair_block, &args)
     }
 
     fn heat_rates<R: Real, D: Dim>(
@@ -1227,7 +1221,6 @@ impl Backend for CudaBackend {
         plastic: Option<PlasticPass<'_, Self>>,
         contact: Option<FusedContact<'_, Self, R, D>>,
     ) -> Result<()> {
-        let sc = self.scalars(&s)?;
         if contact.is_some() && (plastic.is_none() || D::D != 2) {
             return Err(Error::Length {
                 op: "step_finish (the fused contact needs plasticity, 2D)",
@@ -1236,74 +1229,16 @@ impl Backend for CudaBackend {
             });
         }
         let Some(p) = plastic else {
-            let mut args = vec_args(&[Arg::U32(n as u32), sc]);
-            let (fields, diss) = self.step_args(n, f)?;
-            args.extend_from_slice(&fields);
-            args.extend_from_slice(&diss);
-            return self.launch(&self.k.step_finish.0[variant::<R, D>()], n, BLOCK, args.get()?);
+            let args = super::args::finish_args(self, n, &s, f)?;
+            return self.launch_pass(&self.k.step_finish.0[variant::<R, D>()], n, BLOCK, &args);
         };
-        if f.temp.is_none() {
-            return Err(Error::Length { op: "step_finish (plasticity needs temperature)", expected: n, got: 0 });
-        }
-        if p.taylor_quinney > 0.0 && p.materials.is_none() {
-            return Err(Error::Length { op: "step_finish (thermal materials missing)", expected: 1, got: 0 });
-        }
-        let yield_ptr = p.yield_stress.map_or(0, |y| self.ptr_mut(y));
-        let mut args = vec_args(&[
-            Arg::U32(n as u32),
-            Arg::U32(self.plastic_reverse),
-            sc,
-            // By value (`ptx::sph`, finish_plastic_entry).
-            Arg::Bytes(p.model.param_bytes()),
-            Arg::F64(p.shear),
-            Arg::F64(p.taylor_quinney),
-        ]);
-        let (fields, diss) = self.step_args(n, f)?;
-        args.extend_from_slice(&fields);
-        args.extend_from_slice(&diss);
-        args.extend_from_slice(&[
-            Arg::U64(self.ptr_mut(p.eps)),
-            Arg::U64(self.ptr_mut(p.rate)),
-            Arg::U64(self.ptr(p.flags)),
-            Arg::U64(p.materials.map_or(0, |m| self.ptr(m))),
-            Arg::U64(yield_ptr),
-            Arg::U64(p.work.map_or(0, |w| self.ptr_mut(w))),
-        ]);
-        match contact {
-            None => args.extend_from_slice(&[Arg::U64(0); 8]),
-            Some(c) => {
-                if c.yield_stress && yield_ptr == 0 {
-                    return Err(Error::Length {
-                        op: "step_finish (the friction cap's yield stresses)",
-                        expected: 1,
-                        got: 0,
-                    });
-                }
-                if c.mass.len < n
-                    || c.normal.len < n
-                    || c.friction.len < n
-                    || c.wear.as_ref().is_some_and(|w| w.len < n)
-                {
-                    return Err(Error::Length {
-                        op: "step_finish (contact fields)",
-                        expected: n,
-                        got: c.mass.len.min(c.normal.len),
-                    });
-                }
-                args.extend_from_slice(&[
-                    Arg::U64(self.ptr(c.params)),
-                    Arg::U64(self.ptr(c.tool)),
-                    Arg::U64(self.ptr(c.mass)),
-                    Arg::U64(self.ptr_mut(c.normal)),
-                    Arg::U64(self.ptr_mut(c.friction)),
-                    Arg::U64(c.materials.map_or(0, |m| self.ptr(m))),
-                    Arg::U64(if c.yield_stress { yield_ptr } else { 0 }),
-                    Arg::U64(c.wear.map_or(0, |w| self.ptr_mut(w))),
-                ]);
-            }
-        }
-        let f = &self.k.step_finish_plastic[model_index(p.model)].0[variant::<R, D>()];
-        self.launch(f, n, self.plastic_block, args.get()?)
+        let model = p.model;
+        let k = &self.k.step_finish_plastic[model_index(model)].0[variant::<R, D>()];
+        let reverse = self.plastic_reverse;
+        super::cpu::with_model!(model, M, m => {
+            let args = super::args::finish_plastic_args::<_, R, D, M>(self, n, reverse, &s, f, p, *m, contact)?;
+            self.launch_pass(k, n, self.plastic_block, &args)
+        })
     }
 
     fn address<T: Element>(&self, buf: &CudaBuf<T>) -> u64 {

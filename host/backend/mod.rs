@@ -2,6 +2,7 @@
 //! kernel crate's functions in rayon loops, the CUDA backend launches the same functions compiled to PTX.
 //! Each method of the trait is one kernel (or one block-cooperative algorithm) and has the same meaning on both.
 
+pub mod args;
 pub mod cpu;
 pub mod cuda;
 

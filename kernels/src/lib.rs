@@ -12,6 +12,7 @@ pub mod contact;
 pub mod load;
 pub mod material;
 pub mod neighbour;
+pub mod pass;
 pub mod real;
 pub mod sph;
 pub mod vector;

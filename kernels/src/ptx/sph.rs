@@ -52,9 +52,10 @@ density_entry!(swarf_density_3d_f64, f64, V3f64);
 use super::intrinsics::{graph_set_conditional, shfl_xor};
 use crate::contact::Tool2d;
 use crate::contact::penalty::{ContactArrays, ContactParams, contact_particle};
+use crate::pass::{FinishArgs, FinishPlasticArgs, RatesArgs};
 use crate::sph::heat::{HeatArrays, HeatParams, ThermalMaterial, heat_finish, heat_sum};
 use crate::sph::interact::{
-    Arrays, HeatPairSums, PairSums, PrepassArrays, finish_rates, pair_sums, pair_sums_heat, prepare, prepare_particle,
+    HeatPairSums, PairSums, PrepassArrays, finish_rates, pair_sums, pair_sums_heat, prepare, prepare_particle,
 };
 use crate::sph::lanes::{LaneSum, clamp_lanes};
 use crate::sph::params::SphParams;
@@ -110,45 +111,14 @@ macro_rules! prepare_entry {
 macro_rules! rates_entry {
     ($name:ident, $r:ty, $d:ty, $av:literal, $as:literal, $xs:literal, $heat:literal) => {
         #[unsafe(no_mangle)]
-        pub unsafe extern "ptx-kernel" fn $name(
-            n: u32,
-            lanes: u32,
-            reverse: u32,
-            params: SphParams<$r>,
-            grid: *const GridParams,
-            starts: *const u32,
-            list: *const u32,
-            pos: *const Vec_<$r, $d>,
-            vel: *const Vec_<$r, $d>,
-            rho: *const $r,
-            mass: *const $r,
-            vol: *const $r,
-            stress: *const Sym_<$r, $d>,
-            sig: *const Sym_<$r, $d>,
-            art: *const Sym_<$r, $d>,
-            sound: *const $r,
-            flags: *const u32,
-            bc_vel: *const Vec_<$r, $d>,
-            normal: *const Vec_<$r, $d>,
-            friction: *const Vec_<$r, $d>,
-            pos_t: *mut Vec_<$r, $d>,
-            vel_t: *mut Vec_<$r, $d>,
-            rho_t: *mut $r,
-            stress_t: *mut Sym_<$r, $d>,
-            dissipation_t: *mut $r,
-            hp: HeatParams,
-            heat_vol: *const $r,
-            temp: *const f64,
-            materials: *const ThermalMaterial,
-            temp_t: *mut f64,
-        ) {
+        pub unsafe extern "ptx-kernel" fn $name(args: RatesArgs<$r, $d>) {
+            let RatesArgs { n, lanes, reverse, params, hp, .. } = args;
             let t = ordered_index(reverse);
             let lanes = clamp_lanes(lanes);
             let (i, lane) = (t / lanes, t % lanes);
-            let a =
-                Arrays::<$r, $d> { pos, vel, rho, mass, vol, stress, sig, art, sound, flags, bc_vel, normal, friction };
-            let h = HeatArrays::<$r, Vec_<$r, $d>> { pos, rho, vol: heat_vol, temp, flags, materials };
-            let nb = Neighbours { grid: unsafe { &*grid }, starts, list };
+            let a = args.arrays();
+            let h = args.heat_arrays();
+            let nb = unsafe { args.neighbours() };
             // Every lane takes part in the shuffles, also past the last particle.
             let live = i < n;
             unsafe {
@@ -170,16 +140,9 @@ macro_rules! rates_entry {
                 };
                 if live && lane == 0 {
                     let o = finish_rates::<$r, $d, $xs>(&params, &a, i, &mech);
-                    let iu = i as usize;
-                    *pos_t.add(iu) = o.pos_t;
-                    *vel_t.add(iu) = o.vel_t;
-                    *rho_t.add(iu) = o.rho_t;
-                    *stress_t.add(iu) = o.stress_t;
-                    if !dissipation_t.is_null() {
-                        *dissipation_t.add(iu) = o.dissipation_t;
-                    }
+                    args.store(i as usize, &o);
                     if $heat {
-                        *temp_t.add(iu) = heat_finish(&h, i, heat);
+                        *args.temp_t.add(i as usize) = heat_finish(&h, i, heat);
                     }
                 }
             }
@@ -294,167 +257,30 @@ macro_rules! predict_entry {
 macro_rules! finish_entry {
     ($name:ident, $r:ty, $d:ty) => {
         #[unsafe(no_mangle)]
-        pub unsafe extern "ptx-kernel" fn $name(
-            n: u32,
-            scalars: *const StepScalars,
-            pos: *mut Vec_<$r, $d>,
-            vel: *mut Vec_<$r, $d>,
-            rho: *mut $r,
-            stress: *mut Sym_<$r, $d>,
-            pos0: *mut Vec_<$r, $d>,
-            vel0: *mut Vec_<$r, $d>,
-            rho0: *mut $r,
-            stress0: *mut Sym_<$r, $d>,
-            pos_t: *const Vec_<$r, $d>,
-            vel_t: *const Vec_<$r, $d>,
-            rho_t: *const $r,
-            stress_t: *const Sym_<$r, $d>,
-            temp: *mut f64,
-            temp0: *mut f64,
-            temp_t: *const f64,
-            diss: *mut f64,
-            diss_t: *const $r,
-            pos_lo: *mut Vec_<$r, $d>,
-        ) {
+        pub unsafe extern "ptx-kernel" fn $name(args: FinishArgs<$r, $d>) {
             let i = global_index();
-            if i < n {
-                let a = StepArrays {
-                    pos,
-                    vel,
-                    rho,
-                    stress,
-                    pos0,
-                    vel0,
-                    rho0,
-                    stress0,
-                    pos_t,
-                    vel_t,
-                    rho_t,
-                    stress_t,
-                    temp,
-                    temp0,
-                    temp_t,
-                    diss,
-                    diss_t,
-                    pos_lo,
-                };
-                unsafe { correct_particle(&a, (*scalars).dt, i as usize) };
+            if i < args.n {
+                unsafe { args.particle(i as usize) };
             }
         }
     };
 }
 
 /// The fused corrector and plastic update (sph::plastic::plastic_particle) of the same particle, one entry per
-/// flow-stress model. The model's parameters come by value: in the constant bank, operands of the return map's
-/// instructions, not loads and registers held across its Newton iterations. With a non-null `contact` the same
-/// thread then runs the tool's contact pass for the particle (contact::penalty::contact_particle: it reads only
-/// the particle's own corrected state, its temperature and yield stress after the plastic update), so that the
-/// step needs no launch of its own for it; `contact_materials` is null without friction heating, `contact_yield`
-/// without the CURRENT friction cap, `wear` without the wear output; `contact_tool` is the tool's shape.
+/// flow-stress model (pass::FinishPlasticArgs). The model's parameters come by value: in the constant bank,
+/// operands of the return map's instructions, not loads and registers held across its Newton iterations. With a
+/// non-null `contact` the same thread then runs the tool's contact pass for the particle
+/// (contact::penalty::contact_particle: it reads only the particle's own corrected state, its temperature and
+/// yield stress after the plastic update), so that the step needs no launch of its own for it.
 macro_rules! finish_plastic_entry {
-    ($name:ident, $m:ty, $r:ty, $d:ty) => {
-        #[unsafe(no_mangle)]
-        pub unsafe extern "ptx-kernel" fn $name(
-            n: u32,
-            reverse: u32,
-            scalars: *const StepScalars,
-            model: $m,
-            shear: f64,
-            taylor_quinney: f64,
-            pos: *mut Vec_<$r, $d>,
-            vel: *mut Vec_<$r, $d>,
-            rho: *mut $r,
-            stress: *mut Sym_<$r, $d>,
-            pos0: *mut Vec_<$r, $d>,
-            vel0: *mut Vec_<$r, $d>,
-            rho0: *mut $r,
-            stress0: *mut Sym_<$r, $d>,
-            pos_t: *const Vec_<$r, $d>,
-            vel_t: *const Vec_<$r, $d>,
-            rho_t: *const $r,
-            stress_t: *const Sym_<$r, $d>,
-            temp: *mut f64,
-            temp0: *mut f64,
-            temp_t: *const f64,
-            diss: *mut f64,
-            diss_t: *const $r,
-            pos_lo: *mut Vec_<$r, $d>,
-            eps: *mut f64,
-            rate: *mut f64,
-            flags: *const u32,
-            materials: *const ThermalMaterial,
-            yield_stress: *mut f64,
-            work: *mut f64,
-            contact: *const ContactParams,
-            contact_tool: *const Tool2d,
-            mass: *const $r,
-            normal: *mut Vec_<$r, $d>,
-            friction: *mut Vec_<$r, $d>,
-            contact_materials: *const ThermalMaterial,
-            contact_yield: *const f64,
-            wear: *mut f64,
-        ) {
-            let i = ordered_index(reverse);
-            if i < n {
-                let a = StepArrays {
-                    pos,
-                    vel,
-                    rho,
-                    stress,
-                    pos0,
-                    vel0,
-                    rho0,
-                    stress0,
-                    pos_t,
-                    vel_t,
-                    rho_t,
-                    stress_t,
-                    temp,
-                    temp0,
-                    temp_t,
-                    diss,
-                    diss_t,
-                    pos_lo,
-                };
-                let p = PlasticArrays::<$r, Sym_<$r, $d>> {
-                    stress,
-                    rho,
-                    eps,
-                    rate,
-                    temp,
-                    flags,
-                    materials,
-                    yield_stress,
-                    work,
-                };
-                unsafe {
-                    let dt = (*scalars).dt;
-                    correct_particle(&a, dt, i as usize);
-                    let c = PlasticConsts { shear, dt, taylor_quinney, _pad: 0.0 };
-                    plastic_particle::<$r, $d, $m>(&model, &c, &p, i as usize);
-                    if !contact.is_null() {
-                        let ca = ContactArrays::<$r, Vec_<$r, $d>> {
-                            pos,
-                            vel,
-                            mass,
-                            rho,
-                            flags,
-                            normal,
-                            friction,
-                            temp,
-                            materials: contact_materials,
-                            yield_stress: contact_yield,
-                            wear,
-                        };
-                        contact_particle::<$r, Vec_<$r, $d>, Tool2d>(
-                            &*contact,
-                            &*contact_tool,
-                            &(*scalars).tool,
-                            &ca,
-                            i as usize,
-                        );
-                    }
-                }
+    ($name:ident, $sym:expr, $m:ty, $r:ty, $d:ty) => {
+        #[unsafe(export_name = $sym)]
+        pub unsafe extern "ptx-kernel" fn $name(args: FinishPlasticArgs<$r, $d, $m>) {
+            let i = ordered_index(args.reverse);
+            if i < args.n {
+                // The model alone goes to the flow-stress functions (a local copy, as the by-value parameter was).
+                let model = args.model;
+                unsafe { args.particle(&model, i as usize) };
             }
         }
     };
@@ -600,16 +426,13 @@ heat_entry!(swarf_heat_pse_2d_f64, f64, Dim2, true);
 heat_entry!(swarf_heat_pse_3d_f32, f32, Dim3, true);
 heat_entry!(swarf_heat_pse_3d_f64, f64, Dim3, true);
 
-use crate::material::{
-    Bilinear, Calamaz2008, Calamaz2010, Calamaz2011, JohnsonCook, Scgl, SimaOzel1, SimaOzel2, SimaOzel3,
-};
 use crate::sph::plastic::{PlasticArrays, PlasticConsts, plastic_particle};
 
 /// The plastic update (radial return + heating) of every particle, one entry per flow-stress model (its parameters
 /// by value, as in finish_plastic_entry).
 macro_rules! plastic_entry {
-    ($name:ident, $m:ty, $r:ty, $d:ty) => {
-        #[unsafe(no_mangle)]
+    ($name:ident, $sym:expr, $m:ty, $r:ty, $d:ty) => {
+        #[unsafe(export_name = $sym)]
         pub unsafe extern "ptx-kernel" fn $name(
             n: u32,
             model: $m,
@@ -646,79 +469,27 @@ macro_rules! plastic_entry {
     };
 }
 
-plastic_entry!(swarf_plastic_jc_2d_f32, JohnsonCook, f32, Dim2);
-plastic_entry!(swarf_plastic_jc_2d_f64, JohnsonCook, f64, Dim2);
-plastic_entry!(swarf_plastic_jc_3d_f32, JohnsonCook, f32, Dim3);
-plastic_entry!(swarf_plastic_jc_3d_f64, JohnsonCook, f64, Dim3);
-plastic_entry!(swarf_plastic_calamaz_2008_2d_f32, Calamaz2008, f32, Dim2);
-plastic_entry!(swarf_plastic_calamaz_2008_2d_f64, Calamaz2008, f64, Dim2);
-plastic_entry!(swarf_plastic_calamaz_2008_3d_f32, Calamaz2008, f32, Dim3);
-plastic_entry!(swarf_plastic_calamaz_2008_3d_f64, Calamaz2008, f64, Dim3);
-plastic_entry!(swarf_plastic_calamaz_2010_2d_f32, Calamaz2010, f32, Dim2);
-plastic_entry!(swarf_plastic_calamaz_2010_2d_f64, Calamaz2010, f64, Dim2);
-plastic_entry!(swarf_plastic_calamaz_2010_3d_f32, Calamaz2010, f32, Dim3);
-plastic_entry!(swarf_plastic_calamaz_2010_3d_f64, Calamaz2010, f64, Dim3);
-plastic_entry!(swarf_plastic_calamaz_2011_2d_f32, Calamaz2011, f32, Dim2);
-plastic_entry!(swarf_plastic_calamaz_2011_2d_f64, Calamaz2011, f64, Dim2);
-plastic_entry!(swarf_plastic_calamaz_2011_3d_f32, Calamaz2011, f32, Dim3);
-plastic_entry!(swarf_plastic_calamaz_2011_3d_f64, Calamaz2011, f64, Dim3);
-plastic_entry!(swarf_plastic_sima_ozel_1_2d_f32, SimaOzel1, f32, Dim2);
-plastic_entry!(swarf_plastic_sima_ozel_1_2d_f64, SimaOzel1, f64, Dim2);
-plastic_entry!(swarf_plastic_sima_ozel_1_3d_f32, SimaOzel1, f32, Dim3);
-plastic_entry!(swarf_plastic_sima_ozel_1_3d_f64, SimaOzel1, f64, Dim3);
-plastic_entry!(swarf_plastic_sima_ozel_2_2d_f32, SimaOzel2, f32, Dim2);
-plastic_entry!(swarf_plastic_sima_ozel_2_2d_f64, SimaOzel2, f64, Dim2);
-plastic_entry!(swarf_plastic_sima_ozel_2_3d_f32, SimaOzel2, f32, Dim3);
-plastic_entry!(swarf_plastic_sima_ozel_2_3d_f64, SimaOzel2, f64, Dim3);
-plastic_entry!(swarf_plastic_sima_ozel_3_2d_f32, SimaOzel3, f32, Dim2);
-plastic_entry!(swarf_plastic_sima_ozel_3_2d_f64, SimaOzel3, f64, Dim2);
-plastic_entry!(swarf_plastic_sima_ozel_3_3d_f32, SimaOzel3, f32, Dim3);
-plastic_entry!(swarf_plastic_sima_ozel_3_3d_f64, SimaOzel3, f64, Dim3);
-plastic_entry!(swarf_plastic_scgl_2d_f32, Scgl, f32, Dim2);
-plastic_entry!(swarf_plastic_scgl_2d_f64, Scgl, f64, Dim2);
-plastic_entry!(swarf_plastic_scgl_3d_f32, Scgl, f32, Dim3);
-plastic_entry!(swarf_plastic_scgl_3d_f64, Scgl, f64, Dim3);
-plastic_entry!(swarf_plastic_bilinear_2d_f32, Bilinear, f32, Dim2);
-plastic_entry!(swarf_plastic_bilinear_2d_f64, Bilinear, f64, Dim2);
-plastic_entry!(swarf_plastic_bilinear_3d_f32, Bilinear, f32, Dim3);
-plastic_entry!(swarf_plastic_bilinear_3d_f64, Bilinear, f64, Dim3);
+/// Each flow-stress model's plastic pass and plastic corrector in every dimension and precision, named
+/// `swarf_plastic_<tag>_<variant>` and `swarf_step_finish_<tag>_<variant>` (the model list: pass::models).
+macro_rules! flow_model_entries {
+    ($(($t:ident, $tag:ident)),* $(,)?) => {
+        $(
+            mod $tag {
+                use super::*;
+                plastic_entry!(plastic_2d_f32, concat!("swarf_plastic_", stringify!($tag), "_2d_f32"), crate::material::$t, f32, Dim2);
+                plastic_entry!(plastic_2d_f64, concat!("swarf_plastic_", stringify!($tag), "_2d_f64"), crate::material::$t, f64, Dim2);
+                plastic_entry!(plastic_3d_f32, concat!("swarf_plastic_", stringify!($tag), "_3d_f32"), crate::material::$t, f32, Dim3);
+                plastic_entry!(plastic_3d_f64, concat!("swarf_plastic_", stringify!($tag), "_3d_f64"), crate::material::$t, f64, Dim3);
+                finish_plastic_entry!(finish_2d_f32, concat!("swarf_step_finish_", stringify!($tag), "_2d_f32"), crate::material::$t, f32, Dim2);
+                finish_plastic_entry!(finish_2d_f64, concat!("swarf_step_finish_", stringify!($tag), "_2d_f64"), crate::material::$t, f64, Dim2);
+                finish_plastic_entry!(finish_3d_f32, concat!("swarf_step_finish_", stringify!($tag), "_3d_f32"), crate::material::$t, f32, Dim3);
+                finish_plastic_entry!(finish_3d_f64, concat!("swarf_step_finish_", stringify!($tag), "_3d_f64"), crate::material::$t, f64, Dim3);
+            }
+        )*
+    };
+}
 
-finish_plastic_entry!(swarf_step_finish_jc_2d_f32, JohnsonCook, f32, Dim2);
-finish_plastic_entry!(swarf_step_finish_jc_2d_f64, JohnsonCook, f64, Dim2);
-finish_plastic_entry!(swarf_step_finish_jc_3d_f32, JohnsonCook, f32, Dim3);
-finish_plastic_entry!(swarf_step_finish_jc_3d_f64, JohnsonCook, f64, Dim3);
-finish_plastic_entry!(swarf_step_finish_calamaz_2008_2d_f32, Calamaz2008, f32, Dim2);
-finish_plastic_entry!(swarf_step_finish_calamaz_2008_2d_f64, Calamaz2008, f64, Dim2);
-finish_plastic_entry!(swarf_step_finish_calamaz_2008_3d_f32, Calamaz2008, f32, Dim3);
-finish_plastic_entry!(swarf_step_finish_calamaz_2008_3d_f64, Calamaz2008, f64, Dim3);
-finish_plastic_entry!(swarf_step_finish_calamaz_2010_2d_f32, Calamaz2010, f32, Dim2);
-finish_plastic_entry!(swarf_step_finish_calamaz_2010_2d_f64, Calamaz2010, f64, Dim2);
-finish_plastic_entry!(swarf_step_finish_calamaz_2010_3d_f32, Calamaz2010, f32, Dim3);
-finish_plastic_entry!(swarf_step_finish_calamaz_2010_3d_f64, Calamaz2010, f64, Dim3);
-finish_plastic_entry!(swarf_step_finish_calamaz_2011_2d_f32, Calamaz2011, f32, Dim2);
-finish_plastic_entry!(swarf_step_finish_calamaz_2011_2d_f64, Calamaz2011, f64, Dim2);
-finish_plastic_entry!(swarf_step_finish_calamaz_2011_3d_f32, Calamaz2011, f32, Dim3);
-finish_plastic_entry!(swarf_step_finish_calamaz_2011_3d_f64, Calamaz2011, f64, Dim3);
-finish_plastic_entry!(swarf_step_finish_sima_ozel_1_2d_f32, SimaOzel1, f32, Dim2);
-finish_plastic_entry!(swarf_step_finish_sima_ozel_1_2d_f64, SimaOzel1, f64, Dim2);
-finish_plastic_entry!(swarf_step_finish_sima_ozel_1_3d_f32, SimaOzel1, f32, Dim3);
-finish_plastic_entry!(swarf_step_finish_sima_ozel_1_3d_f64, SimaOzel1, f64, Dim3);
-finish_plastic_entry!(swarf_step_finish_sima_ozel_2_2d_f32, SimaOzel2, f32, Dim2);
-finish_plastic_entry!(swarf_step_finish_sima_ozel_2_2d_f64, SimaOzel2, f64, Dim2);
-finish_plastic_entry!(swarf_step_finish_sima_ozel_2_3d_f32, SimaOzel2, f32, Dim3);
-finish_plastic_entry!(swarf_step_finish_sima_ozel_2_3d_f64, SimaOzel2, f64, Dim3);
-finish_plastic_entry!(swarf_step_finish_sima_ozel_3_2d_f32, SimaOzel3, f32, Dim2);
-finish_plastic_entry!(swarf_step_finish_sima_ozel_3_2d_f64, SimaOzel3, f64, Dim2);
-finish_plastic_entry!(swarf_step_finish_sima_ozel_3_3d_f32, SimaOzel3, f32, Dim3);
-finish_plastic_entry!(swarf_step_finish_sima_ozel_3_3d_f64, SimaOzel3, f64, Dim3);
-finish_plastic_entry!(swarf_step_finish_scgl_2d_f32, Scgl, f32, Dim2);
-finish_plastic_entry!(swarf_step_finish_scgl_2d_f64, Scgl, f64, Dim2);
-finish_plastic_entry!(swarf_step_finish_scgl_3d_f32, Scgl, f32, Dim3);
-finish_plastic_entry!(swarf_step_finish_scgl_3d_f64, Scgl, f64, Dim3);
-finish_plastic_entry!(swarf_step_finish_bilinear_2d_f32, Bilinear, f32, Dim2);
-finish_plastic_entry!(swarf_step_finish_bilinear_2d_f64, Bilinear, f64, Dim2);
-finish_plastic_entry!(swarf_step_finish_bilinear_3d_f32, Bilinear, f32, Dim3);
-finish_plastic_entry!(swarf_step_finish_bilinear_3d_f64, Bilinear, f64, Dim3);
+crate::for_each_flow_model!(flow_model_entries);
 
 /// The contact pass with the rigid 2D tool (contact::penalty::contact_particle).
 macro_rules! contact_entry {

@@ -1,0 +1,249 @@
+//! The passes' argument structs (`kernels::pass`) built from a backend's buffers. Both backends build them here,
+//! so each buffer's length is checked once, by [`check_len`], on the CPU and on the GPU alike; the CPU backend
+//! adds the checks that read buffer contents (the cell starts against the grid, the bodies against the
+//! materials), which the GPU's memory does not allow.
+
+use super::{
+    Backend, Buffer, Element, FieldsMut, FusedContact, FusedHeat, PlasticPass, ScalarsAt, SphInputs, StepFields,
+};
+use crate::kernels::neighbour::GridParams;
+use crate::kernels::pass::{FinishArgs, FinishPlasticArgs, RatesArgs, StepPtrs};
+use crate::kernels::sph::heat::HeatParams;
+use crate::kernels::sph::step::StepScalars;
+use crate::kernels::sph::{SphParams, Stabilisers};
+use crate::kernels::{Dim, Real};
+use crate::{Error, Result};
+
+/// An error unless a buffer of `len` elements holds the `n` a pass reads or writes.
+pub fn check_len(what: &'static str, n: usize, len: usize) -> Result<()> {
+    if len < n { Err(Error::Length { op: what, expected: n, got: len }) } else { Ok(()) }
+}
+
+/// The address of a buffer of at least `n` elements, for reading.
+fn input<B: Backend, T: Element>(b: &B, what: &'static str, n: usize, buf: &B::Buf<T>) -> Result<*const T> {
+    check_len(what, n, buf.len())?;
+    Ok(b.address(buf) as *const T)
+}
+
+/// The address of a buffer of at least `n` elements, for writing.
+fn output<B: Backend, T: Element>(b: &B, what: &'static str, n: usize, buf: &mut B::Buf<T>) -> Result<*mut T> {
+    check_len(what, n, buf.len())?;
+    Ok(b.address_mut(buf) as *mut T)
+}
+
+/// The address of an optional input (null where off).
+fn input_opt<B: Backend, T: Element>(b: &B, what: &'static str, n: usize, buf: Option<&B::Buf<T>>) -> Result<*const T> {
+    buf.map_or(Ok(std::ptr::null()), |buf| input(b, what, n, buf))
+}
+
+/// The address of an optional output (null where off).
+fn output_opt<B: Backend, T: Element>(
+    b: &B,
+    what: &'static str,
+    n: usize,
+    buf: Option<&mut B::Buf<T>>,
+) -> Result<*mut T> {
+    buf.map_or(Ok(std::ptr::null_mut()), |buf| output(b, what, n, buf))
+}
+
+/// The pair interaction's arguments ([`Backend::sph_rates`]); `reverse` is the GPU's block order. The stabilisers'
+/// buffers must be given where they are on (and are passed as null where off).
+#[allow(clippy::too_many_arguments)]
+pub fn rates_args<B: Backend, R: Real, D: Dim>(
+    b: &B,
+    n: usize,
+    lanes: u32,
+    reverse: u32,
+    stab: Stabilisers,
+    params: &SphParams<R>,
+    grid: &B::Buf<GridParams>,
+    starts: &B::Buf<u32>,
+    list: Option<&B::Buf<u32>>,
+    i: &SphInputs<'_, B, R, D>,
+    out: FieldsMut<'_, B, R, D>,
+    dissipation: Option<&mut B::Buf<R>>,
+    heat: Option<FusedHeat<'_, B, R, D>>,
+) -> Result<RatesArgs<R, D>> {
+    let art = if stab.stress { input(b, "sph_rates art", n, i.art.ok_or(missing("sph_rates art"))?)? } else { null() };
+    let sound = if stab.viscosity {
+        input(b, "sph_rates sound", n, i.sound.ok_or(missing("sph_rates sound"))?)?
+    } else {
+        null()
+    };
+    let (hp, heat_vol, temp, materials, temp_t) = match heat {
+        Some(h) => (
+            *h.params,
+            input(b, "vol", n, h.input.vol)?,
+            input(b, "temp", n, h.input.temp)?,
+            b.address(h.input.materials) as *const _,
+            output(b, "sph_rates temp_t", n, h.temp_t)?,
+        ),
+        None => (HeatParams::default(), null(), null(), null(), std::ptr::null_mut()),
+    };
+    Ok(RatesArgs {
+        n: u32::try_from(n).map_err(|_| Error::Length {
+            op: "sph_rates particles",
+            expected: u32::MAX as usize,
+            got: n,
+        })?,
+        lanes,
+        reverse,
+        params: *params,
+        hp,
+        grid: input(b, "sph_rates grid", 1, grid)?,
+        starts: b.address(starts) as *const u32,
+        list: input_opt(b, "sph_rates list", 0, list)?,
+        pos: input(b, "pos", n, i.pos)?,
+        vel: input(b, "vel", n, i.vel)?,
+        rho: input(b, "rho", n, i.rho)?,
+        mass: input(b, "mass", n, i.mass)?,
+        vol: input(b, "vol", n, i.vol)?,
+        stress: input(b, "stress", n, i.stress)?,
+        sig: input(b, "sig", n, i.sig)?,
+        art,
+        sound,
+        flags: input(b, "flags", n, i.flags)?,
+        bc_vel: b.address(i.bc_vel) as *const _,
+        normal: input_opt(b, "contact normal", n, i.contact.map(|c| c.0))?,
+        friction: input_opt(b, "contact friction", n, i.contact.map(|c| c.1))?,
+        pos_t: output(b, "pos_t", n, out.pos)?,
+        vel_t: output(b, "vel_t", n, out.vel)?,
+        rho_t: output(b, "rho_t", n, out.rho)?,
+        stress_t: output(b, "stress_t", n, out.stress)?,
+        dissipation_t: output_opt(b, "sph_rates dissipation", n, dissipation)?,
+        heat_vol,
+        temp,
+        materials,
+        temp_t,
+    })
+}
+
+fn null<T>() -> *const T {
+    std::ptr::null()
+}
+
+/// A stabiliser's buffer that is on but was not given.
+fn missing(what: &'static str) -> Error {
+    Error::Length { op: what, expected: 1, got: 0 }
+}
+
+/// The address of the step's scalars (entry `s.index` of `s.buf`).
+pub fn scalars_ptr<B: Backend>(b: &B, s: &ScalarsAt<'_, B>) -> Result<*const StepScalars> {
+    check_len("step scalars", s.index + 1, s.buf.len())?;
+    Ok((b.address(s.buf) as *const StepScalars).wrapping_add(s.index))
+}
+
+/// The addresses of the fields a step integrates, each checked to hold n particles.
+pub fn step_ptrs<B: Backend, R: Real, D: Dim>(b: &B, n: usize, f: StepFields<'_, B, R, D>) -> Result<StepPtrs<R, D>> {
+    let (temp, temp0, temp_t) = match (f.temp, f.conduction) {
+        (Some(t), Some((t0, tt))) => (
+            output(b, "step temperature", n, t)?,
+            output(b, "step temperature", n, t0)?,
+            input(b, "step temperature", n, tt)?,
+        ),
+        (Some(t), None) => (output(b, "step temperature", n, t)?, std::ptr::null_mut(), null()),
+        _ => (std::ptr::null_mut(), std::ptr::null_mut(), null()),
+    };
+    let (diss, diss_t) = match f.dissipation {
+        Some((d, dt)) => (output(b, "step dissipation", n, d)?, input(b, "step dissipation", n, dt)?),
+        None => (std::ptr::null_mut(), null()),
+    };
+    Ok(StepPtrs {
+        pos: output(b, "step fields", n, f.y.pos)?,
+        vel: output(b, "step fields", n, f.y.vel)?,
+        rho: output(b, "step fields", n, f.y.rho)?,
+        stress: output(b, "step fields", n, f.y.stress)?,
+        pos0: output(b, "step fields", n, f.y0.pos)?,
+        vel0: output(b, "step fields", n, f.y0.vel)?,
+        rho0: output(b, "step fields", n, f.y0.rho)?,
+        stress0: output(b, "step fields", n, f.y0.stress)?,
+        pos_t: input(b, "step fields", n, f.rates.pos)?,
+        vel_t: input(b, "step fields", n, f.rates.vel)?,
+        rho_t: input(b, "step fields", n, f.rates.rho)?,
+        stress_t: input(b, "step fields", n, f.rates.stress)?,
+        temp,
+        temp0,
+        temp_t,
+        diss,
+        diss_t,
+        pos_lo: output_opt(b, "step position low parts", n, f.pos_lo)?,
+    })
+}
+
+/// The corrector's arguments ([`Backend::step_finish`] without plasticity).
+pub fn finish_args<B: Backend, R: Real, D: Dim>(
+    b: &B,
+    n: usize,
+    s: &ScalarsAt<'_, B>,
+    f: StepFields<'_, B, R, D>,
+) -> Result<FinishArgs<R, D>> {
+    Ok(FinishArgs { n: count(n)?, scalars: scalars_ptr(b, s)?, step: step_ptrs(b, n, f)? })
+}
+
+/// The arguments of the corrector with the plastic update of `model` (the kernel type of `p.model`) and, with
+/// `contact`, the tool's contact pass ([`Backend::step_finish`]).
+#[allow(clippy::too_many_arguments)]
+pub fn finish_plastic_args<B: Backend, R: Real, D: Dim, M>(
+    b: &B,
+    n: usize,
+    reverse: u32,
+    s: &ScalarsAt<'_, B>,
+    f: StepFields<'_, B, R, D>,
+    p: PlasticPass<'_, B>,
+    model: M,
+    contact: Option<FusedContact<'_, B, R, D>>,
+) -> Result<FinishPlasticArgs<R, D, M>> {
+    if f.temp.is_none() {
+        return Err(Error::Length { op: "step_finish (plasticity needs temperature)", expected: n, got: 0 });
+    }
+    if p.taylor_quinney > 0.0 && p.materials.is_none() {
+        return Err(Error::Length { op: "step_finish (thermal materials missing)", expected: 1, got: 0 });
+    }
+    let yield_stress = output_opt(b, "yield_stress", n, p.yield_stress)?;
+    let mut a = FinishPlasticArgs {
+        n: count(n)?,
+        reverse,
+        scalars: scalars_ptr(b, s)?,
+        model,
+        shear: p.shear,
+        taylor_quinney: p.taylor_quinney,
+        step: step_ptrs(b, n, f)?,
+        eps: output(b, "eps", n, p.eps)?,
+        rate: output(b, "rate", n, p.rate)?,
+        flags: input(b, "flags", n, p.flags)?,
+        materials: p.materials.map_or(null(), |m| b.address(m) as *const _),
+        yield_stress,
+        work: output_opt(b, "plastic work", n, p.work)?,
+        contact: null(),
+        contact_tool: null(),
+        mass: null(),
+        normal: std::ptr::null_mut(),
+        friction: std::ptr::null_mut(),
+        contact_materials: null(),
+        contact_yield: null(),
+        wear: std::ptr::null_mut(),
+    };
+    if let Some(c) = contact {
+        if c.yield_stress && yield_stress.is_null() {
+            return Err(Error::Length { op: "step_finish (the friction cap's yield stresses)", expected: 1, got: 0 });
+        }
+        a.contact = input(b, "contact parameters", 1, c.params)?;
+        a.contact_tool = input(b, "the tool's shape", 1, c.tool)?;
+        a.mass = input(b, "mass", n, c.mass)?;
+        a.normal = output(b, "normal", n, c.normal)?;
+        a.friction = output(b, "friction", n, c.friction)?;
+        a.contact_materials = c.materials.map_or(null(), |m| b.address(m) as *const _);
+        a.contact_yield = if c.yield_stress { yield_stress } else { null() };
+        a.wear = output_opt(b, "wear", n, c.wear)?;
+    }
+    Ok(a)
+}
+
+/// A particle count as the kernels take it.
+fn count(n: usize) -> Result<u32> {
+    u32::try_from(n).map_err(|_| Error::Length {
+        op: "particles (at most 2^32 - 1)",
+        expected: u32::MAX as usize,
+        got: n,
+    })
+}

@@ -1,0 +1,15 @@
+//! One argument struct per pass: the pass's particle count, its buffers as raw pointers (null where a buffer is
+//! off) and its by-value parameter blocks, `#[repr(C)]` so that the host (x86-64) and the device (nvptx64) lay it
+//! out alike. The PTX entry takes the struct by value as its single parameter (`.param .align N .b8 a[size]`:
+//! the launch copies it into the constant bank with the launch, as `SphParams` was before) and the CPU backend
+//! builds the same struct with host pointers, so a swapped pointer no longer compiles and both backends share
+//! the per-particle loads and stores. tests/ptx.rs checks each entry's parameter block against
+//! `size_of`/`align_of` of its struct.
+
+pub mod finish;
+pub mod models;
+pub mod rates;
+
+pub use finish::{FinishArgs, FinishPlasticArgs, StepPtrs};
+pub use models::{FLOW_MODEL_TAGS, ModelEntry};
+pub use rates::RatesArgs;

@@ -1,0 +1,117 @@
+//! The pair interaction's arguments (`sph::interact::rates`, fused with the Brookshaw conduction in
+//! `sph::interact::rates_heat`).
+
+use crate::neighbour::{GridParams, Neighbours};
+use crate::real::Real;
+use crate::sph::heat::{HeatArrays, HeatParams, ThermalMaterial};
+use crate::sph::interact::{Arrays, Rates};
+use crate::sph::params::SphParams;
+use crate::vector::Dim;
+
+/// Everything one launch of the pair interaction reads and writes, all arrays in sorted order.
+#[repr(C)]
+#[derive(Clone, Copy)]
+pub struct RatesArgs<R: Real, D: Dim> {
+    pub n: u32,
+    /// Lanes per particle (1, 2, 4 or 8; `sph::lanes::clamp_lanes`).
+    pub lanes: u32,
+    /// Blocks in reverse order (`ptx::ordered_index`; the GPU's only, no bit depends on it).
+    pub reverse: u32,
+    pub params: SphParams<R>,
+    /// The conduction's constants (the fused entries only).
+    pub hp: HeatParams,
+    pub grid: *const GridParams,
+    pub starts: *const u32,
+    /// The Verlet list of `grid`, or null: walk the stencil.
+    pub list: *const u32,
+    pub pos: *const D::Vec<R>,
+    pub vel: *const D::Vec<R>,
+    pub rho: *const R,
+    /// Mechanical masses (zero for the tool's thermal-only particles).
+    pub mass: *const R,
+    /// V = m/ρ of the pre-pass (full masses).
+    pub vol: *const R,
+    pub stress: *const D::Sym<R>,
+    pub sig: *const D::Sym<R>,
+    /// Null unless the artificial stress is on.
+    pub art: *const D::Sym<R>,
+    /// Null unless the viscosity is on.
+    pub sound: *const R,
+    pub flags: *const u32,
+    pub bc_vel: *const D::Vec<R>,
+    /// The last contact pass's normal and friction forces; null without a tool.
+    pub normal: *const D::Vec<R>,
+    pub friction: *const D::Vec<R>,
+    pub pos_t: *mut D::Vec<R>,
+    pub vel_t: *mut D::Vec<R>,
+    pub rho_t: *mut R,
+    pub stress_t: *mut D::Sym<R>,
+    /// Null: the dissipation rate is not stored.
+    pub dissipation_t: *mut R,
+    /// The fused conduction's inputs (volumes from the full masses) and Ṫ; null in the plain entries.
+    pub heat_vol: *const R,
+    pub temp: *const f64,
+    pub materials: *const ThermalMaterial,
+    pub temp_t: *mut f64,
+}
+
+impl<R: Real, D: Dim> RatesArgs<R, D> {
+    /// The interaction's read-only arrays.
+    #[inline(always)]
+    pub fn arrays(&self) -> Arrays<R, D> {
+        Arrays {
+            pos: self.pos,
+            vel: self.vel,
+            rho: self.rho,
+            mass: self.mass,
+            vol: self.vol,
+            stress: self.stress,
+            sig: self.sig,
+            art: self.art,
+            sound: self.sound,
+            flags: self.flags,
+            bc_vel: self.bc_vel,
+            normal: self.normal,
+            friction: self.friction,
+        }
+    }
+
+    /// The fused conduction's read-only arrays.
+    #[inline(always)]
+    pub fn heat_arrays(&self) -> HeatArrays<R, D::Vec<R>> {
+        HeatArrays {
+            pos: self.pos,
+            rho: self.rho,
+            vol: self.heat_vol,
+            temp: self.temp,
+            flags: self.flags,
+            materials: self.materials,
+        }
+    }
+
+    /// The neighbour walk's view of the cell list.
+    ///
+    /// # Safety
+    /// `grid` points at a live `GridParams`.
+    #[inline(always)]
+    pub unsafe fn neighbours(&self) -> Neighbours<'_> {
+        Neighbours { grid: unsafe { &*self.grid }, starts: self.starts, list: self.list }
+    }
+
+    /// Stores particle i's rates (the dissipation rate where `dissipation_t` is set).
+    ///
+    /// # Safety
+    /// i < n, and the output arrays hold n particles.
+    #[inline(always)]
+    pub unsafe fn store(&self, i: usize, o: &Rates<R, D>) {
+        unsafe {
+            *self.pos_t.add(i) = o.pos_t;
+            *self.vel_t.add(i) = o.vel_t;
+            *self.rho_t.add(i) = o.rho_t;
+            *self.stress_t.add(i) = o.stress_t;
+            if !self.dissipation_t.is_null() {
+                *self.dissipation_t.add(i) = o.dissipation_t;
+            }
+        }
+    }
+}
