@@ -22,7 +22,7 @@ pub mod diagnostics;
 pub mod fields;
 pub mod params;
 
-pub use crate::cutting::motion::ToolMotion;
+pub use crate::tool::motion::ToolMotion;
 
 use crate::Result;
 use crate::backend::{
