@@ -29,7 +29,7 @@ use crate::backend::{
     Backend, Conduction, ContactInputs, FieldsMut, FieldsRef, FusedContact, FusedHeat, FusedPrepare, HeatInputs,
     PlasticPass, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields,
 };
-use crate::kernels::contact::{ContactParams, Tool2d};
+use crate::kernels::contact::{ContactParams, Tool2d, ToolState};
 use crate::kernels::neighbour::GridParams;
 use crate::kernels::sph::heat::{HeatParams, ThermalMaterial};
 use crate::kernels::sph::params::flags;
@@ -947,6 +947,12 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
     #[allow(clippy::type_complexity)]
     pub fn positions(&self, b: &B) -> Result<(Vec<D::Vec<R>>, Vec<u32>)> {
         Ok((self.particles.pos.read(b)?, self.particles.flags.read(b)?))
+    }
+
+    /// The tool as the contact pass sees it at the current time, with the run's nominal step (its translation and,
+    /// for a rotating tool, its centre, angular velocity and rotation), with a tool.
+    pub fn tool_state(&self) -> Option<ToolState> {
+        self.contact.as_ref().map(|c| c.motion.state_at(self.time, c.nominal_dt, c.nominal_dt))
     }
 
     /// Where the tool's frame origin is at the current time (its translation; z = 0 in 2D), with a tool.
