@@ -26,6 +26,7 @@ pub mod scene;
 pub mod solver;
 pub mod state;
 pub mod study;
+pub mod tool;
 pub mod tuning;
 
 pub use error::{Error, Result};

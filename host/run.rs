@@ -253,7 +253,7 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
         let cut = match &scene.tool {
             Some(t) => crate::cutting::record::CutRecorder::new(
                 scene,
-                crate::cutting::setup::build_tool(t)?,
+                crate::tool::setup::build_tool(t)?,
                 &plan.workpiece,
                 &opts.out_dir,
             ),

@@ -1,8 +1,9 @@
-//! Orthogonal cutting: the tool's motion, the force series and the end-of-run analysis (steady state, chip
-//! thickness, segmentation).
+//! Orthogonal cutting's analyses: the force series and the end-of-run analysis (steady state, chip thickness,
+//! segmentation). The tool's motion and set-up live below the solver, in [`crate::tool`]; they are re-exported here
+//! under their former paths.
 
 pub mod chip;
-pub mod motion;
 pub mod record;
-pub mod setup;
 pub mod steady;
+
+pub use crate::tool::{motion, setup};

@@ -30,22 +30,8 @@ pub const MAX_DRIFT: f64 = 0.1;
 /// Samples per output interval.
 pub const SAMPLES_PER_OUTPUT: f64 = 10.0;
 
-/// The tool's state at one instant, for the cutting record: the force of the tool on the workpiece, its contact
-/// statistics, where the tool's frame origin is, and the workpiece's positions (2D, f64).
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct ToolSample {
-    pub time: f64,
-    pub steps: u64,
-    /// Σ (f_c + f_t) over the particles [N per m of depth in 2D; z = 0 there].
-    pub force: [f64; 3],
-    pub contacts: usize,
-    /// Mean Usui wear rate over the contacting particles [m/s] (NaN when wear is off or nothing touches).
-    pub wear_rate: f64,
-    /// The tool's translation (z = 0 in 2D).
-    pub offset: [f64; 3],
-    /// The mechanical (not thermal-only) particles' positions.
-    pub workpiece: Vec<[f64; 2]>,
-}
+/// The tool's state at one instant (declared with the tool, below the solver and the methods that produce it).
+pub use crate::tool::ToolSample;
 
 pub struct CutRecorder {
     pub series: TimeSeries,

@@ -61,7 +61,7 @@ pub struct Output<R: Real, D: TensorOps<R>> {
 }
 
 /// The tool's state at one instant (declared with the cutting record that takes it).
-pub use crate::cutting::record::ToolSample;
+pub use crate::tool::ToolSample;
 
 /// A particle method as the drivers use it: built from a scene, advanced by steps of Δt, read back at output
 /// steps, saved to and restored from checkpoints.

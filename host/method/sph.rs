@@ -79,9 +79,9 @@ impl Initial {
     fn tool(&mut self, scene: &Scene, set: &ParticleSet) -> Result<(Option<ContactSetup>, Option<ThermalMaterial>)> {
         let Some(t) = &scene.tool else { return Ok((None, None)) };
         let m = &scene.material;
-        let tool = crate::cutting::setup::build_tool(t)?;
-        let motion = crate::cutting::setup::motion(t);
-        crate::cutting::setup::check_engagement(scene, &tool, &motion, &set.pos, &set.vel)?;
+        let tool = crate::tool::setup::build_tool(t)?;
+        let motion = crate::tool::setup::motion(t);
+        crate::tool::setup::check_engagement(scene, &tool, &motion, &set.pos, &set.vel)?;
         let model = scene.material.library.as_ref().and_then(|l| l.flow_stress);
         let mut tool_velocity_index = None;
         let mut tool_thermal = None;
@@ -89,7 +89,7 @@ impl Initial {
             && let Some(mat) = th.material.as_ref().and_then(|m| m.thermal)
         {
             let dx = scene.discretisation.dx;
-            let tp = crate::cutting::setup::tool_particles(&tool, t, dx, th.fixed_width);
+            let tp = crate::tool::setup::tool_particles(&tool, t, dx, th.fixed_width);
             let v0 = motion.velocity_at(0.0);
             let v = [t.velocity[0], t.velocity[1], 0.0];
             let k = velocity_index(&mut self.table, v, scene)?;
@@ -117,7 +117,7 @@ impl Initial {
             });
         }
         let contact = ContactSetup {
-            params: crate::cutting::setup::contact_params(scene, t, model.as_ref()),
+            params: crate::tool::setup::contact_params(scene, t, model.as_ref()),
             tool,
             motion,
             tool_velocity_index,

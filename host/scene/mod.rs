@@ -133,6 +133,10 @@ pub struct Tool {
     pub velocity: [f64; 2],
     /// `ramp` (optional, default 0; unit s), ≥ 0: the velocity is reached linearly over this time.
     pub ramp: f64,
+    /// `rotation = { axis, centre, rpm }` (optional, default none): the tool also turns (see [`ToolRotation`]).
+    /// Absent from `summary.json` when absent here, so scenes without it record what they recorded before.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rotation: Option<ToolRotation>,
     /// `contact_stiffness` (optional, default 0.1, the theses' codes), in (0, 1]: κ, the fraction of a penetration
     /// the penalty force removes per step.
     pub contact_stiffness: f64,
@@ -157,6 +161,21 @@ pub struct Tool {
     pub chip_station: Option<f64>,
     /// `[tool.thermal]` (optional): the tool as thermal-only particles (a heat sink, roethlin-solver.md §5.6).
     pub thermal: Option<ToolThermal>,
+}
+
+/// `rotation` in `[tool]`: the tool turns about the axis through `centre` along `axis`, at `rpm` once the ramp is
+/// over (the same `ramp` as the translation).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct ToolRotation {
+    /// `axis` (required) `[x, y, z]`: finite and non-zero (normalised when the motion is built); along z, `[0, 0,
+    /// ±1]`, while the tool is the parametric 2D one, which can only turn in its plane.
+    pub axis: [f64; 3],
+    /// `centre` (required; unit m) `[x, y, z]`: a point on the axis in the tool frame (origin: the edge's lowest
+    /// point; the axis passes through `position` + `centre` at t = 0).
+    pub centre: [f64; 3],
+    /// `rpm` (required; unit 1/min), finite: the rotational speed, positive turning right-handed about `axis`;
+    /// ω = 2π rpm/60 rad/s.
+    pub rpm: f64,
 }
 
 /// Friction cap of the tool contact (`tool.friction_cap`).

@@ -567,35 +567,95 @@ fn library_material(t: &Tab<'_>, doc: &Doc, k: &str) -> Result<crate::material::
 }
 
 /// The `[tool]` table.
+const TOOL_KEYS: &[&str] = &[
+    "rake_angle",
+    "clearance_angle",
+    "edge_radius",
+    "length",
+    "height",
+    "position",
+    "depth_of_cut",
+    "body",
+    "velocity",
+    "ramp",
+    "rotation",
+    "contact_stiffness",
+    "friction_stiffness",
+    "friction",
+    "friction_cap",
+    "friction_cap_factor",
+    "friction_heating",
+    "usui",
+    "chip_station",
+    "thermal",
+];
+
+/// `[tool]`, read in steps: the outline, where and how the tool moves, the contact law, the thermal tool, then the
+/// checks that need several of them.
 fn tool(t: &Tab<'_>, doc: &Doc, dim: usize, dx: f64, physics: &Physics, bodies: &[Body]) -> Result<Tool> {
-    t.check_keys(
-        &[
-            "rake_angle",
-            "clearance_angle",
-            "edge_radius",
-            "length",
-            "height",
-            "position",
-            "depth_of_cut",
-            "body",
-            "velocity",
-            "ramp",
-            "contact_stiffness",
-            "friction_stiffness",
-            "friction",
-            "friction_cap",
-            "friction_cap_factor",
-            "friction_heating",
-            "usui",
-            "chip_station",
-            "thermal",
-        ],
-        &[],
-        "",
-    )?;
+    t.check_keys(TOOL_KEYS, &[], "")?;
     if dim != 2 {
         return Err(t.invalid("rake_angle", None, "a 2D scene: the parametric tool is 2D (dim = 2)"));
     }
+    let outline = tool_outline(t)?;
+    let (position, depth_of_cut, body) = tool_position(t, dx, bodies)?;
+    let e = "the cutting velocity [vx, vy] in m/s";
+    let velocity = t.required("velocity", e, t.vector("velocity", 2, e)?)?;
+    let ramp = t.number("ramp", "a non-negative time in s", non_negative)?.unwrap_or(0.0);
+    let rotation = tool_rotation(t)?;
+    let law = tool_contact(t, physics)?;
+    let chip_station = t.number("chip_station", "a positive distance in m", positive)?;
+    let thermal = tool_thermal(t, doc, dx, physics)?;
+    if law.friction_heating > 0.0 && !(physics.plastic_heating || physics.conduction != Conduction::Off) {
+        return Err(t.invalid(
+            "friction_heating",
+            t.get("friction_heating"),
+            "0: friction heating needs the thermal model (plastic heating or conduction, and the material's \
+             specific heat)",
+        ));
+    }
+    check_outline(t, &outline)?;
+    if rotation.is_some() && thermal.is_some() {
+        return Err(t.invalid(
+            "rotation",
+            t.get("rotation"),
+            "no rotation with [tool.thermal]: the thermal tool particles move with the tool's translation only",
+        ));
+    }
+    Ok(Tool {
+        rake_angle: outline.rake_angle,
+        clearance_angle: outline.clearance_angle,
+        edge_radius: outline.edge_radius,
+        length: outline.length,
+        height: outline.height,
+        position,
+        depth_of_cut,
+        body,
+        velocity: [velocity[0], velocity[1]],
+        ramp,
+        rotation,
+        contact_stiffness: law.contact_stiffness,
+        friction_stiffness: law.friction_stiffness,
+        friction: law.friction,
+        friction_cap: law.friction_cap,
+        friction_cap_factor: law.friction_cap_factor,
+        friction_heating: law.friction_heating,
+        usui: law.usui,
+        chip_station,
+        thermal,
+    })
+}
+
+/// The tool's outline as the file gives it (angles in degrees).
+struct Outline {
+    rake_angle: f64,
+    clearance_angle: f64,
+    edge_radius: f64,
+    length: f64,
+    height: f64,
+}
+
+fn tool_outline(t: &Tab<'_>) -> Result<Outline> {
     let e = "an angle in degrees in (-90, 90)";
     let rake_angle = t.required("rake_angle", e, t.number("rake_angle", e, |x| x > -90.0 && x < 90.0)?)?;
     let e = "an angle in degrees >= 0 with rake_angle + clearance_angle < 90";
@@ -605,10 +665,70 @@ fn tool(t: &Tab<'_>, doc: &Doc, dim: usize, dx: f64, physics: &Physics, bodies: 
     let e = "a positive length in m";
     let length = t.required("length", e, t.number("length", e, positive)?)?;
     let height = t.required("height", e, t.number("height", e, positive)?)?;
-    let (position, depth_of_cut, body) = tool_position(t, dx, bodies)?;
-    let e = "the cutting velocity [vx, vy] in m/s";
-    let velocity = t.required("velocity", e, t.vector("velocity", 2, e)?)?;
-    let ramp = t.number("ramp", "a non-negative time in s", non_negative)?.unwrap_or(0.0);
+    Ok(Outline { rake_angle, clearance_angle, edge_radius, length, height })
+}
+
+/// Refuses an outline the parametric tool cannot build (kernels/src/contact/tool2d.rs), at `length`.
+fn check_outline(t: &Tab<'_>, o: &Outline) -> Result<()> {
+    let shape = crate::kernels::contact::ToolShape {
+        rake_angle: o.rake_angle.to_radians(),
+        clearance_angle: o.clearance_angle.to_radians(),
+        edge_radius: o.edge_radius,
+        length: o.length,
+        height: o.height,
+    };
+    if let Err(err) = crate::kernels::contact::Tool2d::new(&shape) {
+        let why = match err {
+            crate::kernels::contact::tool2d::ShapeError::Angles => "angles with a wedge 90 - rake - clearance > 0",
+            crate::kernels::contact::tool2d::ShapeError::Size => "finite, non-negative sizes",
+            crate::kernels::contact::tool2d::ShapeError::TooSmall => {
+                "a tool large enough for its edge radius (faces longer than the arc's tangent length, the flank \
+                 below the top)"
+            }
+        };
+        return Err(t.invalid("length", t.get("length"), why));
+    }
+    Ok(())
+}
+
+/// `rotation = { axis, centre, rpm }`: the axis must be a finite, non-zero vector, and along z, since the
+/// parametric tool is 2D and can only turn in its plane (a 3D tool geometry will accept any axis).
+fn tool_rotation(t: &Tab<'_>) -> Result<Option<ToolRotation>> {
+    let e = "a table { axis = [x, y, z], centre = [x, y, z], rpm = n }";
+    let Some(r) = t.table("rotation", "tool.rotation", e)? else { return Ok(None) };
+    r.check_keys(&["axis", "centre", "rpm"], &[], "")?;
+    let e = "a finite, non-zero axis [x, y, z]";
+    let axis = r.required("axis", e, r.vector("axis", 3, e)?)?;
+    let norm = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
+    if !(norm.is_finite() && norm > 0.0) {
+        return Err(r.invalid("axis", r.get("axis"), e));
+    }
+    if axis[0] != 0.0 || axis[1] != 0.0 {
+        return Err(r.invalid(
+            "axis",
+            r.get("axis"),
+            "an axis along z, [0, 0, 1] or [0, 0, -1]: the parametric tool is 2D and turns in its plane only",
+        ));
+    }
+    let e = "the rotation centre [x, y, z] in m, in the tool frame";
+    let centre = r.required("centre", e, r.vector("centre", 3, e)?)?;
+    let e = "a finite rotational speed in revolutions per minute (positive: right-handed about axis)";
+    let rpm = r.required("rpm", e, r.number("rpm", e, |_| true)?)?;
+    Ok(Some(ToolRotation { axis, centre, rpm }))
+}
+
+/// The contact law's keys of `[tool]`.
+struct ContactLaw {
+    contact_stiffness: f64,
+    friction_stiffness: Option<f64>,
+    friction: f64,
+    friction_cap: FrictionCap,
+    friction_cap_factor: f64,
+    friction_heating: f64,
+    usui: Option<[f64; 2]>,
+}
+
+fn tool_contact(t: &Tab<'_>, physics: &Physics) -> Result<ContactLaw> {
     let contact_stiffness =
         t.number("contact_stiffness", "a fraction in (0, 1]", |x| x > 0.0 && x <= 1.0)?.unwrap_or(0.1);
     let friction_stiffness = t.number("friction_stiffness", "a fraction in (0, 1]", |x| x > 0.0 && x <= 1.0)?;
@@ -635,75 +755,7 @@ fn tool(t: &Tab<'_>, doc: &Doc, dim: usize, dx: f64, physics: &Physics, bodies: 
         }
         None => None,
     };
-    let chip_station = t.number("chip_station", "a positive distance in m", positive)?;
-    let thermal = match t.table("thermal", "tool.thermal", "a table [tool.thermal] with material")? {
-        Some(th) => {
-            th.check_keys(&["material", "temperature", "fixed_width"], &[], "")?;
-            let material = library_material(&th, doc, "material")?;
-            let ok = material
-                .thermal
-                .is_some_and(|m| m.density.is_some() && m.specific_heat.is_some() && m.conductivity.is_some());
-            if !ok {
-                return Err(th.invalid(
-                    "material",
-                    th.get("material"),
-                    "a library material with [thermal] density, specific_heat and conductivity",
-                ));
-            }
-            if physics.conduction == Conduction::Off {
-                return Err(th.invalid(
-                    "material",
-                    th.get("material"),
-                    "a scene that conducts heat (physics.conduction): the thermal tool is a heat sink",
-                ));
-            }
-            Some(ToolThermal {
-                material: Some(material),
-                temperature: th
-                    .number("temperature", "a positive temperature in K", positive)?
-                    .unwrap_or(physics.initial_temperature),
-                fixed_width: th.number("fixed_width", "a non-negative width in m", non_negative)?.unwrap_or(2.0 * dx),
-            })
-        }
-        None => None,
-    };
-    if friction_heating > 0.0 && !(physics.plastic_heating || physics.conduction != Conduction::Off) {
-        return Err(t.invalid(
-            "friction_heating",
-            t.get("friction_heating"),
-            "0: friction heating needs the thermal model (plastic heating or conduction, and the material's \
-             specific heat)",
-        ));
-    }
-    let shape = crate::kernels::contact::ToolShape {
-        rake_angle: rake_angle.to_radians(),
-        clearance_angle: clearance_angle.to_radians(),
-        edge_radius,
-        length,
-        height,
-    };
-    if let Err(err) = crate::kernels::contact::Tool2d::new(&shape) {
-        let why = match err {
-            crate::kernels::contact::tool2d::ShapeError::Angles => "angles with a wedge 90 - rake - clearance > 0",
-            crate::kernels::contact::tool2d::ShapeError::Size => "finite, non-negative sizes",
-            crate::kernels::contact::tool2d::ShapeError::TooSmall => {
-                "a tool large enough for its edge radius (faces longer than the arc's tangent length, the flank \
-                 below the top)"
-            }
-        };
-        return Err(t.invalid("length", t.get("length"), why));
-    }
-    Ok(Tool {
-        rake_angle,
-        clearance_angle,
-        edge_radius,
-        length,
-        height,
-        position,
-        depth_of_cut,
-        body,
-        velocity: [velocity[0], velocity[1]],
-        ramp,
+    Ok(ContactLaw {
         contact_stiffness,
         friction_stiffness,
         friction,
@@ -711,14 +763,41 @@ fn tool(t: &Tab<'_>, doc: &Doc, dim: usize, dx: f64, physics: &Physics, bodies: 
         friction_cap_factor,
         friction_heating,
         usui,
-        chip_station,
-        thermal,
     })
 }
 
-/// The tool's `position`, resolved: `[x, y]` as given, or `[x]` with `depth_of_cut`, y then placed depth_of_cut
-/// below the uncut surface of the workpiece body (`body`, default the first): its top particle row + dx/2. Also
-/// returns the depth and the body index when given.
+/// `[tool.thermal]`: the tool as a heat sink of thermal-only particles.
+fn tool_thermal(t: &Tab<'_>, doc: &Doc, dx: f64, physics: &Physics) -> Result<Option<ToolThermal>> {
+    let Some(th) = t.table("thermal", "tool.thermal", "a table [tool.thermal] with material")? else {
+        return Ok(None);
+    };
+    th.check_keys(&["material", "temperature", "fixed_width"], &[], "")?;
+    let material = library_material(&th, doc, "material")?;
+    let ok =
+        material.thermal.is_some_and(|m| m.density.is_some() && m.specific_heat.is_some() && m.conductivity.is_some());
+    if !ok {
+        return Err(th.invalid(
+            "material",
+            th.get("material"),
+            "a library material with [thermal] density, specific_heat and conductivity",
+        ));
+    }
+    if physics.conduction == Conduction::Off {
+        return Err(th.invalid(
+            "material",
+            th.get("material"),
+            "a scene that conducts heat (physics.conduction): the thermal tool is a heat sink",
+        ));
+    }
+    Ok(Some(ToolThermal {
+        material: Some(material),
+        temperature: th
+            .number("temperature", "a positive temperature in K", positive)?
+            .unwrap_or(physics.initial_temperature),
+        fixed_width: th.number("fixed_width", "a non-negative width in m", non_negative)?.unwrap_or(2.0 * dx),
+    }))
+}
+
 fn tool_position(t: &Tab<'_>, dx: f64, bodies: &[Body]) -> Result<([f64; 2], Option<f64>, Option<usize>)> {
     let depth = t.number("depth_of_cut", "a positive depth in m below the workpiece's uncut surface", positive)?;
     let names = bodies.iter().map(|b| format!("'{}'", b.name)).collect::<Vec<_>>().join(", ");

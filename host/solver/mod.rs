@@ -22,14 +22,14 @@ pub mod diagnostics;
 pub mod fields;
 pub mod params;
 
-pub use crate::cutting::motion::ToolMotion;
+pub use crate::tool::motion::ToolMotion;
 
 use crate::Result;
 use crate::backend::{
     Backend, Conduction, ContactInputs, FieldsMut, FieldsRef, FusedContact, FusedHeat, FusedPrepare, HeatInputs,
     PlasticPass, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields,
 };
-use crate::kernels::contact::{ContactParams, Tool2d};
+use crate::kernels::contact::{ContactParams, Tool2d, ToolState};
 use crate::kernels::neighbour::GridParams;
 use crate::kernels::sph::heat::{HeatParams, ThermalMaterial};
 use crate::kernels::sph::params::flags;
@@ -352,6 +352,100 @@ fn heat_inputs<'a, B: Backend, R: Real, D: TensorOps<R>>(
     HeatInputs { pos: &p.pos.cur, rho: &p.rho.cur, vol, temp, flags: &p.flags.cur, materials }
 }
 
+/// The thermal state of a run with heat physics: the materials, the PSE grid (the ±3 stencil) and, when it
+/// conducts, the conduction predictor–corrector's (T0, Ṫ).
+fn thermal_state<B: Backend, R: Real, D: TensorOps<R>>(
+    b: &B,
+    setup: &Setup<R, D>,
+    n: usize,
+) -> Result<Option<ThermalState<B>>> {
+    let Some(t) = &setup.thermal else { return Ok(None) };
+    let mut g = setup.grid;
+    g.stencil = 3;
+    // PSE reaches beyond the Verlet list: it walks the stencil.
+    g.list_capacity = 0;
+    let conducting = When::Conduction.holds(setup);
+    let zeros_f = vec![0.0f64; n];
+    Ok(Some(ThermalState {
+        temp0: if conducting { Some(Field::upload(b, &zeros_f, "temperature")?) } else { None },
+        temp_t: if conducting { Some(b.alloc(n, "temperature rate")?) } else { None },
+        materials: b.upload(&t.materials, "thermal materials")?,
+        heat: t.heat,
+        conduction: t.conduction,
+        grid_pse: b.upload(&[g], "grid")?,
+    }))
+}
+
+/// The plastic state of a run with plasticity: ε̄, ε̄̇ and the plastic work, zero at the start.
+fn plastic_state<B: Backend, R: Real, D: TensorOps<R>>(
+    b: &B,
+    setup: &Setup<R, D>,
+    n: usize,
+) -> Result<Option<PlasticState<B>>> {
+    let Some(p) = &setup.plastic else { return Ok(None) };
+    let zeros_f = vec![0.0f64; n];
+    Ok(Some(PlasticState {
+        eps: Field::upload(b, &zeros_f, "plastic strain")?,
+        rate: Field::upload(b, &zeros_f, "plastic strain rate")?,
+        work: Field::upload(b, &zeros_f, "plastic work")?,
+        model: p.model,
+        taylor_quinney: p.taylor_quinney,
+    }))
+}
+
+/// Refuses a contact set-up the run cannot honour: the parametric tool in a scene that is not 2D (a 3D tool
+/// geometry will lift this guard), the current-yield cap without plasticity, friction heating without heat.
+fn check_contact<R: Real, D: TensorOps<R>>(setup: &Setup<R, D>, c: &ContactSetup) -> Result<()> {
+    if D::D != 2 {
+        return Err(crate::Error::Scene("the parametric tool is 2D only".into()));
+    }
+    if When::CurrentCap.holds(setup) && setup.plastic.is_none() {
+        return Err(crate::Error::Scene("the current-yield friction cap needs plasticity".into()));
+    }
+    if c.params.heat_fraction > 0.0 && (setup.thermal.is_none() || setup.temperature.is_none()) {
+        return Err(crate::Error::Scene("friction heating needs the thermal model".into()));
+    }
+    Ok(())
+}
+
+/// The contact state of a run with a tool: its constants, shape and motion on the device, the contact and
+/// friction forces, and the fields only some laws need (σ_y for the current cap, the wear rate).
+fn contact_state<B: Backend, R: Real, D: TensorOps<R>>(
+    b: &B,
+    setup: &Setup<R, D>,
+    n: usize,
+    bc_table: &[D::Vec<R>],
+) -> Result<Option<ContactState<B, R, D>>> {
+    let Some(c) = &setup.contact else { return Ok(None) };
+    check_contact(setup, c)?;
+    let zeros_v = vec![D::Vec::<R>::default(); n];
+    Ok(Some(ContactState {
+        params: b.upload(&[c.params], "contact parameters")?,
+        tool: b.upload(&[c.tool], "tool shape")?,
+        motion: c.motion,
+        normal: Field::upload(b, &zeros_v, "contact forces")?,
+        friction: Field::upload(b, &zeros_v, "friction forces")?,
+        yield_stress: if When::CurrentCap.holds(setup) { Some(b.alloc(n, "yield stress")?) } else { None },
+        wear: if When::Wear.holds(setup) { Some(b.alloc(n, "wear rate")?) } else { None },
+        tool_velocity_index: c.tool_velocity_index,
+        heating: c.params.heat_fraction > 0.0,
+        nominal_dt: setup.dt,
+        bc_table: bc_table.to_vec(),
+    }))
+}
+
+/// The mechanical mass, zero for the thermal-only particles (allocated only when such particles exist), so that
+/// every pair term with one vanishes exactly.
+fn mechanical_mass<B: Backend, R: Real, D: TensorOps<R>>(b: &B, setup: &Setup<R, D>) -> Result<Option<Field<B, R>>> {
+    if !When::ThermalOnly.holds(setup) {
+        return Ok(None);
+    }
+    let p = &setup.particles;
+    let m: Vec<R> =
+        p.mass.iter().zip(&p.flags).map(|(&m, &f)| if f & flags::THERMAL_ONLY != 0 { R::ZERO } else { m }).collect();
+    Ok(Some(Field::upload(b, &m, "mechanical mass")?))
+}
+
 impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
     /// Uploads the particles and allocates what the chosen physics needs.
     pub fn new(b: &B, setup: &Setup<R, D>) -> Result<Self> {
@@ -368,73 +462,10 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             Some(t) => Some(Field::upload(b, t, "temperature")?),
             None => None,
         };
-        let thermal = match &setup.thermal {
-            Some(t) => {
-                let mut g = setup.grid;
-                g.stencil = 3;
-                // PSE reaches beyond the Verlet list: it walks the stencil.
-                g.list_capacity = 0;
-                let conducting = When::Conduction.holds(setup);
-                Some(ThermalState {
-                    temp0: if conducting { Some(Field::upload(b, &zeros_f, "temperature")?) } else { None },
-                    temp_t: if conducting { Some(b.alloc(n, "temperature rate")?) } else { None },
-                    materials: b.upload(&t.materials, "thermal materials")?,
-                    heat: t.heat,
-                    conduction: t.conduction,
-                    grid_pse: b.upload(&[g], "grid")?,
-                })
-            }
-            None => None,
-        };
-        let plastic = match &setup.plastic {
-            Some(p) => Some(PlasticState {
-                eps: Field::upload(b, &zeros_f, "plastic strain")?,
-                rate: Field::upload(b, &zeros_f, "plastic strain rate")?,
-                work: Field::upload(b, &zeros_f, "plastic work")?,
-                model: p.model,
-                taylor_quinney: p.taylor_quinney,
-            }),
-            None => None,
-        };
-        let contact = match &setup.contact {
-            Some(c) => {
-                if D::D != 2 {
-                    return Err(crate::Error::Scene("the parametric tool is 2D only".into()));
-                }
-                let current = When::CurrentCap.holds(setup);
-                if current && setup.plastic.is_none() {
-                    return Err(crate::Error::Scene("the current-yield friction cap needs plasticity".into()));
-                }
-                if c.params.heat_fraction > 0.0 && (setup.thermal.is_none() || setup.temperature.is_none()) {
-                    return Err(crate::Error::Scene("friction heating needs the thermal model".into()));
-                }
-                Some(ContactState {
-                    params: b.upload(&[c.params], "contact parameters")?,
-                    tool: b.upload(&[c.tool], "tool shape")?,
-                    motion: c.motion,
-                    normal: Field::upload(b, &zeros_v, "contact forces")?,
-                    friction: Field::upload(b, &zeros_v, "friction forces")?,
-                    yield_stress: if current { Some(b.alloc(n, "yield stress")?) } else { None },
-                    wear: if When::Wear.holds(setup) { Some(b.alloc(n, "wear rate")?) } else { None },
-                    tool_velocity_index: c.tool_velocity_index,
-                    heating: c.params.heat_fraction > 0.0,
-                    nominal_dt: setup.dt,
-                    bc_table: table.clone(),
-                })
-            }
-            None => None,
-        };
-        let mech_mass = if When::ThermalOnly.holds(setup) {
-            let m: Vec<R> = particles
-                .mass
-                .iter()
-                .zip(&particles.flags)
-                .map(|(&m, &f)| if f & flags::THERMAL_ONLY != 0 { R::ZERO } else { m })
-                .collect();
-            Some(Field::upload(b, &m, "mechanical mass")?)
-        } else {
-            None
-        };
+        let thermal = thermal_state(b, setup, n)?;
+        let plastic = plastic_state(b, setup, n)?;
+        let contact = contact_state(b, setup, n, &table)?;
+        let mech_mass = mechanical_mass(b, setup)?;
         if (plastic.is_some() || thermal.is_some()) && temp.is_none() {
             return Err(crate::Error::Scene("plasticity and heat need a temperature field".into()));
         }
@@ -916,6 +947,12 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
     #[allow(clippy::type_complexity)]
     pub fn positions(&self, b: &B) -> Result<(Vec<D::Vec<R>>, Vec<u32>)> {
         Ok((self.particles.pos.read(b)?, self.particles.flags.read(b)?))
+    }
+
+    /// The tool as the contact pass sees it at the current time, with the run's nominal step (its translation and,
+    /// for a rotating tool, its centre, angular velocity and rotation), with a tool.
+    pub fn tool_state(&self) -> Option<ToolState> {
+        self.contact.as_ref().map(|c| c.motion.state_at(self.time, c.nominal_dt, c.nominal_dt))
     }
 
     /// Where the tool's frame origin is at the current time (its translation; z = 0 in 2D), with a tool.

@@ -8,7 +8,7 @@ use crate::material::FlowModel;
 use crate::scene::{FrictionCap, Scene, Tool};
 use crate::{Error, Result};
 
-use super::motion::ToolMotion;
+use super::motion::{Rotation, ToolMotion};
 
 /// The built tool of a scene's `[tool]` (validated when the scene was read).
 pub fn build_tool(t: &Tool) -> Result<Tool2d> {
@@ -22,9 +22,15 @@ pub fn build_tool(t: &Tool) -> Result<Tool2d> {
     .map_err(|e| Error::Scene(format!("tool: {e:?}")))
 }
 
-/// The tool's motion (a translation in the plane: the scene's `[tool]` has no rotation yet).
+/// The tool's motion: a translation in the plane and, with `rotation`, a turn about the unit axis a = axis/|axis|
+/// at ω = 2π rpm/60 rad/s (none without the key, so those scenes keep the translating path's bits).
 pub fn motion(t: &Tool) -> ToolMotion {
-    ToolMotion::planar(t.position, t.velocity, t.ramp)
+    let mut m = ToolMotion::planar(t.position, t.velocity, t.ramp);
+    m.rotation = t.rotation.map(|r| {
+        let norm = (r.axis[0] * r.axis[0] + r.axis[1] * r.axis[1] + r.axis[2] * r.axis[2]).sqrt();
+        Rotation { axis: r.axis.map(|a| a / norm), centre: r.centre, rate: r.rpm * std::f64::consts::TAU / 60.0 }
+    });
+    m
 }
 
 /// The contact constants: κ, μ, the friction cap (static: κ_fric σ_y(0, ε̇0, T0)/√3 with T0 the initial

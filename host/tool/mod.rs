@@ -1,0 +1,25 @@
+//! The rigid tool's host side, below the solver and the methods: its motion (translation and rotation), the
+//! contact set-up from a scene's `[tool]` (the built shape, the contact constants, the thermal-only tool particles,
+//! the engagement check) and the sample of its state that the cutting analyses record.
+
+pub mod motion;
+pub mod setup;
+
+pub use motion::{Rotation, ToolMotion};
+
+/// The tool's state at one instant, for the cutting record: the force of the tool on the workpiece, its contact
+/// statistics, where the tool's frame origin is, and the workpiece's positions (2D, f64).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ToolSample {
+    pub time: f64,
+    pub steps: u64,
+    /// Σ (f_c + f_t) over the particles [N per m of depth in 2D; z = 0 there].
+    pub force: [f64; 3],
+    pub contacts: usize,
+    /// Mean Usui wear rate over the contacting particles [m/s] (NaN when wear is off or nothing touches).
+    pub wear_rate: f64,
+    /// The tool's translation (z = 0 in 2D).
+    pub offset: [f64; 3],
+    /// The mechanical (not thermal-only) particles' positions.
+    pub workpiece: Vec<[f64; 2]>,
+}
