@@ -485,8 +485,11 @@ fn cmd_material(
     let mut points = Vec::new();
     for a in at {
         let v: Vec<f64> = a.split(',').filter_map(|x| x.trim().parse::<f64>().ok()).collect();
-        if v.len() != 3 || v[0] < 0.0 || v[1] < 0.0 || v[2] <= 0.0 {
-            eprintln!("error: --at {a}: expected STRAIN,RATE,TEMP with strain >= 0, rate >= 0 1/s, temperature > 0 K");
+        if v.len() != 3 || v.iter().any(|x| !x.is_finite()) || v[0] < 0.0 || v[1] < 0.0 || v[2] <= 0.0 {
+            eprintln!(
+                "error: --at {a}: expected STRAIN,RATE,TEMP, finite numbers with strain >= 0, rate >= 0 1/s, \
+                 temperature > 0 K"
+            );
             std::process::exit(2);
         }
         points.push([v[0], v[1], v[2]]);

@@ -366,7 +366,10 @@ fn wrong_type_is_refused() {
     let line = line_of(&text, "name = 5");
     assert_eq!(
         refused(&text, &[]),
-        format!("cases/rings.toml:{line}: name = 5: expected a non-empty string naming the scene")
+        format!(
+            "cases/rings.toml:{line}: name = 5: expected a non-empty string naming the scene, a plain file name for \
+             its run folder (no '/' or '\\', not '.' or '..')"
+        )
     );
     let msg = refused(&rings_text(), &["body=5"]);
     assert_eq!(msg, "--set body=5: body: expected one or more [[body]] tables");

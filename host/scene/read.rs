@@ -179,13 +179,25 @@ fn point_text(what: &str, dim: usize, unit: &str) -> String {
     format!("{what} [{}] in {unit}", names[..dim].join(", "))
 }
 
+/// Whether `s` names one file in a folder: runs go to `runs/<name>`, so a name with a separator, `..` or an
+/// absolute path would write outside it (issue 27).
+fn plain_file_name(s: &str) -> bool {
+    use std::path::Component;
+    let mut parts = std::path::Path::new(s).components();
+    !s.trim().is_empty()
+        && !s.contains(['/', '\\', '\0'])
+        && matches!(parts.next(), Some(Component::Normal(_)))
+        && parts.next().is_none()
+}
+
 pub(super) fn scene(doc: &Doc) -> Result<Scene> {
     let Val::Table(entries) = &doc.root.val else { unreachable!("a TOML document is a table") };
     let root = Tab { doc, path: "", node: &doc.root, entries };
     root.check_keys(ROOT_KEYS, &[], "")?;
 
-    let name_expected = "a non-empty string naming the scene";
-    let name = root.required("name", name_expected, root.string("name", name_expected, |s| !s.trim().is_empty())?)?;
+    let name_expected =
+        "a non-empty string naming the scene, a plain file name for its run folder (no '/' or '\\', not '.' or '..')";
+    let name = root.required("name", name_expected, root.string("name", name_expected, plain_file_name)?)?;
     let dim_expected = "2 (plane strain) or 3";
     let dim = root.required("dim", dim_expected, root.integer("dim", dim_expected, |d| d == 2 || d == 3)?)? as usize;
     let precision_expected = "\"f32\", \"f64\" or \"mixed\"";
