@@ -47,3 +47,31 @@ fn material_points_must_be_finite() {
         .expect("swarf runs");
     assert!(ok.status.success());
 }
+
+/// A symbolic link planted at the temporary name (`.<name>.tmp-<pid>`) is not followed: the write fails, naming
+/// the link, the file it points at is untouched, and the link stays. A plain file left there (a killed run with
+/// the same process id) is replaced.
+#[cfg(unix)]
+#[test]
+fn atomic_writes_do_not_follow_a_planted_link() {
+    use swarf::output::write_atomic;
+    let dir = std::env::temp_dir().join(format!("swarf-test-link-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let victim = dir.join("victim.txt");
+    std::fs::write(&victim, b"precious").unwrap();
+    let dest = dir.join("energy.csv");
+    let tmp = dir.join(format!(".energy.csv.tmp-{}", std::process::id()));
+    std::os::unix::fs::symlink(&victim, &tmp).unwrap();
+    let err = write_atomic(&dest, b"new data").expect_err("a planted link must stop the write");
+    assert!(err.to_string().contains("symbolic link"), "{err}");
+    assert_eq!(std::fs::read(&victim).unwrap(), b"precious");
+    assert!(!dest.exists());
+    assert!(std::fs::symlink_metadata(&tmp).unwrap().file_type().is_symlink());
+    std::fs::remove_file(&tmp).unwrap();
+    std::fs::write(&tmp, b"stale").unwrap();
+    write_atomic(&dest, b"new data").expect("a stale plain temporary is replaced");
+    assert_eq!(std::fs::read(&dest).unwrap(), b"new data");
+    assert!(!tmp.exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

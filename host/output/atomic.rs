@@ -33,6 +33,11 @@ pub fn write_atomic_with(path: &Path, f: impl FnOnce(&mut dyn Write) -> io::Resu
     let mut guard = TempFile { path: tmp, armed: true };
     let result = write_temp(&guard.path, f).and_then(|()| fs::rename(&guard.path, path));
     if let Err(e) = result {
+        if is_link(&guard.path) {
+            // Not ours: leave a planted link where it is.
+            guard.armed = false;
+            return Err(with_path(path, e));
+        }
         // The original error is the one to report; a failed clean-up is appended rather than dropped.
         return Err(match guard.remove() {
             Ok(()) => with_path(path, e),
@@ -44,6 +49,10 @@ pub fn write_atomic_with(path: &Path, f: impl FnOnce(&mut dyn Write) -> io::Resu
     }
     guard.armed = false;
     sync_dir(path).map_err(|e| with_path(path, e))
+}
+
+fn is_link(p: &Path) -> bool {
+    fs::symlink_metadata(p).is_ok_and(|m| m.file_type().is_symlink())
 }
 
 /// Wraps an I/O error with the path it concerns, keeping its kind: the OS message alone ("No such file or
@@ -64,11 +73,31 @@ fn temp_path(path: &Path) -> io::Result<PathBuf> {
 }
 
 fn write_temp(tmp: &Path, f: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> io::Result<()> {
-    let mut w = BufWriter::with_capacity(BUFFER, File::create(tmp)?);
+    let mut w = BufWriter::with_capacity(BUFFER, create_exclusive(tmp)?);
     f(&mut w)?;
     let file = w.into_inner().map_err(io::IntoInnerError::into_error)?;
     // The data must be on disk before the rename makes it visible, or a crash could expose an empty file.
     file.sync_all()
+}
+
+/// Creates `tmp` new (O_CREAT | O_EXCL, which never follows a symbolic link), so that a link planted at the
+/// temporary name cannot redirect the write to another file (issue 27). A plain file left there by a killed
+/// process with the same id is removed and the creation tried once more; a link is refused.
+fn create_exclusive(tmp: &Path) -> io::Result<File> {
+    let open = || fs::OpenOptions::new().write(true).create_new(true).open(tmp);
+    match open() {
+        Err(e) if e.kind() == io::ErrorKind::AlreadyExists => {
+            if fs::symlink_metadata(tmp)?.file_type().is_symlink() {
+                return Err(io::Error::new(
+                    io::ErrorKind::AlreadyExists,
+                    format!("temporary file {} is a symbolic link; refusing to write through it", tmp.display()),
+                ));
+            }
+            fs::remove_file(tmp)?;
+            open()
+        }
+        r => r,
+    }
 }
 
 /// Makes the rename itself durable: the new directory entry is on disk once this returns.
