@@ -186,6 +186,8 @@ struct Run<'a, B: Backend, M: Method<B>> {
     next_ckpt: f64,
     /// Where this process started (a resumed run's rates and time left count its own steps only).
     start: (u64, f64),
+    /// The progress line's state (a terminal or a log).
+    progress_out: crate::output::progress::Progress,
 }
 
 fn run_typed<B: Backend, M: Method<B>>(
@@ -280,6 +282,7 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
             next_out: 0.0,
             next_ckpt: opts.checkpoint_every.unwrap_or(f64::INFINITY),
             start: (0, 0.0),
+            progress_out: crate::output::progress::Progress::new(std::io::IsTerminal::is_terminal(&std::io::stderr())),
         })
     }
 
@@ -480,21 +483,12 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
         if self.opts.verbose {
             eprintln!("{line}");
         } else if !self.opts.quiet {
-            // One progress line, rewritten in place: simulated time, rates and the time left.
+            // Simulated time, rates and the time left: rewritten in place on a terminal, plain lines in a log.
             let frac = (d.time / end).clamp(0.0, 1.0);
             let done = (d.time - time0) / (end - time0);
-            let eta = if done > 0.0 { el * (1.0 - done) / done } else { f64::NAN };
-            eprint!(
-                "\r[{:<30}] {:5.1} %  t = {:.3e} s  {:.0} steps/s  {:.2e} particle-steps/s  ETA {:.0} s   ",
-                "#".repeat((frac * 30.0) as usize),
-                100.0 * frac,
-                d.time,
-                rate,
-                rate * n,
-                eta
-            );
-            if frac >= 1.0 {
-                eprintln!();
+            let eta = (done > 0.0).then(|| el * (1.0 - done) / done);
+            if let Some(text) = self.progress_out.update(frac, d.time, rate, n, eta) {
+                eprint!("{text}");
             }
         }
         Ok(())

@@ -75,3 +75,21 @@ fn atomic_writes_do_not_follow_a_planted_link() {
     assert!(!tmp.exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The progress line says `ETA -` until the time left can be estimated (it printed `ETA NaN s`); in a log (not a
+/// terminal) it prints plain lines, one per tenth of the run, with no carriage return.
+#[test]
+fn progress_lines_have_no_nan_and_no_carriage_returns_in_logs() {
+    use swarf::output::progress::{Progress, progress_line};
+    let first = progress_line(0.0, 0.0, 0.0, 5640.0, None);
+    assert!(first.contains("ETA -") && !first.contains("NaN"), "{first}");
+    assert!(progress_line(0.5, 1e-4, 1e4, 5640.0, Some(12.4)).contains("ETA 12 s"));
+    let mut log = Progress::new(false);
+    let printed: Vec<String> =
+        (0..=200).filter_map(|k| log.update(k as f64 / 200.0, k as f64 * 1e-6, 1e4, 5640.0, Some(1.0))).collect();
+    assert_eq!(printed.len(), 11, "one line at 0 %, 10 %, …, 100 %");
+    assert!(printed.iter().all(|l| !l.contains('\r') && l.ends_with('\n')));
+    let mut tty = Progress::new(true);
+    let t = tty.update(0.3, 1e-6, 1e4, 5640.0, None).expect("a terminal line every output step");
+    assert!(t.starts_with('\r') && !t.ends_with('\n'));
+}

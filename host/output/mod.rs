@@ -17,6 +17,7 @@ pub mod atomic;
 pub mod csv;
 #[cfg(feature = "hdf5")]
 pub mod hdf5;
+pub mod progress;
 pub mod pvd;
 mod text;
 pub mod vtu;
