@@ -21,7 +21,7 @@ fn scene_names_must_be_plain_file_names() {
         let msg = err.to_string();
         assert!(msg.contains("name") && msg.contains("plain file name"), "{bad:?}: {msg}");
         let set = format!("name={bad:?}");
-        assert!(Scene::from_str(&text, "cases/rings.toml", &[set.clone()]).is_err(), "--set {set} accepted");
+        assert!(Scene::from_str(&text, "cases/rings.toml", std::slice::from_ref(&set)).is_err(), "--set {set} accepted");
     }
     for good in ["rings-2", "v0060_f32", "a.b"] {
         let s = Scene::from_str(&named(good), "cases/rings.toml", &[]).unwrap_or_else(|e| panic!("{good}: {e}"));
