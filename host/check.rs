@@ -35,13 +35,31 @@ impl CheckReport {
 
 pub use crate::method::sph::memory_estimate;
 
-/// Refuses a run that cannot fit the GPU's memory, naming the bytes needed and available (the CPU backend uses
-/// host memory and is not checked).
+/// Refuses a run that cannot fit the GPU's memory, or on the CPU the host memory available now, naming the bytes
+/// needed and available: before anything is allocated, instead of an allocation failure that aborts the process
+/// (issue 27). Where the host's available memory cannot be read, the CPU run is not checked.
 pub fn fits(needed: usize, info: &crate::backend::DeviceInfo) -> Result<()> {
     if info.backend == "gpu" && needed > info.memory_bytes {
         return Err(crate::Error::OutOfMemory { what: "the scene", bytes: needed, free: 0, total: info.memory_bytes });
     }
+    if info.backend == "cpu"
+        && let Some((free, total)) = host_memory()
+        && needed > free
+    {
+        return Err(crate::Error::OutOfMemory { what: "the scene in host memory", bytes: needed, free, total });
+    }
     Ok(())
+}
+
+/// (available, total) host memory in bytes, from /proc/meminfo (Linux); None elsewhere.
+pub fn host_memory() -> Option<(usize, usize)> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let field = |key: &str| -> Option<usize> {
+        let line = info.lines().find(|l| l.starts_with(key))?;
+        let kib: usize = line[key.len()..].trim().trim_end_matches("kB").trim().parse().ok()?;
+        Some(kib * 1024)
+    };
+    Some((field("MemAvailable:")?, field("MemTotal:")?))
 }
 
 pub fn check(any: &AnyBackend, scene: &Scene, precision: Option<Precision>, probe_steps: u64) -> Result<CheckReport> {

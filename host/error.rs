@@ -16,8 +16,8 @@ pub enum Error {
         #[source]
         source: cudarc::driver::DriverError,
     },
-    /// Device memory could not be allocated.
-    #[error("GPU out of memory allocating {what}: {bytes} bytes requested ({free} of {total} bytes free)")]
+    /// Device (or, for a CPU run, host) memory cannot hold what is asked for.
+    #[error("out of memory allocating {what}: {bytes} bytes requested ({free} of {total} bytes free)")]
     OutOfMemory { what: &'static str, bytes: usize, free: usize, total: usize },
     /// A grid that cannot be built (empty box, too many cells, bad cell size).
     #[error("invalid neighbour grid: {0}")]

@@ -21,7 +21,10 @@ fn scene_names_must_be_plain_file_names() {
         let msg = err.to_string();
         assert!(msg.contains("name") && msg.contains("plain file name"), "{bad:?}: {msg}");
         let set = format!("name={bad:?}");
-        assert!(Scene::from_str(&text, "cases/rings.toml", std::slice::from_ref(&set)).is_err(), "--set {set} accepted");
+        assert!(
+            Scene::from_str(&text, "cases/rings.toml", std::slice::from_ref(&set)).is_err(),
+            "--set {set} accepted"
+        );
     }
     for good in ["rings-2", "v0060_f32", "a.b"] {
         let s = Scene::from_str(&named(good), "cases/rings.toml", &[]).unwrap_or_else(|e| panic!("{good}: {e}"));
@@ -92,4 +95,17 @@ fn progress_lines_have_no_nan_and_no_carriage_returns_in_logs() {
     let mut tty = Progress::new(true);
     let t = tty.update(0.3, 1e-6, 1e4, 5640.0, None).expect("a terminal line every output step");
     assert!(t.starts_with('\r') && !t.ends_with('\n'));
+}
+
+/// A run that needs more host memory than is available is refused on the CPU before anything is allocated (a
+/// 1e8-particle request aborted with an allocation failure), naming the bytes; one that fits passes.
+#[test]
+fn cpu_runs_that_cannot_fit_host_memory_are_refused_first() {
+    use swarf::backend::DeviceInfo;
+    let Some((free, total)) = swarf::check::host_memory() else { return };
+    assert!(free > 0 && free <= total);
+    let cpu = DeviceInfo { backend: "cpu", ..Default::default() };
+    let err = swarf::check::fits(total.saturating_mul(4), &cpu).expect_err("four times the host's memory");
+    assert!(err.to_string().contains("host memory"), "{err}");
+    swarf::check::fits(1 << 20, &cpu).expect("a megabyte fits");
 }
