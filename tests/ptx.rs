@@ -151,7 +151,10 @@ fn entry_params(ptx: &str) -> Vec<(String, Vec<(usize, usize)>)> {
 #[test]
 fn argument_structs_match_the_entries_parameter_blocks() {
     use swarf::kernels::material::*;
-    use swarf::kernels::pass::{FinishArgs, FinishPlasticArgs, RatesArgs};
+    use swarf::kernels::pass::{
+        ContactArgs, DensityArgs, FinishArgs, FinishPlasticArgs, HeatArgs, PlasticArgs, PredictArgs, PrepareArgs,
+        RatesArgs,
+    };
     use swarf::kernels::{Dim2, Dim3};
     fn block<T>() -> Vec<(usize, usize)> {
         vec![(size_of::<T>(), align_of::<T>())]
@@ -167,8 +170,9 @@ fn argument_structs_match_the_entries_parameter_blocks() {
             }
         };
     }
-    /// The plastic corrector's block of the model tagged `tag` (the kernels' one model list).
-    macro_rules! finish_plastic {
+    /// The plastic corrector's and the plastic pass's blocks of the model tagged `tag` (the kernels' one model
+    /// list).
+    macro_rules! by_model {
         ($(($t:ident, $tag:ident)),* $(,)?) => {
             fn finish_plastic(tag: &str, variant: &str) -> Option<Vec<(usize, usize)>> {
                 $(if tag == stringify!($tag) {
@@ -176,13 +180,33 @@ fn argument_structs_match_the_entries_parameter_blocks() {
                 })*
                 None
             }
+            fn plastic(tag: &str, variant: &str) -> Option<Vec<(usize, usize)>> {
+                $(if tag == stringify!($tag) {
+                    return Some(by_variant!(variant, PlasticArgs, $t));
+                })*
+                None
+            }
         };
     }
-    swarf::kernels::for_each_flow_model!(finish_plastic);
+    swarf::kernels::for_each_flow_model!(by_model);
     let want = |name: &str| -> Option<Vec<(usize, usize)>> {
         let variant = ["2d_f32", "2d_f64", "3d_f32", "3d_f64"].into_iter().find(|v| name.contains(v))?;
         if name.starts_with("swarf_sph_rates_") {
             Some(by_variant!(variant, RatesArgs))
+        } else if name.starts_with("swarf_sph_prepare_") {
+            Some(by_variant!(variant, PrepareArgs))
+        } else if name.starts_with("swarf_heat_") {
+            Some(by_variant!(variant, HeatArgs))
+        } else if name == format!("swarf_density_{variant}") {
+            Some(by_variant!(variant, DensityArgs))
+        } else if name == format!("swarf_step_predict_{variant}") {
+            Some(by_variant!(variant, PredictArgs))
+        } else if name == "swarf_contact_2d_f32" {
+            Some(block::<ContactArgs<f32, Dim2>>())
+        } else if name == "swarf_contact_2d_f64" {
+            Some(block::<ContactArgs<f64, Dim2>>())
+        } else if let Some(tag) = name.strip_prefix("swarf_plastic_") {
+            plastic(tag.trim_end_matches(&format!("_{variant}")), variant)
         } else if name == format!("swarf_step_finish_{variant}") {
             Some(by_variant!(variant, FinishArgs))
         } else if let Some(tag) = name.strip_prefix("swarf_step_finish_") {
@@ -200,9 +224,10 @@ fn argument_structs_match_the_entries_parameter_blocks() {
             }
         }
         // 4 variants × (8 stabiliser combinations × plain and fused + the elastic corrector + one plastic
-        // corrector per flow-stress model).
+        // corrector and one plastic pass per flow-stress model + density, 4 pre-passes, the predictor, 2
+        // conductions) + the 2D contact in 2 precisions.
         let models = swarf::kernels::pass::FLOW_MODEL_TAGS.len();
-        assert_eq!(checked, 4 * (16 + 1 + models), "{target}: entries checked");
+        assert_eq!(checked, 4 * (16 + 1 + 2 * models + 8) + 2, "{target}: entries checked");
     }
 }
 
