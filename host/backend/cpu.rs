@@ -8,8 +8,8 @@ use super::{
 };
 use crate::kernels::contact::Tool2d;
 use crate::kernels::contact::penalty::ContactParams;
-use crate::kernels::neighbour::search::neighbour_row;
-use crate::kernels::neighbour::{GatherField, GridParams, sort::sort_cell, verlet::verlet_row};
+use crate::kernels::neighbour::{GatherField, GridParams, sort::sort_cell};
+use crate::kernels::pass::{HashArgs, NeighbourListArgs, VerletArgs};
 use crate::kernels::sph::heat::{HeatParams, heat_rate};
 use crate::kernels::sph::interact::{rates, rates_heat};
 use crate::kernels::sph::plastic::PlasticConsts;
@@ -245,8 +245,12 @@ impl Backend for CpuBackend {
         check("hash pos", n, pos.len())?;
         check("hash keys", n, keys.len())?;
         check("hash grid", 1, grid.len())?;
-        let g = grid[0];
-        keys[..n].par_iter_mut().zip(pos[..n].par_iter()).for_each(|(k, p)| *k = g.key::<R, D::Vec<R>>(p));
+        let a =
+            Shared(HashArgs::<R, D> { n: n as u32, pos: pos.as_ptr(), grid: grid.as_ptr(), keys: keys.as_mut_ptr() });
+        (0..n).into_par_iter().for_each(|i| {
+            // SAFETY: lengths checked above; each key i is written by one task only.
+            unsafe { a.get().particle(i) }
+        });
         Ok(())
     }
 
@@ -320,29 +324,28 @@ impl Backend for CpuBackend {
         check("neighbour_list pos", n, pos.len())?;
         check("neighbour_list counts", n, counts.len())?;
         check("neighbour_list starts", grid[0].n_cells as usize + 2, starts.len())?;
-        let g = grid[0];
-        let (off_ptr, list_ptr) = match offsets {
-            None => (std::ptr::null(), SendPtr(std::ptr::null_mut())),
+        let (offsets, list) = match offsets {
+            None => (std::ptr::null(), std::ptr::null_mut()),
             Some(off) => {
                 check("neighbour_list offsets", n + 1, off.len())?;
                 check("neighbour_list list", off[n] as usize, list.len())?;
-                (off.as_ptr(), SendPtr(list.as_mut_ptr()))
+                (off.as_ptr(), list.as_mut_ptr())
             }
         };
-        let off_ptr = SendPtr(off_ptr as *mut u32);
-        counts[..n].par_iter_mut().enumerate().for_each(|(i, c)| {
-            // SAFETY: lengths checked above; row i is list[off[i] .. off[i+1]], disjoint from every other row.
-            *c = unsafe {
-                neighbour_row::<R, D::Vec<R>>(
-                    &g,
-                    starts.as_ptr(),
-                    pos.as_ptr(),
-                    i as u32,
-                    support2,
-                    off_ptr.get(),
-                    list_ptr.get(),
-                )
-            };
+        let a = Shared(NeighbourListArgs::<R, D> {
+            n: n as u32,
+            pos: pos.as_ptr(),
+            grid: grid.as_ptr(),
+            starts: starts.as_ptr(),
+            support2,
+            offsets,
+            counts: counts.as_mut_ptr(),
+            list,
+        });
+        (0..n).into_par_iter().for_each(|i| {
+            // SAFETY: lengths checked above; row i is list[off[i] .. off[i+1]], disjoint from every other row, and
+            // counts[i] is written by task i only.
+            unsafe { a.get().particle(i) }
         });
         Ok(())
     }
@@ -594,11 +597,17 @@ impl Backend for CpuBackend {
         let g = grid[0];
         check("verlet_build starts", g.n_cells as usize + 2, starts.len())?;
         let out = list_ptr("verlet_build list", n, &g, Some(list))?;
-        let (st, p) = (SendPtr(starts.as_ptr() as *mut u32), SendPtr(pos.as_ptr() as *mut u32));
+        let a = Shared(VerletArgs::<R, D> {
+            gate: std::ptr::null(),
+            n: n as u32,
+            grid: grid.as_ptr(),
+            starts: starts.as_ptr(),
+            pos: pos.as_ptr(),
+            list: out.get(),
+        });
         (0..n).into_par_iter().for_each(|i| {
-            let out = &out;
             // SAFETY: sizes checked above; task i writes only row i (the words (m + 1)·stride + i and i).
-            unsafe { verlet_row::<R, D::Vec<R>>(&g, st.get(), p.get() as *const D::Vec<R>, i as u32, out.get()) }
+            unsafe { a.get().particle(i) }
         });
         Ok(())
     }

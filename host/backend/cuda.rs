@@ -8,7 +8,10 @@ use super::{
 };
 use crate::kernels::neighbour::GatherField;
 use crate::kernels::neighbour::GridParams;
-use crate::kernels::pass::{FLOW_MODEL_TAGS, ModelEntry};
+use crate::kernels::pass::{
+    CountArgs, FLOW_MODEL_TAGS, GatherArgs, GatherFieldsArgs, HashArgs, HashCountArgs, ModelEntry, NeighbourListArgs,
+    ScanApplyArgs, ScanReduceArgs, ScatterArgs, SortArgs, VerletArgs, ZeroArgs,
+};
 use crate::kernels::sph::heat::HeatParams;
 use crate::kernels::sph::step::StepScalars;
 use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers, TensorOps};
@@ -101,9 +104,6 @@ fn rates_suffix(c: usize) -> String {
     format!("v{}s{}x{}", (c >> 2) & 1, (c >> 1) & 1, c & 1)
 }
 
-/// Most arguments of any entry point.
-const MAX_ARGS: usize = 40;
-
 /// Threads per block of the per-particle kernels.
 const BLOCK: u32 = 256;
 /// Most blocks of a grid-stride launch (`CudaBackend::launch_strided`): eight per multiprocessor of an H100 or
@@ -127,26 +127,11 @@ impl<T> Buffer<T> for CudaBuf<T> {
     }
 }
 
-/// A kernel argument: scalars by value, device pointers as u64, and a `#[repr(C)]` Pod parameter block by value
-/// (its bytes; the entry point declares the struct, whose size the driver takes from the PTX).
-#[derive(Clone, Copy)]
-enum Arg<'a> {
-    U32(u32),
-    U64(u64),
-    F32(f32),
-    F64(f64),
-    Bytes(&'a [u8]),
-}
-
 /// The four (dimension, precision) variants of a generic entry point: 2d_f32, 2d_f64, 3d_f32, 3d_f64.
 struct Variants([Kernel; 4]);
 
 fn variant<R: Real, D: Dim>() -> usize {
     (D::D == 3) as usize * 2 + (size_of::<R>() == 8) as usize
-}
-
-fn real_arg<R: Real>(x: R) -> Arg<'static> {
-    if size_of::<R>() == 4 { Arg::F32(x.to_f64() as f32) } else { Arg::F64(x.to_f64()) }
 }
 
 struct Kernels {
@@ -475,64 +460,32 @@ impl CudaBackend {
 
     /// Launches `f` over `threads` threads in blocks of `block`. Arguments live in a stack array for the call,
     /// so a launch allocates nothing.
-    fn launch(&self, k: &Kernel, threads: usize, block: u32, args: &[Arg]) -> Result<()> {
+    /// Launches `f`, an entry that takes the pass's argument struct `args` by value as its single parameter
+    /// (`kernels::pass`; tests/ptx.rs checks its size and alignment against the entry's), over `threads` threads
+    /// in blocks of `block`.
+    fn launch_pass<A: Copy>(&self, f: &Kernel, threads: usize, block: u32, args: &A) -> Result<()> {
         if threads == 0 {
             return Ok(());
         }
-        let f = self.function(k)?;
+        let f = self.function(f)?;
         let blocks = threads.div_ceil(block as usize);
-        if blocks > i32::MAX as usize || args.len() > MAX_ARGS {
+        if blocks > i32::MAX as usize {
             return Err(Error::Length {
                 op: "kernel launch (grid too large)",
                 expected: i32::MAX as usize,
                 got: blocks,
             });
         }
-        let mut store = [0u64; MAX_ARGS];
-        for (s, a) in store.iter_mut().zip(args) {
-            *s = match *a {
-                Arg::U32(v) => v as u64,
-                Arg::U64(v) => v,
-                Arg::F32(v) => v.to_bits() as u64,
-                Arg::F64(v) => v.to_bits(),
-                Arg::Bytes(_) => 0,
-            };
-        }
-        let mut params = [std::ptr::null_mut::<c_void>(); MAX_ARGS];
-        for ((p, s), a) in params.iter_mut().zip(store.iter_mut()).zip(args) {
-            *p = match *a {
-                // The driver copies the block's size (from the entry's signature) from here.
-                Arg::Bytes(b) => b.as_ptr() as *mut c_void,
-                // Little-endian: a 4-byte parameter reads the low half of its 8-byte slot.
-                _ => s as *mut u64 as *mut c_void,
-            };
-        }
+        // The driver copies the block's size (from the entry's signature: size_of::<A>(), A being `#[repr(C)]`
+        // and plain) from here.
+        let mut params = [args as *const A as *mut c_void];
         let stream = match (&self.conditional, self.in_body.load(Ordering::Relaxed)) {
             (Ok(c), true) => c.body_stream(),
             _ => self.stream.cu_stream(),
         };
-        // SAFETY: the argument list matches the entry point's signature (kept in step with kernels/src/ptx).
-        unsafe {
-            result::launch_kernel(
-                f.cu_function(),
-                (blocks as u32, 1, 1),
-                (block, 1, 1),
-                0,
-                stream,
-                &mut params[..args.len()],
-            )
-        }
-        .map_err(cuda("kernel launch"))
-    }
-
-    /// Launches `f`, an entry that takes the pass's argument struct `args` by value as its single parameter
-    /// (`kernels::pass`; tests/ptx.rs checks its size and alignment against the entry's), over `threads` threads
-    /// in blocks of `block`.
-    fn launch_pass<A: Copy>(&self, f: &Kernel, threads: usize, block: u32, args: &A) -> Result<()> {
-        // SAFETY: A is `#[repr(C)]` and plain (`Copy`): the driver copies size_of::<A>() bytes, which is the size
-        // the entry declares.
-        let bytes = unsafe { std::slice::from_raw_parts(args as *const A as *const u8, size_of::<A>()) };
-        self.launch(f, threads, block, &[Arg::Bytes(bytes)])
+        // SAFETY: the entry's single parameter is A (tests/ptx.rs); `args` outlives the call, which copies it.
+        unsafe { result::launch_kernel(f.cu_function(), (blocks as u32, 1, 1), (block, 1, 1), 0, stream, &mut params) }
+            .map_err(cuda("kernel launch"))
     }
 
     /// The function of `k`, loaded on its first use. A module load inside a graph capture would end the capture
@@ -552,10 +505,19 @@ impl CudaBackend {
         Ok(k.f.get_or_init(|| f))
     }
 
-    /// Launches a grid-stride kernel over `items` (the gated kernels of a rebuild): at most GATED_BLOCKS
-    /// blocks, so that a step that does not rebuild costs a few hundred blocks, whatever the particle count.
-    fn launch_strided(&self, f: &Kernel, items: usize, args: &[Arg]) -> Result<()> {
-        self.launch(f, items.min(GATED_BLOCKS * BLOCK as usize), BLOCK, args)
+    /// [`Self::launch_pass`] of a grid-stride entry (a capped grid: GATED_BLOCKS blocks at most).
+    fn launch_pass_strided<A: Copy>(&self, f: &Kernel, items: usize, args: &A) -> Result<()> {
+        self.launch_pass(f, items.min(GATED_BLOCKS * BLOCK as usize), BLOCK, args)
+    }
+
+    /// A buffer's device address as a kernel's input pointer.
+    fn input<T>(&self, b: &CudaBuf<T>) -> *const T {
+        self.ptr(b) as *const T
+    }
+
+    /// A buffer's device address as a kernel's output pointer.
+    fn output<T>(&self, b: &mut CudaBuf<T>) -> *mut T {
+        self.ptr_mut(b) as *mut T
     }
 
     fn oom(&self, what: &'static str, bytes: usize, e: DriverError) -> Error {
@@ -660,19 +622,16 @@ fn first_line(s: &str) -> &str {
 
 impl CudaBackend {
     /// The device address of the step's scalars.
-    fn scalars(&self, s: &ScalarsAt<'_, Self>) -> Result<Arg<'static>> {
+    fn scalars(&self, s: &ScalarsAt<'_, Self>) -> Result<u64> {
         if s.index >= s.buf.len {
             return Err(Error::Length { op: "step scalars", expected: s.index + 1, got: s.buf.len });
         }
-        Ok(Arg::U64(self.ptr(s.buf) + (s.index * size_of::<StepScalars>()) as u64))
+        Ok(self.ptr(s.buf) + (s.index * size_of::<StepScalars>()) as u64)
     }
 
     /// The device address of the step's rebuild flag (`StepScalars::rebuild`), the gate of a rebuild's launches.
     fn gate(&self, s: &ScalarsAt<'_, Self>) -> Result<u64> {
-        match self.scalars(s)? {
-            Arg::U64(a) => Ok(a + std::mem::offset_of!(StepScalars, rebuild) as u64),
-            _ => Err(Error::Length { op: "step scalars", expected: 1, got: 0 }),
-        }
+        Ok(self.scalars(s)? + std::mem::offset_of!(StepScalars, rebuild) as u64)
     }
 
     /// The exclusive scan of `Backend::exclusive_scan` with a gate (0: always).
@@ -687,26 +646,18 @@ impl CudaBackend {
         if sums.len < tiles {
             return Err(Error::Length { op: "exclusive_scan workspace", expected: tiles, got: sums.len });
         }
-        let (g, d) = (Arg::U64(gate), self.ptr_mut(data));
+        let (g, d) = (gate as *const u32, self.output(data));
+        let apply = |tile_offsets| ScanApplyArgs { gate: g, n: n as u32, input: d, output: d, tile_offsets };
         if tiles == 1 {
             // One tile: the apply pass alone, with offset 0 (no reduction, no memset).
-            return self.launch(
-                &self.k.scan_apply,
-                32,
-                128,
-                &[g, Arg::U32(n as u32), Arg::U64(d), Arg::U64(d), Arg::U64(0)],
-            );
+            return self.launch_pass(&self.k.scan_apply, 32, 128, &apply(std::ptr::null()));
         }
-        let s = self.ptr_mut(sums);
+        let s = self.output(sums);
         // One warp per tile, four warps per block.
-        self.launch(&self.k.scan_reduce, tiles * 32, 128, &[g, Arg::U32(n as u32), Arg::U64(d), Arg::U64(s)])?;
+        let reduce = ScanReduceArgs { gate: g, n: n as u32, input: d, tile_sums: s };
+        self.launch_pass(&self.k.scan_reduce, tiles * 32, 128, &reduce)?;
         self.scan_gated(gate, tiles, sums, rest)?;
-        self.launch(
-            &self.k.scan_apply,
-            tiles * 32,
-            128,
-            &[g, Arg::U32(n as u32), Arg::U64(d), Arg::U64(d), Arg::U64(s)],
-        )
+        self.launch_pass(&self.k.scan_apply, tiles * 32, 128, &apply(s))
     }
 
     /// The scatter of `Backend::scatter` with a gate (0: always).
@@ -719,22 +670,26 @@ impl CudaBackend {
         starts: &CudaBuf<u32>,
         perm: &mut CudaBuf<u32>,
     ) -> Result<()> {
-        let args = [
-            Arg::U64(gate),
-            Arg::U32(n as u32),
-            Arg::U64(self.ptr(keys)),
-            Arg::U64(self.ptr(slots)),
-            Arg::U64(self.ptr(starts)),
-            Arg::U64(self.ptr_mut(perm)),
-        ];
-        self.launch_strided(&self.k.scatter, n, &args)
+        let args = ScatterArgs {
+            gate: gate as *const u32,
+            n: n as u32,
+            keys: self.input(keys),
+            slots: self.input(slots),
+            starts: self.input(starts),
+            perm: self.output(perm),
+        };
+        self.launch_pass_strided(&self.k.scatter, n, &args)
     }
 
     /// The per-cell sort of `Backend::sort_cells` with a gate (0: always).
     fn sort_gated(&self, gate: u64, n_buckets: usize, starts: &CudaBuf<u32>, perm: &mut CudaBuf<u32>) -> Result<()> {
-        let args =
-            [Arg::U64(gate), Arg::U32(n_buckets as u32), Arg::U64(self.ptr(starts)), Arg::U64(self.ptr_mut(perm))];
-        self.launch_strided(&self.k.sort_cells, n_buckets, &args)
+        let args = SortArgs {
+            gate: gate as *const u32,
+            n_buckets: n_buckets as u32,
+            starts: self.input(starts),
+            perm: self.output(perm),
+        };
+        self.launch_pass_strided(&self.k.sort_cells, n_buckets, &args)
     }
 }
 
@@ -816,8 +771,8 @@ impl Backend for CudaBackend {
         keys: &mut CudaBuf<u32>,
     ) -> Result<()> {
         let args =
-            [Arg::U32(n as u32), Arg::U64(self.ptr(pos)), Arg::U64(self.ptr(grid)), Arg::U64(self.ptr_mut(keys))];
-        self.launch(&self.k.hash.0[variant::<R, D>()], n, BLOCK, &args)
+            HashArgs::<R, D> { n: n as u32, pos: self.input(pos), grid: self.input(grid), keys: self.output(keys) };
+        self.launch_pass(&self.k.hash.0[variant::<R, D>()], n, BLOCK, &args)
     }
 
     fn count_cells(
@@ -827,13 +782,9 @@ impl Backend for CudaBackend {
         counts: &mut CudaBuf<u32>,
         slots: &mut CudaBuf<u32>,
     ) -> Result<()> {
-        let args = [
-            Arg::U32(n as u32),
-            Arg::U64(self.ptr(keys)),
-            Arg::U64(self.ptr_mut(counts)),
-            Arg::U64(self.ptr_mut(slots)),
-        ];
-        self.launch(&self.k.count_cells, n, BLOCK, &args)
+        let args =
+            CountArgs { n: n as u32, keys: self.input(keys), counts: self.output(counts), slots: self.output(slots) };
+        self.launch_pass(&self.k.count_cells, n, BLOCK, &args)
     }
 
     fn exclusive_scan(&self, n: usize, data: &mut CudaBuf<u32>, levels: &mut [CudaBuf<u32>]) -> Result<()> {
@@ -871,14 +822,15 @@ impl Backend for CudaBackend {
             });
         };
         let k = s / unit;
-        let args = [
-            Arg::U32(n as u32),
-            Arg::U32(k as u32),
-            Arg::U64(self.ptr(perm)),
-            Arg::U64(self.ptr(src)),
-            Arg::U64(self.ptr_mut(dst)),
-        ];
-        self.launch(f, n * k, BLOCK, &args)
+        // The unit's type is the entry's; the struct's layout does not depend on it.
+        let args = GatherArgs::<u8> {
+            n: n as u32,
+            k: k as u32,
+            perm: self.input(perm),
+            src: self.ptr(src) as *const u8,
+            dst: self.ptr_mut(dst) as *mut u8,
+        };
+        self.launch_pass(f, n * k, BLOCK, &args)
     }
 
     fn neighbour_list<R: Real, D: Dim>(
@@ -892,17 +844,17 @@ impl Backend for CudaBackend {
         counts: &mut CudaBuf<u32>,
         list: &mut CudaBuf<u32>,
     ) -> Result<()> {
-        let args = [
-            Arg::U32(n as u32),
-            Arg::U64(self.ptr(pos)),
-            Arg::U64(self.ptr(grid)),
-            Arg::U64(self.ptr(starts)),
-            real_arg(support2),
-            Arg::U64(offsets.map_or(0, |o| self.ptr(o))),
-            Arg::U64(self.ptr_mut(counts)),
-            Arg::U64(self.ptr_mut(list)),
-        ];
-        self.launch(&self.k.neighbour_list.0[variant::<R, D>()], n, BLOCK, &args)
+        let args = NeighbourListArgs::<R, D> {
+            n: n as u32,
+            pos: self.input(pos),
+            grid: self.input(grid),
+            starts: self.input(starts),
+            support2,
+            offsets: offsets.map_or(std::ptr::null(), |o| self.input(o)),
+            counts: self.output(counts),
+            list: self.output(list),
+        };
+        self.launch_pass(&self.k.neighbour_list.0[variant::<R, D>()], n, BLOCK, &args)
     }
 
     fn density<R: Real, D: Dim>(
@@ -1020,26 +972,23 @@ impl Backend for CudaBackend {
         }
         let g = self.gate(&gate)?;
         let buckets = c.n_buckets + 1;
-        self.launch_strided(
-            &self.k.zero_gated,
-            buckets,
-            &[
-                Arg::U64(g),
-                Arg::U32(buckets as u32),
-                Arg::U64(self.ptr_mut(c.starts)),
-                Arg::U64(self.ptr_mut(c.rebuilds)),
-            ],
-        )?;
-        let args = [
-            Arg::U64(g),
-            Arg::U32(n as u32),
-            Arg::U64(self.ptr(pos)),
-            Arg::U64(self.ptr(c.grid)),
-            Arg::U64(self.ptr_mut(c.keys)),
-            Arg::U64(self.ptr_mut(c.starts)),
-            Arg::U64(self.ptr_mut(c.slots)),
-        ];
-        self.launch_strided(&self.k.hash_count.0[variant::<R, D>()], n, &args)?;
+        let zero = ZeroArgs {
+            gate: g as *const u32,
+            n: buckets as u32,
+            data: self.output(c.starts),
+            rebuilds: self.output(c.rebuilds),
+        };
+        self.launch_pass_strided(&self.k.zero_gated, buckets, &zero)?;
+        let args = HashCountArgs::<R, D> {
+            gate: g as *const u32,
+            n: n as u32,
+            pos: self.input(pos),
+            grid: self.input(c.grid),
+            keys: self.output(c.keys),
+            counts: self.output(c.starts),
+            slots: self.output(c.slots),
+        };
+        self.launch_pass_strided(&self.k.hash_count.0[variant::<R, D>()], n, &args)?;
         self.scan_gated(g, buckets, c.starts, c.scan)?;
         self.scatter_gated(g, n, c.keys, c.slots, c.starts, c.perm)?;
         self.sort_gated(g, c.n_buckets, c.starts, c.perm)
@@ -1063,15 +1012,15 @@ impl Backend for CudaBackend {
             Some(s) => self.gate(&s)?,
             None => 0,
         };
-        let args = [
-            Arg::U64(g),
-            Arg::U32(n as u32),
-            Arg::U64(self.ptr(grid)),
-            Arg::U64(self.ptr(starts)),
-            Arg::U64(self.ptr(pos)),
-            Arg::U64(self.ptr_mut(list)),
-        ];
-        self.launch_strided(&self.k.verlet_build.0[variant::<R, D>()], n, &args)
+        let args = VerletArgs::<R, D> {
+            gate: g as *const u32,
+            n: n as u32,
+            grid: self.input(grid),
+            starts: self.input(starts),
+            pos: self.input(pos),
+            list: self.output(list),
+        };
+        self.launch_pass_strided(&self.k.verlet_build.0[variant::<R, D>()], n, &args)
     }
 
     fn step_finish<R: Real, D: TensorOps<R>>(
@@ -1150,10 +1099,15 @@ impl Backend for CudaBackend {
                 p
             }
         };
-        let perm = perm.map_or(0, |p| self.ptr(p));
         let rows = fields.len();
-        let args = [Arg::U64(gate), Arg::U32(n as u32), Arg::U32(rows as u32), Arg::U64(perm), Arg::U64(table)];
-        self.launch_strided(&self.k.gather_fields, n * rows, &args)
+        let args = GatherFieldsArgs {
+            gate: gate as *const u32,
+            n: n as u32,
+            rows: rows as u32,
+            perm: perm.map_or(std::ptr::null(), |p| self.input(p)),
+            table: table as *const GatherField,
+        };
+        self.launch_pass_strided(&self.k.gather_fields, n * rows, &args)
     }
 
     fn capture(&self, f: &mut dyn FnMut() -> Result<()>) -> Result<Option<Graph>> {
