@@ -4,13 +4,19 @@
 //! materials), which the GPU's memory does not allow.
 
 use super::{
-    Backend, Buffer, Element, FieldsMut, FusedContact, FusedHeat, PlasticPass, ScalarsAt, SphInputs, StepFields,
+    Backend, Buffer, ContactInputs, Element, FieldsMut, FusedContact, FusedHeat, FusedPrepare, HeatInputs,
+    PlasticInputs, PlasticPass, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields,
 };
+use crate::kernels::contact::{ContactParams, Tool2d};
 use crate::kernels::neighbour::GridParams;
-use crate::kernels::pass::{FinishArgs, FinishPlasticArgs, RatesArgs, StepPtrs};
+use crate::kernels::pass::{
+    ContactArgs, DensityArgs, FinishArgs, FinishPlasticArgs, HeatArgs, PlasticArgs, PredictArgs, PrepareArgs,
+    RatesArgs, StepPtrs,
+};
 use crate::kernels::sph::heat::HeatParams;
+use crate::kernels::sph::plastic::PlasticConsts;
 use crate::kernels::sph::step::StepScalars;
-use crate::kernels::sph::{SphParams, Stabilisers};
+use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers};
 use crate::kernels::{Dim, Real};
 use crate::{Error, Result};
 
@@ -245,5 +251,229 @@ fn count(n: usize) -> Result<u32> {
         op: "particles (at most 2^32 - 1)",
         expected: u32::MAX as usize,
         got: n,
+    })
+}
+
+/// The address of the step's rebuild flag (`StepScalars::rebuild`), the gate of a rebuild's launches (null:
+/// always run).
+pub fn gate_ptr<B: Backend>(b: &B, s: Option<&ScalarsAt<'_, B>>) -> Result<*const u32> {
+    let Some(s) = s else { return Ok(null()) };
+    let at = scalars_ptr(b, s)? as *const u8;
+    Ok(at.wrapping_add(std::mem::offset_of!(StepScalars, rebuild)) as *const u32)
+}
+
+/// The density sum's arguments ([`Backend::density`]).
+#[allow(clippy::too_many_arguments)]
+pub fn density_args<B: Backend, R: Real, D: Dim>(
+    b: &B,
+    n: usize,
+    pos: &B::Buf<D::Vec<R>>,
+    mass: &B::Buf<R>,
+    grid: &B::Buf<GridParams>,
+    starts: &B::Buf<u32>,
+    kernel: &B::Buf<CubicSpline<R>>,
+    rho: &mut B::Buf<R>,
+) -> Result<DensityArgs<R, D>> {
+    Ok(DensityArgs {
+        n: count(n)?,
+        pos: input(b, "density pos", n, pos)?,
+        mass: input(b, "density mass", n, mass)?,
+        grid: input(b, "density grid", 1, grid)?,
+        starts: b.address(starts) as *const u32,
+        kernel: input(b, "density kernel", 1, kernel)?,
+        rho: output(b, "density rho", n, rho)?,
+    })
+}
+
+/// The pre-pass's buffers ([`Backend::sph_prepare`]).
+pub struct PrepareBufs<'a, B: Backend, R: Real, D: Dim> {
+    pub params: &'a B::Buf<SphParams<R>>,
+    pub rho: &'a B::Buf<R>,
+    pub mass: &'a B::Buf<R>,
+    pub stress: &'a B::Buf<D::Sym<R>>,
+    pub sig: &'a mut B::Buf<D::Sym<R>>,
+    pub art: Option<&'a mut B::Buf<D::Sym<R>>>,
+    pub sound: Option<&'a mut B::Buf<R>>,
+    pub vol: &'a mut B::Buf<R>,
+    pub temp: Option<&'a B::Buf<f64>>,
+}
+
+/// The pre-pass's arguments; the stabilisers' buffers must be given where they are on (null where off).
+pub fn prepare_args<B: Backend, R: Real, D: Dim>(
+    b: &B,
+    n: usize,
+    stab: Stabilisers,
+    q: PrepareBufs<'_, B, R, D>,
+    gate: Option<&ScalarsAt<'_, B>>,
+) -> Result<PrepareArgs<R, D>> {
+    let (art, sound) = stabiliser_outputs(b, n, stab, q.art, q.sound, "sph_prepare (stabiliser buffer missing)")?;
+    Ok(PrepareArgs {
+        gate: gate_ptr(b, gate)?,
+        n: count(n)?,
+        params: input(b, "sph_prepare params", 1, q.params)?,
+        rho: input(b, "sph_prepare rho", n, q.rho)?,
+        mass: input(b, "sph_prepare mass", n, q.mass)?,
+        stress: input(b, "sph_prepare stress", n, q.stress)?,
+        sig: output(b, "sph_prepare sig", n, q.sig)?,
+        art,
+        sound,
+        vol: output(b, "sph_prepare vol", n, q.vol)?,
+        temp: input_opt(b, "sph_prepare temp", n, q.temp)?,
+    })
+}
+
+/// The artificial stress's and the viscosity's pre-pass outputs: required where on, null where off.
+fn stabiliser_outputs<B: Backend, R: Real, S: Element>(
+    b: &B,
+    n: usize,
+    stab: Stabilisers,
+    art: Option<&mut B::Buf<S>>,
+    sound: Option<&mut B::Buf<R>>,
+    what: &'static str,
+) -> Result<(*mut S, *mut R)> {
+    let art = if stab.stress {
+        output(b, "art", n, art.ok_or(Error::Length { op: what, expected: n, got: 0 })?)?
+    } else {
+        std::ptr::null_mut()
+    };
+    let sound = if stab.viscosity {
+        output(b, "sound", n, sound.ok_or(Error::Length { op: what, expected: n, got: 0 })?)?
+    } else {
+        std::ptr::null_mut()
+    };
+    Ok((art, sound))
+}
+
+/// The conduction's arguments ([`Backend::heat_rates`]); PSE reaches beyond a Verlet list, so it takes none.
+#[allow(clippy::too_many_arguments)]
+pub fn heat_args<B: Backend, R: Real, D: Dim>(
+    b: &B,
+    n: usize,
+    lanes: u32,
+    pse: bool,
+    hp: &HeatParams,
+    params: &SphParams<R>,
+    grid: &B::Buf<GridParams>,
+    starts: &B::Buf<u32>,
+    list: Option<&B::Buf<u32>>,
+    i: &HeatInputs<'_, B, R, D>,
+    temp_t: &mut B::Buf<f64>,
+) -> Result<HeatArgs<R, D>> {
+    if pse && list.is_some() {
+        return Err(Error::Length { op: "heat_rates (PSE reaches beyond the Verlet list)", expected: 0, got: 1 });
+    }
+    Ok(HeatArgs {
+        n: count(n)?,
+        lanes,
+        hp: *hp,
+        params: *params,
+        grid: input(b, "heat_rates grid", 1, grid)?,
+        starts: b.address(starts) as *const u32,
+        list: input_opt(b, "heat_rates list", 0, list)?,
+        pos: input(b, "pos", n, i.pos)?,
+        rho: input(b, "rho", n, i.rho)?,
+        vol: input(b, "vol", n, i.vol)?,
+        temp: input(b, "temp", n, i.temp)?,
+        flags: input(b, "flags", n, i.flags)?,
+        materials: b.address(i.materials) as *const _,
+        temp_t: output(b, "heat_rates temp_t", n, temp_t)?,
+    })
+}
+
+/// The predictor's arguments ([`Backend::step_predict`]), with the fused pre-pass where `prepare` is given.
+pub fn predict_args<B: Backend, R: Real, D: Dim>(
+    b: &B,
+    n: usize,
+    s: ScalarsMut<'_, B>,
+    f: StepFields<'_, B, R, D>,
+    skin: SkinTest<'_, B, R, D>,
+    prepare: Option<FusedPrepare<'_, B, R, D>>,
+) -> Result<PredictArgs<R, D>> {
+    check_len("step scalars", s.index + 1, s.buf.len())?;
+    let scalars = (b.address_mut(s.buf) as *mut StepScalars).wrapping_add(s.index);
+    let mut step = step_ptrs(b, n, f)?;
+    // The predictor reads neither (its entry passed them null before the struct).
+    (step.diss, step.diss_t, step.pos_lo) = (std::ptr::null_mut(), null(), std::ptr::null_mut());
+    let mut a = PredictArgs {
+        n: count(n)?,
+        scalars,
+        grid: input(b, "step_predict grid", 1, skin.grid)?,
+        step,
+        pos_ref: input(b, "step_predict pos_ref", n, skin.pos_ref)?,
+        condition: skin.condition,
+        params: SphParams::default(),
+        mass: null(),
+        sig: std::ptr::null_mut(),
+        art: std::ptr::null_mut(),
+        sound: std::ptr::null_mut(),
+        vol: std::ptr::null_mut(),
+    };
+    if let Some(q) = prepare {
+        (a.art, a.sound) =
+            stabiliser_outputs(b, n, q.stab, q.art, q.sound, "step_predict (stabiliser buffer missing)")?;
+        a.params = *q.params;
+        a.mass = input(b, "step_predict mass", n, q.mass)?;
+        a.sig = output(b, "step_predict sig", n, q.sig)?;
+        a.vol = output(b, "step_predict vol", n, q.vol)?;
+    }
+    Ok(a)
+}
+
+/// The standalone plastic update's arguments ([`Backend::plastic_step`]) for `model` (the kernel type of the
+/// host's `FlowModel`).
+pub fn plastic_args<B: Backend, R: Real, D: Dim, M>(
+    b: &B,
+    n: usize,
+    model: M,
+    consts: PlasticConsts,
+    a: PlasticInputs<'_, B, R, D>,
+) -> Result<PlasticArgs<R, D, M>> {
+    if consts.taylor_quinney > 0.0 && a.materials.is_none() {
+        return Err(Error::Length { op: "plastic_step (thermal materials missing)", expected: 1, got: 0 });
+    }
+    Ok(PlasticArgs {
+        n: count(n)?,
+        model,
+        consts,
+        stress: output(b, "stress", n, a.stress)?,
+        rho: input(b, "rho", n, a.rho)?,
+        eps: output(b, "eps", n, a.eps)?,
+        rate: output(b, "rate", n, a.rate)?,
+        temp: output(b, "temp", n, a.temp)?,
+        flags: input(b, "flags", n, a.flags)?,
+        materials: a.materials.map_or(null(), |m| b.address(m) as *const _),
+        yield_stress: output_opt(b, "yield_stress", n, a.yield_stress)?,
+        work: output_opt(b, "plastic work", n, a.work)?,
+    })
+}
+
+/// The standalone contact pass's arguments ([`Backend::contact`]; the parametric tool is 2D).
+pub fn contact_args<B: Backend, R: Real, D: Dim>(
+    b: &B,
+    n: usize,
+    params: &B::Buf<ContactParams>,
+    tool: &B::Buf<Tool2d>,
+    s: &ScalarsAt<'_, B>,
+    a: ContactInputs<'_, B, R, D>,
+) -> Result<ContactArgs<R, D>> {
+    if D::D != 2 {
+        return Err(Error::Length { op: "contact (the parametric tool is 2D)", expected: 2, got: D::D });
+    }
+    Ok(ContactArgs {
+        n: count(n)?,
+        params: input(b, "contact parameters", 1, params)?,
+        tool: input(b, "contact (the tool's shape)", 1, tool)?,
+        scalars: scalars_ptr(b, s)?,
+        pos: input(b, "pos", n, a.pos)?,
+        vel: input(b, "vel", n, a.vel)?,
+        mass: input(b, "mass", n, a.mass)?,
+        rho: input(b, "rho", n, a.rho)?,
+        flags: input(b, "flags", n, a.flags)?,
+        normal: output(b, "normal", n, a.normal)?,
+        friction: output(b, "friction", n, a.friction)?,
+        temp: output_opt(b, "temp", n, a.temp)?,
+        materials: a.materials.map_or(null(), |m| b.address(m) as *const _),
+        yield_stress: input_opt(b, "yield_stress", n, a.yield_stress)?,
+        wear: output_opt(b, "wear", n, a.wear)?,
     })
 }

@@ -7,14 +7,14 @@ use super::{
     HeatInputs, PlasticInputs, PlasticPass, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields,
 };
 use crate::kernels::contact::Tool2d;
-use crate::kernels::contact::penalty::{ContactArrays, ContactParams, contact_particle};
-use crate::kernels::neighbour::search::neighbour_row;
-use crate::kernels::neighbour::{GatherField, GridParams, Neighbours, sort::sort_cell, verlet::verlet_row};
-use crate::kernels::sph::heat::{HeatArrays, HeatParams, heat_rate};
-use crate::kernels::sph::interact::{PrepassArrays, prepare, prepare_particle, rates, rates_heat};
-use crate::kernels::sph::plastic::{PlasticArrays, PlasticConsts, plastic_particle};
-use crate::kernels::sph::step::{StepArrays, StepScalars, is_finite_vec, predict_particle};
-use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers, TensorOps, density::density_sum};
+use crate::kernels::contact::penalty::ContactParams;
+use crate::kernels::neighbour::{GatherField, GridParams, sort::sort_cell};
+use crate::kernels::pass::{HashArgs, NeighbourListArgs, VerletArgs};
+use crate::kernels::sph::heat::{HeatParams, heat_rate};
+use crate::kernels::sph::interact::{rates, rates_heat};
+use crate::kernels::sph::plastic::PlasticConsts;
+use crate::kernels::sph::step::{StepScalars, is_finite_vec};
+use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers, TensorOps};
 use crate::kernels::{Dim, Real};
 use crate::material::FlowModel;
 use crate::{Error, Result};
@@ -58,33 +58,6 @@ impl CpuBackend {
     }
 }
 
-/// The conduction inputs as kernel views, after checking that each holds `n` particles and that every
-/// body has a material.
-fn heat_arrays<R: Real, D: Dim>(
-    n: usize,
-    input: &HeatInputs<'_, CpuBackend, R, D>,
-    op: &'static str,
-) -> Result<SendHeat<R, D::Vec<R>>> {
-    for (what, len) in [
-        ("pos", input.pos.len()),
-        ("rho", input.rho.len()),
-        ("vol", input.vol.len()),
-        ("temp", input.temp.len()),
-        ("flags", input.flags.len()),
-    ] {
-        check(what, n, len)?;
-    }
-    check_bodies(op, &input.flags[..n], input.materials.len())?;
-    Ok(SendHeat(HeatArrays::<R, D::Vec<R>> {
-        pos: input.pos.as_ptr(),
-        rho: input.rho.as_ptr(),
-        vol: input.vol.as_ptr(),
-        temp: input.temp.as_ptr(),
-        flags: input.flags.as_ptr(),
-        materials: input.materials.as_ptr(),
-    }))
-}
-
 fn cpu_model() -> String {
     std::fs::read_to_string("/proc/cpuinfo")
         .ok()
@@ -120,35 +93,7 @@ impl SendPtr {
     fn get(self) -> *mut u32 {
         self.0
     }
-    fn from_opt(p: Option<*mut u32>) -> Self {
-        SendPtr(p.unwrap_or(std::ptr::null_mut()))
-    }
-    fn is_null(self) -> bool {
-        self.0.is_null()
-    }
 }
-
-/// The plastic pass's array views: each task writes only its own particle.
-struct SendPlastic<R: Real, S>(PlasticArrays<R, S>);
-// SAFETY: disjoint per-index writes, buffers outlive the loop.
-unsafe impl<R: Real, S> Send for SendPlastic<R, S> {}
-unsafe impl<R: Real, S> Sync for SendPlastic<R, S> {}
-
-struct SendPrepass<R: Real, S>(PrepassArrays<R, S>);
-// SAFETY: disjoint per-index writes, buffers outlive the loop.
-unsafe impl<R: Real, S> Send for SendPrepass<R, S> {}
-unsafe impl<R: Real, S> Sync for SendPrepass<R, S> {}
-
-struct SendContact<R: Real, V>(ContactArrays<R, V>);
-// SAFETY: disjoint per-index writes, buffers outlive the loop.
-unsafe impl<R: Real, V> Send for SendContact<R, V> {}
-unsafe impl<R: Real, V> Sync for SendContact<R, V> {}
-
-/// The conduction pass's array views, shared by parallel tasks that only read through them.
-struct SendHeat<R: Real, V: crate::kernels::Vector<R>>(HeatArrays<R, V>);
-// SAFETY: read-only views of buffers that outlive the parallel loop.
-unsafe impl<R: Real, V: crate::kernels::Vector<R>> Send for SendHeat<R, V> {}
-unsafe impl<R: Real, V: crate::kernels::Vector<R>> Sync for SendHeat<R, V> {}
 
 /// A pass's argument struct (`kernels::pass`), shared by parallel tasks that write disjoint particles.
 struct Shared<T>(T);
@@ -160,16 +105,6 @@ impl<T> Shared<T> {
     fn get(&self) -> &T {
         &self.0
     }
-}
-
-struct SendStep<R: Real, D: Dim>(StepArrays<R, D::Vec<R>, D::Sym<R>>);
-
-unsafe impl<R: Real, D: Dim> Send for SendStep<R, D> {}
-unsafe impl<R: Real, D: Dim> Sync for SendStep<R, D> {}
-
-/// The single element of a one-element buffer.
-fn one<'a, T>(buf: &'a [T], op: &'static str) -> Result<&'a T> {
-    buf.first().ok_or(Error::Length { op, expected: 1, got: 0 })
 }
 
 /// The step's scalars at `s.index`.
@@ -186,67 +121,6 @@ fn list_ptr(op: &'static str, n: usize, g: &GridParams, list: Option<&Vec<u32>>)
     }
     check(op, g.list_words(), l.len())?;
     Ok(SendPtr(l.as_ptr() as *mut u32))
-}
-
-/// Raw views of the step's fields after checking that every one holds n particles.
-fn step_arrays<R: Real, D: Dim>(n: usize, f: StepFields<'_, CpuBackend, R, D>) -> Result<SendStep<R, D>> {
-    let lens = [
-        f.y.pos.len(),
-        f.y.vel.len(),
-        f.y.rho.len(),
-        f.y.stress.len(),
-        f.y0.pos.len(),
-        f.y0.vel.len(),
-        f.y0.rho.len(),
-        f.y0.stress.len(),
-        f.rates.pos.len(),
-        f.rates.vel.len(),
-        f.rates.rho.len(),
-        f.rates.stress.len(),
-    ];
-    check("step fields", n, lens.into_iter().min().unwrap_or(0))?;
-    let (temp, temp0, temp_t) = match (f.temp, f.conduction) {
-        (Some(t), Some((t0, tt))) => {
-            check("step temperature", n, t.len().min(t0.len()).min(tt.len()))?;
-            (t.as_mut_ptr(), t0.as_mut_ptr(), tt.as_ptr())
-        }
-        (Some(t), None) => (t.as_mut_ptr(), std::ptr::null_mut(), std::ptr::null()),
-        _ => (std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null()),
-    };
-    let (diss, diss_t) = match f.dissipation {
-        Some((d, dt)) => {
-            check("step dissipation", n, d.len().min(dt.len()))?;
-            (d.as_mut_ptr(), dt.as_ptr())
-        }
-        None => (std::ptr::null_mut(), std::ptr::null()),
-    };
-    let pos_lo = match f.pos_lo {
-        Some(l) => {
-            check("step position low parts", n, l.len())?;
-            l.as_mut_ptr()
-        }
-        None => std::ptr::null_mut(),
-    };
-    Ok(SendStep(StepArrays {
-        pos: f.y.pos.as_mut_ptr(),
-        vel: f.y.vel.as_mut_ptr(),
-        rho: f.y.rho.as_mut_ptr(),
-        stress: f.y.stress.as_mut_ptr(),
-        pos0: f.y0.pos.as_mut_ptr(),
-        vel0: f.y0.vel.as_mut_ptr(),
-        rho0: f.y0.rho.as_mut_ptr(),
-        stress0: f.y0.stress.as_mut_ptr(),
-        pos_t: f.rates.pos.as_ptr(),
-        vel_t: f.rates.vel.as_ptr(),
-        rho_t: f.rates.rho.as_ptr(),
-        stress_t: f.rates.stress.as_ptr(),
-        temp,
-        temp0,
-        temp_t,
-        diss,
-        diss_t,
-        pos_lo,
-    }))
 }
 
 /// Runs `$body` with `$m` bound to the concrete flow-stress model of `$model` and `$t` naming its type: the host's
@@ -296,17 +170,6 @@ macro_rules! with_model {
     }};
 }
 pub(crate) use with_model;
-
-/// The address of an optional per-particle output, checked to hold n values (null when absent).
-fn out_ptr(b: Option<&mut Vec<f64>>, what: &'static str, n: usize) -> Result<*mut f64> {
-    match b {
-        Some(y) => {
-            check(what, n, y.len())?;
-            Ok(y.as_mut_ptr())
-        }
-        None => Ok(std::ptr::null_mut()),
-    }
-}
 
 fn check(op: &'static str, expected: usize, got: usize) -> Result<()> {
     if got < expected { Err(Error::Length { op, expected, got }) } else { Ok(()) }
@@ -382,8 +245,12 @@ impl Backend for CpuBackend {
         check("hash pos", n, pos.len())?;
         check("hash keys", n, keys.len())?;
         check("hash grid", 1, grid.len())?;
-        let g = grid[0];
-        keys[..n].par_iter_mut().zip(pos[..n].par_iter()).for_each(|(k, p)| *k = g.key::<R, D::Vec<R>>(p));
+        let a =
+            Shared(HashArgs::<R, D> { n: n as u32, pos: pos.as_ptr(), grid: grid.as_ptr(), keys: keys.as_mut_ptr() });
+        (0..n).into_par_iter().for_each(|i| {
+            // SAFETY: lengths checked above; each key i is written by one task only.
+            unsafe { a.get().particle(i) }
+        });
         Ok(())
     }
 
@@ -457,29 +324,28 @@ impl Backend for CpuBackend {
         check("neighbour_list pos", n, pos.len())?;
         check("neighbour_list counts", n, counts.len())?;
         check("neighbour_list starts", grid[0].n_cells as usize + 2, starts.len())?;
-        let g = grid[0];
-        let (off_ptr, list_ptr) = match offsets {
-            None => (std::ptr::null(), SendPtr(std::ptr::null_mut())),
+        let (offsets, list) = match offsets {
+            None => (std::ptr::null(), std::ptr::null_mut()),
             Some(off) => {
                 check("neighbour_list offsets", n + 1, off.len())?;
                 check("neighbour_list list", off[n] as usize, list.len())?;
-                (off.as_ptr(), SendPtr(list.as_mut_ptr()))
+                (off.as_ptr(), list.as_mut_ptr())
             }
         };
-        let off_ptr = SendPtr(off_ptr as *mut u32);
-        counts[..n].par_iter_mut().enumerate().for_each(|(i, c)| {
-            // SAFETY: lengths checked above; row i is list[off[i] .. off[i+1]], disjoint from every other row.
-            *c = unsafe {
-                neighbour_row::<R, D::Vec<R>>(
-                    &g,
-                    starts.as_ptr(),
-                    pos.as_ptr(),
-                    i as u32,
-                    support2,
-                    off_ptr.get(),
-                    list_ptr.get(),
-                )
-            };
+        let a = Shared(NeighbourListArgs::<R, D> {
+            n: n as u32,
+            pos: pos.as_ptr(),
+            grid: grid.as_ptr(),
+            starts: starts.as_ptr(),
+            support2,
+            offsets,
+            counts: counts.as_mut_ptr(),
+            list,
+        });
+        (0..n).into_par_iter().for_each(|i| {
+            // SAFETY: lengths checked above; row i is list[off[i] .. off[i+1]], disjoint from every other row, and
+            // counts[i] is written by task i only.
+            unsafe { a.get().particle(i) }
         });
         Ok(())
     }
@@ -494,14 +360,13 @@ impl Backend for CpuBackend {
         kernel: &Vec<CubicSpline<R>>,
         rho: &mut Vec<R>,
     ) -> Result<()> {
-        check("density pos", n, pos.len())?;
-        check("density mass", n, mass.len())?;
-        check("density rho", n, rho.len())?;
+        check("density grid", 1, grid.len())?;
         check("density starts", grid[0].n_cells as usize + 2, starts.len())?;
-        let (g, k) = (grid[0], kernel[0]);
-        rho[..n].par_iter_mut().enumerate().for_each(|(i, r)| {
-            // SAFETY: lengths checked above; pos/mass are the sorted particles of this cell list.
-            *r = unsafe { density_sum::<R, D::Vec<R>>(&g, starts.as_ptr(), &k, pos.as_ptr(), mass.as_ptr(), i as u32) };
+        let a = Shared(super::args::density_args::<_, R, D>(self, n, pos, mass, grid, starts, kernel, rho)?);
+        (0..n).into_par_iter().for_each(|i| {
+            // SAFETY: `density_args` checked the lengths, starts belong to the grid (above); pos/mass are the
+            // sorted particles of this cell list; each particle i is written by one task only.
+            unsafe { a.get().particle(i) }
         });
         Ok(())
     }
@@ -526,46 +391,19 @@ impl Backend for CpuBackend {
         {
             return Ok(());
         }
-        check("sph_prepare rho", n, rho.len())?;
-        check("sph_prepare mass", n, mass.len())?;
-        check("sph_prepare vol", n, vol.len())?;
-        if let Some(t) = temp {
-            check("sph_prepare temp", n, t.len())?;
-        }
-        check("sph_prepare stress", n, stress.len())?;
-        check("sph_prepare sig", n, sig.len())?;
-        let p = params[0];
-        if let Some(a) = &art {
-            check("sph_prepare art", n, a.len())?;
-        }
-        if let Some(c) = &sound {
-            check("sph_prepare sound", n, c.len())?;
-        }
-        if (stab.stress && art.is_none()) || (stab.viscosity && sound.is_none()) {
-            return Err(Error::Length { op: "sph_prepare (stabiliser buffer missing)", expected: n, got: 0 });
-        }
-        let art = SendPtr::from_opt(art.map(|a| a.as_mut_ptr() as *mut u32));
-        let sound = SendPtr::from_opt(sound.map(|c| c.as_mut_ptr() as *mut u32));
+        let q = super::args::PrepareBufs::<_, R, D> { params, rho, mass, stress, sig, art, sound, vol, temp };
+        // The gate was read above (the GPU reads it in the entry).
+        let a = Shared(super::args::prepare_args(self, n, stab, q, None)?);
         macro_rules! go {
             ($av:literal, $as:literal) => {
-                sig[..n].par_iter_mut().zip(vol[..n].par_iter_mut()).enumerate().for_each(|(i, (sg, v))| {
-                    let q = prepare::<R, D, $av, $as>(&p, rho[i], mass[i], &stress[i], temp.map(|t| t[i]));
-                    *sg = q.sig;
-                    *v = q.vol;
-                    // SAFETY: the buffers exist when their stabiliser is on and hold n elements (checked by the
-                    // solver, which allocates them); each index is written by one task.
-                    unsafe {
-                        if $as {
-                            *(art.get() as *mut D::Sym<R>).add(i) = q.art;
-                        }
-                        if $av {
-                            *(sound.get() as *mut R).add(i) = q.c;
-                        }
-                    }
+                (0..n).into_par_iter().for_each(|i| {
+                    // SAFETY: `prepare_args` checked the lengths and that the stabilisers' buffers exist where
+                    // they are on; each particle i is written by one task only.
+                    unsafe { a.get().particle::<$av, $as>(i) }
                 })
             };
         }
-        match (stab.viscosity && !sound.is_null(), stab.stress && !art.is_null()) {
+        match (stab.viscosity, stab.stress) {
             (false, false) => go!(false, false),
             (false, true) => go!(false, true),
             (true, false) => go!(true, false),
@@ -667,26 +505,23 @@ impl Backend for CpuBackend {
         input: &HeatInputs<'_, Self, R, D>,
         temp_t: &mut Vec<f64>,
     ) -> Result<()> {
-        check("heat_rates temp_t", n, temp_t.len())?;
+        check("heat_rates grid", 1, grid.len())?;
         check("heat_rates starts", grid[0].n_cells as usize + 2, starts.len())?;
-        let (h, k, g) = (*hp, params.kernel, grid[0]);
-        if pse && list.is_some() {
-            return Err(Error::Length { op: "heat_rates (PSE reaches beyond the Verlet list)", expected: 0, got: 1 });
-        }
-        let lp = list_ptr("heat_rates list", n, &g, list)?;
-        let a = heat_arrays::<R, D>(n, input, "heat_rates materials")?;
-        let st = SendPtr(starts.as_ptr() as *mut u32);
-        temp_t[..n].par_iter_mut().enumerate().for_each(|(i, t)| {
-            let a = &a;
-            let nb = Neighbours { grid: &g, starts: st.get(), list: lp.get() };
-            // SAFETY: lengths checked above; every body index has a material.
-            *t = unsafe {
-                if pse {
-                    heat_rate::<R, D::Vec<R>, true>(&h, &k, &nb, &a.0, i as u32, lanes)
+        list_ptr("heat_rates list", n, &grid[0], list)?;
+        check_bodies("heat_rates materials", &input.flags[..n.min(input.flags.len())], input.materials.len())?;
+        let a = Shared(super::args::heat_args(self, n, lanes, pse, hp, params, grid, starts, list, input, temp_t)?);
+        (0..n).into_par_iter().for_each(|i| {
+            let a = a.get();
+            // SAFETY: `heat_args` checked the lengths, the grid's starts and list and the bodies are checked
+            // above; each particle i is written by one task only.
+            unsafe {
+                let (arr, nb) = (a.arrays(), a.neighbours());
+                *a.temp_t.add(i) = if pse {
+                    heat_rate::<R, D::Vec<R>, true>(&a.hp, &a.params.kernel, &nb, &arr, i as u32, a.lanes)
                 } else {
-                    heat_rate::<R, D::Vec<R>, false>(&h, &k, &nb, &a.0, i as u32, lanes)
-                }
-            };
+                    heat_rate::<R, D::Vec<R>, false>(&a.hp, &a.params.kernel, &nb, &arr, i as u32, a.lanes)
+                };
+            }
         });
         Ok(())
     }
@@ -699,60 +534,21 @@ impl Backend for CpuBackend {
         skin: SkinTest<'_, Self, R, D>,
         prepare: Option<FusedPrepare<'_, Self, R, D>>,
     ) -> Result<()> {
-        let entry =
-            s.buf.get_mut(s.index).ok_or(Error::Length { op: "step scalars", expected: s.index + 1, got: 0 })?;
-        let dt = entry.dt;
-        let (rho, stress) = (f.y.rho.as_ptr(), f.y.stress.as_ptr());
-        let a = step_arrays::<R, D>(n, f)?;
-        check("step_predict pos_ref", n, skin.pos_ref.len())?;
-        check("step_predict grid", 1, skin.grid.len())?;
-        let g = skin.grid[0];
-        // The fused pre-pass (as the CUDA entry): the same particle's pre-pass after its prediction.
-        let prep = match prepare {
-            None => None,
-            Some(q) => {
-                check("step_predict mass", n, q.mass.len())?;
-                check("step_predict sig", n, q.sig.len())?;
-                check("step_predict vol", n, q.vol.len())?;
-                if let Some(a) = &q.art {
-                    check("step_predict art", n, a.len())?;
-                }
-                if let Some(c) = &q.sound {
-                    check("step_predict sound", n, c.len())?;
-                }
-                let art = if q.stab.stress { q.art.map(|a| a.as_mut_ptr()) } else { None };
-                let sound = if q.stab.viscosity { q.sound.map(|c| c.as_mut_ptr()) } else { None };
-                if (q.stab.stress && art.is_none()) || (q.stab.viscosity && sound.is_none()) {
-                    return Err(Error::Length { op: "step_predict (stabiliser buffer missing)", expected: n, got: 0 });
-                }
-                Some((
-                    *q.params,
-                    q.mass.as_ptr() as usize,
-                    SendPrepass(PrepassArrays {
-                        sig: q.sig.as_mut_ptr(),
-                        art: art.unwrap_or(std::ptr::null_mut()),
-                        sound: sound.unwrap_or(std::ptr::null_mut()),
-                        vol: q.vol.as_mut_ptr(),
-                    }),
-                ))
+        let a = Shared(super::args::predict_args(self, n, s, f, skin, prepare)?);
+        let moved = (0..n).into_par_iter().map(|i| {
+            let a = a.get();
+            // SAFETY: `predict_args` checked the lengths; each particle i is touched by one task only (the
+            // scalars are only read in the loop).
+            unsafe {
+                let x = a.particle(i);
+                let xr = &*a.pos_ref.add(i);
+                ((*a.grid).beyond_skin::<R, D::Vec<R>>(&x, xr), is_finite_vec::<R, D::Vec<R>>(&x))
             }
-        };
-        let (rho, stress) = (rho as usize, stress as usize);
-        let moved = skin.pos_ref[..n].par_iter().enumerate().map(|(i, xr)| {
-            let (a, prep) = (&a, &prep);
-            // SAFETY: lengths checked by step_arrays and above; each particle i is touched by one task only.
-            let x = unsafe { predict_particle(&a.0, dt, i) };
-            if let Some((p, mass, o)) = prep {
-                // SAFETY: as above; the predictor wrote particle i's ρ and S.
-                unsafe {
-                    let (r, m) = (*(rho as *const R).add(i), *(*mass as *const R).add(i));
-                    prepare_particle::<R, D>(p, &o.0, i, r, m, &*(stress as *const D::Sym<R>).add(i));
-                }
-            }
-            (g.beyond_skin::<R, D::Vec<R>>(&x, xr), is_finite_vec::<R, D::Vec<R>>(&x))
         });
         // Every particle is predicted (no short-circuit), as on the GPU.
         let (beyond, finite) = moved.reduce(|| (false, true), |a, b| (a.0 || b.0, a.1 && b.1));
+        // SAFETY: `predict_args` checked the index; the loop has ended.
+        let entry = unsafe { &mut *a.get().scalars };
         if beyond {
             entry.rebuild = 1;
         }
@@ -801,11 +597,17 @@ impl Backend for CpuBackend {
         let g = grid[0];
         check("verlet_build starts", g.n_cells as usize + 2, starts.len())?;
         let out = list_ptr("verlet_build list", n, &g, Some(list))?;
-        let (st, p) = (SendPtr(starts.as_ptr() as *mut u32), SendPtr(pos.as_ptr() as *mut u32));
+        let a = Shared(VerletArgs::<R, D> {
+            gate: std::ptr::null(),
+            n: n as u32,
+            grid: grid.as_ptr(),
+            starts: starts.as_ptr(),
+            pos: pos.as_ptr(),
+            list: out.get(),
+        });
         (0..n).into_par_iter().for_each(|i| {
-            let out = &out;
             // SAFETY: sizes checked above; task i writes only row i (the words (m + 1)·stride + i and i).
-            unsafe { verlet_row::<R, D::Vec<R>>(&g, st.get(), p.get() as *const D::Vec<R>, i as u32, out.get()) }
+            unsafe { a.get().particle(i) }
         });
         Ok(())
     }
@@ -909,52 +711,14 @@ impl Backend for CpuBackend {
         s: ScalarsAt<'_, Self>,
         a: ContactInputs<'_, Self, R, D>,
     ) -> Result<()> {
-        let tool = scalars(&s)?.tool;
-        if D::D != 2 {
-            return Err(Error::Length { op: "contact (the parametric tool is 2D)", expected: 2, got: D::D });
-        }
-        for (what, len) in [
-            ("pos", a.pos.len()),
-            ("vel", a.vel.len()),
-            ("mass", a.mass.len()),
-            ("rho", a.rho.len()),
-            ("flags", a.flags.len()),
-            ("normal", a.normal.len()),
-            ("friction", a.friction.len()),
-        ] {
-            check(what, n, len)?;
-        }
-        for (what, len) in [
-            ("temp", a.temp.as_ref().map(|t| t.len())),
-            ("yield_stress", a.yield_stress.map(|t| t.len())),
-            ("wear", a.wear.as_ref().map(|t| t.len())),
-        ] {
-            if let Some(len) = len {
-                check(what, n, len)?;
-            }
-        }
+        check("flags", n, a.flags.len())?;
         if let Some(m) = a.materials {
             check_bodies("contact materials", &a.flags[..n], m.len())?;
         }
-        let c = params[0];
-        let shape = one(shape, "contact (the tool's shape)")?;
-        let arr = SendContact(ContactArrays::<R, D::Vec<R>> {
-            pos: a.pos.as_ptr(),
-            vel: a.vel.as_ptr(),
-            mass: a.mass.as_ptr(),
-            rho: a.rho.as_ptr(),
-            flags: a.flags.as_ptr(),
-            normal: a.normal.as_mut_ptr(),
-            friction: a.friction.as_mut_ptr(),
-            temp: a.temp.map_or(std::ptr::null_mut(), |t| t.as_mut_ptr()),
-            materials: a.materials.map_or(std::ptr::null(), |m| m.as_ptr()),
-            yield_stress: a.yield_stress.map_or(std::ptr::null(), |y| y.as_ptr()),
-            wear: a.wear.map_or(std::ptr::null_mut(), |w| w.as_mut_ptr()),
-        });
+        let a = Shared(super::args::contact_args(self, n, params, shape, &s, a)?);
         (0..n).into_par_iter().for_each(|i| {
-            let arr = &arr;
-            // SAFETY: lengths checked above; each particle i is touched by one task only.
-            unsafe { contact_particle::<R, D::Vec<R>, Tool2d>(&c, shape, &tool, &arr.0, i) }
+            // SAFETY: `contact_args` checked the lengths; each particle i is touched by one task only.
+            unsafe { a.get().particle(i) }
         });
         Ok(())
     }
@@ -966,35 +730,18 @@ impl Backend for CpuBackend {
         c: PlasticConsts,
         a: PlasticInputs<'_, Self, R, D>,
     ) -> Result<()> {
-        for (what, len) in [
-            ("stress", a.stress.len()),
-            ("rho", a.rho.len()),
-            ("eps", a.eps.len()),
-            ("rate", a.rate.len()),
-            ("temp", a.temp.len()),
-            ("flags", a.flags.len()),
-        ] {
-            check(what, n, len)?;
-        }
+        check("flags", n, a.flags.len())?;
         if c.taylor_quinney > 0.0 {
             check_bodies("plastic_step materials", &a.flags[..n], a.materials.map_or(0, |m| m.len()))?;
         }
-        let arr = SendPlastic(PlasticArrays::<R, D::Sym<R>> {
-            stress: a.stress.as_mut_ptr(),
-            rho: a.rho.as_ptr(),
-            eps: a.eps.as_mut_ptr(),
-            rate: a.rate.as_mut_ptr(),
-            temp: a.temp.as_mut_ptr(),
-            flags: a.flags.as_ptr(),
-            materials: a.materials.map_or(std::ptr::null(), |m| m.as_ptr()),
-            yield_stress: out_ptr(a.yield_stress, "yield_stress", n)?,
-            work: out_ptr(a.work, "plastic work", n)?,
+        with_model!(model, M, m => {
+            let a = Shared(super::args::plastic_args::<_, R, D, M>(self, n, *m, c, a)?);
+            (0..n).into_par_iter().for_each(|i| {
+                let a = a.get();
+                // SAFETY: `plastic_args` checked the lengths; each particle i is touched by one task only.
+                unsafe { a.particle(&a.model, i) }
+            });
         });
-        with_model!(model, M, m => (0..n).into_par_iter().for_each(|i| {
-            let arr = &arr;
-            // SAFETY: lengths checked above; each particle i is touched by one task only.
-            unsafe { plastic_particle::<R, D, M>(m, &c, &arr.0, i) }
-        }));
         Ok(())
     }
 }

@@ -8,7 +8,10 @@ use super::{
 };
 use crate::kernels::neighbour::GatherField;
 use crate::kernels::neighbour::GridParams;
-use crate::kernels::pass::{FLOW_MODEL_TAGS, ModelEntry};
+use crate::kernels::pass::{
+    CountArgs, FLOW_MODEL_TAGS, GatherArgs, GatherFieldsArgs, HashArgs, HashCountArgs, ModelEntry, NeighbourListArgs,
+    ScanApplyArgs, ScanReduceArgs, ScatterArgs, SortArgs, VerletArgs, ZeroArgs,
+};
 use crate::kernels::sph::heat::HeatParams;
 use crate::kernels::sph::step::StepScalars;
 use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers, TensorOps};
@@ -26,6 +29,7 @@ use std::sync::{Arc, Mutex};
 mod conditional;
 mod lazy;
 pub mod split;
+use super::args::PrepareBufs;
 use conditional::Conditional;
 pub use conditional::strip_graph_conditional;
 use lazy::{Kernel, Loader};
@@ -100,9 +104,6 @@ fn rates_suffix(c: usize) -> String {
     format!("v{}s{}x{}", (c >> 2) & 1, (c >> 1) & 1, c & 1)
 }
 
-/// Most arguments of any entry point.
-const MAX_ARGS: usize = 40;
-
 /// Threads per block of the per-particle kernels.
 const BLOCK: u32 = 256;
 /// Most blocks of a grid-stride launch (`CudaBackend::launch_strided`): eight per multiprocessor of an H100 or
@@ -126,26 +127,11 @@ impl<T> Buffer<T> for CudaBuf<T> {
     }
 }
 
-/// A kernel argument: scalars by value, device pointers as u64, and a `#[repr(C)]` Pod parameter block by value
-/// (its bytes; the entry point declares the struct, whose size the driver takes from the PTX).
-#[derive(Clone, Copy)]
-enum Arg<'a> {
-    U32(u32),
-    U64(u64),
-    F32(f32),
-    F64(f64),
-    Bytes(&'a [u8]),
-}
-
 /// The four (dimension, precision) variants of a generic entry point: 2d_f32, 2d_f64, 3d_f32, 3d_f64.
 struct Variants([Kernel; 4]);
 
 fn variant<R: Real, D: Dim>() -> usize {
     (D::D == 3) as usize * 2 + (size_of::<R>() == 8) as usize
-}
-
-fn real_arg<R: Real>(x: R) -> Arg<'static> {
-    if size_of::<R>() == 4 { Arg::F32(x.to_f64() as f32) } else { Arg::F64(x.to_f64()) }
 }
 
 struct Kernels {
@@ -314,97 +300,11 @@ impl CudaBackend {
 
     /// Opens device `ordinal` and loads the embedded PTX; says why if that is impossible.
     pub fn new(ordinal: usize) -> Result<Self> {
-        if crate::ptx::PTX.is_empty() {
-            let why = crate::ptx::PTX_MISSING.unwrap_or("no PTX embedded");
-            return Err(Error::GpuUnavailable(format!("this build has no GPU kernels ({})", first_line(why))));
-        }
-        // SAFETY: probing for the shared library has no side effects beyond loading it.
-        if !unsafe { cudarc::driver::sys::is_culib_present() } {
-            return Err(Error::GpuUnavailable("no CUDA driver (libcuda.so) found".into()));
-        }
-        let count = CudaContext::device_count().map_err(cuda("cuDeviceGetCount"))?;
-        if count as usize <= ordinal {
-            return Err(Error::GpuUnavailable(format!("no CUDA device {ordinal} ({count} present)")));
-        }
-        let ctx = CudaContext::new(ordinal).map_err(cuda("cuCtxCreate"))?;
-        // SAFETY: a single stream orders all work; cross-stream event tracking is not needed.
-        unsafe { ctx.disable_event_tracking() };
-        // A stream of its own: the legacy default stream cannot be captured into a graph.
-        let stream = ctx.new_stream().map_err(cuda("cuStreamCreate"))?;
+        let (ctx, stream) = open_device(ordinal)?;
         let cc = ctx.compute_capability().map_err(cuda("compute capability"))?;
         let tuning = crate::tuning::Tuning::current()?;
-        let fast = crate::ptx::fast_math();
-        let (target, ptx) = crate::ptx::select(cc.0, cc.1, fast).ok_or_else(|| {
-            Error::GpuUnavailable(format!(
-                "no embedded PTX target runs on compute capability {}.{} (embedded: {:?})",
-                cc.0,
-                cc.1,
-                crate::ptx::targets()
-            ))
-        })?;
-        let ptx = register_caps(ptx, tuning.maxnreg, tuning.plastic_maxnreg);
-        let mut driver = 0i32;
-        // SAFETY: plain query into a local.
-        unsafe { cudarc::driver::sys::cuDriverGetVersion(&mut driver) };
-        // A driver that cannot resolve the predictor's `cudaGraphSetConditional` loads the kernels without it, and
-        // the captured steps keep their rebuild in plain gated nodes. The predictor's module decides it, loaded
-        // now; every other entry loads on its first launch (`Loader`).
-        let mut loader = Loader::new(ctx.clone(), ptx)?;
-        let conditional = match loader.load(PROBE) {
-            Ok(_) => Conditional::new(&ctx, driver),
-            Err(e) => {
-                loader.strip = true;
-                loader.load(PROBE)?;
-                Err(format!("the driver did not resolve cudaGraphSetConditional ({e})"))
-            }
-        };
-        // Every slot names an entry of the PTX (checked now; loaded on first use).
-        let f = |name: &str| -> Result<Kernel> {
-            if loader.has(name) {
-                Ok(Kernel::new(name))
-            } else {
-                Err(Error::GpuUnavailable(format!("no entry point {name} in the embedded PTX")))
-            }
-        };
-        let v = |base: &str, suffix: &str| -> Result<Variants> {
-            let sfx = if suffix.is_empty() { String::new() } else { format!("_{suffix}") };
-            Ok(Variants([
-                f(&format!("{base}_2d_f32{sfx}"))?,
-                f(&format!("{base}_2d_f64{sfx}"))?,
-                f(&format!("{base}_3d_f32{sfx}"))?,
-                f(&format!("{base}_3d_f64{sfx}"))?,
-            ]))
-        };
-        let k = Kernels {
-            plastic: FLOW_MODEL_TAGS.iter().map(|m| v(&format!("swarf_plastic_{m}"), "")).collect::<Result<_>>()?,
-            contact: [f("swarf_contact_2d_f32")?, f("swarf_contact_2d_f64")?],
-            heat_brookshaw: v("swarf_heat_brookshaw", "")?,
-            heat_pse: v("swarf_heat_pse", "")?,
-            sph_prepare: (0..4).map(|c| v("swarf_sph_prepare", &prepare_suffix(c))).collect::<Result<_>>()?,
-            sph_rates: (0..8).map(|c| v("swarf_sph_rates", &rates_suffix(c))).collect::<Result<_>>()?,
-            sph_rates_heat: (0..8).map(|c| v("swarf_sph_rates_heat", &rates_suffix(c))).collect::<Result<_>>()?,
-            step_predict: v("swarf_step_predict", "")?,
-            step_finish: v("swarf_step_finish", "")?,
-            step_finish_plastic: FLOW_MODEL_TAGS
-                .iter()
-                .map(|m| v(&format!("swarf_step_finish_{m}"), ""))
-                .collect::<Result<_>>()?,
-            hash: v("swarf_hash", "")?,
-            hash_count: v("swarf_hash_count", "")?,
-            neighbour_list: v("swarf_neighbour_list", "")?,
-            verlet_build: v("swarf_verlet_build", "")?,
-            density: v("swarf_density", "")?,
-            count_cells: f("swarf_count_cells")?,
-            zero_gated: f("swarf_zero_gated")?,
-            scan_reduce: f("swarf_scan_reduce")?,
-            scan_apply: f("swarf_scan_apply")?,
-            scatter: f("swarf_scatter")?,
-            sort_cells: f("swarf_sort_cells")?,
-            gather_b4: f("swarf_gather_b4")?,
-            gather_b8: f("swarf_gather_b8")?,
-            gather_b16: f("swarf_gather_b16")?,
-            gather_fields: f("swarf_gather_fields")?,
-        };
+        let (target, loader, conditional, driver) = load_ptx(&ctx, cc, tuning)?;
+        let k = kernel_table(&loader)?;
         let info = DeviceInfo {
             backend: "gpu",
             name: ctx.name().map_err(cuda("device name"))?,
@@ -435,7 +335,119 @@ impl CudaBackend {
                 as u32,
         })
     }
+}
 
+/// The context and stream of device `ordinal`, after checking that this build has PTX and the machine a driver
+/// and the device.
+fn open_device(ordinal: usize) -> Result<(Arc<CudaContext>, Arc<CudaStream>)> {
+    if crate::ptx::PTX.is_empty() {
+        let why = crate::ptx::PTX_MISSING.unwrap_or("no PTX embedded");
+        return Err(Error::GpuUnavailable(format!("this build has no GPU kernels ({})", first_line(why))));
+    }
+    // SAFETY: probing for the shared library has no side effects beyond loading it.
+    if !unsafe { cudarc::driver::sys::is_culib_present() } {
+        return Err(Error::GpuUnavailable("no CUDA driver (libcuda.so) found".into()));
+    }
+    let count = CudaContext::device_count().map_err(cuda("cuDeviceGetCount"))?;
+    if count as usize <= ordinal {
+        return Err(Error::GpuUnavailable(format!("no CUDA device {ordinal} ({count} present)")));
+    }
+    let ctx = CudaContext::new(ordinal).map_err(cuda("cuCtxCreate"))?;
+    // SAFETY: a single stream orders all work; cross-stream event tracking is not needed.
+    unsafe { ctx.disable_event_tracking() };
+    // A stream of its own: the legacy default stream cannot be captured into a graph.
+    let stream = ctx.new_stream().map_err(cuda("cuStreamCreate"))?;
+    Ok((ctx, stream))
+}
+
+/// The embedded PTX target for compute capability `cc` with its register caps, its loader with the predictor's
+/// module loaded (which decides whether the driver resolves `cudaGraphSetConditional`), and the driver version.
+fn load_ptx(
+    ctx: &Arc<CudaContext>,
+    cc: (i32, i32),
+    tuning: &crate::tuning::Tuning,
+) -> Result<(&'static str, Loader, std::result::Result<Conditional, String>, i32)> {
+    let fast = crate::ptx::fast_math();
+    let (target, ptx) = crate::ptx::select(cc.0, cc.1, fast).ok_or_else(|| {
+        Error::GpuUnavailable(format!(
+            "no embedded PTX target runs on compute capability {}.{} (embedded: {:?})",
+            cc.0,
+            cc.1,
+            crate::ptx::targets()
+        ))
+    })?;
+    let ptx = register_caps(ptx, tuning.maxnreg, tuning.plastic_maxnreg);
+    let mut driver = 0i32;
+    // SAFETY: plain query into a local.
+    unsafe { cudarc::driver::sys::cuDriverGetVersion(&mut driver) };
+    // A driver that cannot resolve the predictor's `cudaGraphSetConditional` loads the kernels without it, and
+    // the captured steps keep their rebuild in plain gated nodes. The predictor's module decides it, loaded
+    // now; every other entry loads on its first launch (`Loader`).
+    let mut loader = Loader::new(ctx.clone(), ptx)?;
+    let conditional = match loader.load(PROBE) {
+        Ok(_) => Conditional::new(ctx, driver),
+        Err(e) => {
+            loader.strip = true;
+            loader.load(PROBE)?;
+            Err(format!("the driver did not resolve cudaGraphSetConditional ({e})"))
+        }
+    };
+    Ok((target, loader, conditional, driver))
+}
+
+/// Every kernel slot, each checked to name an entry of the PTX (loaded on first use).
+fn kernel_table(loader: &Loader) -> Result<Kernels> {
+    // Every slot names an entry of the PTX (checked now; loaded on first use).
+    let f = |name: &str| -> Result<Kernel> {
+        if loader.has(name) {
+            Ok(Kernel::new(name))
+        } else {
+            Err(Error::GpuUnavailable(format!("no entry point {name} in the embedded PTX")))
+        }
+    };
+    let v = |base: &str, suffix: &str| -> Result<Variants> {
+        let sfx = if suffix.is_empty() { String::new() } else { format!("_{suffix}") };
+        Ok(Variants([
+            f(&format!("{base}_2d_f32{sfx}"))?,
+            f(&format!("{base}_2d_f64{sfx}"))?,
+            f(&format!("{base}_3d_f32{sfx}"))?,
+            f(&format!("{base}_3d_f64{sfx}"))?,
+        ]))
+    };
+    let k = Kernels {
+        plastic: FLOW_MODEL_TAGS.iter().map(|m| v(&format!("swarf_plastic_{m}"), "")).collect::<Result<_>>()?,
+        contact: [f("swarf_contact_2d_f32")?, f("swarf_contact_2d_f64")?],
+        heat_brookshaw: v("swarf_heat_brookshaw", "")?,
+        heat_pse: v("swarf_heat_pse", "")?,
+        sph_prepare: (0..4).map(|c| v("swarf_sph_prepare", &prepare_suffix(c))).collect::<Result<_>>()?,
+        sph_rates: (0..8).map(|c| v("swarf_sph_rates", &rates_suffix(c))).collect::<Result<_>>()?,
+        sph_rates_heat: (0..8).map(|c| v("swarf_sph_rates_heat", &rates_suffix(c))).collect::<Result<_>>()?,
+        step_predict: v("swarf_step_predict", "")?,
+        step_finish: v("swarf_step_finish", "")?,
+        step_finish_plastic: FLOW_MODEL_TAGS
+            .iter()
+            .map(|m| v(&format!("swarf_step_finish_{m}"), ""))
+            .collect::<Result<_>>()?,
+        hash: v("swarf_hash", "")?,
+        hash_count: v("swarf_hash_count", "")?,
+        neighbour_list: v("swarf_neighbour_list", "")?,
+        verlet_build: v("swarf_verlet_build", "")?,
+        density: v("swarf_density", "")?,
+        count_cells: f("swarf_count_cells")?,
+        zero_gated: f("swarf_zero_gated")?,
+        scan_reduce: f("swarf_scan_reduce")?,
+        scan_apply: f("swarf_scan_apply")?,
+        scatter: f("swarf_scatter")?,
+        sort_cells: f("swarf_sort_cells")?,
+        gather_b4: f("swarf_gather_b4")?,
+        gather_b8: f("swarf_gather_b8")?,
+        gather_b16: f("swarf_gather_b16")?,
+        gather_fields: f("swarf_gather_fields")?,
+    };
+    Ok(k)
+}
+
+impl CudaBackend {
     fn ptr<T>(&self, b: &CudaBuf<T>) -> u64 {
         let (p, _sync) = b.raw.device_ptr(&self.stream);
         p
@@ -448,64 +460,32 @@ impl CudaBackend {
 
     /// Launches `f` over `threads` threads in blocks of `block`. Arguments live in a stack array for the call,
     /// so a launch allocates nothing.
-    fn launch(&self, k: &Kernel, threads: usize, block: u32, args: &[Arg]) -> Result<()> {
+    /// Launches `f`, an entry that takes the pass's argument struct `args` by value as its single parameter
+    /// (`kernels::pass`; tests/ptx.rs checks its size and alignment against the entry's), over `threads` threads
+    /// in blocks of `block`.
+    fn launch_pass<A: Copy>(&self, f: &Kernel, threads: usize, block: u32, args: &A) -> Result<()> {
         if threads == 0 {
             return Ok(());
         }
-        let f = self.function(k)?;
+        let f = self.function(f)?;
         let blocks = threads.div_ceil(block as usize);
-        if blocks > i32::MAX as usize || args.len() > MAX_ARGS {
+        if blocks > i32::MAX as usize {
             return Err(Error::Length {
                 op: "kernel launch (grid too large)",
                 expected: i32::MAX as usize,
                 got: blocks,
             });
         }
-        let mut store = [0u64; MAX_ARGS];
-        for (s, a) in store.iter_mut().zip(args) {
-            *s = match *a {
-                Arg::U32(v) => v as u64,
-                Arg::U64(v) => v,
-                Arg::F32(v) => v.to_bits() as u64,
-                Arg::F64(v) => v.to_bits(),
-                Arg::Bytes(_) => 0,
-            };
-        }
-        let mut params = [std::ptr::null_mut::<c_void>(); MAX_ARGS];
-        for ((p, s), a) in params.iter_mut().zip(store.iter_mut()).zip(args) {
-            *p = match *a {
-                // The driver copies the block's size (from the entry's signature) from here.
-                Arg::Bytes(b) => b.as_ptr() as *mut c_void,
-                // Little-endian: a 4-byte parameter reads the low half of its 8-byte slot.
-                _ => s as *mut u64 as *mut c_void,
-            };
-        }
+        // The driver copies the block's size (from the entry's signature: size_of::<A>(), A being `#[repr(C)]`
+        // and plain) from here.
+        let mut params = [args as *const A as *mut c_void];
         let stream = match (&self.conditional, self.in_body.load(Ordering::Relaxed)) {
             (Ok(c), true) => c.body_stream(),
             _ => self.stream.cu_stream(),
         };
-        // SAFETY: the argument list matches the entry point's signature (kept in step with kernels/src/ptx).
-        unsafe {
-            result::launch_kernel(
-                f.cu_function(),
-                (blocks as u32, 1, 1),
-                (block, 1, 1),
-                0,
-                stream,
-                &mut params[..args.len()],
-            )
-        }
-        .map_err(cuda("kernel launch"))
-    }
-
-    /// Launches `f`, an entry that takes the pass's argument struct `args` by value as its single parameter
-    /// (`kernels::pass`; tests/ptx.rs checks its size and alignment against the entry's), over `threads` threads
-    /// in blocks of `block`.
-    fn launch_pass<A: Copy>(&self, f: &Kernel, threads: usize, block: u32, args: &A) -> Result<()> {
-        // SAFETY: A is `#[repr(C)]` and plain (`Copy`): the driver copies size_of::<A>() bytes, which is the size
-        // the entry declares.
-        let bytes = unsafe { std::slice::from_raw_parts(args as *const A as *const u8, size_of::<A>()) };
-        self.launch(f, threads, block, &[Arg::Bytes(bytes)])
+        // SAFETY: the entry's single parameter is A (tests/ptx.rs); `args` outlives the call, which copies it.
+        unsafe { result::launch_kernel(f.cu_function(), (blocks as u32, 1, 1), (block, 1, 1), 0, stream, &mut params) }
+            .map_err(cuda("kernel launch"))
     }
 
     /// The function of `k`, loaded on its first use. A module load inside a graph capture would end the capture
@@ -525,10 +505,19 @@ impl CudaBackend {
         Ok(k.f.get_or_init(|| f))
     }
 
-    /// Launches a grid-stride kernel over `items` (the gated kernels of a rebuild): at most GATED_BLOCKS
-    /// blocks, so that a step that does not rebuild costs a few hundred blocks, whatever the particle count.
-    fn launch_strided(&self, f: &Kernel, items: usize, args: &[Arg]) -> Result<()> {
-        self.launch(f, items.min(GATED_BLOCKS * BLOCK as usize), BLOCK, args)
+    /// [`Self::launch_pass`] of a grid-stride entry (a capped grid: GATED_BLOCKS blocks at most).
+    fn launch_pass_strided<A: Copy>(&self, f: &Kernel, items: usize, args: &A) -> Result<()> {
+        self.launch_pass(f, items.min(GATED_BLOCKS * BLOCK as usize), BLOCK, args)
+    }
+
+    /// A buffer's device address as a kernel's input pointer.
+    fn input<T>(&self, b: &CudaBuf<T>) -> *const T {
+        self.ptr(b) as *const T
+    }
+
+    /// A buffer's device address as a kernel's output pointer.
+    fn output<T>(&self, b: &mut CudaBuf<T>) -> *mut T {
+        self.ptr_mut(b) as *mut T
     }
 
     fn oom(&self, what: &'static str, bytes: usize, e: DriverError) -> Error {
@@ -547,38 +536,6 @@ fn check_lanes(lanes: u32) -> Result<()> {
         Ok(())
     } else {
         Err(Error::Length { op: "lanes per particle (1, 2, 4 or 8)", expected: 8, got: lanes as usize })
-    }
-}
-
-/// A launch's argument list (at most MAX_ARGS; no allocation in the step: the capacity is fixed).
-fn vec_args<'a>(a: &[Arg<'a>]) -> ArgList<'a> {
-    let mut l = ArgList { a: [Arg::U32(0); MAX_ARGS], len: 0 };
-    l.extend_from_slice(a);
-    l
-}
-
-/// A fixed-capacity argument list.
-struct ArgList<'a> {
-    a: [Arg<'a>; MAX_ARGS],
-    len: usize,
-}
-
-impl<'a> ArgList<'a> {
-    fn extend_from_slice(&mut self, x: &[Arg<'a>]) {
-        for v in x {
-            if self.len < MAX_ARGS {
-                self.a[self.len] = *v;
-            }
-            // An overflowing list is refused by `launch` (its length is then MAX_ARGS + 1).
-            self.len = (self.len + 1).min(MAX_ARGS + 1);
-        }
-    }
-}
-
-impl<'a> ArgList<'a> {
-    /// The arguments, or an error if more than MAX_ARGS were pushed.
-    fn get(&self) -> Result<&[Arg<'a>]> {
-        self.a.get(..self.len).ok_or(Error::Length { op: "kernel arguments", expected: MAX_ARGS, got: self.len })
     }
 }
 
@@ -665,19 +622,16 @@ fn first_line(s: &str) -> &str {
 
 impl CudaBackend {
     /// The device address of the step's scalars.
-    fn scalars(&self, s: &ScalarsAt<'_, Self>) -> Result<Arg<'static>> {
+    fn scalars(&self, s: &ScalarsAt<'_, Self>) -> Result<u64> {
         if s.index >= s.buf.len {
             return Err(Error::Length { op: "step scalars", expected: s.index + 1, got: s.buf.len });
         }
-        Ok(Arg::U64(self.ptr(s.buf) + (s.index * size_of::<StepScalars>()) as u64))
+        Ok(self.ptr(s.buf) + (s.index * size_of::<StepScalars>()) as u64)
     }
 
     /// The device address of the step's rebuild flag (`StepScalars::rebuild`), the gate of a rebuild's launches.
     fn gate(&self, s: &ScalarsAt<'_, Self>) -> Result<u64> {
-        match self.scalars(s)? {
-            Arg::U64(a) => Ok(a + std::mem::offset_of!(StepScalars, rebuild) as u64),
-            _ => Err(Error::Length { op: "step scalars", expected: 1, got: 0 }),
-        }
+        Ok(self.scalars(s)? + std::mem::offset_of!(StepScalars, rebuild) as u64)
     }
 
     /// The exclusive scan of `Backend::exclusive_scan` with a gate (0: always).
@@ -692,26 +646,18 @@ impl CudaBackend {
         if sums.len < tiles {
             return Err(Error::Length { op: "exclusive_scan workspace", expected: tiles, got: sums.len });
         }
-        let (g, d) = (Arg::U64(gate), self.ptr_mut(data));
+        let (g, d) = (gate as *const u32, self.output(data));
+        let apply = |tile_offsets| ScanApplyArgs { gate: g, n: n as u32, input: d, output: d, tile_offsets };
         if tiles == 1 {
             // One tile: the apply pass alone, with offset 0 (no reduction, no memset).
-            return self.launch(
-                &self.k.scan_apply,
-                32,
-                128,
-                &[g, Arg::U32(n as u32), Arg::U64(d), Arg::U64(d), Arg::U64(0)],
-            );
+            return self.launch_pass(&self.k.scan_apply, 32, 128, &apply(std::ptr::null()));
         }
-        let s = self.ptr_mut(sums);
+        let s = self.output(sums);
         // One warp per tile, four warps per block.
-        self.launch(&self.k.scan_reduce, tiles * 32, 128, &[g, Arg::U32(n as u32), Arg::U64(d), Arg::U64(s)])?;
+        let reduce = ScanReduceArgs { gate: g, n: n as u32, input: d, tile_sums: s };
+        self.launch_pass(&self.k.scan_reduce, tiles * 32, 128, &reduce)?;
         self.scan_gated(gate, tiles, sums, rest)?;
-        self.launch(
-            &self.k.scan_apply,
-            tiles * 32,
-            128,
-            &[g, Arg::U32(n as u32), Arg::U64(d), Arg::U64(d), Arg::U64(s)],
-        )
+        self.launch_pass(&self.k.scan_apply, tiles * 32, 128, &apply(s))
     }
 
     /// The scatter of `Backend::scatter` with a gate (0: always).
@@ -724,69 +670,26 @@ impl CudaBackend {
         starts: &CudaBuf<u32>,
         perm: &mut CudaBuf<u32>,
     ) -> Result<()> {
-        let args = [
-            Arg::U64(gate),
-            Arg::U32(n as u32),
-            Arg::U64(self.ptr(keys)),
-            Arg::U64(self.ptr(slots)),
-            Arg::U64(self.ptr(starts)),
-            Arg::U64(self.ptr_mut(perm)),
-        ];
-        self.launch_strided(&self.k.scatter, n, &args)
+        let args = ScatterArgs {
+            gate: gate as *const u32,
+            n: n as u32,
+            keys: self.input(keys),
+            slots: self.input(slots),
+            starts: self.input(starts),
+            perm: self.output(perm),
+        };
+        self.launch_pass_strided(&self.k.scatter, n, &args)
     }
 
     /// The per-cell sort of `Backend::sort_cells` with a gate (0: always).
     fn sort_gated(&self, gate: u64, n_buckets: usize, starts: &CudaBuf<u32>, perm: &mut CudaBuf<u32>) -> Result<()> {
-        let args =
-            [Arg::U64(gate), Arg::U32(n_buckets as u32), Arg::U64(self.ptr(starts)), Arg::U64(self.ptr_mut(perm))];
-        self.launch_strided(&self.k.sort_cells, n_buckets, &args)
-    }
-
-    /// The 15 field arguments of the step kernels (y, y0, ẏ, then T, T0, Ṫ or nulls) and the two of the
-    /// dissipation (the corrector's only).
-    fn step_args<R: Real, D: Dim>(
-        &self,
-        n: usize,
-        f: StepFields<'_, Self, R, D>,
-    ) -> Result<([Arg<'static>; 15], [Arg<'static>; 3])> {
-        let lens = [f.y.pos.len, f.y0.pos.len, f.rates.pos.len, f.y.stress.len, f.y0.stress.len, f.rates.stress.len];
-        if lens.iter().any(|&l| l < n) {
-            return Err(Error::Length { op: "step fields", expected: n, got: lens.into_iter().min().unwrap_or(0) });
-        }
-        let (t, t0, tt) = match (f.temp, f.conduction) {
-            (Some(t), Some((t0, tt))) => (self.ptr_mut(t), self.ptr_mut(t0), self.ptr(tt)),
-            (Some(t), None) => (self.ptr_mut(t), 0, 0),
-            _ => (0, 0, 0),
+        let args = SortArgs {
+            gate: gate as *const u32,
+            n_buckets: n_buckets as u32,
+            starts: self.input(starts),
+            perm: self.output(perm),
         };
-        if f.pos_lo.as_ref().is_some_and(|l| l.len < n) {
-            return Err(Error::Length { op: "step position low parts", expected: n, got: 0 });
-        }
-        let lo = f.pos_lo.map_or(0, |l| self.ptr_mut(l));
-        // The corrector's last parameters: the dissipation and its rate, then the positions' low parts.
-        let diss = match f.dissipation {
-            Some((d, dt)) => [Arg::U64(self.ptr_mut(d)), Arg::U64(self.ptr(dt)), Arg::U64(lo)],
-            None => [Arg::U64(0), Arg::U64(0), Arg::U64(lo)],
-        };
-        Ok((
-            [
-                Arg::U64(self.ptr_mut(f.y.pos)),
-                Arg::U64(self.ptr_mut(f.y.vel)),
-                Arg::U64(self.ptr_mut(f.y.rho)),
-                Arg::U64(self.ptr_mut(f.y.stress)),
-                Arg::U64(self.ptr_mut(f.y0.pos)),
-                Arg::U64(self.ptr_mut(f.y0.vel)),
-                Arg::U64(self.ptr_mut(f.y0.rho)),
-                Arg::U64(self.ptr_mut(f.y0.stress)),
-                Arg::U64(self.ptr(f.rates.pos)),
-                Arg::U64(self.ptr(f.rates.vel)),
-                Arg::U64(self.ptr(f.rates.rho)),
-                Arg::U64(self.ptr(f.rates.stress)),
-                Arg::U64(t),
-                Arg::U64(t0),
-                Arg::U64(tt),
-            ],
-            diss,
-        ))
+        self.launch_pass_strided(&self.k.sort_cells, n_buckets, &args)
     }
 }
 
@@ -868,8 +771,8 @@ impl Backend for CudaBackend {
         keys: &mut CudaBuf<u32>,
     ) -> Result<()> {
         let args =
-            [Arg::U32(n as u32), Arg::U64(self.ptr(pos)), Arg::U64(self.ptr(grid)), Arg::U64(self.ptr_mut(keys))];
-        self.launch(&self.k.hash.0[variant::<R, D>()], n, BLOCK, &args)
+            HashArgs::<R, D> { n: n as u32, pos: self.input(pos), grid: self.input(grid), keys: self.output(keys) };
+        self.launch_pass(&self.k.hash.0[variant::<R, D>()], n, BLOCK, &args)
     }
 
     fn count_cells(
@@ -879,13 +782,9 @@ impl Backend for CudaBackend {
         counts: &mut CudaBuf<u32>,
         slots: &mut CudaBuf<u32>,
     ) -> Result<()> {
-        let args = [
-            Arg::U32(n as u32),
-            Arg::U64(self.ptr(keys)),
-            Arg::U64(self.ptr_mut(counts)),
-            Arg::U64(self.ptr_mut(slots)),
-        ];
-        self.launch(&self.k.count_cells, n, BLOCK, &args)
+        let args =
+            CountArgs { n: n as u32, keys: self.input(keys), counts: self.output(counts), slots: self.output(slots) };
+        self.launch_pass(&self.k.count_cells, n, BLOCK, &args)
     }
 
     fn exclusive_scan(&self, n: usize, data: &mut CudaBuf<u32>, levels: &mut [CudaBuf<u32>]) -> Result<()> {
@@ -923,14 +822,15 @@ impl Backend for CudaBackend {
             });
         };
         let k = s / unit;
-        let args = [
-            Arg::U32(n as u32),
-            Arg::U32(k as u32),
-            Arg::U64(self.ptr(perm)),
-            Arg::U64(self.ptr(src)),
-            Arg::U64(self.ptr_mut(dst)),
-        ];
-        self.launch(f, n * k, BLOCK, &args)
+        // The unit's type is the entry's; the struct's layout does not depend on it.
+        let args = GatherArgs::<u8> {
+            n: n as u32,
+            k: k as u32,
+            perm: self.input(perm),
+            src: self.ptr(src) as *const u8,
+            dst: self.ptr_mut(dst) as *mut u8,
+        };
+        self.launch_pass(f, n * k, BLOCK, &args)
     }
 
     fn neighbour_list<R: Real, D: Dim>(
@@ -944,17 +844,17 @@ impl Backend for CudaBackend {
         counts: &mut CudaBuf<u32>,
         list: &mut CudaBuf<u32>,
     ) -> Result<()> {
-        let args = [
-            Arg::U32(n as u32),
-            Arg::U64(self.ptr(pos)),
-            Arg::U64(self.ptr(grid)),
-            Arg::U64(self.ptr(starts)),
-            real_arg(support2),
-            Arg::U64(offsets.map_or(0, |o| self.ptr(o))),
-            Arg::U64(self.ptr_mut(counts)),
-            Arg::U64(self.ptr_mut(list)),
-        ];
-        self.launch(&self.k.neighbour_list.0[variant::<R, D>()], n, BLOCK, &args)
+        let args = NeighbourListArgs::<R, D> {
+            n: n as u32,
+            pos: self.input(pos),
+            grid: self.input(grid),
+            starts: self.input(starts),
+            support2,
+            offsets: offsets.map_or(std::ptr::null(), |o| self.input(o)),
+            counts: self.output(counts),
+            list: self.output(list),
+        };
+        self.launch_pass(&self.k.neighbour_list.0[variant::<R, D>()], n, BLOCK, &args)
     }
 
     fn density<R: Real, D: Dim>(
@@ -967,16 +867,8 @@ impl Backend for CudaBackend {
         kernel: &CudaBuf<CubicSpline<R>>,
         rho: &mut CudaBuf<R>,
     ) -> Result<()> {
-        let args = [
-            Arg::U32(n as u32),
-            Arg::U64(self.ptr(pos)),
-            Arg::U64(self.ptr(mass)),
-            Arg::U64(self.ptr(grid)),
-            Arg::U64(self.ptr(starts)),
-            Arg::U64(self.ptr(kernel)),
-            Arg::U64(self.ptr_mut(rho)),
-        ];
-        self.launch(&self.k.density.0[variant::<R, D>()], n, BLOCK, &args)
+        let args = super::args::density_args::<_, R, D>(self, n, pos, mass, grid, starts, kernel, rho)?;
+        self.launch_pass(&self.k.density.0[variant::<R, D>()], n, BLOCK, &args)
     }
 
     fn sph_prepare<R: Real, D: TensorOps<R>>(
@@ -994,30 +886,10 @@ impl Backend for CudaBackend {
         temp: Option<&CudaBuf<f64>>,
         gate: Option<ScalarsAt<'_, Self>>,
     ) -> Result<()> {
-        let art = if stab.stress { art.map(|a| self.ptr_mut(a)).unwrap_or(0) } else { 0 };
-        let sound = if stab.viscosity { sound.map(|c| self.ptr_mut(c)).unwrap_or(0) } else { 0 };
-        if (stab.stress && art == 0) || (stab.viscosity && sound == 0) {
-            return Err(Error::Length { op: "sph_prepare (stabiliser buffer missing)", expected: n, got: 0 });
-        }
         let c = (stab.viscosity as usize) << 1 | stab.stress as usize;
-        let gate = match gate {
-            Some(g) => self.gate(&g)?,
-            None => 0,
-        };
-        let args = [
-            Arg::U64(gate),
-            Arg::U32(n as u32),
-            Arg::U64(self.ptr(params)),
-            Arg::U64(self.ptr(rho)),
-            Arg::U64(self.ptr(mass)),
-            Arg::U64(self.ptr(stress)),
-            Arg::U64(self.ptr_mut(sig)),
-            Arg::U64(art),
-            Arg::U64(sound),
-            Arg::U64(self.ptr_mut(vol)),
-            Arg::U64(temp.map_or(0, |t| self.ptr(t))),
-        ];
-        self.launch(&self.k.sph_prepare[c].0[variant::<R, D>()], n, BLOCK, &args)
+        let q = PrepareBufs::<_, R, D> { params, rho, mass, stress, sig, art, sound, vol, temp };
+        let args = super::args::prepare_args(self, n, stab, q, gate.as_ref())?;
+        self.launch_pass(&self.k.sph_prepare[c].0[variant::<R, D>()], n, BLOCK, &args)
     }
 
     fn sph_rates<R: Real, D: TensorOps<R>>(
@@ -1070,27 +942,9 @@ impl Backend for CudaBackend {
         temp_t: &mut CudaBuf<f64>,
     ) -> Result<()> {
         check_lanes(lanes)?;
-        if pse && list.is_some() {
-            return Err(Error::Length { op: "heat_rates (PSE reaches beyond the Verlet list)", expected: 0, got: 1 });
-        }
-        let args = [
-            Arg::U32(n as u32),
-            Arg::U32(lanes),
-            Arg::Bytes(bytemuck::bytes_of(hp)),
-            Arg::Bytes(bytemuck::bytes_of(params)),
-            Arg::U64(self.ptr(grid)),
-            Arg::U64(self.ptr(starts)),
-            Arg::U64(list.map_or(0, |l| self.ptr(l))),
-            Arg::U64(self.ptr(i.pos)),
-            Arg::U64(self.ptr(i.rho)),
-            Arg::U64(self.ptr(i.vol)),
-            Arg::U64(self.ptr(i.temp)),
-            Arg::U64(self.ptr(i.flags)),
-            Arg::U64(self.ptr(i.materials)),
-            Arg::U64(self.ptr_mut(temp_t)),
-        ];
+        let args = super::args::heat_args(self, n, lanes, pse, hp, params, grid, starts, list, i, temp_t)?;
         let f = if pse { &self.k.heat_pse } else { &self.k.heat_brookshaw };
-        self.launch(&f.0[variant::<R, D>()], n * lanes as usize, self.pair_block, &args)
+        self.launch_pass(&f.0[variant::<R, D>()], n * lanes as usize, self.pair_block, &args)
     }
 
     fn step_predict<R: Real, D: TensorOps<R>>(
@@ -1101,49 +955,8 @@ impl Backend for CudaBackend {
         skin: SkinTest<'_, Self, R, D>,
         prepare: Option<FusedPrepare<'_, Self, R, D>>,
     ) -> Result<()> {
-        if skin.pos_ref.len < n {
-            return Err(Error::Length { op: "step_predict pos_ref", expected: n, got: skin.pos_ref.len });
-        }
-        let at = self.scalars(&ScalarsAt { buf: &*s.buf, index: s.index })?;
-        let mut args = vec_args(&[Arg::U32(n as u32), at, Arg::U64(self.ptr(skin.grid))]);
-        args.extend_from_slice(&self.step_args(n, f)?.0);
-        args.extend_from_slice(&[Arg::U64(self.ptr(skin.pos_ref)), Arg::U64(skin.condition)]);
-        // The pre-pass's parameters by value; its outputs null without it (`ptx::sph`, predict_entry).
-        let params = prepare.as_ref().map_or(SphParams::<R>::default(), |q| *q.params);
-        let bytes = bytemuck::bytes_of(&params);
-        match prepare {
-            None => args.extend_from_slice(&[
-                Arg::Bytes(bytes),
-                Arg::U64(0),
-                Arg::U64(0),
-                Arg::U64(0),
-                Arg::U64(0),
-                Arg::U64(0),
-            ]),
-            Some(q) => {
-                let art = if q.stab.stress { q.art.map(|a| self.ptr_mut(a)).unwrap_or(0) } else { 0 };
-                let sound = if q.stab.viscosity { q.sound.map(|c| self.ptr_mut(c)).unwrap_or(0) } else { 0 };
-                if (q.stab.stress && art == 0) || (q.stab.viscosity && sound == 0) {
-                    return Err(Error::Length { op: "step_predict (stabiliser buffer missing)", expected: n, got: 0 });
-                }
-                if q.mass.len < n || q.sig.len < n || q.vol.len < n {
-                    return Err(Error::Length {
-                        op: "step_predict (pre-pass fields)",
-                        expected: n,
-                        got: q.sig.len.min(q.vol.len),
-                    });
-                }
-                args.extend_from_slice(&[
-                    Arg::Bytes(bytes),
-                    Arg::U64(self.ptr(q.mass)),
-                    Arg::U64(self.ptr_mut(q.sig)),
-                    Arg::U64(art),
-                    Arg::U64(sound),
-                    Arg::U64(self.ptr_mut(q.vol)),
-                ]);
-            }
-        }
-        self.launch(&self.k.step_predict.0[variant::<R, D>()], n, BLOCK, args.get()?)
+        let args = super::args::predict_args(self, n, s, f, skin, prepare)?;
+        self.launch_pass(&self.k.step_predict.0[variant::<R, D>()], n, BLOCK, &args)
     }
 
     fn rebuild_cells<R: Real, D: Dim>(
@@ -1159,26 +972,23 @@ impl Backend for CudaBackend {
         }
         let g = self.gate(&gate)?;
         let buckets = c.n_buckets + 1;
-        self.launch_strided(
-            &self.k.zero_gated,
-            buckets,
-            &[
-                Arg::U64(g),
-                Arg::U32(buckets as u32),
-                Arg::U64(self.ptr_mut(c.starts)),
-                Arg::U64(self.ptr_mut(c.rebuilds)),
-            ],
-        )?;
-        let args = [
-            Arg::U64(g),
-            Arg::U32(n as u32),
-            Arg::U64(self.ptr(pos)),
-            Arg::U64(self.ptr(c.grid)),
-            Arg::U64(self.ptr_mut(c.keys)),
-            Arg::U64(self.ptr_mut(c.starts)),
-            Arg::U64(self.ptr_mut(c.slots)),
-        ];
-        self.launch_strided(&self.k.hash_count.0[variant::<R, D>()], n, &args)?;
+        let zero = ZeroArgs {
+            gate: g as *const u32,
+            n: buckets as u32,
+            data: self.output(c.starts),
+            rebuilds: self.output(c.rebuilds),
+        };
+        self.launch_pass_strided(&self.k.zero_gated, buckets, &zero)?;
+        let args = HashCountArgs::<R, D> {
+            gate: g as *const u32,
+            n: n as u32,
+            pos: self.input(pos),
+            grid: self.input(c.grid),
+            keys: self.output(c.keys),
+            counts: self.output(c.starts),
+            slots: self.output(c.slots),
+        };
+        self.launch_pass_strided(&self.k.hash_count.0[variant::<R, D>()], n, &args)?;
         self.scan_gated(g, buckets, c.starts, c.scan)?;
         self.scatter_gated(g, n, c.keys, c.slots, c.starts, c.perm)?;
         self.sort_gated(g, c.n_buckets, c.starts, c.perm)
@@ -1202,15 +1012,15 @@ impl Backend for CudaBackend {
             Some(s) => self.gate(&s)?,
             None => 0,
         };
-        let args = [
-            Arg::U64(g),
-            Arg::U32(n as u32),
-            Arg::U64(self.ptr(grid)),
-            Arg::U64(self.ptr(starts)),
-            Arg::U64(self.ptr(pos)),
-            Arg::U64(self.ptr_mut(list)),
-        ];
-        self.launch_strided(&self.k.verlet_build.0[variant::<R, D>()], n, &args)
+        let args = VerletArgs::<R, D> {
+            gate: g as *const u32,
+            n: n as u32,
+            grid: self.input(grid),
+            starts: self.input(starts),
+            pos: self.input(pos),
+            list: self.output(list),
+        };
+        self.launch_pass_strided(&self.k.verlet_build.0[variant::<R, D>()], n, &args)
     }
 
     fn step_finish<R: Real, D: TensorOps<R>>(
@@ -1289,10 +1099,15 @@ impl Backend for CudaBackend {
                 p
             }
         };
-        let perm = perm.map_or(0, |p| self.ptr(p));
         let rows = fields.len();
-        let args = [Arg::U64(gate), Arg::U32(n as u32), Arg::U32(rows as u32), Arg::U64(perm), Arg::U64(table)];
-        self.launch_strided(&self.k.gather_fields, n * rows, &args)
+        let args = GatherFieldsArgs {
+            gate: gate as *const u32,
+            n: n as u32,
+            rows: rows as u32,
+            perm: perm.map_or(std::ptr::null(), |p| self.input(p)),
+            table: table as *const GatherField,
+        };
+        self.launch_pass_strided(&self.k.gather_fields, n * rows, &args)
     }
 
     fn capture(&self, f: &mut dyn FnMut() -> Result<()>) -> Result<Option<Graph>> {
@@ -1353,27 +1168,8 @@ impl Backend for CudaBackend {
         s: ScalarsAt<'_, Self>,
         a: ContactInputs<'_, Self, R, D>,
     ) -> Result<()> {
-        if D::D != 2 {
-            return Err(Error::Length { op: "contact (the parametric tool is 2D)", expected: 2, got: D::D });
-        }
-        let args = [
-            Arg::U32(n as u32),
-            Arg::U64(self.ptr(params)),
-            Arg::U64(self.ptr(tool)),
-            self.scalars(&s)?,
-            Arg::U64(self.ptr(a.pos)),
-            Arg::U64(self.ptr(a.vel)),
-            Arg::U64(self.ptr(a.mass)),
-            Arg::U64(self.ptr(a.rho)),
-            Arg::U64(self.ptr(a.flags)),
-            Arg::U64(self.ptr_mut(a.normal)),
-            Arg::U64(self.ptr_mut(a.friction)),
-            Arg::U64(a.temp.map_or(0, |t| self.ptr_mut(t))),
-            Arg::U64(a.materials.map_or(0, |m| self.ptr(m))),
-            Arg::U64(a.yield_stress.map_or(0, |y| self.ptr(y))),
-            Arg::U64(a.wear.map_or(0, |w| self.ptr_mut(w))),
-        ];
-        self.launch(&self.k.contact[(size_of::<R>() == 8) as usize], n, BLOCK, &args)
+        let args = super::args::contact_args(self, n, params, tool, &s, a)?;
+        self.launch_pass(&self.k.contact[(size_of::<R>() == 8) as usize], n, BLOCK, &args)
     }
 
     fn plastic_step<R: Real, D: TensorOps<R>>(
@@ -1383,25 +1179,10 @@ impl Backend for CudaBackend {
         c: crate::kernels::sph::plastic::PlasticConsts,
         a: PlasticInputs<'_, Self, R, D>,
     ) -> Result<()> {
-        if c.taylor_quinney > 0.0 && a.materials.is_none() {
-            return Err(Error::Length { op: "plastic_step (thermal materials missing)", expected: 1, got: 0 });
-        }
-        let args = [
-            Arg::U32(n as u32),
-            Arg::Bytes(model.param_bytes()),
-            Arg::F64(c.shear),
-            Arg::F64(c.dt),
-            Arg::F64(c.taylor_quinney),
-            Arg::U64(self.ptr_mut(a.stress)),
-            Arg::U64(self.ptr(a.rho)),
-            Arg::U64(self.ptr_mut(a.eps)),
-            Arg::U64(self.ptr_mut(a.rate)),
-            Arg::U64(self.ptr_mut(a.temp)),
-            Arg::U64(self.ptr(a.flags)),
-            Arg::U64(a.materials.map_or(0, |m| self.ptr(m))),
-            Arg::U64(a.yield_stress.map_or(0, |y| self.ptr_mut(y))),
-            Arg::U64(a.work.map_or(0, |w| self.ptr_mut(w))),
-        ];
-        self.launch(&self.k.plastic[model_index(model)].0[variant::<R, D>()], n, self.plastic_block, &args)
+        let k = &self.k.plastic[model_index(model)].0[variant::<R, D>()];
+        super::cpu::with_model!(model, M, m => {
+            let args = super::args::plastic_args::<_, R, D, M>(self, n, *m, c, a)?;
+            self.launch_pass(k, n, self.plastic_block, &args)
+        })
     }
 }

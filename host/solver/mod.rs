@@ -669,42 +669,10 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
 
     /// Submits one phase of the step whose scalars are entry `j`.
     fn phase(&mut self, b: &B, ph: Phase, j: usize) -> Result<()> {
-        let n = self.n;
-        let fused = self.fused_conduction();
-        let fuse_contact = self.fused_contact();
-        let fuse_prepare = self.fused_prepare();
-        let p = &mut self.particles;
-        let s = &mut self.start;
         match ph {
-            Phase::Predict => {
-                let r = &self.rates;
-                let (_, conduction) = thermal_views(self.thermal.as_mut());
-                b.step_predict::<R, D>(
-                    n,
-                    ScalarsMut { buf: &mut self.scalars, index: j },
-                    StepFields {
-                        y: state_mut!(p),
-                        y0: s.fields(),
-                        rates: r.fields(),
-                        temp: if conduction.is_some() { self.temp.as_mut().map(|t| &mut t.cur) } else { None },
-                        conduction,
-                        dissipation: None,
-                        pos_lo: None,
-                    },
-                    SkinTest { grid: &self.cells.grid_buf, pos_ref: &self.pos_ref, condition: self.condition },
-                    fuse_prepare.then_some(FusedPrepare {
-                        stab: self.stab,
-                        params: &self.host_params,
-                        mass: &p.mass.cur,
-                        sig: &mut self.sig,
-                        art: self.art.as_mut(),
-                        sound: self.sound.as_mut(),
-                        vol: &mut self.vol,
-                    }),
-                )?;
-            }
+            Phase::Predict => self.predict(b, j),
             Phase::CellList => {
-                self.cells.rebuild::<R, D>(b, &p.pos.cur, ScalarsAt { buf: &self.scalars, index: j })?;
+                self.cells.rebuild::<R, D>(b, &self.particles.pos.cur, ScalarsAt { buf: &self.scalars, index: j })
             }
             Phase::Reorder => {
                 // On the stack, fixed capacity: the step loop allocates nothing.
@@ -712,164 +680,224 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                 self.stage_fields(b, &mut batch);
                 // The binned positions: the skin test's reference until the next rebuild.
                 batch.snapshot(b, &self.particles.pos.cur, &mut self.pos_ref);
-                batch.run(b, n, &self.cells.perm, ScalarsAt { buf: &self.scalars, index: j })?;
-                self.cells.build_list::<R, D>(b, &self.pos_ref, Some(ScalarsAt { buf: &self.scalars, index: j }))?;
+                batch.run(b, self.n, &self.cells.perm, ScalarsAt { buf: &self.scalars, index: j })?;
+                self.cells.build_list::<R, D>(b, &self.pos_ref, Some(ScalarsAt { buf: &self.scalars, index: j }))
             }
-            Phase::Prepare => {
-                b.sph_prepare::<R, D>(
-                    n,
-                    self.stab,
-                    &self.params,
-                    &p.rho.cur,
-                    // The full masses: the thermal-only particles' volumes serve the conduction.
-                    &p.mass.cur,
-                    &p.stress.cur,
-                    &mut self.sig,
-                    self.art.as_mut(),
-                    self.sound.as_mut(),
-                    &mut self.vol,
-                    if self.host_params.expansion != R::ZERO { self.temp.as_ref().map(|t| &t.cur) } else { None },
-                    // Fused into the predictor, the pass runs again only after a rebuild's reorder.
-                    fuse_prepare.then_some(ScalarsAt { buf: &self.scalars, index: j }),
-                )?;
+            Phase::Prepare => self.prepare(b, j),
+            Phase::Interact => self.interact(b),
+            Phase::Conduction => self.conduction(b),
+            Phase::Correct => self.correct(b, j),
+            Phase::Contact => self.contact_pass(b, j),
+        }
+    }
+
+    /// The predictor, with the pre-pass fused where [`Solver::fused_prepare`].
+    fn predict(&mut self, b: &B, j: usize) -> Result<()> {
+        let (n, fuse_prepare) = (self.n, self.fused_prepare());
+        let (p, s) = (&mut self.particles, &mut self.start);
+        let r = &self.rates;
+        let (_, conduction) = thermal_views(self.thermal.as_mut());
+        b.step_predict::<R, D>(
+            n,
+            ScalarsMut { buf: &mut self.scalars, index: j },
+            StepFields {
+                y: state_mut!(p),
+                y0: s.fields(),
+                rates: r.fields(),
+                temp: if conduction.is_some() { self.temp.as_mut().map(|t| &mut t.cur) } else { None },
+                conduction,
+                dissipation: None,
+                pos_lo: None,
+            },
+            SkinTest { grid: &self.cells.grid_buf, pos_ref: &self.pos_ref, condition: self.condition },
+            fuse_prepare.then_some(FusedPrepare {
+                stab: self.stab,
+                params: &self.host_params,
+                mass: &p.mass.cur,
+                sig: &mut self.sig,
+                art: self.art.as_mut(),
+                sound: self.sound.as_mut(),
+                vol: &mut self.vol,
+            }),
+        )?;
+        Ok(())
+    }
+
+    /// The pre-pass (σ/ρ², the stabilisers, the volumes).
+    fn prepare(&mut self, b: &B, j: usize) -> Result<()> {
+        let (n, fuse_prepare) = (self.n, self.fused_prepare());
+        let p = &mut self.particles;
+        b.sph_prepare::<R, D>(
+            n,
+            self.stab,
+            &self.params,
+            &p.rho.cur,
+            // The full masses: the thermal-only particles' volumes serve the conduction.
+            &p.mass.cur,
+            &p.stress.cur,
+            &mut self.sig,
+            self.art.as_mut(),
+            self.sound.as_mut(),
+            &mut self.vol,
+            if self.host_params.expansion != R::ZERO { self.temp.as_ref().map(|t| &t.cur) } else { None },
+            // Fused into the predictor, the pass runs again only after a rebuild's reorder.
+            fuse_prepare.then_some(ScalarsAt { buf: &self.scalars, index: j }),
+        )?;
+        Ok(())
+    }
+
+    /// The pair interaction, with the conduction fused where [`Solver::fused_conduction`].
+    fn interact(&mut self, b: &B) -> Result<()> {
+        let (n, fused) = (self.n, self.fused_conduction());
+        let p = &mut self.particles;
+        let input = SphInputs::<B, R, D> {
+            pos: &p.pos.cur,
+            vel: &p.vel.cur,
+            rho: &p.rho.cur,
+            mass: self.mech_mass.as_ref().map_or(&p.mass.cur, |m| &m.cur),
+            vol: &self.vol,
+            stress: &p.stress.cur,
+            sig: &self.sig,
+            art: self.art.as_ref(),
+            sound: self.sound.as_ref(),
+            flags: &p.flags.cur,
+            bc_vel: &self.bc_vel,
+            contact: self.contact.as_ref().map(|c| (&c.normal.cur, &c.friction.cur)),
+        };
+        let r = &mut self.rates;
+        let heat = match (fused, self.temp.as_ref(), self.thermal.as_mut()) {
+            (true, Some(t), Some(th)) => th.temp_t.as_mut().map(|tt| FusedHeat {
+                params: &th.heat,
+                input: heat_inputs(p, &self.vol, &t.cur, &th.materials),
+                temp_t: tt,
+            }),
+            _ => None,
+        };
+        b.sph_rates::<R, D>(
+            n,
+            self.lanes,
+            self.stab,
+            &self.host_params,
+            &self.cells.grid_buf,
+            &self.cells.starts,
+            self.cells.list.as_ref(),
+            &input,
+            FieldsMut { pos: &mut r.pos, vel: &mut r.vel, rho: &mut r.rho, stress: &mut r.stress },
+            self.dissipation.as_mut().map(|(_, rate)| rate),
+            heat,
+        )?;
+        Ok(())
+    }
+
+    /// The conduction pass where it is not fused into the pair interaction.
+    fn conduction(&mut self, b: &B) -> Result<()> {
+        let (n, fused) = (self.n, self.fused_conduction());
+        let p = &mut self.particles;
+        if fused {
+            return Ok(());
+        }
+        if let (Some(t), Some(th)) = (self.temp.as_ref(), self.thermal.as_mut())
+            && let (Some(pse), Some(tt)) = (th.conduction, th.temp_t.as_mut())
+        {
+            let grid = if pse { &th.grid_pse } else { &self.cells.grid_buf };
+            let hin = heat_inputs(p, &self.vol, &t.cur, &th.materials);
+            b.heat_rates::<R, D>(
+                n,
+                self.lanes,
+                pse,
+                &th.heat,
+                &self.host_params,
+                grid,
+                &self.cells.starts,
+                if pse { None } else { self.cells.list.as_ref() },
+                &hin,
+                tt,
+            )?;
+        }
+        Ok(())
+    }
+
+    /// The corrector, with the plastic update and the fused contact where they are on.
+    fn correct(&mut self, b: &B, j: usize) -> Result<()> {
+        let (n, fuse_contact) = (self.n, self.fused_contact());
+        let (p, s) = (&mut self.particles, &mut self.start);
+        let (materials, conduction) = thermal_views(self.thermal.as_mut());
+        let (yield_stress, contact) = match self.contact.as_mut() {
+            Some(ContactState { params, tool, normal, friction, yield_stress, wear, heating, .. }) => {
+                let cap = yield_stress.is_some();
+                let fused = fuse_contact.then_some(FusedContact {
+                    params: &*params,
+                    tool: &*tool,
+                    mass: &p.mass.cur,
+                    normal: &mut normal.cur,
+                    friction: &mut friction.cur,
+                    materials: if *heating { materials } else { None },
+                    yield_stress: cap,
+                    wear: wear.as_mut(),
+                });
+                (yield_stress.as_mut(), fused)
             }
-            Phase::Interact => {
-                let input = SphInputs::<B, R, D> {
+            None => (None, None),
+        };
+        let shear = self.shear;
+        let plastic = self.plastic.as_mut().map(|pl| PlasticPass {
+            model: &pl.model,
+            shear,
+            taylor_quinney: pl.taylor_quinney,
+            eps: &mut pl.eps.cur,
+            rate: &mut pl.rate.cur,
+            flags: &p.flags.cur,
+            materials,
+            yield_stress,
+            work: Some(&mut pl.work.cur),
+        });
+        let r = &self.rates;
+        b.step_finish::<R, D>(
+            n,
+            ScalarsAt { buf: &self.scalars, index: j },
+            StepFields {
+                y: state_mut!(p),
+                y0: s.fields(),
+                rates: r.fields(),
+                temp: self.temp.as_mut().map(|t| &mut t.cur),
+                conduction,
+                dissipation: self.dissipation.as_mut().map(|(d, rate)| (&mut d.cur, &*rate)),
+                pos_lo: self.pos_lo.as_mut().map(|l| &mut l.cur),
+            },
+            plastic,
+            contact,
+        )?;
+        Ok(())
+    }
+
+    /// The tool's contact pass where it is not fused into the corrector.
+    fn contact_pass(&mut self, b: &B, j: usize) -> Result<()> {
+        let (n, fuse_contact) = (self.n, self.fused_contact());
+        let p = &mut self.particles;
+        if fuse_contact {
+            return Ok(());
+        }
+        if let Some(c) = self.contact.as_mut() {
+            let heating = c.heating;
+            b.contact::<R, D>(
+                n,
+                &c.params,
+                &c.tool,
+                ScalarsAt { buf: &self.scalars, index: j },
+                ContactInputs {
                     pos: &p.pos.cur,
                     vel: &p.vel.cur,
+                    mass: &p.mass.cur,
                     rho: &p.rho.cur,
-                    mass: self.mech_mass.as_ref().map_or(&p.mass.cur, |m| &m.cur),
-                    vol: &self.vol,
-                    stress: &p.stress.cur,
-                    sig: &self.sig,
-                    art: self.art.as_ref(),
-                    sound: self.sound.as_ref(),
                     flags: &p.flags.cur,
-                    bc_vel: &self.bc_vel,
-                    contact: self.contact.as_ref().map(|c| (&c.normal.cur, &c.friction.cur)),
-                };
-                let r = &mut self.rates;
-                let heat = match (fused, self.temp.as_ref(), self.thermal.as_mut()) {
-                    (true, Some(t), Some(th)) => th.temp_t.as_mut().map(|tt| FusedHeat {
-                        params: &th.heat,
-                        input: heat_inputs(p, &self.vol, &t.cur, &th.materials),
-                        temp_t: tt,
-                    }),
-                    _ => None,
-                };
-                b.sph_rates::<R, D>(
-                    n,
-                    self.lanes,
-                    self.stab,
-                    &self.host_params,
-                    &self.cells.grid_buf,
-                    &self.cells.starts,
-                    self.cells.list.as_ref(),
-                    &input,
-                    FieldsMut { pos: &mut r.pos, vel: &mut r.vel, rho: &mut r.rho, stress: &mut r.stress },
-                    self.dissipation.as_mut().map(|(_, rate)| rate),
-                    heat,
-                )?;
-            }
-            Phase::Conduction => {
-                let _ = s;
-                if fused {
-                    return Ok(());
-                }
-                if let (Some(t), Some(th)) = (self.temp.as_ref(), self.thermal.as_mut())
-                    && let (Some(pse), Some(tt)) = (th.conduction, th.temp_t.as_mut())
-                {
-                    let grid = if pse { &th.grid_pse } else { &self.cells.grid_buf };
-                    let hin = heat_inputs(p, &self.vol, &t.cur, &th.materials);
-                    b.heat_rates::<R, D>(
-                        n,
-                        self.lanes,
-                        pse,
-                        &th.heat,
-                        &self.host_params,
-                        grid,
-                        &self.cells.starts,
-                        if pse { None } else { self.cells.list.as_ref() },
-                        &hin,
-                        tt,
-                    )?;
-                }
-            }
-            Phase::Correct => {
-                let (materials, conduction) = thermal_views(self.thermal.as_mut());
-                let (yield_stress, contact) = match self.contact.as_mut() {
-                    Some(ContactState { params, tool, normal, friction, yield_stress, wear, heating, .. }) => {
-                        let cap = yield_stress.is_some();
-                        let fused = fuse_contact.then_some(FusedContact {
-                            params: &*params,
-                            tool: &*tool,
-                            mass: &p.mass.cur,
-                            normal: &mut normal.cur,
-                            friction: &mut friction.cur,
-                            materials: if *heating { materials } else { None },
-                            yield_stress: cap,
-                            wear: wear.as_mut(),
-                        });
-                        (yield_stress.as_mut(), fused)
-                    }
-                    None => (None, None),
-                };
-                let shear = self.shear;
-                let plastic = self.plastic.as_mut().map(|pl| PlasticPass {
-                    model: &pl.model,
-                    shear,
-                    taylor_quinney: pl.taylor_quinney,
-                    eps: &mut pl.eps.cur,
-                    rate: &mut pl.rate.cur,
-                    flags: &p.flags.cur,
-                    materials,
-                    yield_stress,
-                    work: Some(&mut pl.work.cur),
-                });
-                let r = &self.rates;
-                b.step_finish::<R, D>(
-                    n,
-                    ScalarsAt { buf: &self.scalars, index: j },
-                    StepFields {
-                        y: state_mut!(p),
-                        y0: s.fields(),
-                        rates: r.fields(),
-                        temp: self.temp.as_mut().map(|t| &mut t.cur),
-                        conduction,
-                        dissipation: self.dissipation.as_mut().map(|(d, rate)| (&mut d.cur, &*rate)),
-                        pos_lo: self.pos_lo.as_mut().map(|l| &mut l.cur),
-                    },
-                    plastic,
-                    contact,
-                )?;
-            }
-            Phase::Contact => {
-                if fuse_contact {
-                    return Ok(());
-                }
-                if let Some(c) = self.contact.as_mut() {
-                    let heating = c.heating;
-                    b.contact::<R, D>(
-                        n,
-                        &c.params,
-                        &c.tool,
-                        ScalarsAt { buf: &self.scalars, index: j },
-                        ContactInputs {
-                            pos: &p.pos.cur,
-                            vel: &p.vel.cur,
-                            mass: &p.mass.cur,
-                            rho: &p.rho.cur,
-                            flags: &p.flags.cur,
-                            normal: &mut c.normal.cur,
-                            friction: &mut c.friction.cur,
-                            temp: self.temp.as_mut().map(|t| &mut t.cur),
-                            materials: if heating { self.thermal.as_ref().map(|th| &th.materials) } else { None },
-                            yield_stress: c.yield_stress.as_ref(),
-                            wear: c.wear.as_mut(),
-                        },
-                    )?;
-                }
-            }
+                    normal: &mut c.normal.cur,
+                    friction: &mut c.friction.cur,
+                    temp: self.temp.as_mut().map(|t| &mut t.cur),
+                    materials: if heating { self.thermal.as_ref().map(|th| &th.materials) } else { None },
+                    yield_stress: c.yield_stress.as_ref(),
+                    wear: c.wear.as_mut(),
+                },
+            )?;
         }
         Ok(())
     }

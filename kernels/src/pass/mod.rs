@@ -8,8 +8,17 @@
 
 pub mod finish;
 pub mod models;
+pub mod neighbour;
+pub mod predict;
 pub mod rates;
+pub mod sph;
 
 pub use finish::{FinishArgs, FinishPlasticArgs, StepPtrs};
 pub use models::{FLOW_MODEL_TAGS, ModelEntry};
+pub use neighbour::{
+    CountArgs, GatherArgs, GatherFieldsArgs, HashArgs, HashCountArgs, NeighbourListArgs, ScanApplyArgs, ScanReduceArgs,
+    ScatterArgs, SortArgs, VerletArgs, ZeroArgs,
+};
+pub use predict::PredictArgs;
 pub use rates::RatesArgs;
+pub use sph::{ContactArgs, DensityArgs, HeatArgs, PlasticArgs, PrepareArgs};

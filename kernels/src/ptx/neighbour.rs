@@ -4,10 +4,15 @@
 
 use super::intrinsics::atomic_add_u32;
 use super::{global_index, grid_threads};
-use crate::neighbour::{GatherField, GridParams, sort::sort_cell, verlet::verlet_row};
-use crate::real::Real;
-use crate::vector::{V2f32, V2f64, V3f32, V3f64, Vector};
+use crate::neighbour::{GatherField, sort::sort_cell};
+use crate::pass::{
+    CountArgs, GatherArgs, GatherFieldsArgs, HashArgs, HashCountArgs, NeighbourListArgs, ScatterArgs, SortArgs,
+    VerletArgs, ZeroArgs,
+};
+use crate::vector::{Dim, Dim2, Dim3};
 use core::num::NonZeroU32;
+
+type Vec_<R, D> = <D as Dim>::Vec<R>;
 
 /// The gated kernels loop over their items with a grid stride: they are launched with a capped grid
 /// (`backend::cuda`, GATED_BLOCKS), so that a step that does not rebuild pays for a few hundred blocks that read
@@ -20,77 +25,33 @@ pub(crate) unsafe fn open(gate: *const u32) -> bool {
     gate.is_null() || unsafe { core::ptr::read_volatile(gate) } != 0
 }
 
-#[inline(always)]
-unsafe fn hash<R: Real, V: Vector<R>>(n: u32, pos: *const V, grid: *const GridParams, keys: *mut u32) {
-    let i = global_index();
-    if i < n {
-        let g = unsafe { &*grid };
-        unsafe { *keys.add(i as usize) = g.key::<R, V>(&*pos.add(i as usize)) };
-    }
-}
-
-#[inline(always)]
-unsafe fn neighbour_list<R: Real, V: Vector<R>>(
-    n: u32,
-    pos: *const V,
-    grid: *const GridParams,
-    starts: *const u32,
-    support2: R,
-    offsets: *const u32,
-    counts: *mut u32,
-    list: *mut u32,
-) {
-    let i = global_index();
-    if i >= n {
-        return;
-    }
-    unsafe {
-        let c = crate::neighbour::search::neighbour_row::<R, V>(&*grid, starts, pos, i, support2, offsets, list);
-        *counts.add(i as usize) = c;
-    }
-}
-
 macro_rules! per_vector {
-    ($hash:ident, $hash_count:ident, $list:ident, $verlet:ident, $r:ty, $v:ty) => {
+    ($hash:ident, $hash_count:ident, $list:ident, $verlet:ident, $r:ty, $d:ty) => {
         /// The Verlet list of the sorted particles at `pos` (`neighbour::verlet::verlet_row`), when the gate is
         /// open; after the reorder of a gated rebuild, or with a null gate after a build outside the step loop.
         #[unsafe(no_mangle)]
-        pub unsafe extern "ptx-kernel" fn $verlet(
-            gate: *const u32,
-            n: u32,
-            grid: *const GridParams,
-            starts: *const u32,
-            pos: *const $v,
-            list: *mut u32,
-        ) {
-            if !unsafe { open(gate) } {
+        pub unsafe extern "ptx-kernel" fn $verlet(args: VerletArgs<$r, $d>) {
+            if !unsafe { open(args.gate) } {
                 return;
             }
             let mut i = global_index();
-            while i < n {
-                unsafe { verlet_row::<$r, $v>(&*grid, starts, pos, i, list) };
+            while i < args.n {
+                unsafe { args.particle(i as usize) };
                 i += grid_threads();
             }
         }
         /// The counting pass of a gated rebuild: keys[i] = cell key of pos[i], slots[i] = its arrival order in
         /// the cell, counts[cell] += 1 (counts zeroed before), when the gate is open.
         #[unsafe(no_mangle)]
-        pub unsafe extern "ptx-kernel" fn $hash_count(
-            gate: *const u32,
-            n: u32,
-            pos: *const $v,
-            grid: *const GridParams,
-            keys: *mut u32,
-            counts: *mut u32,
-            slots: *mut u32,
-        ) {
+        pub unsafe extern "ptx-kernel" fn $hash_count(args: HashCountArgs<$r, $d>) {
+            let HashCountArgs { gate, n, pos, grid, keys, counts, slots } = args;
             if !unsafe { open(gate) } {
                 return;
             }
             let mut i = global_index();
             while i < n {
                 unsafe {
-                    let k = (*grid).key::<$r, $v>(&*pos.add(i as usize));
+                    let k = (*grid).key::<$r, Vec_<$r, $d>>(&*pos.add(i as usize));
                     *keys.add(i as usize) = k;
                     *slots.add(i as usize) = atomic_add_u32(counts.add(k as usize), 1);
                 }
@@ -99,23 +60,20 @@ macro_rules! per_vector {
         }
         /// keys[i] = cell key of pos[i] (`GridParams::key`).
         #[unsafe(no_mangle)]
-        pub unsafe extern "ptx-kernel" fn $hash(n: u32, pos: *const $v, grid: *const GridParams, keys: *mut u32) {
-            unsafe { hash::<$r, $v>(n, pos, grid, keys) }
+        pub unsafe extern "ptx-kernel" fn $hash(args: HashArgs<$r, $d>) {
+            let i = global_index();
+            if i < args.n {
+                unsafe { args.particle(i as usize) };
+            }
         }
         /// Neighbours j ≠ i with |x_i − x_j|² < support2, in gather order, written to list[offsets[i]..]
         /// (CSR); with `offsets` null only counted.
         #[unsafe(no_mangle)]
-        pub unsafe extern "ptx-kernel" fn $list(
-            n: u32,
-            pos: *const $v,
-            grid: *const GridParams,
-            starts: *const u32,
-            support2: $r,
-            offsets: *const u32,
-            counts: *mut u32,
-            list: *mut u32,
-        ) {
-            unsafe { neighbour_list::<$r, $v>(n, pos, grid, starts, support2, offsets, counts, list) }
+        pub unsafe extern "ptx-kernel" fn $list(args: NeighbourListArgs<$r, $d>) {
+            let i = global_index();
+            if i < args.n {
+                unsafe { args.particle(i as usize) };
+            }
         }
     };
 }
@@ -126,7 +84,7 @@ per_vector!(
     swarf_neighbour_list_2d_f32,
     swarf_verlet_build_2d_f32,
     f32,
-    V2f32
+    Dim2
 );
 per_vector!(
     swarf_hash_2d_f64,
@@ -134,7 +92,7 @@ per_vector!(
     swarf_neighbour_list_2d_f64,
     swarf_verlet_build_2d_f64,
     f64,
-    V2f64
+    Dim2
 );
 per_vector!(
     swarf_hash_3d_f32,
@@ -142,7 +100,7 @@ per_vector!(
     swarf_neighbour_list_3d_f32,
     swarf_verlet_build_3d_f32,
     f32,
-    V3f32
+    Dim3
 );
 per_vector!(
     swarf_hash_3d_f64,
@@ -150,13 +108,14 @@ per_vector!(
     swarf_neighbour_list_3d_f64,
     swarf_verlet_build_3d_f64,
     f64,
-    V3f64
+    Dim3
 );
 
 /// data[i] = 0 for i < n when the gate is open (the cell counts before a gated rebuild); the first thread also
 /// counts the rebuild in rebuilds[0] (null: not counted).
 #[unsafe(no_mangle)]
-pub unsafe extern "ptx-kernel" fn swarf_zero_gated(gate: *const u32, n: u32, data: *mut u32, rebuilds: *mut u32) {
+pub unsafe extern "ptx-kernel" fn swarf_zero_gated(args: ZeroArgs) {
+    let ZeroArgs { gate, n, data, rebuilds } = args;
     if !unsafe { open(gate) } {
         return;
     }
@@ -172,7 +131,8 @@ pub unsafe extern "ptx-kernel" fn swarf_zero_gated(gate: *const u32, n: u32, dat
 
 /// counts[keys[i]] += 1; slots[i] = the particle's arrival order in its bucket (arbitrary, fixed by sort_cells).
 #[unsafe(no_mangle)]
-pub unsafe extern "ptx-kernel" fn swarf_count_cells(n: u32, keys: *const u32, counts: *mut u32, slots: *mut u32) {
+pub unsafe extern "ptx-kernel" fn swarf_count_cells(args: CountArgs) {
+    let CountArgs { n, keys, counts, slots } = args;
     let i = global_index();
     if i < n {
         unsafe {
@@ -184,14 +144,8 @@ pub unsafe extern "ptx-kernel" fn swarf_count_cells(n: u32, keys: *const u32, co
 
 /// perm[starts[keys[i]] + slots[i]] = i (when the gate is open).
 #[unsafe(no_mangle)]
-pub unsafe extern "ptx-kernel" fn swarf_scatter(
-    gate: *const u32,
-    n: u32,
-    keys: *const u32,
-    slots: *const u32,
-    starts: *const u32,
-    perm: *mut u32,
-) {
+pub unsafe extern "ptx-kernel" fn swarf_scatter(args: ScatterArgs) {
+    let ScatterArgs { gate, n, keys, slots, starts, perm } = args;
     if !unsafe { open(gate) } {
         return;
     }
@@ -209,12 +163,8 @@ pub unsafe extern "ptx-kernel" fn swarf_scatter(
 /// Sorts each bucket's slice of `perm` ascending (one thread per bucket), making the permutation the stable one
 /// (when the gate is open).
 #[unsafe(no_mangle)]
-pub unsafe extern "ptx-kernel" fn swarf_sort_cells(
-    gate: *const u32,
-    n_buckets: u32,
-    starts: *const u32,
-    perm: *mut u32,
-) {
+pub unsafe extern "ptx-kernel" fn swarf_sort_cells(args: SortArgs) {
+    let SortArgs { gate, n_buckets, starts, perm } = args;
     if !unsafe { open(gate) } {
         return;
     }
@@ -235,7 +185,8 @@ macro_rules! gather {
     ($name:ident, $t:ty) => {
         /// dst[i] = src[perm[i]] for elements of `k` units of this kernel's unit size (one thread per unit).
         #[unsafe(no_mangle)]
-        pub unsafe extern "ptx-kernel" fn $name(n: u32, k: u32, perm: *const u32, src: *const $t, dst: *mut $t) {
+        pub unsafe extern "ptx-kernel" fn $name(args: GatherArgs<$t>) {
+            let GatherArgs { n, k, perm, src, dst } = args;
             let Some(kk) = NonZeroU32::new(k) else { return };
             let t = global_index();
             let i = t / kk;
@@ -262,13 +213,8 @@ gather!(swarf_gather_b16, B16);
 /// dst_f[i] = src_f[perm[i]] for every field f of the `rows` of `table` (a grid-stride loop over fields ×
 /// particles), the whole particle state reordered in one launch. Each element is copied in the widest unit its size allows.
 #[unsafe(no_mangle)]
-pub unsafe extern "ptx-kernel" fn swarf_gather_fields(
-    gate: *const u32,
-    n: u32,
-    rows: u32,
-    perm: *const u32,
-    table: *const GatherField,
-) {
+pub unsafe extern "ptx-kernel" fn swarf_gather_fields(args: GatherFieldsArgs) {
+    let GatherFieldsArgs { gate, n, rows, perm, table } = args;
     if !unsafe { open(gate) } {
         return;
     }

@@ -5,6 +5,7 @@
 
 use super::intrinsics::{lane_id, shfl_idx, warp_inclusive_scan};
 use super::neighbour::open;
+use crate::pass::{ScanApplyArgs, ScanReduceArgs};
 use core::arch::nvptx::*;
 
 /// Elements per warp tile.
@@ -19,7 +20,8 @@ fn warp_tile() -> u32 {
 ///
 /// tile_sums[t] = Σ input[t·TILE .. (t+1)·TILE] (wrapping u32 arithmetic).
 #[unsafe(no_mangle)]
-pub unsafe extern "ptx-kernel" fn swarf_scan_reduce(gate: *const u32, n: u32, input: *const u32, tile_sums: *mut u32) {
+pub unsafe extern "ptx-kernel" fn swarf_scan_reduce(args: ScanReduceArgs) {
+    let ScanReduceArgs { gate, n, input, tile_sums } = args;
     let tile = warp_tile();
     let base = tile as u64 * TILE as u64;
     if base >= n as u64 || !unsafe { open(gate) } {
@@ -43,13 +45,8 @@ pub unsafe extern "ptx-kernel" fn swarf_scan_reduce(gate: *const u32, n: u32, in
 
 /// output[i] = tile_offsets[t] + Σ input[t·TILE .. i] (exclusive within the tile). `output` may alias `input`.
 #[unsafe(no_mangle)]
-pub unsafe extern "ptx-kernel" fn swarf_scan_apply(
-    gate: *const u32,
-    n: u32,
-    input: *const u32,
-    output: *mut u32,
-    tile_offsets: *const u32,
-) {
+pub unsafe extern "ptx-kernel" fn swarf_scan_apply(args: ScanApplyArgs) {
+    let ScanApplyArgs { gate, n, input, output, tile_offsets } = args;
     let tile = warp_tile();
     let base = tile as u64 * TILE as u64;
     if base >= n as u64 || !unsafe { open(gate) } {

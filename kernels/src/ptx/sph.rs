@@ -1,69 +1,36 @@
 //! SPH entry points.
 
 use super::{global_index, ordered_index};
-use crate::neighbour::{GridParams, Neighbours};
-use crate::real::Real;
-use crate::sph::CubicSpline;
-use crate::sph::density::density_sum;
-use crate::vector::{V2f32, V2f64, V3f32, V3f64, Vector};
-
-#[inline(always)]
-unsafe fn density<R: Real, V: Vector<R>>(
-    n: u32,
-    pos: *const V,
-    mass: *const R,
-    grid: *const GridParams,
-    starts: *const u32,
-    kernel: *const CubicSpline<R>,
-    rho: *mut R,
-) {
-    let i = global_index();
-    if i < n {
-        unsafe {
-            let r = density_sum::<R, V>(&*grid, starts, &*kernel, pos, mass, i);
-            *rho.add(i as usize) = r;
-        }
-    }
-}
 
 macro_rules! density_entry {
-    ($name:ident, $r:ty, $v:ty) => {
-        /// rho[i] = Σ_j m_j W(|x_i − x_j|) (sph::density::density_sum).
+    ($name:ident, $r:ty, $d:ty) => {
+        /// rho[i] = Σ_j m_j W(|x_i − x_j|) (pass::DensityArgs).
         #[unsafe(no_mangle)]
-        pub unsafe extern "ptx-kernel" fn $name(
-            n: u32,
-            pos: *const $v,
-            mass: *const $r,
-            grid: *const GridParams,
-            starts: *const u32,
-            kernel: *const CubicSpline<$r>,
-            rho: *mut $r,
-        ) {
-            unsafe { density::<$r, $v>(n, pos, mass, grid, starts, kernel, rho) }
+        pub unsafe extern "ptx-kernel" fn $name(args: DensityArgs<$r, $d>) {
+            let i = global_index();
+            if i < args.n {
+                unsafe { args.particle(i as usize) };
+            }
         }
     };
 }
 
-density_entry!(swarf_density_2d_f32, f32, V2f32);
-density_entry!(swarf_density_2d_f64, f64, V2f64);
-density_entry!(swarf_density_3d_f32, f32, V3f32);
-density_entry!(swarf_density_3d_f64, f64, V3f64);
+density_entry!(swarf_density_2d_f32, f32, Dim2);
+density_entry!(swarf_density_2d_f64, f64, Dim2);
+density_entry!(swarf_density_3d_f32, f32, Dim3);
+density_entry!(swarf_density_3d_f64, f64, Dim3);
 
 use super::intrinsics::{graph_set_conditional, shfl_xor};
-use crate::contact::Tool2d;
-use crate::contact::penalty::{ContactArrays, ContactParams, contact_particle};
-use crate::pass::{FinishArgs, FinishPlasticArgs, RatesArgs};
-use crate::sph::heat::{HeatArrays, HeatParams, ThermalMaterial, heat_finish, heat_sum};
-use crate::sph::interact::{
-    HeatPairSums, PairSums, PrepassArrays, finish_rates, pair_sums, pair_sums_heat, prepare, prepare_particle,
+use crate::pass::{
+    ContactArgs, DensityArgs, FinishArgs, FinishPlasticArgs, HeatArgs, PlasticArgs, PredictArgs, PrepareArgs, RatesArgs,
 };
+use crate::sph::heat::{heat_finish, heat_sum};
+use crate::sph::interact::{HeatPairSums, PairSums, finish_rates, pair_sums, pair_sums_heat};
 use crate::sph::lanes::{LaneSum, clamp_lanes};
-use crate::sph::params::SphParams;
-use crate::sph::step::{StepArrays, StepScalars, correct_particle, is_finite_vec, predict_particle};
+use crate::sph::step::is_finite_vec;
 use crate::vector::{Dim, Dim2, Dim3};
 
 type Vec_<R, D> = <D as Dim>::Vec<R>;
-type Sym_<R, D> = <D as Dim>::Sym<R>;
 
 /// Pre-pass: sig = σ/ρ², art = artificial stress (AS), sound = √(K/ρ) (AV), vol = m/ρ (`mass` the full masses).
 /// Gated on a step's rebuild flag (null: always) where the predictor runs the pre-pass: it then runs again only
@@ -71,33 +38,10 @@ type Sym_<R, D> = <D as Dim>::Sym<R>;
 macro_rules! prepare_entry {
     ($name:ident, $r:ty, $d:ty, $av:literal, $as:literal) => {
         #[unsafe(no_mangle)]
-        pub unsafe extern "ptx-kernel" fn $name(
-            gate: *const u32,
-            n: u32,
-            params: *const SphParams<$r>,
-            rho: *const $r,
-            mass: *const $r,
-            stress: *const Sym_<$r, $d>,
-            sig: *mut Sym_<$r, $d>,
-            art: *mut Sym_<$r, $d>,
-            sound: *mut $r,
-            vol: *mut $r,
-            temp: *const f64,
-        ) {
+        pub unsafe extern "ptx-kernel" fn $name(args: PrepareArgs<$r, $d>) {
             let i = global_index() as usize;
-            if i < n as usize && unsafe { super::neighbour::open(gate) } {
-                unsafe {
-                    let t = if temp.is_null() { None } else { Some(*temp.add(i)) };
-                    let q = prepare::<$r, $d, $av, $as>(&*params, *rho.add(i), *mass.add(i), &*stress.add(i), t);
-                    *sig.add(i) = q.sig;
-                    *vol.add(i) = q.vol;
-                    if $as {
-                        *art.add(i) = q.art;
-                    }
-                    if $av {
-                        *sound.add(i) = q.c;
-                    }
-                }
+            if i < args.n as usize && unsafe { super::neighbour::open(args.gate) } {
+                unsafe { args.particle::<$av, $as>(i) };
             }
         }
     };
@@ -177,68 +121,18 @@ fn shuffle_xor<T: LaneSum>(x: &T, mask: u32) -> T {
 macro_rules! predict_entry {
     ($name:ident, $r:ty, $d:ty) => {
         #[unsafe(no_mangle)]
-        pub unsafe extern "ptx-kernel" fn $name(
-            n: u32,
-            scalars: *mut StepScalars,
-            grid: *const GridParams,
-            pos: *mut Vec_<$r, $d>,
-            vel: *mut Vec_<$r, $d>,
-            rho: *mut $r,
-            stress: *mut Sym_<$r, $d>,
-            pos0: *mut Vec_<$r, $d>,
-            vel0: *mut Vec_<$r, $d>,
-            rho0: *mut $r,
-            stress0: *mut Sym_<$r, $d>,
-            pos_t: *const Vec_<$r, $d>,
-            vel_t: *const Vec_<$r, $d>,
-            rho_t: *const $r,
-            stress_t: *const Sym_<$r, $d>,
-            temp: *mut f64,
-            temp0: *mut f64,
-            temp_t: *const f64,
-            pos_ref: *const Vec_<$r, $d>,
-            condition: u64,
-            params: SphParams<$r>,
-            mass: *const $r,
-            sig: *mut Sym_<$r, $d>,
-            art: *mut Sym_<$r, $d>,
-            sound: *mut $r,
-            vol: *mut $r,
-        ) {
+        pub unsafe extern "ptx-kernel" fn $name(args: PredictArgs<$r, $d>) {
             let i = global_index();
-            if i < n {
-                let a = StepArrays {
-                    pos,
-                    vel,
-                    rho,
-                    stress,
-                    pos0,
-                    vel0,
-                    rho0,
-                    stress0,
-                    pos_t,
-                    vel_t,
-                    rho_t,
-                    stress_t,
-                    temp,
-                    temp0,
-                    temp_t,
-                    diss: core::ptr::null_mut(),
-                    diss_t: core::ptr::null(),
-                    pos_lo: core::ptr::null_mut(),
-                };
+            if i < args.n {
+                let (scalars, condition) = (args.scalars, args.condition);
                 unsafe {
-                    let x = predict_particle(&a, (*scalars).dt, i as usize);
-                    if !sig.is_null() {
-                        let (iu, o) = (i as usize, PrepassArrays { sig, art, sound, vol });
-                        prepare_particle::<$r, $d>(&params, &o, iu, *rho.add(iu), *mass.add(iu), &*stress.add(iu));
-                    }
+                    let x = args.particle(i as usize);
                     let flag = core::ptr::addr_of_mut!((*scalars).rebuild);
                     // A rebuild the host asked for (read before any thread of this launch sets the flag).
                     if i == 0 && condition != 0 && core::ptr::read_volatile(flag) != 0 {
                         graph_set_conditional(condition, 1);
                     }
-                    if (*grid).beyond_skin::<$r, Vec_<$r, $d>>(&x, &*pos_ref.add(i as usize)) {
+                    if (*args.grid).beyond_skin::<$r, Vec_<$r, $d>>(&x, &*args.pos_ref.add(i as usize)) {
                         core::ptr::write_volatile(flag, 1);
                         if condition != 0 {
                             graph_set_conditional(condition, 1);
@@ -379,38 +273,23 @@ finish_entry!(swarf_step_finish_3d_f64, f64, Dim3);
 macro_rules! heat_entry {
     ($name:ident, $r:ty, $d:ty, $pse:literal) => {
         #[unsafe(no_mangle)]
-        pub unsafe extern "ptx-kernel" fn $name(
-            n: u32,
-            lanes: u32,
-            hp: HeatParams,
-            params: SphParams<$r>,
-            grid: *const GridParams,
-            starts: *const u32,
-            list: *const u32,
-            pos: *const Vec_<$r, $d>,
-            rho: *const $r,
-            vol: *const $r,
-            temp: *const f64,
-            flags: *const u32,
-            materials: *const ThermalMaterial,
-            temp_t: *mut f64,
-        ) {
+        pub unsafe extern "ptx-kernel" fn $name(args: HeatArgs<$r, $d>) {
             let t = global_index();
-            let lanes = clamp_lanes(lanes);
+            let lanes = clamp_lanes(args.lanes);
             let (i, lane) = (t / lanes, t % lanes);
-            let a = HeatArrays::<$r, Vec_<$r, $d>> { pos, rho, vol, temp, flags, materials };
-            let nb = Neighbours { grid: unsafe { &*grid }, starts, list };
+            let a = args.arrays();
+            let nb = unsafe { args.neighbours() };
             // Every lane takes part in the shuffles, also past the last particle.
-            let live = i < n;
+            let live = i < args.n;
             unsafe {
                 let mut sum = if live {
-                    heat_sum::<$r, Vec_<$r, $d>, $pse>(&hp, &params.kernel, &nb, &a, i, lane, lanes)
+                    heat_sum::<$r, Vec_<$r, $d>, $pse>(&args.hp, &args.params.kernel, &nb, &a, i, lane, lanes)
                 } else {
                     0.0
                 };
                 sum = butterfly(sum, lanes);
                 if live && lane == 0 {
-                    *temp_t.add(i as usize) = heat_finish(&a, i, sum);
+                    *args.temp_t.add(i as usize) = heat_finish(&a, i, sum);
                 }
             }
         }
@@ -426,44 +305,17 @@ heat_entry!(swarf_heat_pse_2d_f64, f64, Dim2, true);
 heat_entry!(swarf_heat_pse_3d_f32, f32, Dim3, true);
 heat_entry!(swarf_heat_pse_3d_f64, f64, Dim3, true);
 
-use crate::sph::plastic::{PlasticArrays, PlasticConsts, plastic_particle};
-
 /// The plastic update (radial return + heating) of every particle, one entry per flow-stress model (its parameters
 /// by value, as in finish_plastic_entry).
 macro_rules! plastic_entry {
     ($name:ident, $sym:expr, $m:ty, $r:ty, $d:ty) => {
         #[unsafe(export_name = $sym)]
-        pub unsafe extern "ptx-kernel" fn $name(
-            n: u32,
-            model: $m,
-            shear: f64,
-            dt: f64,
-            taylor_quinney: f64,
-            stress: *mut Sym_<$r, $d>,
-            rho: *const $r,
-            eps: *mut f64,
-            rate: *mut f64,
-            temp: *mut f64,
-            flags: *const u32,
-            materials: *const ThermalMaterial,
-            yield_stress: *mut f64,
-            work: *mut f64,
-        ) {
+        pub unsafe extern "ptx-kernel" fn $name(args: PlasticArgs<$r, $d, $m>) {
             let i = global_index() as usize;
-            if i < n as usize {
-                let a = PlasticArrays::<$r, Sym_<$r, $d>> {
-                    stress,
-                    rho,
-                    eps,
-                    rate,
-                    temp,
-                    flags,
-                    materials,
-                    yield_stress,
-                    work,
-                };
-                let c = PlasticConsts { shear, dt, taylor_quinney, _pad: 0.0 };
-                unsafe { plastic_particle::<$r, $d, $m>(&model, &c, &a, i) };
+            if i < args.n as usize {
+                // The model alone goes to the flow-stress functions (a local copy, as the by-value parameter was).
+                let model = args.model;
+                unsafe { args.particle(&model, i) };
             }
         }
     };
@@ -495,39 +347,10 @@ crate::for_each_flow_model!(flow_model_entries);
 macro_rules! contact_entry {
     ($name:ident, $r:ty) => {
         #[unsafe(no_mangle)]
-        pub unsafe extern "ptx-kernel" fn $name(
-            n: u32,
-            params: *const ContactParams,
-            tool: *const Tool2d,
-            scalars: *const StepScalars,
-            pos: *const Vec_<$r, Dim2>,
-            vel: *const Vec_<$r, Dim2>,
-            mass: *const $r,
-            rho: *const $r,
-            flags: *const u32,
-            normal: *mut Vec_<$r, Dim2>,
-            friction: *mut Vec_<$r, Dim2>,
-            temp: *mut f64,
-            materials: *const ThermalMaterial,
-            yield_stress: *const f64,
-            wear: *mut f64,
-        ) {
+        pub unsafe extern "ptx-kernel" fn $name(args: ContactArgs<$r, Dim2>) {
             let i = global_index() as usize;
-            if i < n as usize {
-                let a = ContactArrays::<$r, Vec_<$r, Dim2>> {
-                    pos,
-                    vel,
-                    mass,
-                    rho,
-                    flags,
-                    normal,
-                    friction,
-                    temp,
-                    materials,
-                    yield_stress,
-                    wear,
-                };
-                unsafe { contact_particle::<$r, Vec_<$r, Dim2>, Tool2d>(&*params, &*tool, &(*scalars).tool, &a, i) };
+            if i < args.n as usize {
+                unsafe { args.particle(i) };
             }
         }
     };

@@ -1,0 +1,55 @@
+//! The predictor's arguments (`sph::step::predict_particle`), with the skin test and, where `sig` is not null,
+//! the pre-pass of the predicted particle (`sph::interact::prepare_particle`).
+
+use super::StepPtrs;
+use crate::neighbour::GridParams;
+use crate::real::Real;
+use crate::sph::TensorOps;
+use crate::sph::interact::{PrepassArrays, prepare_particle};
+use crate::sph::params::SphParams;
+use crate::sph::step::{StepScalars, predict_particle};
+use crate::vector::Dim;
+
+/// Everything one launch of the predictor reads and writes, sorted order. The step's dissipation and the start
+/// positions' low parts are null (the predictor reads neither).
+#[repr(C)]
+#[derive(Clone, Copy)]
+pub struct PredictArgs<R: Real, D: Dim> {
+    pub n: u32,
+    /// The step's scalars: Δt in, the rebuild and non-finite flags out.
+    pub scalars: *mut StepScalars,
+    /// The cell list the skin test measures against.
+    pub grid: *const GridParams,
+    pub step: StepPtrs<R, D>,
+    /// The positions the cell list binned.
+    pub pos_ref: *const D::Vec<R>,
+    /// The captured step's IF-node handle (0: none; `ptx::sph`, predict_entry).
+    pub condition: u64,
+    /// The fused pre-pass's parameters (default without it).
+    pub params: SphParams<R>,
+    /// The fused pre-pass's inputs and outputs; `sig` null: no fused pre-pass; `art`/`sound` null where off.
+    pub mass: *const R,
+    pub sig: *mut D::Sym<R>,
+    pub art: *mut D::Sym<R>,
+    pub sound: *mut R,
+    pub vol: *mut R,
+}
+
+impl<R: Real, D: TensorOps<R>> PredictArgs<R, D> {
+    /// Particle i's prediction followed by its pre-pass where `sig` is set; returns the predicted position.
+    ///
+    /// # Safety
+    /// i < n; every non-null array holds n particles; `scalars` points at the step's scalars.
+    #[inline(always)]
+    pub unsafe fn particle(&self, i: usize) -> D::Vec<R> {
+        unsafe {
+            let x = predict_particle(&self.step.arrays(), (*self.scalars).dt, i);
+            if !self.sig.is_null() {
+                let o = PrepassArrays { sig: self.sig, art: self.art, sound: self.sound, vol: self.vol };
+                let (r, m) = (*self.step.rho.add(i), *self.mass.add(i));
+                prepare_particle::<R, D>(&self.params, &o, i, r, m, &*self.step.stress.add(i));
+            }
+            x
+        }
+    }
+}

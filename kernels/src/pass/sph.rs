@@ -1,0 +1,230 @@
+//! The arguments of the SPH passes that run alone: the density sum, the pre-pass, the conduction, the plastic
+//! update and the tool's contact pass (each also fused into another pass: `RatesArgs`, `FinishPlasticArgs`,
+//! `PredictArgs`).
+
+use crate::contact::Tool2d;
+use crate::contact::penalty::{ContactArrays, ContactParams, contact_particle};
+use crate::material::FlowStress;
+use crate::neighbour::{GridParams, Neighbours};
+use crate::real::Real;
+use crate::sph::CubicSpline;
+use crate::sph::TensorOps;
+use crate::sph::density::density_sum;
+use crate::sph::heat::{HeatArrays, HeatParams, ThermalMaterial};
+use crate::sph::interact::prepare;
+use crate::sph::params::SphParams;
+use crate::sph::plastic::{PlasticArrays, PlasticConsts, plastic_particle};
+use crate::sph::step::StepScalars;
+use crate::vector::Dim;
+
+/// The density sum ρ_i = Σ_j m_j W(|x_i − x_j|) (`sph::density::density_sum`).
+#[repr(C)]
+#[derive(Clone, Copy)]
+pub struct DensityArgs<R: Real, D: Dim> {
+    pub n: u32,
+    pub pos: *const D::Vec<R>,
+    pub mass: *const R,
+    pub grid: *const GridParams,
+    pub starts: *const u32,
+    pub kernel: *const CubicSpline<R>,
+    pub rho: *mut R,
+}
+
+impl<R: Real, D: Dim> DensityArgs<R, D> {
+    /// Particle i's density.
+    ///
+    /// # Safety
+    /// i < n; the arrays hold n sorted particles of the cell list `grid`/`starts`.
+    #[inline(always)]
+    pub unsafe fn particle(&self, i: usize) {
+        unsafe {
+            let r = density_sum::<R, D::Vec<R>>(&*self.grid, self.starts, &*self.kernel, self.pos, self.mass, i as u32);
+            *self.rho.add(i) = r;
+        }
+    }
+}
+
+/// The pre-pass: sig = σ/ρ², art = artificial stress (AS), sound = √(K/ρ) (AV), vol = m/ρ (`mass` the full
+/// masses), gated on a step's rebuild flag (`gate`; null: always) where the predictor runs the pre-pass.
+#[repr(C)]
+#[derive(Clone, Copy)]
+pub struct PrepareArgs<R: Real, D: Dim> {
+    /// The step's rebuild flag (`StepScalars::rebuild`; the GPU's gate: the CPU reads it before the loop).
+    pub gate: *const u32,
+    pub n: u32,
+    pub params: *const SphParams<R>,
+    pub rho: *const R,
+    pub mass: *const R,
+    pub stress: *const D::Sym<R>,
+    pub sig: *mut D::Sym<R>,
+    /// Null unless the artificial stress is on.
+    pub art: *mut D::Sym<R>,
+    /// Null unless the viscosity is on.
+    pub sound: *mut R,
+    pub vol: *mut R,
+    /// Null without temperature.
+    pub temp: *const f64,
+}
+
+impl<R: Real, D: TensorOps<R>> PrepareArgs<R, D> {
+    /// Particle i's pre-pass, the viscosity's sound speed with `AV`, the artificial stress with `AS`.
+    ///
+    /// # Safety
+    /// i < n; every array holds n particles, `art`/`sound` where `AS`/`AV`; `params` points at the parameters.
+    #[inline(always)]
+    pub unsafe fn particle<const AV: bool, const AS: bool>(&self, i: usize) {
+        unsafe {
+            let t = if self.temp.is_null() { None } else { Some(*self.temp.add(i)) };
+            let q =
+                prepare::<R, D, AV, AS>(&*self.params, *self.rho.add(i), *self.mass.add(i), &*self.stress.add(i), t);
+            *self.sig.add(i) = q.sig;
+            *self.vol.add(i) = q.vol;
+            if AS {
+                *self.art.add(i) = q.art;
+            }
+            if AV {
+                *self.sound.add(i) = q.c;
+            }
+        }
+    }
+}
+
+/// The conduction Ṫ_i (`sph::heat`), Brookshaw or PSE (PSE with a null `list`), `lanes` threads per particle.
+#[repr(C)]
+#[derive(Clone, Copy)]
+pub struct HeatArgs<R: Real, D: Dim> {
+    pub n: u32,
+    /// Lanes per particle (1, 2, 4 or 8; `sph::lanes::clamp_lanes`).
+    pub lanes: u32,
+    pub hp: HeatParams,
+    /// The smoothing kernel's parameters (`params.kernel`).
+    pub params: SphParams<R>,
+    pub grid: *const GridParams,
+    pub starts: *const u32,
+    /// The Verlet list of `grid`, or null: walk the stencil.
+    pub list: *const u32,
+    pub pos: *const D::Vec<R>,
+    pub rho: *const R,
+    pub vol: *const R,
+    pub temp: *const f64,
+    pub flags: *const u32,
+    pub materials: *const ThermalMaterial,
+    pub temp_t: *mut f64,
+}
+
+impl<R: Real, D: Dim> HeatArgs<R, D> {
+    /// The conduction's read-only arrays.
+    #[inline(always)]
+    pub fn arrays(&self) -> HeatArrays<R, D::Vec<R>> {
+        HeatArrays {
+            pos: self.pos,
+            rho: self.rho,
+            vol: self.vol,
+            temp: self.temp,
+            flags: self.flags,
+            materials: self.materials,
+        }
+    }
+
+    /// The neighbour walk's view of the cell list.
+    ///
+    /// # Safety
+    /// `grid` points at a live `GridParams`.
+    #[inline(always)]
+    pub unsafe fn neighbours(&self) -> Neighbours<'_> {
+        Neighbours { grid: unsafe { &*self.grid }, starts: self.starts, list: self.list }
+    }
+}
+
+/// The plastic update (radial return + heating) of flow-stress model `M`, its parameters by value.
+#[repr(C)]
+#[derive(Clone, Copy)]
+pub struct PlasticArgs<R: Real, D: Dim, M> {
+    pub n: u32,
+    pub model: M,
+    pub consts: PlasticConsts,
+    pub stress: *mut D::Sym<R>,
+    pub rho: *const R,
+    pub eps: *mut f64,
+    pub rate: *mut f64,
+    pub temp: *mut f64,
+    pub flags: *const u32,
+    /// Thermal materials by body (null without plastic heating).
+    pub materials: *const ThermalMaterial,
+    /// Receives σ_y after the update (null: not kept).
+    pub yield_stress: *mut f64,
+    /// Accumulates the specific plastic work (null: not tracked).
+    pub work: *mut f64,
+}
+
+impl<R: Real, D: TensorOps<R>, M: FlowStress> PlasticArgs<R, D, M> {
+    /// Particle i's plastic update with `model` (the struct's, or a local copy of it).
+    ///
+    /// # Safety
+    /// i < n; every non-null array holds n particles; `materials` covers every body where heating is on.
+    #[inline(always)]
+    pub unsafe fn particle(&self, model: &M, i: usize) {
+        let a = PlasticArrays::<R, D::Sym<R>> {
+            stress: self.stress,
+            rho: self.rho,
+            eps: self.eps,
+            rate: self.rate,
+            temp: self.temp,
+            flags: self.flags,
+            materials: self.materials,
+            yield_stress: self.yield_stress,
+            work: self.work,
+        };
+        unsafe { plastic_particle::<R, D, M>(model, &self.consts, &a, i) }
+    }
+}
+
+/// The tool's contact pass (`contact::penalty::contact_particle`) with the parametric 2D tool.
+#[repr(C)]
+#[derive(Clone, Copy)]
+pub struct ContactArgs<R: Real, D: Dim> {
+    pub n: u32,
+    pub params: *const ContactParams,
+    /// The tool's shape.
+    pub tool: *const Tool2d,
+    /// The step's scalars (the tool's state).
+    pub scalars: *const StepScalars,
+    pub pos: *const D::Vec<R>,
+    pub vel: *const D::Vec<R>,
+    pub mass: *const R,
+    pub rho: *const R,
+    pub flags: *const u32,
+    pub normal: *mut D::Vec<R>,
+    pub friction: *mut D::Vec<R>,
+    /// Null: no frictional heating.
+    pub temp: *mut f64,
+    pub materials: *const ThermalMaterial,
+    /// Null: no friction cap.
+    pub yield_stress: *const f64,
+    /// Null: no wear.
+    pub wear: *mut f64,
+}
+
+impl<R: Real, D: Dim> ContactArgs<R, D> {
+    /// Particle i's contact forces.
+    ///
+    /// # Safety
+    /// i < n; every non-null array holds n particles; `params`, `tool` and `scalars` point at live values.
+    #[inline(always)]
+    pub unsafe fn particle(&self, i: usize) {
+        let a = ContactArrays::<R, D::Vec<R>> {
+            pos: self.pos,
+            vel: self.vel,
+            mass: self.mass,
+            rho: self.rho,
+            flags: self.flags,
+            normal: self.normal,
+            friction: self.friction,
+            temp: self.temp,
+            materials: self.materials,
+            yield_stress: self.yield_stress,
+            wear: self.wear,
+        };
+        unsafe { contact_particle::<R, D::Vec<R>, Tool2d>(&*self.params, &*self.tool, &(*self.scalars).tool, &a, i) }
+    }
+}
