@@ -150,21 +150,6 @@ macro_rules! dispatch {
 }
 
 impl FlowModel {
-    /// The bytes of the model's parameter struct, as the GPU kernels read them.
-    pub fn param_bytes(&self) -> &[u8] {
-        match self {
-            FlowModel::JohnsonCook(m) => bytemuck::bytes_of(m),
-            FlowModel::Calamaz2008(m) => bytemuck::bytes_of(m),
-            FlowModel::Calamaz2010(m) => bytemuck::bytes_of(m),
-            FlowModel::Calamaz2011(m) => bytemuck::bytes_of(m),
-            FlowModel::SimaOzel1(m) => bytemuck::bytes_of(m),
-            FlowModel::SimaOzel2(m) => bytemuck::bytes_of(m),
-            FlowModel::SimaOzel3(m) => bytemuck::bytes_of(m),
-            FlowModel::Scgl(m) => bytemuck::bytes_of(m),
-            FlowModel::Bilinear(m) => bytemuck::bytes_of(m),
-        }
-    }
-
     /// The `model` key of this model.
     pub fn name(&self) -> &'static str {
         match self {
