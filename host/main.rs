@@ -57,11 +57,43 @@ enum Cmd {
     /// Run a scene over resolutions × precisions (× backends) and report wall time against error (study.csv,
     /// study.md, study.png in the output folder).
     Study(StudyArgs),
+    /// Nairn's analytical cutting models (nairn-mpm.md §4): F_c/b of the crack-tip-touching and plastic-bending
+    /// models over depths of cut, for the paper's polymer (K 980 MPa, G 376 MPa, σ_y0 25 MPa, G_c 2000 J/m²) or
+    /// the properties given.
+    Model(ModelArgs),
     /// Draw the PNG plots of a run folder (energies, momenta; forces and temperatures where recorded).
     Plot {
         /// The run folder (holds energy.csv).
         run: std::path::PathBuf,
     },
+}
+
+#[derive(clap::Args)]
+struct ModelArgs {
+    /// Rake angle [degrees].
+    #[arg(long, default_value_t = 30.0)]
+    rake: f64,
+    /// Coulomb friction coefficient μ on the rake face.
+    #[arg(long, default_value_t = 0.0)]
+    friction: f64,
+    /// Depths of cut [mm], comma separated.
+    #[arg(long, default_value = "0.1,0.25,0.5,1,1.5,2,3,5,7")]
+    depths: String,
+    /// Initial yield stress σ_y0 [Pa] (default: the paper's 25 MPa).
+    #[arg(long)]
+    yield_stress: Option<f64>,
+    /// Plane-strain modulus E' = E/(1 − ν²) [Pa] (default: the paper's, 1122 MPa).
+    #[arg(long)]
+    plane_modulus: Option<f64>,
+    /// Toughness G_c [J/m²] (default: the paper's 2000).
+    #[arg(long)]
+    toughness: Option<f64>,
+    /// Tangent modulus E_T of linear hardening [Pa] (0: elastic–perfectly plastic).
+    #[arg(long, default_value_t = 0.0)]
+    tangent_modulus: f64,
+    /// Rubbing force under the tool F_n^b per unit width [N/m].
+    #[arg(long, default_value_t = 0.0)]
+    rubbing: f64,
 }
 
 #[derive(clap::Args)]
@@ -333,6 +365,7 @@ fn run(cli: Cli) -> Result<()> {
         Cmd::Run(a) => cmd_run(cli.backend, &a),
         Cmd::Study(a) => cmd_study(cli.backend, &a),
         Cmd::Material { name, at, plot, library } => cmd_material(name, &at, plot, &library),
+        Cmd::Model(a) => cmd_model(&a),
         Cmd::Check { scene, precision, set } => {
             let sc = swarf::scene::Scene::load(&scene, &set).map_err(|e| swarf::Error::Scene(e.to_string()))?;
             let (any, line) = AnyBackend::select(cli.backend)?;
@@ -499,5 +532,46 @@ fn cmd_material(
         swarf::material::report::plot(m, &points, &p).map_err(swarf::Error::Output)?;
         println!("wrote {}", p.display());
     }
+    Ok(())
+}
+
+/// `swarf model`: Nairn's analytical models over depths of cut (`analytic::nairn::table`).
+fn cmd_model(a: &ModelArgs) -> Result<()> {
+    use swarf::analytic::nairn::{Specimen, table};
+    let bad = |what: &str, got: &dyn std::fmt::Display, expected: &str| {
+        swarf::Error::Scene(format!("swarf model: {what} = {got}: expected {expected}"))
+    };
+    let mut depths = Vec::new();
+    for d in a.depths.split(',') {
+        match d.trim().parse::<f64>() {
+            Ok(h) if h.is_finite() && h > 0.0 => depths.push(h * 1e-3),
+            _ => return Err(bad("--depths", &d, "positive depths of cut in mm, comma separated")),
+        }
+    }
+    let paper = Specimen::paper();
+    let s = Specimen {
+        yield_stress: a.yield_stress.unwrap_or(paper.yield_stress),
+        plane_modulus: a.plane_modulus.unwrap_or(paper.plane_modulus),
+        toughness: a.toughness.unwrap_or(paper.toughness),
+        ..paper
+    };
+    let positive = |x: f64| x.is_finite() && x > 0.0;
+    if !positive(s.yield_stress) || !positive(s.plane_modulus) || !positive(s.toughness) {
+        return Err(bad("--yield-stress/--plane-modulus/--toughness", &"…", "finite positive values"));
+    }
+    if !(a.rake.is_finite() && a.rake.abs() < 89.0) {
+        return Err(bad("--rake", &a.rake, "an angle in degrees between -89 and 89"));
+    }
+    if !(a.friction.is_finite() && a.friction >= 0.0) {
+        return Err(bad("--friction", &a.friction, "a finite μ >= 0"));
+    }
+    if !(a.tangent_modulus.is_finite() && a.tangent_modulus >= 0.0 && a.tangent_modulus < s.plane_modulus) {
+        return Err(bad("--tangent-modulus", &a.tangent_modulus, "a finite E_T with 0 <= E_T < E'"));
+    }
+    if !a.rubbing.is_finite() {
+        return Err(bad("--rubbing", &a.rubbing, "a finite force per width in N/m"));
+    }
+    let e = a.tangent_modulus / s.plane_modulus;
+    print!("{}", table(&s, a.rake.to_radians(), a.friction, e, a.rubbing, &depths));
     Ok(())
 }

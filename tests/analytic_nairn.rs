@@ -153,3 +153,24 @@ fn moment_curvature_law() {
     close(moment(1.0 + 1e-12, 0.1), 2.0 / 3.0, 1e-10, "plastic side at k = 1");
     close(moment(1e6, 0.0), 1.0, 1e-9, "fully plastic");
 }
+
+/// `swarf model`: the table of both models for the paper's polymer; at α = 30°, μ = 0, h = 1 mm the touching model
+/// gives 18 667 N/m (Eq. 15, V1) and the bending model 3.11 (the §4.3 table at η = 0.1392); a bad depth is refused
+/// with the option named.
+#[test]
+fn swarf_model_prints_both_models() {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_swarf"))
+        .args(["model", "--rake", "30", "--depths", "1"])
+        .output()
+        .expect("swarf runs");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let row = text.lines().find(|l| l.starts_with("| 1.000 |")).unwrap_or_else(|| panic!("{text}"));
+    assert!(row.contains("| 18667 |") && row.contains("| 3.11 |"), "{row}");
+    let bad = std::process::Command::new(env!("CARGO_BIN_EXE_swarf"))
+        .args(["model", "--depths", "1,-2"])
+        .output()
+        .expect("swarf runs");
+    assert!(!bad.status.success());
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("--depths"));
+}

@@ -212,3 +212,33 @@ pub fn fit_toughness(points: &[(f64, f64, f64)], alpha: f64, mu: f64, s: &Specim
     }
     0.5 * (a + b)
 }
+
+/// A table of both models' predictions over the depths of cut `depths` [m] (`swarf model`): η, the touching model's
+/// F_c/b [N/m] and F_c/(bG_c) with its shear angle, the bending model's F_c/(bG_c) and k_0 (or "none" where Eq. 19
+/// has no root). `e` = E_T/E′, `rubbing` = F_n^b/b [N/m], χ = 0.64.
+pub fn table(s: &Specimen, alpha: f64, mu: f64, e: f64, rubbing: f64, depths: &[f64]) -> String {
+    let mut out = format!(
+        "Nairn's models (nairn-mpm.md §4): σ_y0 = {:.4e} Pa, E' = {:.4e} Pa, G_c = {} J/m², Y = {:.4}, rake {:.2}°, \
+         μ = {mu}, E_T/E' = {e:.4}, F_n^b/b = {rubbing} N/m\n",
+        s.yield_stress,
+        s.plane_modulus,
+        s.toughness,
+        s.yield_ratio,
+        alpha.to_degrees()
+    );
+    out.push_str(
+        "| h [mm] | eta | touching F_c/b [N/m] | touching F_c/(bG_c) | shear angle [deg] | bending F_c/(bG_c) | k0 |\n",
+    );
+    out.push_str("|---|---|---|---|---|---|---|\n");
+    for &h in depths {
+        let eta = s.eta(h);
+        let t = touching(h, alpha, mu, rubbing, s);
+        let phi = optimum_shear_angle(h, alpha, mu, rubbing, s).to_degrees();
+        let bend = match bending(eta, alpha, mu, e, rubbing / s.toughness, s, 0.64) {
+            Some(b) => format!("{:.2} | {:.3}", b.force, b.k0),
+            None => "none | -".to_string(),
+        };
+        out.push_str(&format!("| {:.3} | {eta:.4} | {t:.0} | {:.2} | {phi:.2} | {bend} |\n", h * 1e3, t / s.toughness));
+    }
+    out
+}
