@@ -60,7 +60,7 @@ macro_rules! rates_entry {
             let t = ordered_index(reverse);
             let lanes = clamp_lanes(lanes);
             let (i, lane) = (t / lanes, t % lanes);
-            let a = args.arrays();
+            let a = args.arrays;
             let h = args.heat_arrays();
             let nb = unsafe { args.neighbours() };
             // Every lane takes part in the shuffles, also past the last particle.
