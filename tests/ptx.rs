@@ -53,8 +53,8 @@ fn ptx_has_no_extern_and_every_entry() {
             .collect();
         let names = kernel_names();
         assert!(names.len() > 70, "the kernel table lists every entry point");
-        for name in &names {
-            assert!(entries.contains(&name.as_str()), "{target}: entry point {name} missing (have {entries:?})");
+        for name in names {
+            assert!(entries.contains(name), "{target}: entry point {name} missing (have {entries:?})");
         }
         // No entry may reach a trap: a Rust panic path (a bounds check, an unwrap) or code LLVM proved undefined
         // (it once turned a shuffle over struct padding into a trap). The brief: no panics in kernels.
@@ -240,7 +240,7 @@ fn argument_structs_match_the_entries_parameter_blocks() {
         // Every entry the backend loads (the material tests' return-map entries keep positional parameters).
         let loaded = kernel_names();
         let mut checked = 0;
-        for (name, params) in entry_params(ptx).into_iter().filter(|(name, _)| loaded.contains(name)) {
+        for (name, params) in entry_params(ptx).into_iter().filter(|(name, _)| loaded.contains(&name.as_str())) {
             let w = want(&name).unwrap_or_else(|| panic!("{target}: {name}: no argument struct"));
             assert_eq!(params, w, "{target}: {name}: (size, align) of the parameters against the host's");
             checked += 1;
@@ -297,7 +297,7 @@ fn per_entry_modules_keep_every_entry_and_shared_item() {
             }
         }
         for name in kernel_names() {
-            assert!(entries.contains(&name.as_str()), "{target}: {name} has no module");
+            assert!(entries.contains(name), "{target}: {name} has no module");
         }
         for (k, it) in items.iter().enumerate() {
             if !it.entry && !it.name.contains("rust_begin_unwind") {

@@ -14,6 +14,7 @@ use crate::kernels::pass::{
     RatesArgs, StepPtrs,
 };
 use crate::kernels::sph::heat::HeatParams;
+use crate::kernels::sph::interact::Arrays;
 use crate::kernels::sph::plastic::PlasticConsts;
 use crate::kernels::sph::step::StepScalars;
 use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers};
@@ -99,19 +100,21 @@ pub fn rates_args<B: Backend, R: Real, D: Dim>(
         grid: input(b, "sph_rates grid", 1, grid)?,
         starts: b.address(starts) as *const u32,
         list: input_opt(b, "sph_rates list", 0, list)?,
-        pos: input(b, "pos", n, i.pos)?,
-        vel: input(b, "vel", n, i.vel)?,
-        rho: input(b, "rho", n, i.rho)?,
-        mass: input(b, "mass", n, i.mass)?,
-        vol: input(b, "vol", n, i.vol)?,
-        stress: input(b, "stress", n, i.stress)?,
-        sig: input(b, "sig", n, i.sig)?,
-        art,
-        sound,
-        flags: input(b, "flags", n, i.flags)?,
-        bc_vel: b.address(i.bc_vel) as *const _,
-        normal: input_opt(b, "contact normal", n, i.contact.map(|c| c.0))?,
-        friction: input_opt(b, "contact friction", n, i.contact.map(|c| c.1))?,
+        arrays: Arrays {
+            pos: input(b, "pos", n, i.pos)?,
+            vel: input(b, "vel", n, i.vel)?,
+            rho: input(b, "rho", n, i.rho)?,
+            mass: input(b, "mass", n, i.mass)?,
+            vol: input(b, "vol", n, i.vol)?,
+            stress: input(b, "stress", n, i.stress)?,
+            sig: input(b, "sig", n, i.sig)?,
+            art,
+            sound,
+            flags: input(b, "flags", n, i.flags)?,
+            bc_vel: b.address(i.bc_vel) as *const _,
+            normal: input_opt(b, "contact normal", n, i.contact.map(|c| c.0))?,
+            friction: input_opt(b, "contact friction", n, i.contact.map(|c| c.1))?,
+        },
         pos_t: output(b, "pos_t", n, out.pos)?,
         vel_t: output(b, "vel_t", n, out.vel)?,
         rho_t: output(b, "rho_t", n, out.rho)?,

@@ -458,7 +458,7 @@ impl Backend for CpuBackend {
                     // SAFETY: `rates_args` checked that every array holds n sorted particles, starts and the list
                     // belong to the grid (above), and each index i is written by one task only.
                     unsafe {
-                        let (arr, nb) = (a.arrays(), a.neighbours());
+                        let (arr, nb) = (a.arrays, a.neighbours());
                         let o = if fused {
                             let (o, tt) = rates_heat::<R, D, $av, $as, $xs>(
                                 &a.params,

@@ -9,13 +9,13 @@ use super::{
 use crate::kernels::neighbour::GatherField;
 use crate::kernels::neighbour::GridParams;
 use crate::kernels::pass::{
-    CountArgs, FLOW_MODEL_TAGS, GatherArgs, GatherFieldsArgs, HashArgs, HashCountArgs, ModelEntry, NeighbourListArgs,
-    ScanApplyArgs, ScanReduceArgs, ScatterArgs, SortArgs, VerletArgs, ZeroArgs,
+    CountArgs, ENTRY_COUNT, ENTRY_NAMES, FLOW_MODEL_TAGS, GatherArgs, GatherFieldsArgs, HashArgs, HashCountArgs,
+    ModelEntry, NeighbourListArgs, ScanApplyArgs, ScanReduceArgs, ScatterArgs, SortArgs, VerletArgs, ZeroArgs,
 };
 use crate::kernels::sph::heat::HeatParams;
 use crate::kernels::sph::step::StepScalars;
 use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers, TensorOps};
-use crate::kernels::{Dim, Real};
+use crate::kernels::{Dim, Dim2, Dim3, Real};
 use crate::material::FlowModel;
 use crate::{Error, Result};
 use cudarc::driver::sys::{CUdevice_attribute, CUevent_flags, CUresult};
@@ -38,70 +38,15 @@ use lazy::{Kernel, Loader};
 /// loaded when the backend starts.
 const PROBE: &str = "swarf_step_predict_2d_f64";
 
-/// The (dimension, precision) suffixes of generic entry points, in `variant` order.
-const VARIANTS: [&str; 4] = ["2d_f32", "2d_f64", "3d_f32", "3d_f64"];
-
-/// Every PTX entry point the backend loads; the PTX test checks that each is present.
-pub fn kernel_names() -> Vec<String> {
-    let mut v: Vec<String> = [
-        "swarf_count_cells",
-        "swarf_zero_gated",
-        "swarf_scan_reduce",
-        "swarf_scan_apply",
-        "swarf_scatter",
-        "swarf_sort_cells",
-        "swarf_gather_b4",
-        "swarf_gather_b8",
-        "swarf_gather_b16",
-        "swarf_gather_fields",
-        "swarf_contact_2d_f32",
-        "swarf_contact_2d_f64",
-    ]
-    .iter()
-    .map(|s| s.to_string())
-    .collect();
-    for var in VARIANTS {
-        for base in [
-            "swarf_hash",
-            "swarf_hash_count",
-            "swarf_neighbour_list",
-            "swarf_verlet_build",
-            "swarf_density",
-            "swarf_step_predict",
-            "swarf_step_finish",
-            "swarf_heat_brookshaw",
-            "swarf_heat_pse",
-        ] {
-            v.push(format!("{base}_{var}"));
-        }
-        for c in 0..4 {
-            v.push(format!("swarf_sph_prepare_{var}_{}", prepare_suffix(c)));
-        }
-        for m in FLOW_MODEL_TAGS {
-            v.push(format!("swarf_plastic_{m}_{var}"));
-            v.push(format!("swarf_step_finish_{m}_{var}"));
-        }
-        for c in 0..8 {
-            v.push(format!("swarf_sph_rates_{var}_{}", rates_suffix(c)));
-            v.push(format!("swarf_sph_rates_heat_{var}_{}", rates_suffix(c)));
-        }
-    }
-    v
+/// Every PTX entry point the backend loads (the pass table, `kernels::pass::table`); the PTX test checks that
+/// each is present.
+pub fn kernel_names() -> &'static [&'static str] {
+    &ENTRY_NAMES
 }
 
 /// The index of `m`'s entries in the kernel tables (`kernels::pass::models`: the one list of models).
 fn model_index(m: &FlowModel) -> usize {
     super::cpu::with_model!(m, M, _m => <M as ModelEntry>::INDEX)
-}
-
-/// Suffix of the pre-pass entry for stabiliser combination c = 2·AV + AS.
-fn prepare_suffix(c: usize) -> String {
-    format!("v{}s{}", (c >> 1) & 1, c & 1)
-}
-
-/// Suffix of the interaction entry for combination c = 4·AV + 2·AS + XSPH.
-fn rates_suffix(c: usize) -> String {
-    format!("v{}s{}x{}", (c >> 2) & 1, (c >> 1) & 1, c & 1)
 }
 
 /// Threads per block of the per-particle kernels.
@@ -128,26 +73,32 @@ impl<T> Buffer<T> for CudaBuf<T> {
 }
 
 /// The four (dimension, precision) variants of a generic entry point: 2d_f32, 2d_f64, 3d_f32, 3d_f64.
+#[derive(Default)]
 struct Variants([Kernel; 4]);
 
 fn variant<R: Real, D: Dim>() -> usize {
     (D::D == 3) as usize * 2 + (size_of::<R>() == 8) as usize
 }
 
+/// The kernel slots, filled from the pass table (`kernel_table`).
+#[derive(Default)]
 struct Kernels {
-    plastic: Vec<Variants>,
+    /// By flow model (`ModelEntry::INDEX`).
+    plastic: [Variants; FLOW_MODEL_TAGS.len()],
     /// 2D f32, 2D f64.
     contact: [Kernel; 2],
     heat_brookshaw: Variants,
     heat_pse: Variants,
-    sph_prepare: Vec<Variants>,
-    sph_rates: Vec<Variants>,
+    /// By stabiliser combination c = 2·AV + AS.
+    sph_prepare: [Variants; 4],
+    /// By stabiliser combination c = 4·AV + 2·AS + XSPH.
+    sph_rates: [Variants; 8],
     /// The interaction fused with the Brookshaw conduction.
-    sph_rates_heat: Vec<Variants>,
+    sph_rates_heat: [Variants; 8],
     step_predict: Variants,
     step_finish: Variants,
     /// The corrector fused with each flow-stress model's plastic update.
-    step_finish_plastic: Vec<Variants>,
+    step_finish_plastic: [Variants; FLOW_MODEL_TAGS.len()],
     hash: Variants,
     /// The gated rebuild's hash and count.
     hash_count: Variants,
@@ -251,9 +202,9 @@ impl CudaBackend {
             .attribute(CUdevice_attribute::CU_DEVICE_ATTRIBUTE_MAX_THREADS_PER_MULTIPROCESSOR)
             .map_err(cuda("device attribute"))?;
         kernel_names()
-            .into_iter()
-            .map(|name| {
-                let f = self.loader.load(&name)?;
+            .iter()
+            .map(|&name| {
+                let f = self.loader.load(name)?;
                 let blocks =
                     f.occupancy_max_active_blocks_per_multiprocessor(BLOCK, 0, None).map_err(cuda("occupancy"))?;
                 Ok(KernelReport {
@@ -262,7 +213,7 @@ impl CudaBackend {
                     shared_bytes: f.shared_size_bytes().map_err(cuda("function attribute"))?,
                     blocks_per_sm: blocks,
                     occupancy: (blocks * BLOCK) as f64 / max_threads.max(1) as f64,
-                    name,
+                    name: name.to_string(),
                 })
             })
             .collect()
@@ -395,9 +346,10 @@ fn load_ptx(
     Ok((target, loader, conditional, driver))
 }
 
-/// Every kernel slot, each checked to name an entry of the PTX (loaded on first use).
+/// Every kernel slot, from the pass table (`kernels::for_each_entry!`), each checked to name an entry of the PTX
+/// (loaded on first use). The slot macro has an arm for every kind of the table, so an entry without a slot does
+/// not compile.
 fn kernel_table(loader: &Loader) -> Result<Kernels> {
-    // Every slot names an entry of the PTX (checked now; loaded on first use).
     let f = |name: &str| -> Result<Kernel> {
         if loader.has(name) {
             Ok(Kernel::new(name))
@@ -405,47 +357,60 @@ fn kernel_table(loader: &Loader) -> Result<Kernels> {
             Err(Error::GpuUnavailable(format!("no entry point {name} in the embedded PTX")))
         }
     };
-    let v = |base: &str, suffix: &str| -> Result<Variants> {
-        let sfx = if suffix.is_empty() { String::new() } else { format!("_{suffix}") };
-        Ok(Variants([
-            f(&format!("{base}_2d_f32{sfx}"))?,
-            f(&format!("{base}_2d_f64{sfx}"))?,
-            f(&format!("{base}_3d_f32{sfx}"))?,
-            f(&format!("{base}_3d_f64{sfx}"))?,
-        ]))
+    let mut k = Kernels::default();
+    // Each entry fills its own slot: with as many slots as entries (below), every slot is filled once.
+    let mut filled = std::collections::HashSet::new();
+    let mut put = |slot: &mut Kernel, name: &str| -> Result<()> {
+        *slot = f(name)?;
+        filled.insert(slot as *const Kernel as usize);
+        Ok(())
     };
-    let k = Kernels {
-        plastic: FLOW_MODEL_TAGS.iter().map(|m| v(&format!("swarf_plastic_{m}"), "")).collect::<Result<_>>()?,
-        contact: [f("swarf_contact_2d_f32")?, f("swarf_contact_2d_f64")?],
-        heat_brookshaw: v("swarf_heat_brookshaw", "")?,
-        heat_pse: v("swarf_heat_pse", "")?,
-        sph_prepare: (0..4).map(|c| v("swarf_sph_prepare", &prepare_suffix(c))).collect::<Result<_>>()?,
-        sph_rates: (0..8).map(|c| v("swarf_sph_rates", &rates_suffix(c))).collect::<Result<_>>()?,
-        sph_rates_heat: (0..8).map(|c| v("swarf_sph_rates_heat", &rates_suffix(c))).collect::<Result<_>>()?,
-        step_predict: v("swarf_step_predict", "")?,
-        step_finish: v("swarf_step_finish", "")?,
-        step_finish_plastic: FLOW_MODEL_TAGS
-            .iter()
-            .map(|m| v(&format!("swarf_step_finish_{m}"), ""))
-            .collect::<Result<_>>()?,
-        hash: v("swarf_hash", "")?,
-        hash_count: v("swarf_hash_count", "")?,
-        neighbour_list: v("swarf_neighbour_list", "")?,
-        verlet_build: v("swarf_verlet_build", "")?,
-        density: v("swarf_density", "")?,
-        count_cells: f("swarf_count_cells")?,
-        zero_gated: f("swarf_zero_gated")?,
-        scan_reduce: f("swarf_scan_reduce")?,
-        scan_apply: f("swarf_scan_apply")?,
-        scatter: f("swarf_scatter")?,
-        sort_cells: f("swarf_sort_cells")?,
-        gather_b4: f("swarf_gather_b4")?,
-        gather_b8: f("swarf_gather_b8")?,
-        gather_b16: f("swarf_gather_b16")?,
-        gather_fields: f("swarf_gather_fields")?,
-    };
+    macro_rules! slot {
+        (single, $name:expr, $slot:ident) => {
+            put(&mut k.$slot, $name)?;
+        };
+        (contact, $name:expr, $r:ident, $d:ident) => {
+            put(&mut k.contact[(size_of::<$r>() == 8) as usize], $name)?;
+        };
+        (heat, $name:expr, $r:ident, $d:ident, $pse:literal) => {
+            let v = if $pse { &mut k.heat_pse } else { &mut k.heat_brookshaw };
+            put(&mut v.0[variant::<$r, $d>()], $name)?;
+        };
+        (prepare, $name:expr, $r:ident, $d:ident, $av:literal, $as:literal) => {
+            put(&mut k.sph_prepare[2 * $av as usize + $as as usize].0[variant::<$r, $d>()], $name)?;
+        };
+        (rates, $name:expr, $r:ident, $d:ident, $av:literal, $as:literal, $xs:literal, $heat:literal) => {
+            let c = 4 * $av as usize + 2 * $as as usize + $xs as usize;
+            let v = if $heat { &mut k.sph_rates_heat[c] } else { &mut k.sph_rates[c] };
+            put(&mut v.0[variant::<$r, $d>()], $name)?;
+        };
+        (plastic, $name:expr, $r:ident, $d:ident, $t:ident, $tag:ident) => {
+            let m = <crate::kernels::material::$t as ModelEntry>::INDEX;
+            put(&mut k.plastic[m].0[variant::<$r, $d>()], $name)?;
+        };
+        (finish_plastic, $name:expr, $r:ident, $d:ident, $t:ident, $tag:ident) => {
+            let m = <crate::kernels::material::$t as ModelEntry>::INDEX;
+            put(&mut k.step_finish_plastic[m].0[variant::<$r, $d>()], $name)?;
+        };
+        (predict, $name:expr, $r:ident, $d:ident) => {
+            put(&mut k.step_predict.0[variant::<$r, $d>()], $name)?;
+        };
+        (finish, $name:expr, $r:ident, $d:ident) => {
+            put(&mut k.step_finish.0[variant::<$r, $d>()], $name)?;
+        };
+        ($slot:ident, $name:expr, $r:ident, $d:ident) => {
+            put(&mut k.$slot.0[variant::<$r, $d>()], $name)?;
+        };
+    }
+    crate::kernels::for_each_entry!(slot);
+    if filled.len() != ENTRY_COUNT {
+        return Err(Error::GpuUnavailable(format!("{} of {ENTRY_COUNT} kernel slots filled", filled.len())));
+    }
     Ok(k)
 }
+
+// `Kernels` holds nothing but its slots, as many as the table has entries.
+const _: () = assert!(size_of::<Kernels>() == ENTRY_COUNT * size_of::<Kernel>());
 
 impl CudaBackend {
     fn ptr<T>(&self, b: &CudaBuf<T>) -> u64 {

@@ -8,7 +8,8 @@ use cudarc::driver::{CudaContext, CudaFunction};
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
-/// One entry point: its name and, once loaded, its function.
+/// One entry point: its name and, once loaded, its function (the default: no name, a slot not yet filled).
+#[derive(Default)]
 pub(super) struct Kernel {
     pub(super) name: String,
     pub(super) f: OnceLock<CudaFunction>,

@@ -12,6 +12,7 @@ pub mod neighbour;
 pub mod predict;
 pub mod rates;
 pub mod sph;
+pub mod table;
 
 pub use finish::{FinishArgs, FinishPlasticArgs, StepPtrs};
 pub use models::{FLOW_MODEL_TAGS, ModelEntry};
@@ -22,3 +23,4 @@ pub use neighbour::{
 pub use predict::PredictArgs;
 pub use rates::RatesArgs;
 pub use sph::{ContactArgs, DensityArgs, HeatArgs, PlasticArgs, PrepareArgs};
+pub use table::{ENTRY_COUNT, ENTRY_NAMES};

@@ -1,6 +1,6 @@
 //! The flow-stress models the kernels are built for, listed once. From this list come each model's index and
-//! entry-name tag ([`ModelEntry`]), the PTX entries of the plastic passes (`ptx::sph`) and the names the host
-//! loads ([`FLOW_MODEL_TAGS`]); the host's `FlowModel` reaches a model's entries through its kernel type, so its
+//! entry-name tag ([`ModelEntry`]) and [`FLOW_MODEL_TAGS`] (the PTX entries and the names the host loads come
+//! from the pass table, pass::table, which holds the list); the host's `FlowModel` reaches a model's entries through its kernel type, so its
 //! own order does not matter.
 
 /// A flow-stress model's place in the pass table.
@@ -12,22 +12,13 @@ pub trait ModelEntry {
 }
 
 /// Calls `$callback! { (Type, tag), ... }` with every flow-stress model: the kernel type (in `crate::material`)
-/// and the tag of its entry names. Adding a model to the kernels means adding its line here (and its arm to the
-/// host's `with_model!`, host/backend/cpu.rs, which maps `FlowModel` to the kernel type).
+/// and the tag of its entry names. The list itself is the pass table's (`for_each_entry!(@models ..)`,
+/// pass::table): adding a model to the kernels means adding its line there (and its arm to the host's
+/// `with_model!`, host/backend/cpu.rs, which maps `FlowModel` to the kernel type).
 #[macro_export]
 macro_rules! for_each_flow_model {
     ($callback:ident) => {
-        $callback! {
-            (JohnsonCook, jc),
-            (Calamaz2008, calamaz_2008),
-            (Calamaz2010, calamaz_2010),
-            (Calamaz2011, calamaz_2011),
-            (SimaOzel1, sima_ozel_1),
-            (SimaOzel2, sima_ozel_2),
-            (SimaOzel3, sima_ozel_3),
-            (Scgl, scgl),
-            (Bilinear, bilinear),
-        }
+        $crate::for_each_entry! { @models [@call $callback] }
     };
 }
 

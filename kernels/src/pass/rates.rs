@@ -24,24 +24,8 @@ pub struct RatesArgs<R: Real, D: Dim> {
     pub starts: *const u32,
     /// The Verlet list of `grid`, or null: walk the stencil.
     pub list: *const u32,
-    pub pos: *const D::Vec<R>,
-    pub vel: *const D::Vec<R>,
-    pub rho: *const R,
-    /// Mechanical masses (zero for the tool's thermal-only particles).
-    pub mass: *const R,
-    /// V = m/ρ of the pre-pass (full masses).
-    pub vol: *const R,
-    pub stress: *const D::Sym<R>,
-    pub sig: *const D::Sym<R>,
-    /// Null unless the artificial stress is on.
-    pub art: *const D::Sym<R>,
-    /// Null unless the viscosity is on.
-    pub sound: *const R,
-    pub flags: *const u32,
-    pub bc_vel: *const D::Vec<R>,
-    /// The last contact pass's normal and friction forces; null without a tool.
-    pub normal: *const D::Vec<R>,
-    pub friction: *const D::Vec<R>,
+    /// The interaction's read-only arrays (`sph::interact::Arrays`, embedded so its field list is written once).
+    pub arrays: Arrays<R, D>,
     pub pos_t: *mut D::Vec<R>,
     pub vel_t: *mut D::Vec<R>,
     pub rho_t: *mut R,
@@ -56,35 +40,15 @@ pub struct RatesArgs<R: Real, D: Dim> {
 }
 
 impl<R: Real, D: Dim> RatesArgs<R, D> {
-    /// The interaction's read-only arrays.
-    #[inline(always)]
-    pub fn arrays(&self) -> Arrays<R, D> {
-        Arrays {
-            pos: self.pos,
-            vel: self.vel,
-            rho: self.rho,
-            mass: self.mass,
-            vol: self.vol,
-            stress: self.stress,
-            sig: self.sig,
-            art: self.art,
-            sound: self.sound,
-            flags: self.flags,
-            bc_vel: self.bc_vel,
-            normal: self.normal,
-            friction: self.friction,
-        }
-    }
-
     /// The fused conduction's read-only arrays.
     #[inline(always)]
     pub fn heat_arrays(&self) -> HeatArrays<R, D::Vec<R>> {
         HeatArrays {
-            pos: self.pos,
-            rho: self.rho,
+            pos: self.arrays.pos,
+            rho: self.arrays.rho,
             vol: self.heat_vol,
             temp: self.temp,
-            flags: self.flags,
+            flags: self.arrays.flags,
             materials: self.materials,
         }
     }

@@ -25,91 +25,78 @@ pub(crate) unsafe fn open(gate: *const u32) -> bool {
     gate.is_null() || unsafe { core::ptr::read_volatile(gate) } != 0
 }
 
+/// The per-vector neighbour entries of the pass table (pass::table), each in its own anonymous scope: its exported
+/// name is the table's.
 macro_rules! per_vector {
-    ($hash:ident, $hash_count:ident, $list:ident, $verlet:ident, $r:ty, $d:ty) => {
-        /// The Verlet list of the sorted particles at `pos` (`neighbour::verlet::verlet_row`), when the gate is
-        /// open; after the reorder of a gated rebuild, or with a null gate after a build outside the step loop.
-        #[unsafe(no_mangle)]
-        pub unsafe extern "ptx-kernel" fn $verlet(args: VerletArgs<$r, $d>) {
-            if !unsafe { open(args.gate) } {
-                return;
-            }
-            let mut i = global_index();
-            while i < args.n {
-                unsafe { args.particle(i as usize) };
-                i += grid_threads();
-            }
-        }
-        /// The counting pass of a gated rebuild: keys[i] = cell key of pos[i], slots[i] = its arrival order in
-        /// the cell, counts[cell] += 1 (counts zeroed before), when the gate is open.
-        #[unsafe(no_mangle)]
-        pub unsafe extern "ptx-kernel" fn $hash_count(args: HashCountArgs<$r, $d>) {
-            let HashCountArgs { gate, n, pos, grid, keys, counts, slots } = args;
-            if !unsafe { open(gate) } {
-                return;
-            }
-            let mut i = global_index();
-            while i < n {
-                unsafe {
-                    let k = (*grid).key::<$r, Vec_<$r, $d>>(&*pos.add(i as usize));
-                    *keys.add(i as usize) = k;
-                    *slots.add(i as usize) = atomic_add_u32(counts.add(k as usize), 1);
+    (verlet_build, $sym:expr, $r:ident, $d:ident) => {
+        const _: () = {
+            /// The Verlet list of the sorted particles at `pos` (`neighbour::verlet::verlet_row`), when the gate
+            /// is open; after the reorder of a gated rebuild, or with a null gate after a build outside the step
+            /// loop.
+            #[unsafe(export_name = $sym)]
+            pub unsafe extern "ptx-kernel" fn entry(args: VerletArgs<$r, $d>) {
+                if !unsafe { open(args.gate) } {
+                    return;
                 }
-                i += grid_threads();
+                let mut i = global_index();
+                while i < args.n {
+                    unsafe { args.particle(i as usize) };
+                    i += grid_threads();
+                }
             }
-        }
-        /// keys[i] = cell key of pos[i] (`GridParams::key`).
-        #[unsafe(no_mangle)]
-        pub unsafe extern "ptx-kernel" fn $hash(args: HashArgs<$r, $d>) {
-            let i = global_index();
-            if i < args.n {
-                unsafe { args.particle(i as usize) };
-            }
-        }
-        /// Neighbours j ≠ i with |x_i − x_j|² < support2, in gather order, written to list[offsets[i]..]
-        /// (CSR); with `offsets` null only counted.
-        #[unsafe(no_mangle)]
-        pub unsafe extern "ptx-kernel" fn $list(args: NeighbourListArgs<$r, $d>) {
-            let i = global_index();
-            if i < args.n {
-                unsafe { args.particle(i as usize) };
-            }
-        }
+        };
     };
+    (hash_count, $sym:expr, $r:ident, $d:ident) => {
+        const _: () = {
+            /// The counting pass of a gated rebuild: keys[i] = cell key of pos[i], slots[i] = its arrival order
+            /// in the cell, counts[cell] += 1 (counts zeroed before), when the gate is open.
+            #[unsafe(export_name = $sym)]
+            pub unsafe extern "ptx-kernel" fn entry(args: HashCountArgs<$r, $d>) {
+                let HashCountArgs { gate, n, pos, grid, keys, counts, slots } = args;
+                if !unsafe { open(gate) } {
+                    return;
+                }
+                let mut i = global_index();
+                while i < n {
+                    unsafe {
+                        let k = (*grid).key::<$r, Vec_<$r, $d>>(&*pos.add(i as usize));
+                        *keys.add(i as usize) = k;
+                        *slots.add(i as usize) = atomic_add_u32(counts.add(k as usize), 1);
+                    }
+                    i += grid_threads();
+                }
+            }
+        };
+    };
+    (hash, $sym:expr, $r:ident, $d:ident) => {
+        const _: () = {
+            /// keys[i] = cell key of pos[i] (`GridParams::key`).
+            #[unsafe(export_name = $sym)]
+            pub unsafe extern "ptx-kernel" fn entry(args: HashArgs<$r, $d>) {
+                let i = global_index();
+                if i < args.n {
+                    unsafe { args.particle(i as usize) };
+                }
+            }
+        };
+    };
+    (neighbour_list, $sym:expr, $r:ident, $d:ident) => {
+        const _: () = {
+            /// Neighbours j ≠ i with |x_i − x_j|² < support2, in gather order, written to list[offsets[i]..]
+            /// (CSR); with `offsets` null only counted.
+            #[unsafe(export_name = $sym)]
+            pub unsafe extern "ptx-kernel" fn entry(args: NeighbourListArgs<$r, $d>) {
+                let i = global_index();
+                if i < args.n {
+                    unsafe { args.particle(i as usize) };
+                }
+            }
+        };
+    };
+    ($kind:ident, $($rest:tt)*) => {};
 }
 
-per_vector!(
-    swarf_hash_2d_f32,
-    swarf_hash_count_2d_f32,
-    swarf_neighbour_list_2d_f32,
-    swarf_verlet_build_2d_f32,
-    f32,
-    Dim2
-);
-per_vector!(
-    swarf_hash_2d_f64,
-    swarf_hash_count_2d_f64,
-    swarf_neighbour_list_2d_f64,
-    swarf_verlet_build_2d_f64,
-    f64,
-    Dim2
-);
-per_vector!(
-    swarf_hash_3d_f32,
-    swarf_hash_count_3d_f32,
-    swarf_neighbour_list_3d_f32,
-    swarf_verlet_build_3d_f32,
-    f32,
-    Dim3
-);
-per_vector!(
-    swarf_hash_3d_f64,
-    swarf_hash_count_3d_f64,
-    swarf_neighbour_list_3d_f64,
-    swarf_verlet_build_3d_f64,
-    f64,
-    Dim3
-);
+crate::for_each_entry!(per_vector);
 
 /// data[i] = 0 for i < n when the gate is open (the cell counts before a gated rebuild); the first thread also
 /// counts the rebuild in rebuilds[0] (null: not counted).

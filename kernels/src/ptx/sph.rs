@@ -3,10 +3,10 @@
 use super::{global_index, ordered_index};
 
 macro_rules! density_entry {
-    ($name:ident, $r:ty, $d:ty) => {
+    ($sym:expr, $r:ty, $d:ty) => {
         /// rho[i] = Σ_j m_j W(|x_i − x_j|) (pass::DensityArgs).
-        #[unsafe(no_mangle)]
-        pub unsafe extern "ptx-kernel" fn $name(args: DensityArgs<$r, $d>) {
+        #[unsafe(export_name = $sym)]
+        pub unsafe extern "ptx-kernel" fn entry(args: DensityArgs<$r, $d>) {
             let i = global_index();
             if i < args.n {
                 unsafe { args.particle(i as usize) };
@@ -14,11 +14,6 @@ macro_rules! density_entry {
         }
     };
 }
-
-density_entry!(swarf_density_2d_f32, f32, Dim2);
-density_entry!(swarf_density_2d_f64, f64, Dim2);
-density_entry!(swarf_density_3d_f32, f32, Dim3);
-density_entry!(swarf_density_3d_f64, f64, Dim3);
 
 use super::intrinsics::{graph_set_conditional, shfl_xor};
 use crate::pass::{
@@ -36,9 +31,9 @@ type Vec_<R, D> = <D as Dim>::Vec<R>;
 /// Gated on a step's rebuild flag (null: always) where the predictor runs the pre-pass: it then runs again only
 /// after a rebuild's reorder.
 macro_rules! prepare_entry {
-    ($name:ident, $r:ty, $d:ty, $av:literal, $as:literal) => {
-        #[unsafe(no_mangle)]
-        pub unsafe extern "ptx-kernel" fn $name(args: PrepareArgs<$r, $d>) {
+    ($sym:expr, $r:ty, $d:ty, $av:literal, $as:literal) => {
+        #[unsafe(export_name = $sym)]
+        pub unsafe extern "ptx-kernel" fn entry(args: PrepareArgs<$r, $d>) {
             let i = global_index() as usize;
             if i < args.n as usize && unsafe { super::neighbour::open(args.gate) } {
                 unsafe { args.particle::<$av, $as>(i) };
@@ -53,14 +48,14 @@ macro_rules! prepare_entry {
 /// the same walk also sums the Brookshaw conduction (sph::interact::pair_sums_heat) and writes Ṫ to `temp_t`
 /// (`heat_vol`, `temp`, `materials`, `hp` are its inputs; the plain entries ignore them).
 macro_rules! rates_entry {
-    ($name:ident, $r:ty, $d:ty, $av:literal, $as:literal, $xs:literal, $heat:literal) => {
-        #[unsafe(no_mangle)]
-        pub unsafe extern "ptx-kernel" fn $name(args: RatesArgs<$r, $d>) {
+    ($sym:expr, $r:ty, $d:ty, $av:literal, $as:literal, $xs:literal, $heat:literal) => {
+        #[unsafe(export_name = $sym)]
+        pub unsafe extern "ptx-kernel" fn entry(args: RatesArgs<$r, $d>) {
             let RatesArgs { n, lanes, reverse, params, hp, .. } = args;
             let t = ordered_index(reverse);
             let lanes = clamp_lanes(lanes);
             let (i, lane) = (t / lanes, t % lanes);
-            let a = args.arrays();
+            let a = args.arrays;
             let h = args.heat_arrays();
             let nb = unsafe { args.neighbours() };
             // Every lane takes part in the shuffles, also past the last particle.
@@ -119,9 +114,9 @@ fn shuffle_xor<T: LaneSum>(x: &T, mask: u32) -> T {
 /// holds the step's rebuild (0 otherwise; created with default 0 at each graph launch): the predictor sets it to 1
 /// where it sets the rebuild flag, so that no launch of its own has to read the flag for the node.
 macro_rules! predict_entry {
-    ($name:ident, $r:ty, $d:ty) => {
-        #[unsafe(no_mangle)]
-        pub unsafe extern "ptx-kernel" fn $name(args: PredictArgs<$r, $d>) {
+    ($sym:expr, $r:ty, $d:ty) => {
+        #[unsafe(export_name = $sym)]
+        pub unsafe extern "ptx-kernel" fn entry(args: PredictArgs<$r, $d>) {
             let i = global_index();
             if i < args.n {
                 let (scalars, condition) = (args.scalars, args.condition);
@@ -149,9 +144,9 @@ macro_rules! predict_entry {
 
 /// The fused corrector (sph::step::correct_particle) of an elastic run.
 macro_rules! finish_entry {
-    ($name:ident, $r:ty, $d:ty) => {
-        #[unsafe(no_mangle)]
-        pub unsafe extern "ptx-kernel" fn $name(args: FinishArgs<$r, $d>) {
+    ($sym:expr, $r:ty, $d:ty) => {
+        #[unsafe(export_name = $sym)]
+        pub unsafe extern "ptx-kernel" fn entry(args: FinishArgs<$r, $d>) {
             let i = global_index();
             if i < args.n {
                 unsafe { args.particle(i as usize) };
@@ -167,9 +162,9 @@ macro_rules! finish_entry {
 /// (contact::penalty::contact_particle: it reads only the particle's own corrected state, its temperature and
 /// yield stress after the plastic update), so that the step needs no launch of its own for it.
 macro_rules! finish_plastic_entry {
-    ($name:ident, $sym:expr, $m:ty, $r:ty, $d:ty) => {
+    ($sym:expr, $m:ty, $r:ty, $d:ty) => {
         #[unsafe(export_name = $sym)]
-        pub unsafe extern "ptx-kernel" fn $name(args: FinishPlasticArgs<$r, $d, $m>) {
+        pub unsafe extern "ptx-kernel" fn entry(args: FinishPlasticArgs<$r, $d, $m>) {
             let i = ordered_index(args.reverse);
             if i < args.n {
                 // The model alone goes to the flow-stress functions (a local copy, as the by-value parameter was).
@@ -180,100 +175,11 @@ macro_rules! finish_plastic_entry {
     };
 }
 
-prepare_entry!(swarf_sph_prepare_2d_f32_v0s0, f32, Dim2, false, false);
-prepare_entry!(swarf_sph_prepare_2d_f32_v0s1, f32, Dim2, false, true);
-prepare_entry!(swarf_sph_prepare_2d_f32_v1s0, f32, Dim2, true, false);
-prepare_entry!(swarf_sph_prepare_2d_f32_v1s1, f32, Dim2, true, true);
-rates_entry!(swarf_sph_rates_2d_f32_v0s0x0, f32, Dim2, false, false, false, false);
-rates_entry!(swarf_sph_rates_heat_2d_f32_v0s0x0, f32, Dim2, false, false, false, true);
-rates_entry!(swarf_sph_rates_2d_f32_v0s0x1, f32, Dim2, false, false, true, false);
-rates_entry!(swarf_sph_rates_heat_2d_f32_v0s0x1, f32, Dim2, false, false, true, true);
-rates_entry!(swarf_sph_rates_2d_f32_v0s1x0, f32, Dim2, false, true, false, false);
-rates_entry!(swarf_sph_rates_heat_2d_f32_v0s1x0, f32, Dim2, false, true, false, true);
-rates_entry!(swarf_sph_rates_2d_f32_v0s1x1, f32, Dim2, false, true, true, false);
-rates_entry!(swarf_sph_rates_heat_2d_f32_v0s1x1, f32, Dim2, false, true, true, true);
-rates_entry!(swarf_sph_rates_2d_f32_v1s0x0, f32, Dim2, true, false, false, false);
-rates_entry!(swarf_sph_rates_heat_2d_f32_v1s0x0, f32, Dim2, true, false, false, true);
-rates_entry!(swarf_sph_rates_2d_f32_v1s0x1, f32, Dim2, true, false, true, false);
-rates_entry!(swarf_sph_rates_heat_2d_f32_v1s0x1, f32, Dim2, true, false, true, true);
-rates_entry!(swarf_sph_rates_2d_f32_v1s1x0, f32, Dim2, true, true, false, false);
-rates_entry!(swarf_sph_rates_heat_2d_f32_v1s1x0, f32, Dim2, true, true, false, true);
-rates_entry!(swarf_sph_rates_2d_f32_v1s1x1, f32, Dim2, true, true, true, false);
-rates_entry!(swarf_sph_rates_heat_2d_f32_v1s1x1, f32, Dim2, true, true, true, true);
-predict_entry!(swarf_step_predict_2d_f32, f32, Dim2);
-finish_entry!(swarf_step_finish_2d_f32, f32, Dim2);
-prepare_entry!(swarf_sph_prepare_2d_f64_v0s0, f64, Dim2, false, false);
-prepare_entry!(swarf_sph_prepare_2d_f64_v0s1, f64, Dim2, false, true);
-prepare_entry!(swarf_sph_prepare_2d_f64_v1s0, f64, Dim2, true, false);
-prepare_entry!(swarf_sph_prepare_2d_f64_v1s1, f64, Dim2, true, true);
-rates_entry!(swarf_sph_rates_2d_f64_v0s0x0, f64, Dim2, false, false, false, false);
-rates_entry!(swarf_sph_rates_heat_2d_f64_v0s0x0, f64, Dim2, false, false, false, true);
-rates_entry!(swarf_sph_rates_2d_f64_v0s0x1, f64, Dim2, false, false, true, false);
-rates_entry!(swarf_sph_rates_heat_2d_f64_v0s0x1, f64, Dim2, false, false, true, true);
-rates_entry!(swarf_sph_rates_2d_f64_v0s1x0, f64, Dim2, false, true, false, false);
-rates_entry!(swarf_sph_rates_heat_2d_f64_v0s1x0, f64, Dim2, false, true, false, true);
-rates_entry!(swarf_sph_rates_2d_f64_v0s1x1, f64, Dim2, false, true, true, false);
-rates_entry!(swarf_sph_rates_heat_2d_f64_v0s1x1, f64, Dim2, false, true, true, true);
-rates_entry!(swarf_sph_rates_2d_f64_v1s0x0, f64, Dim2, true, false, false, false);
-rates_entry!(swarf_sph_rates_heat_2d_f64_v1s0x0, f64, Dim2, true, false, false, true);
-rates_entry!(swarf_sph_rates_2d_f64_v1s0x1, f64, Dim2, true, false, true, false);
-rates_entry!(swarf_sph_rates_heat_2d_f64_v1s0x1, f64, Dim2, true, false, true, true);
-rates_entry!(swarf_sph_rates_2d_f64_v1s1x0, f64, Dim2, true, true, false, false);
-rates_entry!(swarf_sph_rates_heat_2d_f64_v1s1x0, f64, Dim2, true, true, false, true);
-rates_entry!(swarf_sph_rates_2d_f64_v1s1x1, f64, Dim2, true, true, true, false);
-rates_entry!(swarf_sph_rates_heat_2d_f64_v1s1x1, f64, Dim2, true, true, true, true);
-predict_entry!(swarf_step_predict_2d_f64, f64, Dim2);
-finish_entry!(swarf_step_finish_2d_f64, f64, Dim2);
-prepare_entry!(swarf_sph_prepare_3d_f32_v0s0, f32, Dim3, false, false);
-prepare_entry!(swarf_sph_prepare_3d_f32_v0s1, f32, Dim3, false, true);
-prepare_entry!(swarf_sph_prepare_3d_f32_v1s0, f32, Dim3, true, false);
-prepare_entry!(swarf_sph_prepare_3d_f32_v1s1, f32, Dim3, true, true);
-rates_entry!(swarf_sph_rates_3d_f32_v0s0x0, f32, Dim3, false, false, false, false);
-rates_entry!(swarf_sph_rates_heat_3d_f32_v0s0x0, f32, Dim3, false, false, false, true);
-rates_entry!(swarf_sph_rates_3d_f32_v0s0x1, f32, Dim3, false, false, true, false);
-rates_entry!(swarf_sph_rates_heat_3d_f32_v0s0x1, f32, Dim3, false, false, true, true);
-rates_entry!(swarf_sph_rates_3d_f32_v0s1x0, f32, Dim3, false, true, false, false);
-rates_entry!(swarf_sph_rates_heat_3d_f32_v0s1x0, f32, Dim3, false, true, false, true);
-rates_entry!(swarf_sph_rates_3d_f32_v0s1x1, f32, Dim3, false, true, true, false);
-rates_entry!(swarf_sph_rates_heat_3d_f32_v0s1x1, f32, Dim3, false, true, true, true);
-rates_entry!(swarf_sph_rates_3d_f32_v1s0x0, f32, Dim3, true, false, false, false);
-rates_entry!(swarf_sph_rates_heat_3d_f32_v1s0x0, f32, Dim3, true, false, false, true);
-rates_entry!(swarf_sph_rates_3d_f32_v1s0x1, f32, Dim3, true, false, true, false);
-rates_entry!(swarf_sph_rates_heat_3d_f32_v1s0x1, f32, Dim3, true, false, true, true);
-rates_entry!(swarf_sph_rates_3d_f32_v1s1x0, f32, Dim3, true, true, false, false);
-rates_entry!(swarf_sph_rates_heat_3d_f32_v1s1x0, f32, Dim3, true, true, false, true);
-rates_entry!(swarf_sph_rates_3d_f32_v1s1x1, f32, Dim3, true, true, true, false);
-rates_entry!(swarf_sph_rates_heat_3d_f32_v1s1x1, f32, Dim3, true, true, true, true);
-predict_entry!(swarf_step_predict_3d_f32, f32, Dim3);
-finish_entry!(swarf_step_finish_3d_f32, f32, Dim3);
-prepare_entry!(swarf_sph_prepare_3d_f64_v0s0, f64, Dim3, false, false);
-prepare_entry!(swarf_sph_prepare_3d_f64_v0s1, f64, Dim3, false, true);
-prepare_entry!(swarf_sph_prepare_3d_f64_v1s0, f64, Dim3, true, false);
-prepare_entry!(swarf_sph_prepare_3d_f64_v1s1, f64, Dim3, true, true);
-rates_entry!(swarf_sph_rates_3d_f64_v0s0x0, f64, Dim3, false, false, false, false);
-rates_entry!(swarf_sph_rates_heat_3d_f64_v0s0x0, f64, Dim3, false, false, false, true);
-rates_entry!(swarf_sph_rates_3d_f64_v0s0x1, f64, Dim3, false, false, true, false);
-rates_entry!(swarf_sph_rates_heat_3d_f64_v0s0x1, f64, Dim3, false, false, true, true);
-rates_entry!(swarf_sph_rates_3d_f64_v0s1x0, f64, Dim3, false, true, false, false);
-rates_entry!(swarf_sph_rates_heat_3d_f64_v0s1x0, f64, Dim3, false, true, false, true);
-rates_entry!(swarf_sph_rates_3d_f64_v0s1x1, f64, Dim3, false, true, true, false);
-rates_entry!(swarf_sph_rates_heat_3d_f64_v0s1x1, f64, Dim3, false, true, true, true);
-rates_entry!(swarf_sph_rates_3d_f64_v1s0x0, f64, Dim3, true, false, false, false);
-rates_entry!(swarf_sph_rates_heat_3d_f64_v1s0x0, f64, Dim3, true, false, false, true);
-rates_entry!(swarf_sph_rates_3d_f64_v1s0x1, f64, Dim3, true, false, true, false);
-rates_entry!(swarf_sph_rates_heat_3d_f64_v1s0x1, f64, Dim3, true, false, true, true);
-rates_entry!(swarf_sph_rates_3d_f64_v1s1x0, f64, Dim3, true, true, false, false);
-rates_entry!(swarf_sph_rates_heat_3d_f64_v1s1x0, f64, Dim3, true, true, false, true);
-rates_entry!(swarf_sph_rates_3d_f64_v1s1x1, f64, Dim3, true, true, true, false);
-rates_entry!(swarf_sph_rates_heat_3d_f64_v1s1x1, f64, Dim3, true, true, true, true);
-predict_entry!(swarf_step_predict_3d_f64, f64, Dim3);
-finish_entry!(swarf_step_finish_3d_f64, f64, Dim3);
-
 /// Conduction: temp_t[i] = Ṫ_i (sph::heat::heat_rate), Brookshaw or PSE (PSE with a null `list`).
 macro_rules! heat_entry {
-    ($name:ident, $r:ty, $d:ty, $pse:literal) => {
-        #[unsafe(no_mangle)]
-        pub unsafe extern "ptx-kernel" fn $name(args: HeatArgs<$r, $d>) {
+    ($sym:expr, $r:ty, $d:ty, $pse:literal) => {
+        #[unsafe(export_name = $sym)]
+        pub unsafe extern "ptx-kernel" fn entry(args: HeatArgs<$r, $d>) {
             let t = global_index();
             let lanes = clamp_lanes(args.lanes);
             let (i, lane) = (t / lanes, t % lanes);
@@ -296,21 +202,12 @@ macro_rules! heat_entry {
     };
 }
 
-heat_entry!(swarf_heat_brookshaw_2d_f32, f32, Dim2, false);
-heat_entry!(swarf_heat_brookshaw_2d_f64, f64, Dim2, false);
-heat_entry!(swarf_heat_brookshaw_3d_f32, f32, Dim3, false);
-heat_entry!(swarf_heat_brookshaw_3d_f64, f64, Dim3, false);
-heat_entry!(swarf_heat_pse_2d_f32, f32, Dim2, true);
-heat_entry!(swarf_heat_pse_2d_f64, f64, Dim2, true);
-heat_entry!(swarf_heat_pse_3d_f32, f32, Dim3, true);
-heat_entry!(swarf_heat_pse_3d_f64, f64, Dim3, true);
-
 /// The plastic update (radial return + heating) of every particle, one entry per flow-stress model (its parameters
 /// by value, as in finish_plastic_entry).
 macro_rules! plastic_entry {
-    ($name:ident, $sym:expr, $m:ty, $r:ty, $d:ty) => {
+    ($sym:expr, $m:ty, $r:ty, $d:ty) => {
         #[unsafe(export_name = $sym)]
-        pub unsafe extern "ptx-kernel" fn $name(args: PlasticArgs<$r, $d, $m>) {
+        pub unsafe extern "ptx-kernel" fn entry(args: PlasticArgs<$r, $d, $m>) {
             let i = global_index() as usize;
             if i < args.n as usize {
                 // The model alone goes to the flow-stress functions (a local copy, as the by-value parameter was).
@@ -321,33 +218,11 @@ macro_rules! plastic_entry {
     };
 }
 
-/// Each flow-stress model's plastic pass and plastic corrector in every dimension and precision, named
-/// `swarf_plastic_<tag>_<variant>` and `swarf_step_finish_<tag>_<variant>` (the model list: pass::models).
-macro_rules! flow_model_entries {
-    ($(($t:ident, $tag:ident)),* $(,)?) => {
-        $(
-            mod $tag {
-                use super::*;
-                plastic_entry!(plastic_2d_f32, concat!("swarf_plastic_", stringify!($tag), "_2d_f32"), crate::material::$t, f32, Dim2);
-                plastic_entry!(plastic_2d_f64, concat!("swarf_plastic_", stringify!($tag), "_2d_f64"), crate::material::$t, f64, Dim2);
-                plastic_entry!(plastic_3d_f32, concat!("swarf_plastic_", stringify!($tag), "_3d_f32"), crate::material::$t, f32, Dim3);
-                plastic_entry!(plastic_3d_f64, concat!("swarf_plastic_", stringify!($tag), "_3d_f64"), crate::material::$t, f64, Dim3);
-                finish_plastic_entry!(finish_2d_f32, concat!("swarf_step_finish_", stringify!($tag), "_2d_f32"), crate::material::$t, f32, Dim2);
-                finish_plastic_entry!(finish_2d_f64, concat!("swarf_step_finish_", stringify!($tag), "_2d_f64"), crate::material::$t, f64, Dim2);
-                finish_plastic_entry!(finish_3d_f32, concat!("swarf_step_finish_", stringify!($tag), "_3d_f32"), crate::material::$t, f32, Dim3);
-                finish_plastic_entry!(finish_3d_f64, concat!("swarf_step_finish_", stringify!($tag), "_3d_f64"), crate::material::$t, f64, Dim3);
-            }
-        )*
-    };
-}
-
-crate::for_each_flow_model!(flow_model_entries);
-
 /// The contact pass with the rigid 2D tool (contact::penalty::contact_particle).
 macro_rules! contact_entry {
-    ($name:ident, $r:ty) => {
-        #[unsafe(no_mangle)]
-        pub unsafe extern "ptx-kernel" fn $name(args: ContactArgs<$r, Dim2>) {
+    ($sym:expr, $r:ty) => {
+        #[unsafe(export_name = $sym)]
+        pub unsafe extern "ptx-kernel" fn entry(args: ContactArgs<$r, Dim2>) {
             let i = global_index() as usize;
             if i < args.n as usize {
                 unsafe { args.particle(i) };
@@ -356,5 +231,55 @@ macro_rules! contact_entry {
     };
 }
 
-contact_entry!(swarf_contact_2d_f32, f32);
-contact_entry!(swarf_contact_2d_f64, f64);
+/// The SPH entries of the pass table (pass::table), each in its own anonymous scope: its exported name is the
+/// table's.
+macro_rules! sph_entry {
+    (density, $sym:expr, $r:ident, $d:ident) => {
+        const _: () = {
+            density_entry!($sym, $r, $d);
+        };
+    };
+    (predict, $sym:expr, $r:ident, $d:ident) => {
+        const _: () = {
+            predict_entry!($sym, $r, $d);
+        };
+    };
+    (finish, $sym:expr, $r:ident, $d:ident) => {
+        const _: () = {
+            finish_entry!($sym, $r, $d);
+        };
+    };
+    (contact, $sym:expr, $r:ident, $d:ident) => {
+        const _: () = {
+            contact_entry!($sym, $r);
+        };
+    };
+    (heat, $sym:expr, $r:ident, $d:ident, $pse:literal) => {
+        const _: () = {
+            heat_entry!($sym, $r, $d, $pse);
+        };
+    };
+    (prepare, $sym:expr, $r:ident, $d:ident, $av:literal, $as:literal) => {
+        const _: () = {
+            prepare_entry!($sym, $r, $d, $av, $as);
+        };
+    };
+    (rates, $sym:expr, $r:ident, $d:ident, $av:literal, $as:literal, $xs:literal, $heat:literal) => {
+        const _: () = {
+            rates_entry!($sym, $r, $d, $av, $as, $xs, $heat);
+        };
+    };
+    (plastic, $sym:expr, $r:ident, $d:ident, $t:ident, $tag:ident) => {
+        const _: () = {
+            plastic_entry!($sym, crate::material::$t, $r, $d);
+        };
+    };
+    (finish_plastic, $sym:expr, $r:ident, $d:ident, $t:ident, $tag:ident) => {
+        const _: () = {
+            finish_plastic_entry!($sym, crate::material::$t, $r, $d);
+        };
+    };
+    ($kind:ident, $($rest:tt)*) => {};
+}
+
+crate::for_each_entry!(sph_entry);

@@ -130,7 +130,9 @@ pub struct Rates<R: Real, D: Dim> {
     pub dissipation_t: R,
 }
 
-/// Read-only views of the sorted particle arrays (raw pointers: the same code runs on CPU and GPU).
+/// Read-only views of the sorted particle arrays (raw pointers: the same code runs on CPU and GPU). `#[repr(C)]`:
+/// embedded in `pass::RatesArgs`, whose layout is the PTX entry's parameter block.
+#[repr(C)]
 #[derive(Clone, Copy)]
 pub struct Arrays<R: Real, D: Dim> {
     pub pos: *const D::Vec<R>,

@@ -1,0 +1,116 @@
+//! The one table of passes and their variants. [`for_each_entry!`] names every PTX entry point the host loads,
+//! once, with the pass it runs and its variant: dimension × precision, the stabiliser combination, the flow
+//! model, the fused conduction. The PTX entries (`ptx::sph`, `ptx::neighbour`), the list of names the host loads
+//! and the CUDA backend's kernel slots (`host/backend/cuda.rs`) all expand from it, so a pass or a variant is
+//! added here and nowhere else is a name spelled.
+
+/// Calls `$cb!(kind, "entry_name", R, D, variant parameters...)` for every entry point the host loads, in item or
+/// statement position. The kinds and their variant parameters:
+/// - `single` (no R, D: `$cb!(single, "name", slot)`, `slot` the host's name for it): the entries without
+///   variants, written by hand in `ptx`;
+/// - `contact` (R, Dim2); `density`, `predict`, `finish`, `hash`, `hash_count`, `neighbour_list`,
+///   `verlet_build` (R, D);
+/// - `heat` (R, D, PSE); `prepare` (R, D, AV, AS); `rates` (R, D, AV, AS, XSPH, fused conduction);
+/// - `plastic`, `finish_plastic` (R, D, flow model type, its tag): one per model of [`for_each_flow_model!`].
+///
+/// `for_each_entry!(@models [tokens])` expands `tokens (Type, tag), ...` with the model list.
+#[macro_export]
+macro_rules! for_each_entry {
+    ($cb:ident) => {
+        $cb!(single, "swarf_count_cells", count_cells);
+        $cb!(single, "swarf_zero_gated", zero_gated);
+        $cb!(single, "swarf_scan_reduce", scan_reduce);
+        $cb!(single, "swarf_scan_apply", scan_apply);
+        $cb!(single, "swarf_scatter", scatter);
+        $cb!(single, "swarf_sort_cells", sort_cells);
+        $cb!(single, "swarf_gather_b4", gather_b4);
+        $cb!(single, "swarf_gather_b8", gather_b8);
+        $cb!(single, "swarf_gather_b16", gather_b16);
+        $cb!(single, "swarf_gather_fields", gather_fields);
+        $cb!(contact, "swarf_contact_2d_f32", f32, Dim2);
+        $cb!(contact, "swarf_contact_2d_f64", f64, Dim2);
+        $crate::for_each_entry!(@variant $cb, f32, Dim2, "2d_f32");
+        $crate::for_each_entry!(@variant $cb, f64, Dim2, "2d_f64");
+        $crate::for_each_entry!(@variant $cb, f32, Dim3, "3d_f32");
+        $crate::for_each_entry!(@variant $cb, f64, Dim3, "3d_f64");
+    };
+    (@variant $cb:ident, $r:ident, $d:ident, $v:literal) => {
+        $cb!(hash, concat!("swarf_hash_", $v), $r, $d);
+        $cb!(hash_count, concat!("swarf_hash_count_", $v), $r, $d);
+        $cb!(neighbour_list, concat!("swarf_neighbour_list_", $v), $r, $d);
+        $cb!(verlet_build, concat!("swarf_verlet_build_", $v), $r, $d);
+        $cb!(density, concat!("swarf_density_", $v), $r, $d);
+        $cb!(predict, concat!("swarf_step_predict_", $v), $r, $d);
+        $cb!(finish, concat!("swarf_step_finish_", $v), $r, $d);
+        $cb!(heat, concat!("swarf_heat_brookshaw_", $v), $r, $d, false);
+        $cb!(heat, concat!("swarf_heat_pse_", $v), $r, $d, true);
+        $crate::for_each_entry!(@prepare $cb, $r, $d, $v, (v0s0, false, false), (v0s1, false, true),
+            (v1s0, true, false), (v1s1, true, true));
+        $crate::for_each_entry!(@rates $cb, $r, $d, $v, (v0s0x0, false, false, false), (v0s0x1, false, false, true),
+            (v0s1x0, false, true, false), (v0s1x1, false, true, true), (v1s0x0, true, false, false),
+            (v1s0x1, true, false, true), (v1s1x0, true, true, false), (v1s1x1, true, true, true));
+        $crate::for_each_entry!(@models [@model_entries $cb, $r, $d, $v;]);
+    };
+    (@prepare $cb:ident, $r:ident, $d:ident, $v:literal, $(($s:ident, $av:literal, $as:literal)),*) => {
+        $($cb!(prepare, concat!("swarf_sph_prepare_", $v, "_", stringify!($s)), $r, $d, $av, $as);)*
+    };
+    (@rates $cb:ident, $r:ident, $d:ident, $v:literal, $(($s:ident, $av:literal, $as:literal, $xs:literal)),*) => {
+        $(
+            $cb!(rates, concat!("swarf_sph_rates_", $v, "_", stringify!($s)), $r, $d, $av, $as, $xs, false);
+            $cb!(rates, concat!("swarf_sph_rates_heat_", $v, "_", stringify!($s)), $r, $d, $av, $as, $xs, true);
+        )*
+    };
+    (@model_entries $cb:ident, $r:ident, $d:ident, $v:literal; $(($t:ident, $tag:ident)),* $(,)?) => {
+        $(
+            $cb!(plastic, concat!("swarf_plastic_", stringify!($tag), "_", $v), $r, $d, $t, $tag);
+            $cb!(finish_plastic, concat!("swarf_step_finish_", stringify!($tag), "_", $v), $r, $d, $t, $tag);
+        )*
+    };
+    // The flow-stress models the kernels are built for: the kernel type (in `crate::material`) and the tag of
+    // its entry names. Adding a model to the kernels means adding its line here (and its arm to the host's
+    // `with_model!`, host/backend/cpu.rs, which maps `FlowModel` to the kernel type).
+    (@models [$($pre:tt)*]) => {
+        $crate::for_each_entry! {
+            $($pre)*
+            (JohnsonCook, jc),
+            (Calamaz2008, calamaz_2008),
+            (Calamaz2010, calamaz_2010),
+            (Calamaz2011, calamaz_2011),
+            (SimaOzel1, sima_ozel_1),
+            (SimaOzel2, sima_ozel_2),
+            (SimaOzel3, sima_ozel_3),
+            (Scgl, scgl),
+            (Bilinear, bilinear),
+        }
+    };
+    (@call $callback:ident $($list:tt)*) => {
+        $callback! { $($list)* }
+    };
+}
+
+/// How many entry points the table names.
+pub const ENTRY_COUNT: usize = {
+    let mut i = 0;
+    macro_rules! count {
+        ($kind:ident, $name:expr $(, $rest:tt)*) => {
+            i += 1;
+        };
+    }
+    for_each_entry!(count);
+    i
+};
+
+/// Every entry point the host loads, in table order (the PTX test checks that each is present).
+pub const ENTRY_NAMES: [&str; ENTRY_COUNT] = {
+    let mut v: [&str; ENTRY_COUNT] = [""; ENTRY_COUNT];
+    let mut i = 0;
+    macro_rules! push {
+        ($kind:ident, $name:expr $(, $rest:tt)*) => {
+            v[i] = $name;
+            i += 1;
+        };
+    }
+    for_each_entry!(push);
+    let _ = i;
+    v
+};
