@@ -408,7 +408,10 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Method<B> for Solver<B, R, D> {
 
     fn output(&self, b: &B) -> Result<Output<R, D>> {
         let host = self.download(b)?;
-        let (temp, eps, rate) = self.download_internal(b)?;
+        // The registry's frame fields are the internal variables: read once, used for both.
+        let fields = self.download_frame_fields(b)?;
+        let field = |name: &str| fields.iter().find(|(n, _)| *n == name).map(|(_, v)| v.clone());
+        let (temp, eps, rate) = (field("temperature"), field("plastic_strain"), field("plastic_strain_rate"));
         let mut d = compute(&host, &self.host_params, self.time, self.steps, temp.as_deref());
         crate::solver::diagnostics::internal(&mut d, &host.id, temp.as_deref(), eps.as_deref());
         let (work, diss) = self.download_dissipated(b)?;
@@ -422,7 +425,6 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Method<B> for Solver<B, R, D> {
                 }
             }
         }
-        let fields = self.download_frame_fields(b)?;
         Ok(Output {
             diagnostics: d,
             host,
