@@ -4,7 +4,7 @@
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use std::time::Duration;
-use swarf::backend::{Backend, CpuBackend, CudaBackend};
+use swarf::backend::{Backend, CpuBackend, CudaBackend, Passes};
 use swarf::bench::jittered_lattice;
 use swarf::grid::grid_for_support;
 use swarf::kernels::sph::CubicSpline;

@@ -1,7 +1,7 @@
 //! The cell list: hash, counting sort by cell, cell starts, on any backend. The permutation it produces is the
 //! stable sort of the particles by cell key, identical on every backend (docs/neighbour-search.md).
 
-use crate::backend::{Backend, CellBuffers, ScalarsAt, scan_levels};
+use crate::backend::{Backend, CellBuffers, Passes, ScalarsAt, scan_levels};
 use crate::kernels::neighbour::GridParams;
 use crate::kernels::{Dim, Real};
 use crate::{Error, Result};
@@ -62,30 +62,25 @@ impl<B: Backend> CellList<B> {
     /// Hashes `pos`, sorts by cell and fills `starts` and `perm`. The caller then reorders every particle field
     /// through `perm` (`state::Particles::reorder`).
     pub fn build<R: Real, D: Dim>(&mut self, b: &B, pos: &B::Buf<D::Vec<R>>) -> Result<()> {
-        let n = self.n;
-        self.begin(b)?;
-        b.hash::<R, D>(n, pos, &self.grid_buf, &mut self.keys)?;
-        b.count_cells(n, &self.keys, &mut self.starts, &mut self.slots)?;
-        self.finish(b)
+        self.bin::<R, D>(b, pos, None)
     }
 
-    /// Zeroes the cell counts before a counting pass.
-    fn begin(&mut self, b: &B) -> Result<()> {
-        b.fill_zero(&mut self.starts, self.grid.n_cells as usize + 2)
+    /// The counting sort of [`CellList::build`] and [`CellList::rebuild`] (gated, and counted in `rebuilds`).
+    fn bin<R: Real, D: Dim>(&mut self, b: &B, pos: &B::Buf<D::Vec<R>>, gate: Option<ScalarsAt<'_, B>>) -> Result<()> {
+        let counted = gate.is_some();
+        let cells = CellBuffers {
+            grid: &self.grid_buf,
+            n_buckets: self.grid.n_cells as usize + 1,
+            keys: &mut self.keys,
+            slots: &mut self.slots,
+            starts: &mut self.starts,
+            perm: &mut self.perm,
+            scan: &mut self.scan,
+            rebuilds: counted.then_some(&mut self.rebuilds),
+        };
+        b.bin_cells::<R, D>(self.n, gate, pos, cells)
     }
 
-    /// Completes the build after the counting pass: prefix sum of the counts, scatter, per-cell sort.
-    fn finish(&mut self, b: &B) -> Result<()> {
-        let n = self.n;
-        let n_buckets = self.grid.n_cells as usize + 1;
-        b.exclusive_scan(n_buckets + 1, &mut self.starts, &mut self.scan)?;
-        b.scatter(n, &self.keys, &self.slots, &self.starts, &mut self.perm)?;
-        b.sort_cells(n_buckets, &self.starts, &mut self.perm)
-    }
-
-    /// The build of [`CellList::build`] inside the step loop, run only when the step's rebuild flag `gate` is set
-    /// (by the host, or by the predictor's skin test); every launch is submitted either way, so that a captured
-    /// step replays with each step's decision.
     /// Builds the Verlet list (when there is one) of the sorted particles at `pos` on these cells: after the
     /// reorder of a rebuild (`gate`: only when the step rebuilds), or after [`CellList::build`] on positions
     /// already in its order (no gate).
@@ -101,18 +96,11 @@ impl<B: Backend> CellList<B> {
         }
     }
 
+    /// The build of [`CellList::build`] inside the step loop, run only when the step's rebuild flag `gate` is set
+    /// (by the host, or by the predictor's skin test); every launch is submitted either way, so that a captured
+    /// step replays with each step's decision.
     pub fn rebuild<R: Real, D: Dim>(&mut self, b: &B, pos: &B::Buf<D::Vec<R>>, gate: ScalarsAt<'_, B>) -> Result<()> {
-        let cells = CellBuffers {
-            grid: &self.grid_buf,
-            n_buckets: self.grid.n_cells as usize + 1,
-            keys: &mut self.keys,
-            slots: &mut self.slots,
-            starts: &mut self.starts,
-            perm: &mut self.perm,
-            scan: &mut self.scan,
-            rebuilds: &mut self.rebuilds,
-        };
-        b.rebuild_cells::<R, D>(self.n, gate, pos, cells)
+        self.bin::<R, D>(b, pos, Some(gate))
     }
 }
 

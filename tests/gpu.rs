@@ -7,7 +7,7 @@
 mod common;
 
 use common::*;
-use swarf::backend::{Backend, CpuBackend, CudaBackend};
+use swarf::backend::{Backend, CpuBackend, CudaBackend, Passes};
 use swarf::grid::{bounding_box, grid_for_support};
 use swarf::kernels::sph::CubicSpline;
 use swarf::kernels::{Dim, Dim2, Dim3, Real};
@@ -87,7 +87,8 @@ impl<R: Real, D: Dim, B: Backend> DensityRunner<R, D> for &B {
         let kb = b.upload(k, "kernel").expect("upload");
         let mut rho = b.alloc::<R>(n, "rho").expect("alloc");
         // Already sorted: the permutation is the identity, so pos and mass are used as they are.
-        b.density::<R, D>(n, &p.pos.cur, &p.mass.cur, &cl.grid_buf, &cl.starts, &kb, &mut rho).expect("density");
+        Passes::density::<R, D>(b, n, &p.pos.cur, &p.mass.cur, &cl.grid_buf, &cl.starts, &kb, &mut rho)
+            .expect("density");
         b.read(&rho).expect("read")
     }
 }

@@ -1,7 +1,7 @@
 //! Heat conduction against lattice values and analytical solutions (roethlin-solver.md §3.4, AT-10, AT-11,
 //! AT-120; klippel-constitutive.md §8 H12), through the backend's conduction kernel (the one the solver runs).
 
-use swarf::backend::{Backend, CpuBackend, HeatInputs};
+use swarf::backend::{CpuBackend, HeatInputs, Passes};
 use swarf::grid::grid_with_cell;
 use swarf::kernels::neighbour::GridParams;
 use swarf::kernels::sph::heat::{HeatParams, ThermalMaterial};

@@ -152,9 +152,9 @@ fn entry_params(ptx: &str) -> Vec<(String, Vec<(usize, usize)>)> {
 fn argument_structs_match_the_entries_parameter_blocks() {
     use swarf::kernels::material::*;
     use swarf::kernels::pass::{
-        ContactArgs, CountArgs, DensityArgs, FinishArgs, FinishPlasticArgs, GatherArgs, GatherFieldsArgs, HashArgs,
-        HashCountArgs, HeatArgs, NeighbourListArgs, PlasticArgs, PredictArgs, PrepareArgs, RatesArgs, ScanApplyArgs,
-        ScanReduceArgs, ScatterArgs, SortArgs, VerletArgs, ZeroArgs,
+        ContactArgs, DensityArgs, FinishArgs, FinishPlasticArgs, GatherArgs, GatherFieldsArgs, HashArgs, HashCountArgs,
+        HeatArgs, NeighbourListArgs, PlasticArgs, PredictArgs, PrepareArgs, RatesArgs, ScanApplyArgs, ScanReduceArgs,
+        ScatterArgs, SortArgs, VerletArgs, ZeroArgs,
     };
     use swarf::kernels::{Dim2, Dim3};
     fn block<T>() -> Vec<(usize, usize)> {
@@ -194,7 +194,6 @@ fn argument_structs_match_the_entries_parameter_blocks() {
         // The entries without a dimension × precision variant.
         match name {
             "swarf_zero_gated" => return Some(block::<ZeroArgs>()),
-            "swarf_count_cells" => return Some(block::<CountArgs>()),
             "swarf_scatter" => return Some(block::<ScatterArgs>()),
             "swarf_sort_cells" => return Some(block::<SortArgs>()),
             "swarf_gather_b4" | "swarf_gather_b8" | "swarf_gather_b16" => return Some(block::<GatherArgs<u32>>()),
@@ -248,10 +247,10 @@ fn argument_structs_match_the_entries_parameter_blocks() {
         assert_eq!(checked, loaded.len(), "{target}: every loaded entry checked");
         // 4 variants × (8 stabiliser combinations × plain and fused + the elastic corrector + one plastic
         // corrector and one plastic pass per flow-stress model + density, 4 pre-passes, the predictor, 2
-        // conductions + hash, hash-count, neighbour list, Verlet list) + the 2D contact in 2 precisions + 10
-        // neighbour entries without variants (zero, count, scatter, sort, 3 gathers, gather_fields, 2 scans).
+        // conductions + hash, hash-count, neighbour list, Verlet list) + the 2D contact in 2 precisions + 9
+        // neighbour entries without variants (zero, scatter, sort, 3 gathers, gather_fields, 2 scans).
         let models = swarf::kernels::pass::FLOW_MODEL_TAGS.len();
-        assert_eq!(checked, 4 * (16 + 1 + 2 * models + 8 + 4) + 2 + 10, "{target}: entries checked");
+        assert_eq!(checked, 4 * (16 + 1 + 2 * models + 8 + 4) + 2 + 9, "{target}: entries checked");
     }
 }
 
@@ -305,4 +304,88 @@ fn per_entry_modules_keep_every_entry_and_shared_item() {
             }
         }
     }
+}
+
+/// Every pass's marker type (`kernels::pass::Pass`) names the table entry of its own kind and variant: for each
+/// entry of the table with a pass, `ENTRY` is the entry's position, and the pass's argument struct is the one the
+/// entry takes (the same size and alignment as checked against the PTX above). The launch on both backends
+/// goes through `ENTRY`, so a wrong key would run another variant on the GPU than its twin on the CPU.
+#[test]
+fn every_pass_names_its_own_entry() {
+    use swarf::kernels::pass::*;
+    use swarf::kernels::{Dim2, Dim3};
+    let mut position = 0usize;
+    let mut passes = 0usize;
+    macro_rules! check {
+        ($p:ty, $name:expr) => {{
+            assert_eq!(
+                <$p as Pass>::ENTRY,
+                position,
+                "{}: the pass names entry {}",
+                $name,
+                ENTRY_NAMES[<$p as Pass>::ENTRY]
+            );
+            passes += 1;
+        }};
+    }
+    macro_rules! entry {
+        (single, $name:expr, $slot:ident) => {
+            position += 1;
+        };
+        (hash_count, $name:expr, $r:ident, $d:ident) => {
+            position += 1;
+        };
+        (hash, $name:expr, $r:ident, $d:ident) => {
+            check!(Hash<$r, $d>, $name);
+            position += 1;
+        };
+        (neighbour_list, $name:expr, $r:ident, $d:ident) => {
+            check!(NeighbourList<$r, $d>, $name);
+            position += 1;
+        };
+        (verlet_build, $name:expr, $r:ident, $d:ident) => {
+            check!(Verlet<$r, $d>, $name);
+            position += 1;
+        };
+        (density, $name:expr, $r:ident, $d:ident) => {
+            check!(Density<$r, $d>, $name);
+            position += 1;
+        };
+        (predict, $name:expr, $r:ident, $d:ident) => {
+            check!(Predict<$r, $d>, $name);
+            position += 1;
+        };
+        (finish, $name:expr, $r:ident, $d:ident) => {
+            check!(Finish<$r, $d>, $name);
+            position += 1;
+        };
+        (contact, $name:expr, $r:ident, $d:ident) => {
+            check!(Contact<$r>, $name);
+            position += 1;
+        };
+        (heat, $name:expr, $r:ident, $d:ident, $pse:literal) => {
+            check!(Heat<$r, $d, $pse>, $name);
+            position += 1;
+        };
+        (prepare, $name:expr, $r:ident, $d:ident, $av:literal, $as:literal) => {
+            check!(Prepare<$r, $d, $av, $as>, $name);
+            position += 1;
+        };
+        (rates, $name:expr, $r:ident, $d:ident, $av:literal, $as:literal, $xs:literal, $heat:literal) => {
+            check!(RatesPass<$r, $d, $av, $as, $xs, $heat>, $name);
+            position += 1;
+        };
+        (plastic, $name:expr, $r:ident, $d:ident, $t:ident, $tag:ident) => {
+            check!(Plastic<$r, $d, swarf::kernels::material::$t>, $name);
+            position += 1;
+        };
+        (finish_plastic, $name:expr, $r:ident, $d:ident, $t:ident, $tag:ident) => {
+            check!(FinishPlastic<$r, $d, swarf::kernels::material::$t>, $name);
+            position += 1;
+        };
+    }
+    swarf::kernels::for_each_entry!(entry);
+    assert_eq!(position, ENTRY_COUNT);
+    // Every entry but the 9 without variants and the 4 fused hash-counts of the backend's own counting sort.
+    assert_eq!(passes, ENTRY_COUNT - 9 - 4);
 }

@@ -94,12 +94,12 @@ fn gradient_over_r_matches_the_division() {
     }
 }
 
-/// The SPH pre-pass (`sph::interact::prepare` through `Backend::sph_prepare`): the per-particle volume V = m/ρ that
+/// The SPH pre-pass (`sph::interact::prepare` through `Passes::sph_prepare`): the per-particle volume V = m/ρ that
 /// the pair terms read instead of dividing per pair is written exactly (the same IEEE division), with every
 /// stabiliser combination, in f64 and f32, 2D and 3D.
 mod pre_pass {
 
-    use swarf::backend::{Backend, CpuBackend};
+    use swarf::backend::{CpuBackend, Passes};
     use swarf::kernels::sph::{CubicSpline, SphParams, Stabilisers, TensorOps};
     use swarf::kernels::{Dim2, Dim3, Real};
     use swarf::rng::SplitMix64;

@@ -10,15 +10,15 @@ use super::{
 use crate::kernels::contact::{ContactParams, Tool2d};
 use crate::kernels::neighbour::GridParams;
 use crate::kernels::pass::{
-    ContactArgs, DensityArgs, FinishArgs, FinishPlasticArgs, HeatArgs, PlasticArgs, PredictArgs, PrepareArgs,
-    RatesArgs, StepPtrs,
+    ContactArgs, DensityArgs, FinishArgs, FinishPlasticArgs, HashArgs, HeatArgs, NeighbourListArgs, PlasticArgs,
+    PredictArgs, PrepareArgs, RatesArgs, StepPtrs, VerletArgs,
 };
 use crate::kernels::sph::heat::HeatParams;
 use crate::kernels::sph::interact::Arrays;
 use crate::kernels::sph::plastic::PlasticConsts;
 use crate::kernels::sph::step::StepScalars;
 use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers};
-use crate::kernels::{Dim, Real};
+use crate::kernels::{Dim, Dim2, Real};
 use crate::{Error, Result};
 
 /// An error unless a buffer of `len` elements holds the `n` a pass reads or writes.
@@ -53,14 +53,13 @@ fn output_opt<B: Backend, T: Element>(
     buf.map_or(Ok(std::ptr::null_mut()), |buf| output(b, what, n, buf))
 }
 
-/// The pair interaction's arguments ([`Backend::sph_rates`]); `reverse` is the GPU's block order. The stabilisers'
+/// The pair interaction's arguments ([`super::Passes::sph_rates`]). The stabilisers'
 /// buffers must be given where they are on (and are passed as null where off).
 #[allow(clippy::too_many_arguments)]
 pub fn rates_args<B: Backend, R: Real, D: Dim>(
     b: &B,
     n: usize,
     lanes: u32,
-    reverse: u32,
     stab: Stabilisers,
     params: &SphParams<R>,
     grid: &B::Buf<GridParams>,
@@ -94,7 +93,8 @@ pub fn rates_args<B: Backend, R: Real, D: Dim>(
             got: n,
         })?,
         lanes,
-        reverse,
+        // The GPU backend sets the block order at the launch (`Pass::order`).
+        reverse: 0,
         params: *params,
         hp,
         grid: input(b, "sph_rates grid", 1, grid)?,
@@ -179,7 +179,7 @@ pub fn step_ptrs<B: Backend, R: Real, D: Dim>(b: &B, n: usize, f: StepFields<'_,
     })
 }
 
-/// The corrector's arguments ([`Backend::step_finish`] without plasticity).
+/// The corrector's arguments ([`super::Passes::step_finish`] without plasticity).
 pub fn finish_args<B: Backend, R: Real, D: Dim>(
     b: &B,
     n: usize,
@@ -190,12 +190,11 @@ pub fn finish_args<B: Backend, R: Real, D: Dim>(
 }
 
 /// The arguments of the corrector with the plastic update of `model` (the kernel type of `p.model`) and, with
-/// `contact`, the tool's contact pass ([`Backend::step_finish`]).
+/// `contact`, the tool's contact pass ([`super::Passes::step_finish`]).
 #[allow(clippy::too_many_arguments)]
 pub fn finish_plastic_args<B: Backend, R: Real, D: Dim, M>(
     b: &B,
     n: usize,
-    reverse: u32,
     s: &ScalarsAt<'_, B>,
     f: StepFields<'_, B, R, D>,
     p: PlasticPass<'_, B>,
@@ -211,7 +210,7 @@ pub fn finish_plastic_args<B: Backend, R: Real, D: Dim, M>(
     let yield_stress = output_opt(b, "yield_stress", n, p.yield_stress)?;
     let mut a = FinishPlasticArgs {
         n: count(n)?,
-        reverse,
+        reverse: 0,
         scalars: scalars_ptr(b, s)?,
         model,
         shear: p.shear,
@@ -265,7 +264,7 @@ pub fn gate_ptr<B: Backend>(b: &B, s: Option<&ScalarsAt<'_, B>>) -> Result<*cons
     Ok(at.wrapping_add(std::mem::offset_of!(StepScalars, rebuild)) as *const u32)
 }
 
-/// The density sum's arguments ([`Backend::density`]).
+/// The density sum's arguments ([`super::Passes::density`]).
 #[allow(clippy::too_many_arguments)]
 pub fn density_args<B: Backend, R: Real, D: Dim>(
     b: &B,
@@ -288,7 +287,7 @@ pub fn density_args<B: Backend, R: Real, D: Dim>(
     })
 }
 
-/// The pre-pass's buffers ([`Backend::sph_prepare`]).
+/// The pre-pass's buffers ([`super::Passes::sph_prepare`]).
 pub struct PrepareBufs<'a, B: Backend, R: Real, D: Dim> {
     pub params: &'a B::Buf<SphParams<R>>,
     pub rho: &'a B::Buf<R>,
@@ -347,7 +346,7 @@ fn stabiliser_outputs<B: Backend, R: Real, S: Element>(
     Ok((art, sound))
 }
 
-/// The conduction's arguments ([`Backend::heat_rates`]); PSE reaches beyond a Verlet list, so it takes none.
+/// The conduction's arguments ([`super::Passes::heat_rates`]); PSE reaches beyond a Verlet list, so it takes none.
 #[allow(clippy::too_many_arguments)]
 pub fn heat_args<B: Backend, R: Real, D: Dim>(
     b: &B,
@@ -383,7 +382,7 @@ pub fn heat_args<B: Backend, R: Real, D: Dim>(
     })
 }
 
-/// The predictor's arguments ([`Backend::step_predict`]), with the fused pre-pass where `prepare` is given.
+/// The predictor's arguments ([`super::Passes::step_predict`]), with the fused pre-pass where `prepare` is given.
 pub fn predict_args<B: Backend, R: Real, D: Dim>(
     b: &B,
     n: usize,
@@ -422,7 +421,7 @@ pub fn predict_args<B: Backend, R: Real, D: Dim>(
     Ok(a)
 }
 
-/// The standalone plastic update's arguments ([`Backend::plastic_step`]) for `model` (the kernel type of the
+/// The standalone plastic update's arguments ([`super::Passes::plastic_step`]) for `model` (the kernel type of the
 /// host's `FlowModel`).
 pub fn plastic_args<B: Backend, R: Real, D: Dim, M>(
     b: &B,
@@ -450,7 +449,8 @@ pub fn plastic_args<B: Backend, R: Real, D: Dim, M>(
     })
 }
 
-/// The standalone contact pass's arguments ([`Backend::contact`]; the parametric tool is 2D).
+/// The standalone contact pass's arguments ([`super::Passes::contact`]; the parametric tool is 2D, so the
+/// scene's vectors are 2D vectors: the pointers are cast after the check).
 pub fn contact_args<B: Backend, R: Real, D: Dim>(
     b: &B,
     n: usize,
@@ -458,7 +458,7 @@ pub fn contact_args<B: Backend, R: Real, D: Dim>(
     tool: &B::Buf<Tool2d>,
     s: &ScalarsAt<'_, B>,
     a: ContactInputs<'_, B, R, D>,
-) -> Result<ContactArgs<R, D>> {
+) -> Result<ContactArgs<R, Dim2>> {
     if D::D != 2 {
         return Err(Error::Length { op: "contact (the parametric tool is 2D)", expected: 2, got: D::D });
     }
@@ -467,16 +467,82 @@ pub fn contact_args<B: Backend, R: Real, D: Dim>(
         params: input(b, "contact parameters", 1, params)?,
         tool: input(b, "contact (the tool's shape)", 1, tool)?,
         scalars: scalars_ptr(b, s)?,
-        pos: input(b, "pos", n, a.pos)?,
-        vel: input(b, "vel", n, a.vel)?,
+        pos: input(b, "pos", n, a.pos)?.cast(),
+        vel: input(b, "vel", n, a.vel)?.cast(),
         mass: input(b, "mass", n, a.mass)?,
         rho: input(b, "rho", n, a.rho)?,
         flags: input(b, "flags", n, a.flags)?,
-        normal: output(b, "normal", n, a.normal)?,
-        friction: output(b, "friction", n, a.friction)?,
+        normal: output(b, "normal", n, a.normal)?.cast(),
+        friction: output(b, "friction", n, a.friction)?.cast(),
         temp: output_opt(b, "temp", n, a.temp)?,
         materials: a.materials.map_or(null(), |m| b.address(m) as *const _),
         yield_stress: input_opt(b, "yield_stress", n, a.yield_stress)?,
         wear: output_opt(b, "wear", n, a.wear)?,
+    })
+}
+
+/// The hash pass's arguments ([`super::Passes::hash`]).
+pub fn hash_args<B: Backend, R: Real, D: Dim>(
+    b: &B,
+    n: usize,
+    pos: &B::Buf<D::Vec<R>>,
+    grid: &B::Buf<GridParams>,
+    keys: &mut B::Buf<u32>,
+) -> Result<HashArgs<R, D>> {
+    Ok(HashArgs {
+        n: count(n)?,
+        pos: input(b, "hash pos", n, pos)?,
+        grid: input(b, "hash grid", 1, grid)?,
+        keys: output(b, "hash keys", n, keys)?,
+    })
+}
+
+/// The CSR neighbour list's arguments ([`super::Passes::neighbour_list`]); without `offsets` only counted (the
+/// list is then not touched).
+#[allow(clippy::too_many_arguments)]
+pub fn neighbour_list_args<B: Backend, R: Real, D: Dim>(
+    b: &B,
+    n: usize,
+    pos: &B::Buf<D::Vec<R>>,
+    grid: &B::Buf<GridParams>,
+    starts: &B::Buf<u32>,
+    support2: R,
+    offsets: Option<&B::Buf<u32>>,
+    counts: &mut B::Buf<u32>,
+    list: &mut B::Buf<u32>,
+) -> Result<NeighbourListArgs<R, D>> {
+    let (offsets, list) = match offsets {
+        None => (null(), std::ptr::null_mut()),
+        Some(o) => (input(b, "neighbour_list offsets", n + 1, o)?, output(b, "neighbour_list list", 0, list)?),
+    };
+    Ok(NeighbourListArgs {
+        n: count(n)?,
+        pos: input(b, "neighbour_list pos", n, pos)?,
+        grid: input(b, "neighbour_list grid", 1, grid)?,
+        starts: b.address(starts) as *const u32,
+        support2,
+        offsets,
+        counts: output(b, "neighbour_list counts", n, counts)?,
+        list,
+    })
+}
+
+/// The Verlet list's arguments ([`super::Passes::verlet_build`]), gated where `gate` is given.
+pub fn verlet_args<B: Backend, R: Real, D: Dim>(
+    b: &B,
+    n: usize,
+    gate: Option<&ScalarsAt<'_, B>>,
+    grid: &B::Buf<GridParams>,
+    starts: &B::Buf<u32>,
+    pos: &B::Buf<D::Vec<R>>,
+    list: &mut B::Buf<u32>,
+) -> Result<VerletArgs<R, D>> {
+    Ok(VerletArgs {
+        gate: gate_ptr(b, gate)?,
+        n: count(n)?,
+        grid: input(b, "verlet_build grid", 1, grid)?,
+        starts: b.address(starts) as *const u32,
+        pos: input(b, "verlet_build pos", n, pos)?,
+        list: output(b, "verlet_build list", n, list)?,
     })
 }

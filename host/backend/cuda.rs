@@ -2,21 +2,14 @@
 //! binary builds and runs without any CUDA installation and uses the GPU where a driver and device exist.
 //! One stream, no event tracking: every launch is ordered after the previous one.
 
-use super::{
-    Backend, Buffer, CellBuffers, ContactInputs, DeviceInfo, Element, FieldsMut, FusedContact, FusedHeat, FusedPrepare,
-    HeatInputs, PlasticInputs, PlasticPass, SCAN_TILE, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields,
-};
+use super::{Backend, Buffer, CellBuffers, DeviceInfo, Element, SCAN_TILE, ScalarsAt};
 use crate::kernels::neighbour::GatherField;
-use crate::kernels::neighbour::GridParams;
 use crate::kernels::pass::{
-    CountArgs, ENTRY_COUNT, ENTRY_NAMES, FLOW_MODEL_TAGS, GatherArgs, GatherFieldsArgs, HashArgs, HashCountArgs,
-    ModelEntry, NeighbourListArgs, ScanApplyArgs, ScanReduceArgs, ScatterArgs, SortArgs, VerletArgs, ZeroArgs,
+    ENTRY_COUNT, ENTRY_NAMES, GatherArgs, GatherFieldsArgs, Grid, HashCountArgs, Pass, ScanApplyArgs, ScanReduceArgs,
+    ScatterArgs, SortArgs, ZeroArgs, entry_index, single_index,
 };
-use crate::kernels::sph::heat::HeatParams;
 use crate::kernels::sph::step::StepScalars;
-use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers, TensorOps};
-use crate::kernels::{Dim, Dim2, Dim3, Real};
-use crate::material::FlowModel;
+use crate::kernels::{Dim, Real};
 use crate::{Error, Result};
 use cudarc::driver::sys::{CUdevice_attribute, CUevent_flags, CUresult};
 use cudarc::driver::{CudaContext, CudaFunction, CudaSlice, CudaStream, DevicePtr, DevicePtrMut, DriverError, result};
@@ -29,7 +22,6 @@ use std::sync::{Arc, Mutex};
 mod conditional;
 mod lazy;
 pub mod split;
-use super::args::PrepareBufs;
 use conditional::Conditional;
 pub use conditional::strip_graph_conditional;
 use lazy::{Kernel, Loader};
@@ -42,11 +34,6 @@ const PROBE: &str = "swarf_step_predict_2d_f64";
 /// each is present.
 pub fn kernel_names() -> &'static [&'static str] {
     &ENTRY_NAMES
-}
-
-/// The index of `m`'s entries in the kernel tables (`kernels::pass::models`: the one list of models).
-fn model_index(m: &FlowModel) -> usize {
-    super::cpu::with_model!(m, M, _m => <M as ModelEntry>::INDEX)
 }
 
 /// Threads per block of the per-particle kernels.
@@ -72,49 +59,28 @@ impl<T> Buffer<T> for CudaBuf<T> {
     }
 }
 
-/// The four (dimension, precision) variants of a generic entry point: 2d_f32, 2d_f64, 3d_f32, 3d_f64.
-#[derive(Default)]
-struct Variants([Kernel; 4]);
+/// The kernel slots, one per entry of the pass table (`kernels::pass::table`), in table order: a pass launches
+/// slot `Pass::ENTRY`.
+struct Kernels(Vec<Kernel>);
 
-fn variant<R: Real, D: Dim>() -> usize {
-    (D::D == 3) as usize * 2 + (size_of::<R>() == 8) as usize
+/// The table positions of the entries the backend's own algorithms launch (the counting sort, the scan, the
+/// gathers of a reorder).
+mod slot {
+    use super::single_index;
+    pub const ZERO_GATED: usize = single_index("zero_gated");
+    pub const SCAN_REDUCE: usize = single_index("scan_reduce");
+    pub const SCAN_APPLY: usize = single_index("scan_apply");
+    pub const SCATTER: usize = single_index("scatter");
+    pub const SORT_CELLS: usize = single_index("sort_cells");
+    pub const GATHER_B4: usize = single_index("gather_b4");
+    pub const GATHER_B8: usize = single_index("gather_b8");
+    pub const GATHER_B16: usize = single_index("gather_b16");
+    pub const GATHER_FIELDS: usize = single_index("gather_fields");
 }
 
-/// The kernel slots, filled from the pass table (`kernel_table`).
-#[derive(Default)]
-struct Kernels {
-    /// By flow model (`ModelEntry::INDEX`).
-    plastic: [Variants; FLOW_MODEL_TAGS.len()],
-    /// 2D f32, 2D f64.
-    contact: [Kernel; 2],
-    heat_brookshaw: Variants,
-    heat_pse: Variants,
-    /// By stabiliser combination c = 2·AV + AS.
-    sph_prepare: [Variants; 4],
-    /// By stabiliser combination c = 4·AV + 2·AS + XSPH.
-    sph_rates: [Variants; 8],
-    /// The interaction fused with the Brookshaw conduction.
-    sph_rates_heat: [Variants; 8],
-    step_predict: Variants,
-    step_finish: Variants,
-    /// The corrector fused with each flow-stress model's plastic update.
-    step_finish_plastic: [Variants; FLOW_MODEL_TAGS.len()],
-    hash: Variants,
-    /// The gated rebuild's hash and count.
-    hash_count: Variants,
-    neighbour_list: Variants,
-    verlet_build: Variants,
-    density: Variants,
-    count_cells: Kernel,
-    zero_gated: Kernel,
-    scan_reduce: Kernel,
-    scan_apply: Kernel,
-    scatter: Kernel,
-    sort_cells: Kernel,
-    gather_b4: Kernel,
-    gather_b8: Kernel,
-    gather_b16: Kernel,
-    gather_fields: Kernel,
+/// The table position of the gated rebuild's fused hash and count for (R, D).
+fn hash_count<R: Real, D: Dim>() -> usize {
+    entry_index("hash_count", D::D, size_of::<R>(), 0)
 }
 
 pub struct CudaBackend {
@@ -347,70 +313,21 @@ fn load_ptx(
 }
 
 /// Every kernel slot, from the pass table (`kernels::for_each_entry!`), each checked to name an entry of the PTX
-/// (loaded on first use). The slot macro has an arm for every kind of the table, so an entry without a slot does
-/// not compile.
+/// (loaded on first use).
 fn kernel_table(loader: &Loader) -> Result<Kernels> {
-    let f = |name: &str| -> Result<Kernel> {
-        if loader.has(name) {
-            Ok(Kernel::new(name))
-        } else {
-            Err(Error::GpuUnavailable(format!("no entry point {name} in the embedded PTX")))
-        }
-    };
-    let mut k = Kernels::default();
-    // Each entry fills its own slot: with as many slots as entries (below), every slot is filled once.
-    let mut filled = std::collections::HashSet::new();
-    let mut put = |slot: &mut Kernel, name: &str| -> Result<()> {
-        *slot = f(name)?;
-        filled.insert(slot as *const Kernel as usize);
-        Ok(())
-    };
-    macro_rules! slot {
-        (single, $name:expr, $slot:ident) => {
-            put(&mut k.$slot, $name)?;
-        };
-        (contact, $name:expr, $r:ident, $d:ident) => {
-            put(&mut k.contact[(size_of::<$r>() == 8) as usize], $name)?;
-        };
-        (heat, $name:expr, $r:ident, $d:ident, $pse:literal) => {
-            let v = if $pse { &mut k.heat_pse } else { &mut k.heat_brookshaw };
-            put(&mut v.0[variant::<$r, $d>()], $name)?;
-        };
-        (prepare, $name:expr, $r:ident, $d:ident, $av:literal, $as:literal) => {
-            put(&mut k.sph_prepare[2 * $av as usize + $as as usize].0[variant::<$r, $d>()], $name)?;
-        };
-        (rates, $name:expr, $r:ident, $d:ident, $av:literal, $as:literal, $xs:literal, $heat:literal) => {
-            let c = 4 * $av as usize + 2 * $as as usize + $xs as usize;
-            let v = if $heat { &mut k.sph_rates_heat[c] } else { &mut k.sph_rates[c] };
-            put(&mut v.0[variant::<$r, $d>()], $name)?;
-        };
-        (plastic, $name:expr, $r:ident, $d:ident, $t:ident, $tag:ident) => {
-            let m = <crate::kernels::material::$t as ModelEntry>::INDEX;
-            put(&mut k.plastic[m].0[variant::<$r, $d>()], $name)?;
-        };
-        (finish_plastic, $name:expr, $r:ident, $d:ident, $t:ident, $tag:ident) => {
-            let m = <crate::kernels::material::$t as ModelEntry>::INDEX;
-            put(&mut k.step_finish_plastic[m].0[variant::<$r, $d>()], $name)?;
-        };
-        (predict, $name:expr, $r:ident, $d:ident) => {
-            put(&mut k.step_predict.0[variant::<$r, $d>()], $name)?;
-        };
-        (finish, $name:expr, $r:ident, $d:ident) => {
-            put(&mut k.step_finish.0[variant::<$r, $d>()], $name)?;
-        };
-        ($slot:ident, $name:expr, $r:ident, $d:ident) => {
-            put(&mut k.$slot.0[variant::<$r, $d>()], $name)?;
-        };
-    }
-    crate::kernels::for_each_entry!(slot);
-    if filled.len() != ENTRY_COUNT {
-        return Err(Error::GpuUnavailable(format!("{} of {ENTRY_COUNT} kernel slots filled", filled.len())));
-    }
-    Ok(k)
+    let slots = ENTRY_NAMES
+        .iter()
+        .map(|&name| {
+            if loader.has(name) {
+                Ok(Kernel::new(name))
+            } else {
+                Err(Error::GpuUnavailable(format!("no entry point {name} in the embedded PTX")))
+            }
+        })
+        .collect::<Result<Vec<_>>>()?;
+    debug_assert_eq!(slots.len(), ENTRY_COUNT);
+    Ok(Kernels(slots))
 }
-
-// `Kernels` holds nothing but its slots, as many as the table has entries.
-const _: () = assert!(size_of::<Kernels>() == ENTRY_COUNT * size_of::<Kernel>());
 
 impl CudaBackend {
     fn ptr<T>(&self, b: &CudaBuf<T>) -> u64 {
@@ -492,15 +409,6 @@ impl CudaBackend {
         } else {
             Error::Cuda { op: "cuMemAlloc", source: e }
         }
-    }
-}
-
-/// Lanes per particle must be a power of two up to 8 (they combine within a warp).
-fn check_lanes(lanes: u32) -> Result<()> {
-    if matches!(lanes, 1 | 2 | 4 | 8) {
-        Ok(())
-    } else {
-        Err(Error::Length { op: "lanes per particle (1, 2, 4 or 8)", expected: 8, got: lanes as usize })
     }
 }
 
@@ -615,14 +523,14 @@ impl CudaBackend {
         let apply = |tile_offsets| ScanApplyArgs { gate: g, n: n as u32, input: d, output: d, tile_offsets };
         if tiles == 1 {
             // One tile: the apply pass alone, with offset 0 (no reduction, no memset).
-            return self.launch_pass(&self.k.scan_apply, 32, 128, &apply(std::ptr::null()));
+            return self.launch_pass(&self.k.0[slot::SCAN_APPLY], 32, 128, &apply(std::ptr::null()));
         }
         let s = self.output(sums);
         // One warp per tile, four warps per block.
         let reduce = ScanReduceArgs { gate: g, n: n as u32, input: d, tile_sums: s };
-        self.launch_pass(&self.k.scan_reduce, tiles * 32, 128, &reduce)?;
+        self.launch_pass(&self.k.0[slot::SCAN_REDUCE], tiles * 32, 128, &reduce)?;
         self.scan_gated(gate, tiles, sums, rest)?;
-        self.launch_pass(&self.k.scan_apply, tiles * 32, 128, &apply(s))
+        self.launch_pass(&self.k.0[slot::SCAN_APPLY], tiles * 32, 128, &apply(s))
     }
 
     /// The scatter of `Backend::scatter` with a gate (0: always).
@@ -643,7 +551,7 @@ impl CudaBackend {
             starts: self.input(starts),
             perm: self.output(perm),
         };
-        self.launch_pass_strided(&self.k.scatter, n, &args)
+        self.launch_pass_strided(&self.k.0[slot::SCATTER], n, &args)
     }
 
     /// The per-cell sort of `Backend::sort_cells` with a gate (0: always).
@@ -654,7 +562,7 @@ impl CudaBackend {
             starts: self.input(starts),
             perm: self.output(perm),
         };
-        self.launch_pass_strided(&self.k.sort_cells, n_buckets, &args)
+        self.launch_pass_strided(&self.k.0[slot::SORT_CELLS], n_buckets, &args)
     }
 }
 
@@ -728,57 +636,18 @@ impl Backend for CudaBackend {
         Ok(a.elapsed_ms(&b).map_err(cuda("event elapsed"))? as f64)
     }
 
-    fn hash<R: Real, D: Dim>(
-        &self,
-        n: usize,
-        pos: &CudaBuf<D::Vec<R>>,
-        grid: &CudaBuf<GridParams>,
-        keys: &mut CudaBuf<u32>,
-    ) -> Result<()> {
-        let args =
-            HashArgs::<R, D> { n: n as u32, pos: self.input(pos), grid: self.input(grid), keys: self.output(keys) };
-        self.launch_pass(&self.k.hash.0[variant::<R, D>()], n, BLOCK, &args)
-    }
-
-    fn count_cells(
-        &self,
-        n: usize,
-        keys: &CudaBuf<u32>,
-        counts: &mut CudaBuf<u32>,
-        slots: &mut CudaBuf<u32>,
-    ) -> Result<()> {
-        let args =
-            CountArgs { n: n as u32, keys: self.input(keys), counts: self.output(counts), slots: self.output(slots) };
-        self.launch_pass(&self.k.count_cells, n, BLOCK, &args)
-    }
-
     fn exclusive_scan(&self, n: usize, data: &mut CudaBuf<u32>, levels: &mut [CudaBuf<u32>]) -> Result<()> {
         self.scan_gated(0, n, data, levels)
-    }
-
-    fn scatter(
-        &self,
-        n: usize,
-        keys: &CudaBuf<u32>,
-        slots: &CudaBuf<u32>,
-        starts: &CudaBuf<u32>,
-        perm: &mut CudaBuf<u32>,
-    ) -> Result<()> {
-        self.scatter_gated(0, n, keys, slots, starts, perm)
-    }
-
-    fn sort_cells(&self, n_buckets: usize, starts: &CudaBuf<u32>, perm: &mut CudaBuf<u32>) -> Result<()> {
-        self.sort_gated(0, n_buckets, starts, perm)
     }
 
     fn gather<T: Element>(&self, n: usize, perm: &CudaBuf<u32>, src: &CudaBuf<T>, dst: &mut CudaBuf<T>) -> Result<()> {
         let s = size_of::<T>();
         let (f, unit) = if s.is_multiple_of(16) {
-            (&self.k.gather_b16, 16)
+            (&self.k.0[slot::GATHER_B16], 16)
         } else if s.is_multiple_of(8) {
-            (&self.k.gather_b8, 8)
+            (&self.k.0[slot::GATHER_B8], 8)
         } else if s.is_multiple_of(4) {
-            (&self.k.gather_b4, 4)
+            (&self.k.0[slot::GATHER_B4], 4)
         } else {
             return Err(Error::Length {
                 op: "gather (element size must be a multiple of 4 bytes)",
@@ -796,224 +665,6 @@ impl Backend for CudaBackend {
             dst: self.ptr_mut(dst) as *mut u8,
         };
         self.launch_pass(f, n * k, BLOCK, &args)
-    }
-
-    fn neighbour_list<R: Real, D: Dim>(
-        &self,
-        n: usize,
-        pos: &CudaBuf<D::Vec<R>>,
-        grid: &CudaBuf<GridParams>,
-        starts: &CudaBuf<u32>,
-        support2: R,
-        offsets: Option<&CudaBuf<u32>>,
-        counts: &mut CudaBuf<u32>,
-        list: &mut CudaBuf<u32>,
-    ) -> Result<()> {
-        let args = NeighbourListArgs::<R, D> {
-            n: n as u32,
-            pos: self.input(pos),
-            grid: self.input(grid),
-            starts: self.input(starts),
-            support2,
-            offsets: offsets.map_or(std::ptr::null(), |o| self.input(o)),
-            counts: self.output(counts),
-            list: self.output(list),
-        };
-        self.launch_pass(&self.k.neighbour_list.0[variant::<R, D>()], n, BLOCK, &args)
-    }
-
-    fn density<R: Real, D: Dim>(
-        &self,
-        n: usize,
-        pos: &CudaBuf<D::Vec<R>>,
-        mass: &CudaBuf<R>,
-        grid: &CudaBuf<GridParams>,
-        starts: &CudaBuf<u32>,
-        kernel: &CudaBuf<CubicSpline<R>>,
-        rho: &mut CudaBuf<R>,
-    ) -> Result<()> {
-        let args = super::args::density_args::<_, R, D>(self, n, pos, mass, grid, starts, kernel, rho)?;
-        self.launch_pass(&self.k.density.0[variant::<R, D>()], n, BLOCK, &args)
-    }
-
-    fn sph_prepare<R: Real, D: TensorOps<R>>(
-        &self,
-        n: usize,
-        stab: Stabilisers,
-        params: &CudaBuf<SphParams<R>>,
-        rho: &CudaBuf<R>,
-        mass: &CudaBuf<R>,
-        stress: &CudaBuf<D::Sym<R>>,
-        sig: &mut CudaBuf<D::Sym<R>>,
-        art: Option<&mut CudaBuf<D::Sym<R>>>,
-        sound: Option<&mut CudaBuf<R>>,
-        vol: &mut CudaBuf<R>,
-        temp: Option<&CudaBuf<f64>>,
-        gate: Option<ScalarsAt<'_, Self>>,
-    ) -> Result<()> {
-        let c = (stab.viscosity as usize) << 1 | stab.stress as usize;
-        let q = PrepareBufs::<_, R, D> { params, rho, mass, stress, sig, art, sound, vol, temp };
-        let args = super::args::prepare_args(self, n, stab, q, gate.as_ref())?;
-        self.launch_pass(&self.k.sph_prepare[c].0[variant::<R, D>()], n, BLOCK, &args)
-    }
-
-    fn sph_rates<R: Real, D: TensorOps<R>>(
-        &self,
-        n: usize,
-        lanes: u32,
-        stab: Stabilisers,
-        params: &SphParams<R>,
-        grid: &CudaBuf<GridParams>,
-        starts: &CudaBuf<u32>,
-        list: Option<&CudaBuf<u32>>,
-        i: &SphInputs<'_, Self, R, D>,
-        out: FieldsMut<'_, Self, R, D>,
-        dissipation: Option<&mut CudaBuf<R>>,
-        heat: Option<FusedHeat<'_, Self, R, D>>,
-    ) -> Result<()> {
-        check_lanes(lanes)?;
-        let c = (stab.viscosity as usize) << 2 | (stab.stress as usize) << 1 | stab.xsph as usize;
-        let f = if heat.is_some() { &self.k.sph_rates_heat[c] } else { &self.k.sph_rates[c] };
-        let reverse = self.pair_reverse;
-        let args = super::args::rates_args(
-            self,
-            n,
-            lanes,
-            reverse,
-            stab,
-            params,
-            grid,
-            starts,
-            list,
-            i,
-            out,
-            dissipation,
-            heat,
-        )?;
-        self.launch_pass(&f.0[variant::<R, D>()], n * lanes as usize, self.pair_block, &args)
-    }
-
-    fn heat_rates<R: Real, D: Dim>(
-        &self,
-        n: usize,
-        lanes: u32,
-        pse: bool,
-        hp: &HeatParams,
-        params: &SphParams<R>,
-        grid: &CudaBuf<GridParams>,
-        starts: &CudaBuf<u32>,
-        list: Option<&CudaBuf<u32>>,
-        i: &HeatInputs<'_, Self, R, D>,
-        temp_t: &mut CudaBuf<f64>,
-    ) -> Result<()> {
-        check_lanes(lanes)?;
-        let args = super::args::heat_args(self, n, lanes, pse, hp, params, grid, starts, list, i, temp_t)?;
-        let f = if pse { &self.k.heat_pse } else { &self.k.heat_brookshaw };
-        self.launch_pass(&f.0[variant::<R, D>()], n * lanes as usize, self.pair_block, &args)
-    }
-
-    fn step_predict<R: Real, D: TensorOps<R>>(
-        &self,
-        n: usize,
-        s: ScalarsMut<'_, Self>,
-        f: StepFields<'_, Self, R, D>,
-        skin: SkinTest<'_, Self, R, D>,
-        prepare: Option<FusedPrepare<'_, Self, R, D>>,
-    ) -> Result<()> {
-        let args = super::args::predict_args(self, n, s, f, skin, prepare)?;
-        self.launch_pass(&self.k.step_predict.0[variant::<R, D>()], n, BLOCK, &args)
-    }
-
-    fn rebuild_cells<R: Real, D: Dim>(
-        &self,
-        n: usize,
-        gate: ScalarsAt<'_, Self>,
-        pos: &CudaBuf<D::Vec<R>>,
-        c: CellBuffers<'_, Self>,
-    ) -> Result<()> {
-        let lens = [pos.len, c.keys.len, c.slots.len, c.perm.len];
-        if lens.iter().any(|&l| l < n) || c.starts.len < c.n_buckets + 1 || c.rebuilds.len < 1 {
-            return Err(Error::Length { op: "rebuild_cells", expected: n, got: lens.into_iter().min().unwrap_or(0) });
-        }
-        let g = self.gate(&gate)?;
-        let buckets = c.n_buckets + 1;
-        let zero = ZeroArgs {
-            gate: g as *const u32,
-            n: buckets as u32,
-            data: self.output(c.starts),
-            rebuilds: self.output(c.rebuilds),
-        };
-        self.launch_pass_strided(&self.k.zero_gated, buckets, &zero)?;
-        let args = HashCountArgs::<R, D> {
-            gate: g as *const u32,
-            n: n as u32,
-            pos: self.input(pos),
-            grid: self.input(c.grid),
-            keys: self.output(c.keys),
-            counts: self.output(c.starts),
-            slots: self.output(c.slots),
-        };
-        self.launch_pass_strided(&self.k.hash_count.0[variant::<R, D>()], n, &args)?;
-        self.scan_gated(g, buckets, c.starts, c.scan)?;
-        self.scatter_gated(g, n, c.keys, c.slots, c.starts, c.perm)?;
-        self.sort_gated(g, c.n_buckets, c.starts, c.perm)
-    }
-
-    fn verlet_build<R: Real, D: Dim>(
-        &self,
-        n: usize,
-        gate: Option<ScalarsAt<'_, Self>>,
-        grid: &CudaBuf<GridParams>,
-        starts: &CudaBuf<u32>,
-        pos: &CudaBuf<D::Vec<R>>,
-        list: &mut CudaBuf<u32>,
-    ) -> Result<()> {
-        // The layout's size is the caller's (CellList sizes the list from the grid it uploads); the lengths
-        // bound what the kernel may touch.
-        if pos.len < n || list.len < n {
-            return Err(Error::Length { op: "verlet_build", expected: n, got: pos.len.min(list.len) });
-        }
-        let g = match gate {
-            Some(s) => self.gate(&s)?,
-            None => 0,
-        };
-        let args = VerletArgs::<R, D> {
-            gate: g as *const u32,
-            n: n as u32,
-            grid: self.input(grid),
-            starts: self.input(starts),
-            pos: self.input(pos),
-            list: self.output(list),
-        };
-        self.launch_pass_strided(&self.k.verlet_build.0[variant::<R, D>()], n, &args)
-    }
-
-    fn step_finish<R: Real, D: TensorOps<R>>(
-        &self,
-        n: usize,
-        s: ScalarsAt<'_, Self>,
-        f: StepFields<'_, Self, R, D>,
-        plastic: Option<PlasticPass<'_, Self>>,
-        contact: Option<FusedContact<'_, Self, R, D>>,
-    ) -> Result<()> {
-        if contact.is_some() && (plastic.is_none() || D::D != 2) {
-            return Err(Error::Length {
-                op: "step_finish (the fused contact needs plasticity, 2D)",
-                expected: 2,
-                got: D::D,
-            });
-        }
-        let Some(p) = plastic else {
-            let args = super::args::finish_args(self, n, &s, f)?;
-            return self.launch_pass(&self.k.step_finish.0[variant::<R, D>()], n, BLOCK, &args);
-        };
-        let model = p.model;
-        let k = &self.k.step_finish_plastic[model_index(model)].0[variant::<R, D>()];
-        let reverse = self.plastic_reverse;
-        super::cpu::with_model!(model, M, m => {
-            let args = super::args::finish_plastic_args::<_, R, D, M>(self, n, reverse, &s, f, p, *m, contact)?;
-            self.launch_pass(k, n, self.plastic_block, &args)
-        })
     }
 
     fn address<T: Element>(&self, buf: &CudaBuf<T>) -> u64 {
@@ -1072,7 +723,7 @@ impl Backend for CudaBackend {
             perm: perm.map_or(std::ptr::null(), |p| self.input(p)),
             table: table as *const GatherField,
         };
-        self.launch_pass_strided(&self.k.gather_fields, n * rows, &args)
+        self.launch_pass_strided(&self.k.0[slot::GATHER_FIELDS], n * rows, &args)
     }
 
     fn capture(&self, f: &mut dyn FnMut() -> Result<()>) -> Result<Option<Graph>> {
@@ -1125,29 +776,67 @@ impl Backend for CudaBackend {
         }
     }
 
-    fn contact<R: Real, D: Dim>(
-        &self,
-        n: usize,
-        params: &CudaBuf<crate::kernels::contact::ContactParams>,
-        tool: &CudaBuf<crate::kernels::contact::Tool2d>,
-        s: ScalarsAt<'_, Self>,
-        a: ContactInputs<'_, Self, R, D>,
-    ) -> Result<()> {
-        let args = super::args::contact_args(self, n, params, tool, &s, a)?;
-        self.launch_pass(&self.k.contact[(size_of::<R>() == 8) as usize], n, BLOCK, &args)
+    fn host_slice<'a, T: Element>(&self, _buf: &'a CudaBuf<T>) -> Option<&'a [T]> {
+        None
     }
 
-    fn plastic_step<R: Real, D: TensorOps<R>>(
+    unsafe fn launch<P: Pass>(&self, args: &P::Args) -> Result<()> {
+        let mut a = *args;
+        let (block, reverse) = match P::GRID {
+            Grid::Particles | Grid::Strided => (BLOCK, 0),
+            Grid::Pair => (self.pair_block, self.pair_reverse),
+            Grid::Plastic => (self.plastic_block, self.plastic_reverse),
+        };
+        if let Some(r) = P::order(&mut a) {
+            *r = reverse;
+        }
+        let n = P::particles(&a);
+        let threads = match P::GRID {
+            Grid::Pair => n * P::lanes(&a) as usize,
+            Grid::Strided => n.min(GATED_BLOCKS * BLOCK as usize),
+            Grid::Particles | Grid::Plastic => n,
+        };
+        self.launch_pass(&self.k.0[P::ENTRY], threads, block, &a)
+    }
+
+    fn bin_cells<R: Real, D: Dim>(
         &self,
         n: usize,
-        model: &FlowModel,
-        c: crate::kernels::sph::plastic::PlasticConsts,
-        a: PlasticInputs<'_, Self, R, D>,
+        gate: Option<ScalarsAt<'_, Self>>,
+        pos: &CudaBuf<D::Vec<R>>,
+        c: CellBuffers<'_, Self>,
     ) -> Result<()> {
-        let k = &self.k.plastic[model_index(model)].0[variant::<R, D>()];
-        super::cpu::with_model!(model, M, m => {
-            let args = super::args::plastic_args::<_, R, D, M>(self, n, *m, c, a)?;
-            self.launch_pass(k, n, self.plastic_block, &args)
-        })
+        let lens = [pos.len, c.keys.len, c.slots.len, c.perm.len];
+        if lens.iter().any(|&l| l < n)
+            || c.starts.len < c.n_buckets + 1
+            || c.rebuilds.as_ref().is_some_and(|r| r.len < 1)
+        {
+            return Err(Error::Length { op: "bin_cells", expected: n, got: lens.into_iter().min().unwrap_or(0) });
+        }
+        let g = match &gate {
+            Some(s) => self.gate(s)?,
+            None => 0,
+        };
+        let buckets = c.n_buckets + 1;
+        let zero = ZeroArgs {
+            gate: g as *const u32,
+            n: buckets as u32,
+            data: self.output(c.starts),
+            rebuilds: c.rebuilds.map_or(std::ptr::null_mut(), |r| self.output(r)),
+        };
+        self.launch_pass_strided(&self.k.0[slot::ZERO_GATED], buckets, &zero)?;
+        let args = HashCountArgs::<R, D> {
+            gate: g as *const u32,
+            n: n as u32,
+            pos: self.input(pos),
+            grid: self.input(c.grid),
+            keys: self.output(c.keys),
+            counts: self.output(c.starts),
+            slots: self.output(c.slots),
+        };
+        self.launch_pass_strided(&self.k.0[hash_count::<R, D>()], n, &args)?;
+        self.scan_gated(g, buckets, c.starts, c.scan)?;
+        self.scatter_gated(g, n, c.keys, c.slots, c.starts, c.perm)?;
+        self.sort_gated(g, c.n_buckets, c.starts, c.perm)
     }
 }

@@ -1,21 +1,25 @@
-//! Backends: where kernels run. The solver is written once against [`Backend`]; the CPU backend calls the
-//! kernel crate's functions in rayon loops, the CUDA backend launches the same functions compiled to PTX.
-//! Each method of the trait is one kernel (or one block-cooperative algorithm) and has the same meaning on both.
+//! Backends: where kernels run. [`Backend`] is memory, graphs and one generic launch of a pass
+//! (`kernels::pass::Pass`), plus the two algorithms whose GPU form is block-cooperative (the cell list's counting
+//! sort and the prefix sum). The passes are written once against it, in [`passes`]: the CPU backend runs a pass's
+//! per-particle twin in a rayon loop, the CUDA backend launches the same function compiled to PTX.
 
 pub mod args;
 pub mod cpu;
 pub mod cuda;
+pub mod passes;
 
 use crate::Result;
 use crate::kernels::neighbour::{GatherField, GridParams};
+use crate::kernels::pass::Pass;
 use crate::kernels::sph::heat::{HeatParams, ThermalMaterial};
 use crate::kernels::sph::step::StepScalars;
-use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers, TensorOps};
+use crate::kernels::sph::{SphParams, Stabilisers};
 use crate::kernels::{Dim, Real};
 use bytemuck::Pod;
 
 pub use cpu::CpuBackend;
 pub use cuda::CudaBackend;
+pub use passes::Passes;
 
 /// A typed array in the backend's memory.
 pub trait Buffer<T>: Send + Sync {
@@ -68,35 +72,13 @@ pub trait Backend: Sized + Send + Sync {
     /// Wall time of `f` in milliseconds as the device sees it (CUDA events on the GPU).
     fn time_ms(&self, f: &mut dyn FnMut() -> Result<()>) -> Result<f64>;
 
-    /// keys[i] = cell key of pos[i] (`GridParams::key`), for i < n.
-    fn hash<R: Real, D: Dim>(
-        &self,
-        n: usize,
-        pos: &Self::Buf<D::Vec<R>>,
-        grid: &Self::Buf<GridParams>,
-        keys: &mut Self::Buf<u32>,
-    ) -> Result<()>;
-    /// counts[keys[i]] += 1 and slots[i] = the particle's arrival order in its bucket.
-    fn count_cells(
-        &self,
-        n: usize,
-        keys: &Self::Buf<u32>,
-        counts: &mut Self::Buf<u32>,
-        slots: &mut Self::Buf<u32>,
-    ) -> Result<()>;
-    /// In-place exclusive prefix sum of data[..n]; `levels` is the workspace from [`scan_levels`].
-    fn exclusive_scan(&self, n: usize, data: &mut Self::Buf<u32>, levels: &mut [Self::Buf<u32>]) -> Result<()>;
-    /// perm[starts[keys[i]] + slots[i]] = i.
-    fn scatter(
-        &self,
-        n: usize,
-        keys: &Self::Buf<u32>,
-        slots: &Self::Buf<u32>,
-        starts: &Self::Buf<u32>,
-        perm: &mut Self::Buf<u32>,
-    ) -> Result<()>;
-    /// Sorts each bucket's slice perm[starts[c] .. starts[c+1]] ascending, c < n_buckets.
-    fn sort_cells(&self, n_buckets: usize, starts: &Self::Buf<u32>, perm: &mut Self::Buf<u32>) -> Result<()>;
+    /// The backend's buffer as a host slice, where its memory is the host's (None on the GPU): the passes check
+    /// buffer contents (cell starts, body indices) where they can.
+    fn host_slice<'a, T: Element>(&self, buf: &'a Self::Buf<T>) -> Option<&'a [T]>;
+    /// The address of a buffer's first element, for the passes' argument structs and [`Backend::gather_fields`].
+    fn address<T: Element>(&self, buf: &Self::Buf<T>) -> u64;
+    /// The same for a buffer that will be written.
+    fn address_mut<T: Element>(&self, buf: &mut Self::Buf<T>) -> u64;
     /// dst[i] = src[perm[i]] for i < n.
     fn gather<T: Element>(
         &self,
@@ -105,124 +87,6 @@ pub trait Backend: Sized + Send + Sync {
         src: &Self::Buf<T>,
         dst: &mut Self::Buf<T>,
     ) -> Result<()>;
-    /// Neighbour lists (j ≠ i, |x_ij|² < support2) of sorted particles in CSR form: counts[i] always, and the
-    /// indices at list[offsets[i]..] when `offsets` is given (the exclusive scan of a counting pass).
-    #[allow(clippy::too_many_arguments)]
-    fn neighbour_list<R: Real, D: Dim>(
-        &self,
-        n: usize,
-        pos: &Self::Buf<D::Vec<R>>,
-        grid: &Self::Buf<GridParams>,
-        starts: &Self::Buf<u32>,
-        support2: R,
-        offsets: Option<&Self::Buf<u32>>,
-        counts: &mut Self::Buf<u32>,
-        list: &mut Self::Buf<u32>,
-    ) -> Result<()>;
-    /// ρ_i = Σ_j m_j W(|x_ij|) over sorted particles (`sph::density::density_sum`).
-    #[allow(clippy::too_many_arguments)]
-    fn density<R: Real, D: Dim>(
-        &self,
-        n: usize,
-        pos: &Self::Buf<D::Vec<R>>,
-        mass: &Self::Buf<R>,
-        grid: &Self::Buf<GridParams>,
-        starts: &Self::Buf<u32>,
-        kernel: &Self::Buf<CubicSpline<R>>,
-        rho: &mut Self::Buf<R>,
-    ) -> Result<()>;
-
-    /// SPH pre-pass (`sph::interact::prepare`): sig = σ/ρ², art = artificial stress (if on), sound = √(K/ρ)
-    /// (if the viscosity is on), vol = m/ρ with `mass` the particles' full masses (the thermal-only ones
-    /// included: they conduct); `temp` is given when the EOS has thermal expansion. With `gate` it runs only when
-    /// the step's rebuild flag is set (the predictor ran the pre-pass; a rebuild's reorder needs it again).
-    #[allow(clippy::too_many_arguments)]
-    fn sph_prepare<R: Real, D: TensorOps<R>>(
-        &self,
-        n: usize,
-        stab: Stabilisers,
-        params: &Self::Buf<SphParams<R>>,
-        rho: &Self::Buf<R>,
-        mass: &Self::Buf<R>,
-        stress: &Self::Buf<D::Sym<R>>,
-        sig: &mut Self::Buf<D::Sym<R>>,
-        art: Option<&mut Self::Buf<D::Sym<R>>>,
-        sound: Option<&mut Self::Buf<R>>,
-        vol: &mut Self::Buf<R>,
-        temp: Option<&Self::Buf<f64>>,
-        gate: Option<ScalarsAt<'_, Self>>,
-    ) -> Result<()>;
-    /// SPH pair interaction (`sph::interact::rates`): the rates of every sorted particle, each summed by `lanes`
-    /// lanes (1, 2, 4 or 8; the sums' order depends on it, equally on every backend). With `heat`, the same
-    /// neighbour walk also sums the Brookshaw conduction (`sph::interact::rates_heat`), equal bit for bit to
-    /// [`Backend::heat_rates`] on this cell list. With `list` (built by [`Backend::verlet_build`] on this cell
-    /// list) the pair loops read it instead of walking the stencil.
-    #[allow(clippy::too_many_arguments)]
-    fn sph_rates<R: Real, D: TensorOps<R>>(
-        &self,
-        n: usize,
-        lanes: u32,
-        stab: Stabilisers,
-        params: &SphParams<R>,
-        grid: &Self::Buf<GridParams>,
-        starts: &Self::Buf<u32>,
-        list: Option<&Self::Buf<u32>>,
-        input: &SphInputs<'_, Self, R, D>,
-        out: FieldsMut<'_, Self, R, D>,
-        dissipation: Option<&mut Self::Buf<R>>,
-        heat: Option<FusedHeat<'_, Self, R, D>>,
-    ) -> Result<()>;
-    /// The predictor (`sph::step::predict_particle`): y0 ← y, y ← y0 + ½Δt ẏ (x, v, ρ, S and, with conduction,
-    /// T), with the skin test of each predicted position: a particle farther than the grid's skin from where the
-    /// cell list binned it (`GridParams::beyond_skin`) sets the step's rebuild flag.
-    /// With `prepare`, each particle's pre-pass follows its prediction in the same pass
-    /// (`sph::interact::prepare_particle`; the same results as [`Backend::sph_prepare`] after the predictor).
-    fn step_predict<R: Real, D: TensorOps<R>>(
-        &self,
-        n: usize,
-        s: ScalarsMut<'_, Self>,
-        f: StepFields<'_, Self, R, D>,
-        skin: SkinTest<'_, Self, R, D>,
-        prepare: Option<FusedPrepare<'_, Self, R, D>>,
-    ) -> Result<()>;
-    /// The cell list's rebuild inside the step loop, gated by the step's rebuild flag: counts zeroed (with
-    /// `rebuilds[0] += 1`), hash and count, prefix sum, scatter and per-cell sort, as `CellList::build`; each
-    /// launch does nothing when the flag is 0 (a captured step holds every launch).
-    fn rebuild_cells<R: Real, D: Dim>(
-        &self,
-        n: usize,
-        gate: ScalarsAt<'_, Self>,
-        pos: &Self::Buf<D::Vec<R>>,
-        cells: CellBuffers<'_, Self>,
-    ) -> Result<()>;
-    /// The Verlet list (`neighbour::verlet::verlet_row`) of the n sorted particles at `pos` on the cell list
-    /// `grid`/`starts`, into `list` (`GridParams::list_words` entries);
-    /// with a gate, only when that step rebuilds.
-    fn verlet_build<R: Real, D: Dim>(
-        &self,
-        n: usize,
-        gate: Option<ScalarsAt<'_, Self>>,
-        grid: &Self::Buf<GridParams>,
-        starts: &Self::Buf<u32>,
-        pos: &Self::Buf<D::Vec<R>>,
-        list: &mut Self::Buf<u32>,
-    ) -> Result<()>;
-    /// The fused corrector (`sph::step::correct_particle`) y ← y0 + Δt ẏ, followed by the plastic update of the
-    /// same particle when `plastic` is given (`sph::plastic::plastic_particle`), and then by the tool's contact
-    /// pass of the same particle when `contact` is given (`contact::penalty::contact_particle`, 2D; needs
-    /// `plastic`): the same results as [`Backend::contact`] after the corrector, without a pass of its own.
-    fn step_finish<R: Real, D: TensorOps<R>>(
-        &self,
-        n: usize,
-        s: ScalarsAt<'_, Self>,
-        f: StepFields<'_, Self, R, D>,
-        plastic: Option<PlasticPass<'_, Self>>,
-        contact: Option<FusedContact<'_, Self, R, D>>,
-    ) -> Result<()>;
-    /// The address of a buffer's first element, for [`Backend::gather_fields`].
-    fn address<T: Element>(&self, buf: &Self::Buf<T>) -> u64;
-    /// The same for a buffer that will be written.
-    fn address_mut<T: Element>(&self, buf: &mut Self::Buf<T>) -> u64;
     /// dst_f[i] = src_f[perm[i]] for every field f, i < n, in one pass (src_f[i] without a permutation); with a
     /// gate, only when that step rebuilds.
     ///
@@ -237,6 +101,31 @@ pub trait Backend: Sized + Send + Sync {
         fields: &[GatherField],
         gate: Option<ScalarsAt<'_, Self>>,
     ) -> Result<()>;
+
+    /// Runs pass `P` (`kernels::pass::Pass`) with its argument struct: the GPU launches the pass's entry of the
+    /// table with the struct by value, the CPU runs its per-particle twin over the particles in parallel. The
+    /// passes themselves, which build the structs, are [`Passes`]'s.
+    ///
+    /// # Safety
+    /// The struct's pointers name live buffers of this backend holding what the pass reads and writes (the
+    /// builders of [`args`] check the lengths).
+    unsafe fn launch<P: Pass>(&self, args: &P::Args) -> Result<()>;
+
+    /// The cell list's counting sort (`neighbour::CellList`): the counts zeroed, each particle hashed to its cell
+    /// (`GridParams::key`) and counted, the exclusive prefix sum of the counts (the cell starts), the scatter into
+    /// the permutation and the per-cell sort that makes it the stable one. With a gate (inside the step loop) it
+    /// does nothing when the step's rebuild flag is 0 (every launch is still submitted, so a captured step holds
+    /// them) and counts the rebuild in `cells.rebuilds`.
+    fn bin_cells<R: Real, D: Dim>(
+        &self,
+        n: usize,
+        gate: Option<ScalarsAt<'_, Self>>,
+        pos: &Self::Buf<D::Vec<R>>,
+        cells: CellBuffers<'_, Self>,
+    ) -> Result<()>;
+    /// In-place exclusive prefix sum of data[..n]; `levels` is the workspace from [`scan_levels`].
+    fn exclusive_scan(&self, n: usize, data: &mut Self::Buf<u32>, levels: &mut [Self::Buf<u32>]) -> Result<()>;
+
     /// Records the work that `f` submits as a replayable graph without running it; None where the backend has no
     /// graphs, and then the work has run.
     fn capture(&self, f: &mut dyn FnMut() -> Result<()>) -> Result<Option<Self::Graph>>;
@@ -255,40 +144,6 @@ pub trait Backend: Sized + Send + Sync {
         let _ = condition;
         body()
     }
-    /// Conduction rates Ṫ (`sph::heat::heat_rate`), Brookshaw or (`pse`) PSE; `grid` has stencil 2 for
-    /// Brookshaw and 3 for PSE; `list` the Verlet list of `grid` (Brookshaw only: PSE reaches farther).
-    #[allow(clippy::too_many_arguments)]
-    fn heat_rates<R: Real, D: Dim>(
-        &self,
-        n: usize,
-        lanes: u32,
-        pse: bool,
-        hp: &HeatParams,
-        params: &SphParams<R>,
-        grid: &Self::Buf<GridParams>,
-        starts: &Self::Buf<u32>,
-        list: Option<&Self::Buf<u32>>,
-        input: &HeatInputs<'_, Self, R, D>,
-        temp_t: &mut Self::Buf<f64>,
-    ) -> Result<()>;
-    /// The plastic update of every particle (`sph::plastic::plastic_particle`) with the flow-stress `model` (its
-    /// parameters go to the GPU by value, with the launch).
-    fn plastic_step<R: Real, D: TensorOps<R>>(
-        &self,
-        n: usize,
-        model: &crate::material::FlowModel,
-        consts: crate::kernels::sph::plastic::PlasticConsts,
-        a: PlasticInputs<'_, Self, R, D>,
-    ) -> Result<()>;
-    /// The contact pass with the rigid 2D tool (`contact::penalty::contact_particle`); 2D only.
-    fn contact<R: Real, D: Dim>(
-        &self,
-        n: usize,
-        params: &Self::Buf<crate::kernels::contact::ContactParams>,
-        tool: &Self::Buf<crate::kernels::contact::Tool2d>,
-        s: ScalarsAt<'_, Self>,
-        a: ContactInputs<'_, Self, R, D>,
-    ) -> Result<()>;
 }
 
 /// The integrated fields x, v, ρ, S of the SPH solver (their values, start-of-step copies or rates), borrowed
@@ -423,8 +278,8 @@ pub struct CellBuffers<'a, B: Backend> {
     pub starts: &'a mut B::Buf<u32>,
     pub perm: &'a mut B::Buf<u32>,
     pub scan: &'a mut [B::Buf<u32>],
-    /// rebuilds[0] counts the gated rebuilds that ran.
-    pub rebuilds: &'a mut B::Buf<u32>,
+    /// rebuilds[0] counts the gated rebuilds that ran (None: not counted, a build outside the step loop).
+    pub rebuilds: Option<&'a mut B::Buf<u32>>,
 }
 
 /// The plastic update fused into the corrector (stress, density and temperature come from [`StepFields`]).
@@ -440,7 +295,7 @@ pub struct PlasticPass<'a, B: Backend> {
     pub work: Option<&'a mut B::Buf<f64>>,
 }
 
-/// The pre-pass fused into the predictor ([`Backend::step_predict`]; no thermal expansion). Its other inputs are
+/// The pre-pass fused into the predictor ([`Passes::step_predict`]; no thermal expansion). Its other inputs are
 /// the predictor's own: the predicted densities and stresses.
 pub struct FusedPrepare<'a, B: Backend, R: Real, D: Dim> {
     pub stab: Stabilisers,
@@ -453,7 +308,7 @@ pub struct FusedPrepare<'a, B: Backend, R: Real, D: Dim> {
     pub vol: &'a mut B::Buf<R>,
 }
 
-/// The contact pass fused into the plastic corrector ([`Backend::step_finish`]). Its other inputs are the
+/// The contact pass fused into the plastic corrector ([`Passes::step_finish`]). Its other inputs are the
 /// corrector's own: positions, velocities, densities and temperatures after the corrector and the plastic update,
 /// the plastic pass's flags and (with `yield_stress`) its yield stresses.
 pub struct FusedContact<'a, B: Backend, R: Real, D: Dim> {

@@ -7,7 +7,7 @@
 pub mod step;
 
 use crate::Result;
-use crate::backend::Backend;
+use crate::backend::{Backend, Passes};
 use crate::grid::grid_for_support;
 use crate::kernels::sph::CubicSpline;
 use crate::kernels::{Dim, Real, Vector};

@@ -27,7 +27,7 @@ pub use crate::tool::motion::ToolMotion;
 use crate::Result;
 use crate::backend::{
     Backend, Conduction, ContactInputs, FieldsMut, FieldsRef, FusedContact, FusedHeat, FusedPrepare, HeatInputs,
-    PlasticPass, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields,
+    Passes, PlasticPass, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields,
 };
 use crate::kernels::contact::{ContactParams, Tool2d, ToolState};
 use crate::kernels::neighbour::GridParams;
@@ -250,10 +250,10 @@ pub struct Solver<B: Backend, R: Real, D: TensorOps<R>> {
     /// Sum the Brookshaw conduction in the interaction's neighbour walk (`sph::interact::rates_heat`) instead of a
     /// pass of its own; the results are bitwise the same. On unless `SWARF_NO_FUSE=1` (benchmarks compare both).
     pub fuse_conduction: bool,
-    /// The contact pass in the plastic corrector's launch ([`Backend::step_finish`]) rather than a pass of its own;
+    /// The contact pass in the plastic corrector's launch ([`Passes::step_finish`]) rather than a pass of its own;
     /// the results are bitwise the same. On unless `SWARF_NO_FUSE_CONTACT=1` (benchmarks compare both).
     pub fuse_contact: bool,
-    /// The pre-pass in the predictor's launch ([`Backend::step_predict`]), its own gated launch only after a
+    /// The pre-pass in the predictor's launch ([`Passes::step_predict`]), its own gated launch only after a
     /// rebuild; the results are bitwise the same. On unless `SWARF_NO_FUSE_PREPARE=1` (benchmarks compare both).
     pub fuse_prepare: bool,
     /// The IF node handle of the step being captured (`Backend::rebuild_condition`; 0 otherwise).
@@ -525,13 +525,13 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         })
     }
 
-    /// The pre-pass runs inside the predictor's launch (`Backend::step_predict`; without thermal expansion, whose
+    /// The pre-pass runs inside the predictor's launch (`Passes::step_predict`; without thermal expansion, whose
     /// EOS reads the temperature), and its own launch only after a rebuild's reorder.
     fn fused_prepare(&self) -> bool {
         self.fuse_prepare && self.host_params.expansion == R::ZERO
     }
 
-    /// The contact pass runs inside the plastic corrector's launch (`Backend::step_finish`; 2D with plasticity, the
+    /// The contact pass runs inside the plastic corrector's launch (`Passes::step_finish`; 2D with plasticity, the
     /// cutting runs), not in one of its own.
     fn fused_contact(&self) -> bool {
         self.fuse_contact && self.contact.is_some() && self.plastic.is_some() && D::D == 2

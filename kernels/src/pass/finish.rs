@@ -1,6 +1,9 @@
 //! The corrector's arguments (`sph::step::correct_particle`), alone or followed by the plastic update of the same
 //! particle (`sph::plastic::plastic_particle`) and the tool's contact pass (`contact::penalty::contact_particle`).
 
+use super::ModelEntry;
+use super::launch::{Grid, Pass};
+use super::table::entry_index;
 use crate::contact::Tool2d;
 use crate::contact::penalty::{ContactArrays, ContactParams, contact_particle};
 use crate::material::FlowStress;
@@ -10,6 +13,7 @@ use crate::sph::heat::ThermalMaterial;
 use crate::sph::plastic::{PlasticArrays, PlasticConsts, plastic_particle};
 use crate::sph::step::{StepArrays, StepScalars, correct_particle};
 use crate::vector::Dim;
+use core::marker::PhantomData;
 
 /// The fields a step integrates, sorted order: the state y, its start-of-step copy y0, the rates ẏ, the
 /// temperature (null without heat or plasticity) with its start copy and rate (null without conduction), the
@@ -174,5 +178,30 @@ impl<R: Real, D: TensorOps<R>, M: FlowStress> FinishPlasticArgs<R, D, M> {
                 );
             }
         }
+    }
+}
+
+/// The corrector pass of an elastic run (`swarf_step_finish_*`).
+pub struct Finish<R, D>(PhantomData<(R, D)>);
+crate::simple_pass!(Finish<R, D>, FinishArgs<R, D>, entry_index("finish", D::D, size_of::<R>(), 0), Grid::Particles,
+    [R: Real, D: Dim]);
+
+/// The corrector with the plastic update of model `M` and, where set, the contact pass
+/// (`swarf_step_finish_<model>_*`).
+pub struct FinishPlastic<R, D, M>(PhantomData<(R, D, M)>);
+
+impl<R: Real, D: TensorOps<R>, M: FlowStress + ModelEntry + Copy> Pass for FinishPlastic<R, D, M> {
+    type Args = FinishPlasticArgs<R, D, M>;
+    const ENTRY: usize = entry_index("finish_plastic", D::D, size_of::<R>(), M::INDEX as u32);
+    const GRID: Grid = Grid::Plastic;
+    fn particles(a: &Self::Args) -> usize {
+        a.n as usize
+    }
+    fn order(a: &mut Self::Args) -> Option<&mut u32> {
+        Some(&mut a.reverse)
+    }
+    unsafe fn particle(a: &Self::Args, i: usize) -> u32 {
+        unsafe { a.particle(&a.model, i) };
+        0
     }
 }

@@ -7,6 +7,7 @@
 //! `size_of`/`align_of` of its struct.
 
 pub mod finish;
+pub mod launch;
 pub mod models;
 pub mod neighbour;
 pub mod predict;
@@ -14,13 +15,14 @@ pub mod rates;
 pub mod sph;
 pub mod table;
 
-pub use finish::{FinishArgs, FinishPlasticArgs, StepPtrs};
+pub use finish::{Finish, FinishArgs, FinishPlastic, FinishPlasticArgs, StepPtrs};
+pub use launch::{Grid, Pass};
 pub use models::{FLOW_MODEL_TAGS, ModelEntry};
 pub use neighbour::{
-    CountArgs, GatherArgs, GatherFieldsArgs, HashArgs, HashCountArgs, NeighbourListArgs, ScanApplyArgs, ScanReduceArgs,
-    ScatterArgs, SortArgs, VerletArgs, ZeroArgs,
+    GatherArgs, GatherFieldsArgs, Hash, HashArgs, HashCountArgs, NeighbourList, NeighbourListArgs, ScanApplyArgs,
+    ScanReduceArgs, ScatterArgs, SortArgs, Verlet, VerletArgs, ZeroArgs,
 };
-pub use predict::PredictArgs;
-pub use rates::RatesArgs;
-pub use sph::{ContactArgs, DensityArgs, HeatArgs, PlasticArgs, PrepareArgs};
-pub use table::{ENTRY_COUNT, ENTRY_NAMES};
+pub use predict::{Predict, PredictArgs};
+pub use rates::{RatesArgs, RatesPass};
+pub use sph::{Contact, ContactArgs, Density, DensityArgs, Heat, HeatArgs, Plastic, PlasticArgs, Prepare, PrepareArgs};
+pub use table::{ENTRY_COUNT, ENTRY_KEYS, ENTRY_NAMES, EntryKey, entry_index, single_index};

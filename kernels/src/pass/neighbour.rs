@@ -2,11 +2,14 @@
 //! reorder, the Verlet list and the CSR neighbour list. The gated ones carry the step's rebuild flag (`gate`;
 //! null: always run).
 
+use super::launch::{Grid, Pass};
+use super::table::entry_index;
 use crate::neighbour::search::neighbour_row;
 use crate::neighbour::verlet::verlet_row;
 use crate::neighbour::{GatherField, GridParams};
 use crate::real::Real;
 use crate::vector::Dim;
+use core::marker::PhantomData;
 
 /// keys[i] = cell key of pos[i] (`GridParams::key`).
 #[repr(C)]
@@ -28,6 +31,11 @@ impl<R: Real, D: Dim> HashArgs<R, D> {
         unsafe { *self.keys.add(i) = (*self.grid).key::<R, D::Vec<R>>(&*self.pos.add(i)) }
     }
 }
+
+/// The hash pass (`swarf_hash_*`).
+pub struct Hash<R, D>(PhantomData<(R, D)>);
+crate::simple_pass!(Hash<R, D>, HashArgs<R, D>, entry_index("hash", D::D, size_of::<R>(), 0), Grid::Particles,
+    [R: Real, D: Dim]);
 
 /// The counting pass of a gated rebuild: keys[i] = cell key of pos[i], slots[i] = its arrival order in the cell,
 /// counts[cell] += 1 (counts zeroed before).
@@ -80,6 +88,11 @@ impl<R: Real, D: Dim> NeighbourListArgs<R, D> {
     }
 }
 
+/// The CSR neighbour list pass (`swarf_neighbour_list_*`).
+pub struct NeighbourList<R, D>(PhantomData<(R, D)>);
+crate::simple_pass!(NeighbourList<R, D>, NeighbourListArgs<R, D>,
+    entry_index("neighbour_list", D::D, size_of::<R>(), 0), Grid::Particles, [R: Real, D: Dim]);
+
 /// The Verlet list of the sorted particles at `pos` (`neighbour::verlet::verlet_row`).
 #[repr(C)]
 #[derive(Clone, Copy)]
@@ -103,6 +116,25 @@ impl<R: Real, D: Dim> VerletArgs<R, D> {
     }
 }
 
+/// The Verlet list pass (`swarf_verlet_build_*`), gated.
+pub struct Verlet<R, D>(PhantomData<(R, D)>);
+
+impl<R: Real, D: Dim> Pass for Verlet<R, D> {
+    type Args = VerletArgs<R, D>;
+    const ENTRY: usize = entry_index("verlet_build", D::D, size_of::<R>(), 0);
+    const GRID: Grid = Grid::Strided;
+    fn particles(a: &Self::Args) -> usize {
+        a.n as usize
+    }
+    fn gate(a: &Self::Args) -> *const u32 {
+        a.gate
+    }
+    unsafe fn particle(a: &Self::Args, i: usize) -> u32 {
+        unsafe { a.particle(i) };
+        0
+    }
+}
+
 /// data[i] = 0 for i < n (the cell counts before a gated rebuild); the first thread also counts the rebuild in
 /// rebuilds[0] (null: not counted).
 #[repr(C)]
@@ -112,16 +144,6 @@ pub struct ZeroArgs {
     pub n: u32,
     pub data: *mut u32,
     pub rebuilds: *mut u32,
-}
-
-/// counts[keys[i]] += 1; slots[i] = the particle's arrival order in its bucket (arbitrary, fixed by the sort).
-#[repr(C)]
-#[derive(Clone, Copy)]
-pub struct CountArgs {
-    pub n: u32,
-    pub keys: *const u32,
-    pub counts: *mut u32,
-    pub slots: *mut u32,
 }
 
 /// perm[starts[keys[i]] + slots[i]] = i.

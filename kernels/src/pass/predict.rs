@@ -2,13 +2,16 @@
 //! the pre-pass of the predicted particle (`sph::interact::prepare_particle`).
 
 use super::StepPtrs;
+use super::launch::{Grid, Pass};
+use super::table::entry_index;
 use crate::neighbour::GridParams;
 use crate::real::Real;
 use crate::sph::TensorOps;
 use crate::sph::interact::{PrepassArrays, prepare_particle};
 use crate::sph::params::SphParams;
-use crate::sph::step::{StepScalars, predict_particle};
+use crate::sph::step::{StepScalars, is_finite_vec, predict_particle};
 use crate::vector::Dim;
+use core::marker::PhantomData;
 
 /// Everything one launch of the predictor reads and writes, sorted order. The step's dissipation and the start
 /// positions' low parts are null (the predictor reads neither).
@@ -50,6 +53,42 @@ impl<R: Real, D: TensorOps<R>> PredictArgs<R, D> {
                 prepare_particle::<R, D>(&self.params, &o, i, r, m, &*self.step.stress.add(i));
             }
             x
+        }
+    }
+}
+
+/// The predictor pass (`swarf_step_predict_*`). Its CPU twin flags a particle beyond the skin ([`BEYOND_SKIN`])
+/// or with a non-finite position ([`NON_FINITE`]) and sets the step's flags once after the loop; the GPU's
+/// threads set them themselves (`ptx::sph`, predict_entry).
+pub struct Predict<R, D>(PhantomData<(R, D)>);
+
+/// A predicted particle left the skin of the cell list.
+pub const BEYOND_SKIN: u32 = 1;
+/// A predicted position is not finite.
+pub const NON_FINITE: u32 = 2;
+
+impl<R: Real, D: TensorOps<R>> Pass for Predict<R, D> {
+    type Args = PredictArgs<R, D>;
+    const ENTRY: usize = entry_index("predict", D::D, size_of::<R>(), 0);
+    const GRID: Grid = Grid::Particles;
+    fn particles(a: &Self::Args) -> usize {
+        a.n as usize
+    }
+    unsafe fn particle(a: &Self::Args, i: usize) -> u32 {
+        unsafe {
+            let x = a.particle(i);
+            let beyond = (*a.grid).beyond_skin::<R, D::Vec<R>>(&x, &*a.pos_ref.add(i));
+            let finite = is_finite_vec::<R, D::Vec<R>>(&x);
+            ((beyond as u32) * BEYOND_SKIN) | ((!finite as u32) * NON_FINITE)
+        }
+    }
+    unsafe fn finish(a: &Self::Args, flags: u32) {
+        let s = unsafe { &mut *a.scalars };
+        if flags & BEYOND_SKIN != 0 {
+            s.rebuild = 1;
+        }
+        if flags & NON_FINITE != 0 {
+            s.non_finite = 1;
         }
     }
 }

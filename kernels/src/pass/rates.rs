@@ -1,12 +1,16 @@
 //! The pair interaction's arguments (`sph::interact::rates`, fused with the Brookshaw conduction in
 //! `sph::interact::rates_heat`).
 
+use super::launch::{Grid, Pass};
+use super::table::{entry_index, rates_variant};
 use crate::neighbour::{GridParams, Neighbours};
 use crate::real::Real;
+use crate::sph::TensorOps;
 use crate::sph::heat::{HeatArrays, HeatParams, ThermalMaterial};
-use crate::sph::interact::{Arrays, Rates};
+use crate::sph::interact::{Arrays, Rates, rates, rates_heat};
 use crate::sph::params::SphParams;
 use crate::vector::Dim;
+use core::marker::PhantomData;
 
 /// Everything one launch of the pair interaction reads and writes, all arrays in sorted order.
 #[repr(C)]
@@ -77,5 +81,42 @@ impl<R: Real, D: Dim> RatesArgs<R, D> {
                 *self.dissipation_t.add(i) = o.dissipation_t;
             }
         }
+    }
+}
+
+/// The pair interaction pass (`swarf_sph_rates_*`; with `HEAT` the fused conduction, `swarf_sph_rates_heat_*`),
+/// with the viscosity (`AV`), the artificial stress (`AS`) and XSPH (`XS`), `lanes` threads per particle on the
+/// GPU (the CPU sums the lanes' shares in the same order: `sph::lanes`).
+pub struct RatesPass<R, D, const AV: bool, const AS: bool, const XS: bool, const HEAT: bool>(PhantomData<(R, D)>);
+
+impl<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XS: bool, const HEAT: bool> Pass
+    for RatesPass<R, D, AV, AS, XS, HEAT>
+{
+    type Args = RatesArgs<R, D>;
+    const ENTRY: usize = entry_index("rates", D::D, size_of::<R>(), rates_variant(AV, AS, XS, HEAT));
+    const GRID: Grid = Grid::Pair;
+    fn particles(a: &Self::Args) -> usize {
+        a.n as usize
+    }
+    fn lanes(a: &Self::Args) -> u32 {
+        a.lanes
+    }
+    fn order(a: &mut Self::Args) -> Option<&mut u32> {
+        Some(&mut a.reverse)
+    }
+    unsafe fn particle(a: &Self::Args, i: usize) -> u32 {
+        unsafe {
+            let (arr, nb) = (a.arrays, a.neighbours());
+            let o = if HEAT {
+                let (o, tt) =
+                    rates_heat::<R, D, AV, AS, XS>(&a.params, &a.hp, &nb, &arr, &a.heat_arrays(), i as u32, a.lanes);
+                *a.temp_t.add(i) = tt;
+                o
+            } else {
+                rates::<R, D, AV, AS, XS>(&a.params, &nb, &arr, i as u32, a.lanes)
+            };
+            a.store(i, &o);
+        }
+        0
     }
 }

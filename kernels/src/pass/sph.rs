@@ -2,6 +2,9 @@
 //! update and the tool's contact pass (each also fused into another pass: `RatesArgs`, `FinishPlasticArgs`,
 //! `PredictArgs`).
 
+use super::ModelEntry;
+use super::launch::{Grid, Pass};
+use super::table::{entry_index, prepare_variant};
 use crate::contact::Tool2d;
 use crate::contact::penalty::{ContactArrays, ContactParams, contact_particle};
 use crate::material::FlowStress;
@@ -10,12 +13,14 @@ use crate::real::Real;
 use crate::sph::CubicSpline;
 use crate::sph::TensorOps;
 use crate::sph::density::density_sum;
+use crate::sph::heat::heat_rate;
 use crate::sph::heat::{HeatArrays, HeatParams, ThermalMaterial};
 use crate::sph::interact::prepare;
 use crate::sph::params::SphParams;
 use crate::sph::plastic::{PlasticArrays, PlasticConsts, plastic_particle};
 use crate::sph::step::StepScalars;
-use crate::vector::Dim;
+use crate::vector::{Dim, Dim2};
+use core::marker::PhantomData;
 
 /// The density sum ρ_i = Σ_j m_j W(|x_i − x_j|) (`sph::density::density_sum`).
 #[repr(C)]
@@ -43,6 +48,11 @@ impl<R: Real, D: Dim> DensityArgs<R, D> {
         }
     }
 }
+
+/// The density sum pass (`swarf_density_*`).
+pub struct Density<R, D>(PhantomData<(R, D)>);
+crate::simple_pass!(Density<R, D>, DensityArgs<R, D>, entry_index("density", D::D, size_of::<R>(), 0),
+    Grid::Particles, [R: Real, D: Dim]);
 
 /// The pre-pass: sig = σ/ρ², art = artificial stress (AS), sound = √(K/ρ) (AV), vol = m/ρ (`mass` the full
 /// masses), gated on a step's rebuild flag (`gate`; null: always) where the predictor runs the pre-pass.
@@ -86,6 +96,26 @@ impl<R: Real, D: TensorOps<R>> PrepareArgs<R, D> {
                 *self.sound.add(i) = q.c;
             }
         }
+    }
+}
+
+/// The pre-pass (`swarf_sph_prepare_*`) with the viscosity's sound speed (`AV`) and the artificial stress
+/// (`AS`), gated where its struct's `gate` is set.
+pub struct Prepare<R, D, const AV: bool, const AS: bool>(PhantomData<(R, D)>);
+
+impl<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool> Pass for Prepare<R, D, AV, AS> {
+    type Args = PrepareArgs<R, D>;
+    const ENTRY: usize = entry_index("prepare", D::D, size_of::<R>(), prepare_variant(AV, AS));
+    const GRID: Grid = Grid::Particles;
+    fn particles(a: &Self::Args) -> usize {
+        a.n as usize
+    }
+    fn gate(a: &Self::Args) -> *const u32 {
+        a.gate
+    }
+    unsafe fn particle(a: &Self::Args, i: usize) -> u32 {
+        unsafe { a.particle::<AV, AS>(i) };
+        0
     }
 }
 
@@ -136,6 +166,29 @@ impl<R: Real, D: Dim> HeatArgs<R, D> {
     }
 }
 
+/// The conduction pass (`swarf_heat_brookshaw_*`, `swarf_heat_pse_*` with `PSE`), `lanes` threads per particle on
+/// the GPU (the CPU sums the lanes' shares in the same order: `sph::lanes`).
+pub struct Heat<R, D, const PSE: bool>(PhantomData<(R, D)>);
+
+impl<R: Real, D: Dim, const PSE: bool> Pass for Heat<R, D, PSE> {
+    type Args = HeatArgs<R, D>;
+    const ENTRY: usize = entry_index("heat", D::D, size_of::<R>(), PSE as u32);
+    const GRID: Grid = Grid::Pair;
+    fn particles(a: &Self::Args) -> usize {
+        a.n as usize
+    }
+    fn lanes(a: &Self::Args) -> u32 {
+        a.lanes
+    }
+    unsafe fn particle(a: &Self::Args, i: usize) -> u32 {
+        unsafe {
+            let (arr, nb) = (a.arrays(), a.neighbours());
+            *a.temp_t.add(i) = heat_rate::<R, D::Vec<R>, PSE>(&a.hp, &a.params.kernel, &nb, &arr, i as u32, a.lanes);
+        }
+        0
+    }
+}
+
 /// The plastic update (radial return + heating) of flow-stress model `M`, its parameters by value.
 #[repr(C)]
 #[derive(Clone, Copy)]
@@ -176,6 +229,22 @@ impl<R: Real, D: TensorOps<R>, M: FlowStress> PlasticArgs<R, D, M> {
             work: self.work,
         };
         unsafe { plastic_particle::<R, D, M>(model, &self.consts, &a, i) }
+    }
+}
+
+/// The standalone plastic update (`swarf_plastic_<model>_*`).
+pub struct Plastic<R, D, M>(PhantomData<(R, D, M)>);
+
+impl<R: Real, D: TensorOps<R>, M: FlowStress + ModelEntry + Copy> Pass for Plastic<R, D, M> {
+    type Args = PlasticArgs<R, D, M>;
+    const ENTRY: usize = entry_index("plastic", D::D, size_of::<R>(), M::INDEX as u32);
+    const GRID: Grid = Grid::Plastic;
+    fn particles(a: &Self::Args) -> usize {
+        a.n as usize
+    }
+    unsafe fn particle(a: &Self::Args, i: usize) -> u32 {
+        unsafe { a.particle(&a.model, i) };
+        0
     }
 }
 
@@ -228,3 +297,8 @@ impl<R: Real, D: Dim> ContactArgs<R, D> {
         unsafe { contact_particle::<R, D::Vec<R>, Tool2d>(&*self.params, &*self.tool, &(*self.scalars).tool, &a, i) }
     }
 }
+
+/// The standalone contact pass (`swarf_contact_2d_*`; the parametric tool is 2D).
+pub struct Contact<R>(PhantomData<R>);
+crate::simple_pass!(Contact<R>, ContactArgs<R, Dim2>, entry_index("contact", 2, size_of::<R>(), 0), Grid::Particles,
+    [R: Real]);

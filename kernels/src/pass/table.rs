@@ -17,7 +17,6 @@
 #[macro_export]
 macro_rules! for_each_entry {
     ($cb:ident) => {
-        $cb!(single, "swarf_count_cells", count_cells);
         $cb!(single, "swarf_zero_gated", zero_gated);
         $cb!(single, "swarf_scan_reduce", scan_reduce);
         $cb!(single, "swarf_scan_apply", scan_apply);
@@ -114,3 +113,99 @@ pub const ENTRY_NAMES: [&str; ENTRY_COUNT] = {
     let _ = i;
     v
 };
+
+/// An entry's place in the table as a pass names it: the kind, the dimension and the real type's size (0 for the
+/// entries without variants) and the variant's number (the stabiliser bits, the flow model's index).
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct EntryKey {
+    pub kind: &'static str,
+    pub dim: u32,
+    pub real: u32,
+    pub variant: u32,
+}
+
+/// The variant number of a prepare entry (AV, AS).
+pub const fn prepare_variant(av: bool, r#as: bool) -> u32 {
+    2 * av as u32 + r#as as u32
+}
+
+/// The variant number of a rates entry (AV, AS, XSPH, fused conduction).
+pub const fn rates_variant(av: bool, r#as: bool, xs: bool, heat: bool) -> u32 {
+    8 * heat as u32 + 4 * av as u32 + 2 * r#as as u32 + xs as u32
+}
+
+/// Every entry's key, in table order (with [`ENTRY_NAMES`]).
+pub const ENTRY_KEYS: [EntryKey; ENTRY_COUNT] = {
+    use crate::pass::ModelEntry;
+    use crate::vector::{Dim, Dim2, Dim3};
+    let mut v = [EntryKey { kind: "", dim: 0, real: 0, variant: 0 }; ENTRY_COUNT];
+    let mut i = 0;
+    macro_rules! key {
+        (@at $kind:ident, $r:ident, $d:ident, $variant:expr) => {
+            v[i] = EntryKey {
+                kind: stringify!($kind),
+                dim: <$d as Dim>::D as u32,
+                real: size_of::<$r>() as u32,
+                variant: $variant,
+            };
+            i += 1;
+        };
+        (single, $name:expr, $slot:ident) => {
+            v[i] = EntryKey { kind: stringify!($slot), dim: 0, real: 0, variant: 0 };
+            i += 1;
+        };
+        (heat, $name:expr, $r:ident, $d:ident, $pse:literal) => {
+            key!(@at heat, $r, $d, $pse as u32);
+        };
+        (prepare, $name:expr, $r:ident, $d:ident, $av:literal, $as:literal) => {
+            key!(@at prepare, $r, $d, prepare_variant($av, $as));
+        };
+        (rates, $name:expr, $r:ident, $d:ident, $av:literal, $as:literal, $xs:literal, $heat:literal) => {
+            key!(@at rates, $r, $d, rates_variant($av, $as, $xs, $heat));
+        };
+        ($kind:ident, $name:expr, $r:ident, $d:ident, $t:ident, $tag:ident) => {
+            key!(@at $kind, $r, $d, <crate::material::$t as ModelEntry>::INDEX as u32);
+        };
+        ($kind:ident, $name:expr, $r:ident, $d:ident) => {
+            key!(@at $kind, $r, $d, 0);
+        };
+    }
+    for_each_entry!(key);
+    let _ = (i, Dim3::D, Dim2::D);
+    v
+};
+
+const fn same(a: &str, b: &str) -> bool {
+    let (a, b) = (a.as_bytes(), b.as_bytes());
+    if a.len() != b.len() {
+        return false;
+    }
+    let mut i = 0;
+    while i < a.len() {
+        if a[i] != b[i] {
+            return false;
+        }
+        i += 1;
+    }
+    true
+}
+
+/// The position in the table of the entry of `kind` for dimension `dim`, a real type of `real` bytes and
+/// variant `variant`; a pass's [`crate::pass::launch::Pass::ENTRY`], evaluated at compile time, so a key the
+/// table does not list stops the build.
+pub const fn entry_index(kind: &str, dim: usize, real: usize, variant: u32) -> usize {
+    let mut i = 0;
+    while i < ENTRY_COUNT {
+        let k = &ENTRY_KEYS[i];
+        if same(k.kind, kind) && k.dim as usize == dim && k.real as usize == real && k.variant == variant {
+            return i;
+        }
+        i += 1;
+    }
+    panic!("the pass table (kernels/src/pass/table.rs) has no entry of this kind and variant")
+}
+
+/// The position in the table of an entry without variants (`single`), by its slot name.
+pub const fn single_index(slot: &str) -> usize {
+    entry_index(slot, 0, 0, 0)
+}

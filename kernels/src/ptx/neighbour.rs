@@ -6,8 +6,8 @@ use super::intrinsics::atomic_add_u32;
 use super::{global_index, grid_threads};
 use crate::neighbour::{GatherField, sort::sort_cell};
 use crate::pass::{
-    CountArgs, GatherArgs, GatherFieldsArgs, HashArgs, HashCountArgs, NeighbourListArgs, ScatterArgs, SortArgs,
-    VerletArgs, ZeroArgs,
+    GatherArgs, GatherFieldsArgs, HashArgs, HashCountArgs, NeighbourListArgs, ScatterArgs, SortArgs, VerletArgs,
+    ZeroArgs,
 };
 use crate::vector::{Dim, Dim2, Dim3};
 use core::num::NonZeroU32;
@@ -113,19 +113,6 @@ pub unsafe extern "ptx-kernel" fn swarf_zero_gated(args: ZeroArgs) {
     while i < n {
         unsafe { *data.add(i as usize) = 0 };
         i += grid_threads();
-    }
-}
-
-/// counts[keys[i]] += 1; slots[i] = the particle's arrival order in its bucket (arbitrary, fixed by sort_cells).
-#[unsafe(no_mangle)]
-pub unsafe extern "ptx-kernel" fn swarf_count_cells(args: CountArgs) {
-    let CountArgs { n, keys, counts, slots } = args;
-    let i = global_index();
-    if i < n {
-        unsafe {
-            let k = *keys.add(i as usize);
-            *slots.add(i as usize) = atomic_add_u32(counts.add(k as usize), 1);
-        }
     }
 }
 
