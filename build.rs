@@ -10,11 +10,11 @@ use std::process::Command;
 
 const NIGHTLY: &str = "nightly-2026-05-20";
 /// Embedded targets: sm_80 runs on Ampere and newer (the driver JIT-compiles it for Hopper). An sm_90 build
-/// measured no faster on an H200 (docs/performance.md), so it is not embedded; add it here to build both.
+/// measured no faster on an H200 (docs/measurements/notebook.md), so it is not embedded; add it here to build both.
 const TARGETS: &[&str] = &["sm_80"];
 /// The f32 LLVM flags of ../shared/GPU.md ("Floating point"): approximate f32 division and square root, and FMA
 /// contraction (in every precision). Embedded as `<target>-fast`, loaded with `swarf --fast-math`
-/// (docs/performance.md measures what they change).
+/// (docs/measurements/notebook.md measures what they change).
 const FAST_FLAGS: &str =
     "-C llvm-args=-nvptx-prec-divf32=0 -C llvm-args=-nvptx-prec-sqrtf32=0 -C llvm-args=-fp-contract=fast";
 

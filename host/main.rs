@@ -12,7 +12,7 @@ struct Cli {
     #[arg(long, value_enum, default_value = "auto", global = true)]
     backend: BackendChoice,
     /// GPU kernels built with the f32 LLVM flags (approximate f32 division and square root, FMA contraction in
-    /// every precision): faster, not bitwise equal to the CPU; docs/performance.md gives the error they add.
+    /// every precision): faster, not bitwise equal to the CPU; docs/measurements/notebook.md gives the error they add.
     #[arg(long, global = true)]
     fast_math: bool,
     #[command(subcommand)]

@@ -114,12 +114,12 @@ pub struct CudaBackend {
 
 /// Threads per block of the neighbour passes by default: inside the 150k reference cut on an H200, with the
 /// interaction's blocks reversed, 64 took 0.2087–0.2093 ms per step, 128 0.2097–0.2098, 256 0.2113–0.2117 (t = 0:
-/// 0.1501–0.1505, 0.1502, 0.1512–0.1519; the 6k cut unchanged; docs/performance.md, "Block order and a packed Verlet
+/// 0.1501–0.1505, 0.1502, 0.1512–0.1519; the 6k cut unchanged; docs/measurements/notebook.md, "Block order and a packed Verlet
 /// list"). Smaller blocks let the multiprocessors take the last blocks of the launch in finer pieces.
 const PAIR_BLOCK: u32 = 64;
 
 /// Whether the pair interaction and the plastic corrector take their blocks in reverse order by default
-/// (`ptx::ordered_index`). Measured inside the 150k reference cut on an H200 (docs/performance.md, "Block order"):
+/// (`ptx::ordered_index`). Measured inside the 150k reference cut on an H200 (docs/measurements/notebook.md, "Block order"):
 /// the interaction reversed 0.1270–0.1273 ms against 0.1298–0.1306 forward, the step −1.0 %, nothing at t = 0
 /// or at 6k; the corrector reversed −0.2 % (noise), so it stays forward.
 const PAIR_REVERSE: bool = true;
@@ -422,7 +422,7 @@ const NEIGHBOUR_KERNELS_2D: [&str; 4] =
 
 /// Registers per thread for [`NEIGHBOUR_KERNELS_2D`]: with the pair's data loaded at its head (`load::read`) the
 /// fused 2D f64 interaction needs 142, one block of 256 threads per multiprocessor; 128 allow two (16 bytes of
-/// spill) and save 21–26 % of the 150k reference cut's step (docs/performance.md, "Loads at the head of the pair").
+/// spill) and save 21–26 % of the 150k reference cut's step (docs/measurements/notebook.md, "Loads at the head of the pair").
 /// The 3D kernels (up to 202 registers) are not capped by default. `SWARF_MAXNREG=N` caps every neighbour kernel
 /// at N instead, 0 none.
 const NEIGHBOUR_MAXNREG: u32 = 128;
@@ -437,7 +437,7 @@ const PLASTIC_MAXNREG: u32 = 128;
 
 /// The 2D Johnson–Cook corrector (the reference cuts' model) at [`JC_2D_MAXNREG`] instead: 65 536 / (3 × 256), three
 /// blocks per multiprocessor. It needs 98–110; capped at 80 it took 0.0660–0.0675 ms against 0.0723–0.0730 inside
-/// the 150k reference cut, the step 0.2460 against 0.2500 ms (+1 % inside the 6k cut; docs/performance.md,
+/// the 150k reference cut, the step 0.2460 against 0.2500 ms (+1 % inside the 6k cut; docs/measurements/notebook.md,
 /// "Parameters by value"). The other models and 3D keep [`PLASTIC_MAXNREG`] (not measured at 80).
 const JC_2D_KERNELS: [&str; 2] = ["swarf_step_finish_jc_2d_", "swarf_plastic_jc_2d_"];
 const JC_2D_MAXNREG: u32 = 80;

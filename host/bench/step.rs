@@ -1,6 +1,6 @@
 //! `swarf bench step`: the whole step of a scene, as a run takes it (captured batches where the backend has
 //! graphs), with the time of each phase, the interactions it computes, the bytes it must move against the device's
-//! measured copy bandwidth, and the step cost of each physics option switched off (docs/performance.md).
+//! measured copy bandwidth, and the step cost of each physics option switched off (docs/measurements/notebook.md).
 
 use crate::Result;
 use crate::backend::Backend;

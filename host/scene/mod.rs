@@ -242,7 +242,7 @@ pub enum Precision {
     F32,
     F64,
     /// f32 state with compensated positions: each coordinate an f32 pair hi + lo, the corrector's position sum
-    /// exact to the rounding of the step's displacement (docs/performance.md, "Mixed precision").
+    /// exact to the rounding of the step's displacement (docs/measurements/notebook.md, "Mixed precision").
     Mixed,
 }
 

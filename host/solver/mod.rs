@@ -312,13 +312,13 @@ impl Phase {
 }
 
 /// Lanes per particle of the pair interaction and the conduction pass for a run of `n` particles: eight below
-/// LANES_8_BELOW particles, where one thread per particle leaves the GPU idle, one above (docs/performance.md,
+/// LANES_8_BELOW particles, where one thread per particle leaves the GPU idle, one above (docs/measurements/notebook.md,
 /// "Lanes per particle").
 pub fn default_lanes(n: usize) -> u32 {
     if n < LANES_8_BELOW { 8 } else { 1 }
 }
 
-/// The particle count below which eight lanes per particle pay (measured: docs/performance.md).
+/// The particle count below which eight lanes per particle pay (measured: docs/measurements/notebook.md).
 pub const LANES_8_BELOW: usize = 50_000;
 
 /// Steps per captured graph (one graph launch for this many steps; the step scalars hold one entry per step).

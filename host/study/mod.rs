@@ -1,7 +1,7 @@
 //! `swarf study <scene>`: a scene run over resolution levels × precisions (× backends), and what each run costs
 //! (wall time) against what it gets wrong (error), as a table (`study.csv`, `study.md`) and a plot (`study.png`).
 //!
-//! The method (docs/performance.md, "Studies"):
+//! The method (docs/measurements/notebook.md, "Studies"):
 //!
 //! - A **level** is a factor on the scene's `discretisation.dx`, applied as one more override
 //!   `discretisation.dx=<factor · dx>` after the user's `--set` arguments: the same machinery as `swarf run --set`,

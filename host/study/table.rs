@@ -1,5 +1,5 @@
 //! The errors of a study's runs, and its tables: `study.csv` (every number, for scripts) and `study.md` (a
-//! Markdown table for docs/performance.md).
+//! Markdown table for docs/measurements/notebook.md).
 //!
 //! Error of a value a against a reference r: |a − r|/|r|, relative and unsigned (0 when both are 0, infinite when
 //! only r is). Against the study's reference run (the finest-level f64 run), per observable; against the

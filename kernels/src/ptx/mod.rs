@@ -25,7 +25,7 @@ pub(crate) fn global_index() -> u32 {
 /// threads of block (blocks − 1 − b). The hardware starts blocks in increasing index, so a launch whose costly
 /// particles sit at the end of the sorted order (a cut's shear zone and chip, near the top rows of the cell keys)
 /// starts them first and fills the multiprocessors with the cheap ones behind them, instead of leaving the costly
-/// blocks for a tail on a few multiprocessors (docs/performance.md, "Block order"). Each thread's particle and its
+/// blocks for a tail on a few multiprocessors (docs/measurements/notebook.md, "Block order"). Each thread's particle and its
 /// arithmetic are the same in either order.
 #[inline(always)]
 pub(crate) fn ordered_index(reverse: u32) -> u32 {

@@ -4,7 +4,7 @@
 //!   corrector  y1 = y0 + Δt ẏ(y½),
 //! applied to x, v, ρ and S.
 //!
-//! In the mixed precision (f32 state, docs/performance.md "Mixed precision") the corrector's position sum is
+//! In the mixed precision (f32 state, docs/measurements/notebook.md "Mixed precision") the corrector's position sum is
 //! compensated: x is kept as an f32 pair hi + lo (`advance_compensated`), since a step's displacement on the
 //! 150k cut is a few ulps of an f32 coordinate and a rounded sum misses up to 10–20 % of it (docs/stability.md).
 

@@ -88,7 +88,7 @@ pub struct PrepassArrays<R: Real, S> {
 }
 
 /// The pre-pass of particle i ([`prepare`], no thermal expansion) written to `o`, with the stabilisers whose
-/// arrays are not null: the predictor's fused pre-pass (`sph::step`, docs/performance.md), on both backends.
+/// arrays are not null: the predictor's fused pre-pass (`sph::step`, docs/measurements/notebook.md), on both backends.
 ///
 /// # Safety
 /// The non-null arrays of `o` hold at least i + 1 elements.

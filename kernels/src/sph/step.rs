@@ -1,5 +1,5 @@
 //! The streaming (per-particle) halves of a step, fused so that a step is a handful of launches
-//! (docs/performance.md, "The fused step"):
+//! (docs/measurements/notebook.md, "The fused step"):
 //!
 //! - `predict_particle`: y0 ← y, y ← y0 + ½Δt ẏ for x, v, ρ, S and (with conduction) T; the launch then hashes
 //!   the predicted position into its cell and counts it (the cell list's first pass);
