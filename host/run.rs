@@ -10,6 +10,7 @@ use crate::method::{Method, MethodFn, Plan};
 use crate::output::{Array, Collection, Frame, TimeSeries, Values, vtu};
 use crate::scene::{Precision, Scene};
 use crate::solver::diagnostics::Diagnostics;
+use crate::solver::fields::FrameField;
 use crate::solver::params::cfl_time_step;
 use crate::state::HostParticles;
 use crate::tuning::Tuning;
@@ -318,9 +319,9 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
         if let Some(c) = self.cut.as_mut() {
             c.resume(h.time)?;
         }
-        if let Ok(entries) = crate::output::pvd::read(f.pvd.path()) {
-            for (t, name) in entries.into_iter().filter(|(t, _)| *t <= h.time) {
-                f.pvd.push(t, name).map_err(|e| io_err(f.pvd.path(), e))?;
+        if let Ok(entries) = crate::output::pvd::read_parts(f.pvd.path()) {
+            for (t, part, name) in entries.into_iter().filter(|e| e.0 <= h.time) {
+                f.pvd.push_part(t, part, name).map_err(|e| io_err(f.pvd.path(), e))?;
             }
         }
         self.log.line(&format!("resumed from {} at t = {:e} s, step {}", self.ckpt_path.display(), h.time, h.steps))
@@ -397,6 +398,7 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
             internal: out.internal,
             fields: if opts.frames { out.fields } else { Vec::new() },
             now: out.positions,
+            tool: if opts.frames { out.tool } else { None },
             initial: self.initial.clone(),
             radius: 2.0 * self.plan.h,
             params: out.params,
@@ -655,8 +657,10 @@ struct OutputJob<R: Real, D: TensorOps<R>> {
     /// Temperature, plastic strain and its rate, where modelled.
     internal: [Option<Vec<f64>>; 3],
     /// The field registry's frame fields (`Solver::download_frame_fields`), when frames are written.
-    fields: Vec<(&'static str, Vec<f64>)>,
+    fields: Vec<FrameField>,
     now: Vec<[f64; 3]>,
+    /// The tool's outline in the world, with a tool (written beside the frame).
+    tool: Option<Vec<[f64; 3]>>,
     /// Every particle's position at t = 0 by id.
     initial: std::sync::Arc<Vec<[f64; 3]>>,
     /// The closest-pair search radius (2h).
@@ -684,7 +688,7 @@ impl<R: Real, D: TensorOps<R>> OutputJob<R, D> {
 
     /// Completes the diagnostics (`d`) and writes the rows and the frame.
     fn write(&mut self, f: &mut OutputFiles, h5: &mut Option<H5>) -> Result<()> {
-        let OutputJob { d, host, internal, fields, now, initial, radius, params, frame, time, steps } = self;
+        let OutputJob { d, host, internal, fields, now, tool, initial, radius, params, frame, time, steps } = self;
         let (radius, time, steps) = (*radius, *time, *steps);
         // Closest approach of two mechanical particles (within 2h): pairing and interpenetration show here.
         // Of pairs that started at least 2h apart: contact between material that was apart (chip self-contact),
@@ -736,6 +740,12 @@ impl<R: Real, D: TensorOps<R>> OutputJob<R, D> {
             let temp = internal[0].as_deref();
             write_frame(&dir.join(&name), h5, host, temp, fields, params, time, steps)?;
             f.pvd.push(time, name).map_err(|e| io_err(f.pvd.path(), e))?;
+            if let Some(outline) = tool {
+                let name = format!("tool_{index:05}.vtp");
+                crate::output::vtp::write_outline(&dir.join(&name), time, outline)
+                    .map_err(|e| io_err(&dir.join(&name), e))?;
+                f.pvd.push_part(time, 1, name).map_err(|e| io_err(f.pvd.path(), e))?;
+            }
             f.pvd.write().map_err(|e| io_err(f.pvd.path(), e))?;
         }
         Ok(())
@@ -821,7 +831,7 @@ fn write_frame<R: Real, D: TensorOps<R>>(
     h5: &mut Option<H5>,
     p: &HostParticles<R, D>,
     temp: Option<&[f64]>,
-    fields: &[(&'static str, Vec<f64>)],
+    fields: &[FrameField],
     params: &SphParams<R>,
     time: f64,
     step: u64,
@@ -858,8 +868,8 @@ fn write_frame<R: Real, D: TensorOps<R>>(
         Array { name: "stress", components: 6, values: Values::F64(&stress) },
         Array { name: "von_mises", components: 1, values: Values::F64(&vm) },
     ];
-    for (name, v) in fields {
-        point_data.push(Array { name, components: 1, values: Values::F64(v) });
+    for f in fields {
+        point_data.push(Array { name: f.name, components: f.components, values: Values::F64(&f.values) });
     }
     let frame = Frame { time, points: Values::F64(&pts), point_data, field_data: vec![("STEP", step as f64)] };
     vtu::write(path, &frame).map_err(|e| io_err(path, e))?;

@@ -30,7 +30,11 @@ fn check_scene<R: Real, D: TensorOps<R>>(scene: &Scene, what: &str) -> Vec<When>
         .map(|f| f.name)
         .collect();
     assert_eq!(saved, expected, "{what}: checkpointed fields");
-    let frames: Vec<&str> = solver.download_frame_fields(&b).expect("frames").into_iter().map(|(n, _)| n).collect();
+    let downloaded = solver.download_frame_fields(&b).expect("frames");
+    for f in &downloaded {
+        assert_eq!(f.values.len(), f.components * solver.n, "{what}: frame field {} holds n × components values", f.name);
+    }
+    let frames: Vec<&str> = downloaded.iter().map(|f| f.name).collect();
     let expected: Vec<&str> = FIELDS.iter().filter(|f| held.contains(&f.when)).filter_map(|f| f.frame).collect();
     assert_eq!(frames, expected, "{what}: frame fields");
     held
@@ -118,7 +122,11 @@ fn checkpoint_names_are_unchanged() {
     ];
     assert_eq!(names, before);
     let frames: Vec<&str> = FIELDS.iter().filter_map(|f| f.frame).collect();
-    assert_eq!(frames, ["temperature", "plastic_strain", "plastic_strain_rate"]);
+    // The contact forces joined the frames in issue 27 (item 4), as vectors.
+    assert_eq!(
+        frames,
+        ["temperature", "plastic_strain", "plastic_strain_rate", "contact_normal_force", "contact_friction_force"]
+    );
 }
 
 /// The particle state's fields (`state::particle_fields!`) are registry entries too, reordered, always present and

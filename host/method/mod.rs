@@ -53,9 +53,11 @@ pub struct Output<R: Real, D: TensorOps<R>> {
     pub host: HostParticles<R, D>,
     /// Temperature, plastic strain and its rate, where modelled.
     pub internal: [Option<Vec<f64>>; 3],
-    /// The frame's per-particle f64 fields (the SPH field registry's frame entries: name and values).
-    pub fields: Vec<(&'static str, Vec<f64>)>,
+    /// The frame's per-particle f64 fields (the SPH field registry's frame entries: name, components, values).
+    pub fields: Vec<crate::solver::fields::FrameField>,
     pub positions: Vec<[f64; 3]>,
+    /// The tool's outline in the world at this instant (a closed polyline), with a tool.
+    pub tool: Option<Vec<[f64; 3]>>,
     /// The equation-of-state parameters the frame's pressure is computed with.
     pub params: SphParams<R>,
 }

@@ -410,7 +410,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Method<B> for Solver<B, R, D> {
         let host = self.download(b)?;
         // The registry's frame fields are the internal variables: read once, used for both.
         let fields = self.download_frame_fields(b)?;
-        let field = |name: &str| fields.iter().find(|(n, _)| *n == name).map(|(_, v)| v.clone());
+        let field = |name: &str| fields.iter().find(|f| f.name == name).map(|f| f.values.clone());
         let (temp, eps, rate) = (field("temperature"), field("plastic_strain"), field("plastic_strain_rate"));
         let mut d = compute(&host, &self.host_params, self.time, self.steps, temp.as_deref());
         crate::solver::diagnostics::internal(&mut d, &host.id, temp.as_deref(), eps.as_deref());
@@ -431,6 +431,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Method<B> for Solver<B, R, D> {
             internal: [temp, eps, rate],
             fields,
             positions: now,
+            tool: self.tool_outline(),
             params: self.host_params,
         })
     }

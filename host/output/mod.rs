@@ -11,6 +11,7 @@
 //!
 //! - [`vtu`]: particle frames as binary VTK XML unstructured grids (vertex cells, raw appended data).
 //! - [`pvd`]: the ParaView collection listing the frames with their times.
+//! - [`vtp`]: the tool's outline beside each frame (PolyData, one closed polyline).
 //! - [`csv`]: per-step time series.
 
 pub mod atomic;
@@ -20,6 +21,7 @@ pub mod hdf5;
 pub mod progress;
 pub mod pvd;
 mod text;
+pub mod vtp;
 pub mod vtu;
 
 pub use atomic::{write_atomic, write_atomic_with};

@@ -11,11 +11,12 @@ use std::path::{Path, PathBuf};
 use super::atomic::{with_path, write_atomic};
 use super::text::{escape_attr, fmt_f64, tags, unescape_attr};
 
-/// A time series of data files: (time, file path relative to the .pvd's directory).
+/// A time series of data files: (time, part, file path relative to the .pvd's directory). Part 0 is the particle
+/// frames, part 1 the tool's outline at the same time.
 #[derive(Clone, Debug)]
 pub struct Collection {
     path: PathBuf,
-    entries: Vec<(f64, String)>,
+    entries: Vec<(f64, u32, String)>,
 }
 
 impl Collection {
@@ -28,12 +29,17 @@ impl Collection {
     /// `"frames/frame_000010.vtu"`. A non-finite time is refused ([`io::ErrorKind::InvalidInput`]): readers parse
     /// the attribute with `strtod`-like functions that reject `NaN` and `inf`.
     pub fn push(&mut self, time: f64, file: impl Into<String>) -> io::Result<()> {
+        self.push_part(time, 0, file)
+    }
+
+    /// Adds a file as part `part` of the time step `time` (the particles are part 0).
+    pub fn push_part(&mut self, time: f64, part: u32, file: impl Into<String>) -> io::Result<()> {
         let file = file.into();
         if !time.is_finite() {
             let msg = format!("{}: time {time} of {file} is not finite", self.path.display());
             return Err(io::Error::new(io::ErrorKind::InvalidInput, msg));
         }
-        self.entries.push((time, file));
+        self.entries.push((time, part, file));
         Ok(())
     }
 
@@ -41,11 +47,11 @@ impl Collection {
     pub fn write(&self) -> io::Result<()> {
         let mut s = String::from("<?xml version=\"1.0\"?>\n");
         s.push_str("<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n");
-        for (time, file) in &self.entries {
+        for (time, part, file) in &self.entries {
             // Writing into a String cannot fail.
             let _ = writeln!(
                 s,
-                r#"    <DataSet timestep="{}" group="" part="0" file="{}"/>"#,
+                r#"    <DataSet timestep="{}" group="" part="{part}" file="{}"/>"#,
                 fmt_f64(*time),
                 escape_attr(file)
             );
@@ -58,18 +64,25 @@ impl Collection {
         &self.path
     }
 
-    pub fn entries(&self) -> &[(f64, String)] {
+    pub fn entries(&self) -> &[(f64, u32, String)] {
         &self.entries
     }
 }
 
-/// Reads the (time, file) entries of a .pvd written by [`Collection::write`], in file order.
+/// Reads the (time, file) entries of the particle frames (part 0) of a .pvd written by [`Collection::write`], in
+/// file order.
 pub fn read(path: &Path) -> io::Result<Vec<(f64, String)>> {
+    Ok(read_parts(path)?.into_iter().filter(|e| e.1 == 0).map(|(t, _, f)| (t, f)).collect())
+}
+
+/// Reads every (time, part, file) entry of a .pvd written by [`Collection::write`], in file order (a missing
+/// `part` reads as 0).
+pub fn read_parts(path: &Path) -> io::Result<Vec<(f64, u32, String)>> {
     let text = fs::read_to_string(path).map_err(|e| with_path(path, e))?;
     parse(&text).map_err(|msg| io::Error::new(io::ErrorKind::InvalidData, format!("{}: {msg}", path.display())))
 }
 
-fn parse(text: &str) -> Result<Vec<(f64, String)>, String> {
+fn parse(text: &str) -> Result<Vec<(f64, u32, String)>, String> {
     let mut collection = false;
     let mut entries = Vec::new();
     for tag in tags(text)? {
@@ -85,7 +98,9 @@ fn parse(text: &str) -> Result<Vec<(f64, String)>, String> {
                 let time = time.trim().parse().map_err(|_| format!("timestep {time:?} is not a number"))?;
                 let file = tag.attr("file").ok_or("<DataSet> without file")?;
                 let file = unescape_attr(file).ok_or_else(|| format!("bad character reference in file {file:?}"))?;
-                entries.push((time, file));
+                let part = tag.attr("part").unwrap_or("0");
+                let part = part.trim().parse().map_err(|_| format!("part {part:?} is not a number"))?;
+                entries.push((time, part, file));
             }
             _ => {}
         }

@@ -10,7 +10,8 @@
 //! - `condition`: the [`When`] under which `Solver::new` allocates it (`Solver::new` asks the same `When`);
 //! - checkpoint role: `save` (saved under `name` and required on restore), `optional` (a restore without it goes
 //!   on: `pos_ref`) or `scratch` (not saved; the path is then not read);
-//! - `frame "vtu name"`: written to every frame under that name, as a Float64 scalar (f64 fields only).
+//! - `frame "vtu name"`: written to every frame under that name, as a Float64 scalar (f64 fields); `frame "vtu
+//!   name" vector`: a vector field written as three Float64 components (z = 0 in 2D).
 //!
 //! The order is the checkpoint's order (`checkpoint.bin` lists the saved fields in it) and the frames' order.
 //!
@@ -28,8 +29,17 @@ use crate::kernels::sph::heat::ThermalMaterial;
 use crate::kernels::sph::params::flags;
 use crate::kernels::sph::step::StepScalars;
 use crate::kernels::sph::{SphParams, TensorOps};
-use crate::kernels::{Dim, Real};
+use crate::kernels::{Dim, Real, Vector};
 use crate::state::{ReorderBatch, load_blob};
+
+/// A per-particle field of a frame, as the host writes it: its array name, components per particle (1, or 3 for
+/// a vector) and values (f64).
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrameField {
+    pub name: &'static str,
+    pub components: usize,
+    pub values: Vec<f64>,
+}
 
 /// The physics under which a field exists (evaluated on the run's [`Setup`]; `Solver::new` allocates by it).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -191,7 +201,15 @@ macro_rules! frame_one {
     ($kind:ident, $s:ident, $b:ident, $out:ident, [$($path:tt)*], $vtu:literal) => {
         if let Some(f) = reach!(ref Some($s); $($path)*) {
             let v: Vec<f64> = $b.read(cur!($kind, f))?;
-            $out.push(($vtu, v));
+            $out.push(FrameField { name: $vtu, components: 1, values: v });
+        }
+    };
+    ($kind:ident, $s:ident, $b:ident, $out:ident, [$($path:tt)*], $vtu:literal vector) => {
+        if let Some(f) = reach!(ref Some($s); $($path)*) {
+            // Components past the dimension read as zero (`Vector::get`).
+            let v: Vec<f64> =
+                $b.read(cur!($kind, f))?.iter().flat_map(|x| (0..3).map(move |k| x.get(k).to_f64())).collect();
+            $out.push(FrameField { name: $vtu, components: 3, values: v });
         }
     };
     ($kind:ident, $s:ident, $b:ident, $out:ident, [$($path:tt)*]) => {};
@@ -210,7 +228,7 @@ macro_rules! ck_role {
 }
 
 macro_rules! frame_role {
-    ($vtu:literal) => {
+    ($vtu:literal $($vector:ident)?) => {
         Some($vtu)
     };
     () => {
@@ -230,7 +248,7 @@ macro_rules! is_field {
 /// Generates the table [`FIELDS`] and, from the same entries, the solver's passes over its fields.
 macro_rules! registry {
     ($( $(#[$doc:meta])* $name:literal : $t:ty = $kind:ident [$($path:tt)*] if $when:ident, $ck:ident
-        $(, frame $vtu:literal)? ; )*) => {
+        $(, frame $vtu:literal $($vector:ident)?)? ; )*) => {
         /// Every per-particle buffer of the solver, in checkpoint order.
         pub const FIELDS: &[FieldInfo] = &[$(
             FieldInfo {
@@ -238,7 +256,7 @@ macro_rules! registry {
                 when: When::$when,
                 reordered: is_field!($kind),
                 checkpoint: ck_role!($ck),
-                frame: frame_role!($($vtu)?),
+                frame: frame_role!($($vtu $($vector)?)?),
             },
         )*];
 
@@ -269,10 +287,10 @@ macro_rules! registry {
             }
 
             /// Host copies of every field written to frames that exists, with its array name, in registry order.
-            pub fn download_frame_fields(&self, b: &B) -> Result<Vec<(&'static str, Vec<f64>)>> {
+            pub fn download_frame_fields(&self, b: &B) -> Result<Vec<FrameField>> {
                 let s = self;
                 let mut out = Vec::new();
-                $( frame_one!($kind, s, b, out, [$($path)*] $(, $vtu)?); )*
+                $( frame_one!($kind, s, b, out, [$($path)*] $(, $vtu $($vector)?)?); )*
                 Ok(out)
             }
         }
@@ -309,8 +327,8 @@ registry! {
     "eps": f64 = field [.plastic?.eps] if Plastic, save, frame "plastic_strain";
     "eps_rate": f64 = field [.plastic?.rate] if Plastic, save, frame "plastic_strain_rate";
     "plastic_work": f64 = field [.plastic?.work] if Plastic, save;
-    "contact_normal": D::Vec<R> = field [.contact?.normal] if Contact, save;
-    "contact_friction": D::Vec<R> = field [.contact?.friction] if Contact, save;
+    "contact_normal": D::Vec<R> = field [.contact?.normal] if Contact, save, frame "contact_normal_force" vector;
+    "contact_friction": D::Vec<R> = field [.contact?.friction] if Contact, save, frame "contact_friction_force" vector;
     "mech_mass": R = field [.mech_mass?] if ThermalOnly, save;
     "viscous_dissipation": f64 = field [.dissipation?.0] if Viscosity, save;
     /// The pre-pass outputs: σ/ρ², artificial stress, sound speed, volume.

@@ -134,6 +134,8 @@ struct PlasticState<B: Backend> {
 struct ContactState<B: Backend, R: Real, D: Dim> {
     params: B::Buf<ContactParams>,
     tool: B::Buf<Tool2d>,
+    /// The tool's outline in its frame, for the frames' pictures (`tool::outline`).
+    outline: Vec<[f64; 2]>,
     motion: ToolMotion,
     normal: Field<B, D::Vec<R>>,
     friction: Field<B, D::Vec<R>>,
@@ -422,6 +424,7 @@ fn contact_state<B: Backend, R: Real, D: TensorOps<R>>(
     Ok(Some(ContactState {
         params: b.upload(&[c.params], "contact parameters")?,
         tool: b.upload(&[c.tool], "tool shape")?,
+        outline: crate::tool::outline::outline(&c.tool),
         motion: c.motion,
         normal: Field::upload(b, &zeros_v, "contact forces")?,
         friction: Field::upload(b, &zeros_v, "friction forces")?,
@@ -981,6 +984,12 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
     /// for a rotating tool, its centre, angular velocity and rotation), with a tool.
     pub fn tool_state(&self) -> Option<ToolState> {
         self.contact.as_ref().map(|c| c.motion.state_at(self.time, c.nominal_dt, c.nominal_dt))
+    }
+
+    /// The tool's outline in the world at the current time (z = 0 in 2D), with a tool.
+    pub fn tool_outline(&self) -> Option<Vec<[f64; 3]>> {
+        let s = self.tool_state()?;
+        self.contact.as_ref().map(|c| crate::tool::outline::in_world(&c.outline, &s))
     }
 
     /// Where the tool's frame origin is at the current time (its translation; z = 0 in 2D), with a tool.
