@@ -102,8 +102,15 @@ struct RunArgs {
     /// cases/cutting/v0060.toml (Ti6Al4V, 381 m/min, 0.1 mm, the experiment V0060).
     scene: Option<std::path::PathBuf>,
     /// Continue the run in this folder from its checkpoint.bin (same backend and precision: bit for bit).
-    #[arg(long, value_name = "RUN_FOLDER", conflicts_with_all = ["scene", "set", "out"])]
+    #[arg(long, value_name = "RUN_FOLDER", conflicts_with_all = ["scene", "set", "out", "force"])]
     resume: Option<std::path::PathBuf>,
+    /// With --resume: continue even though the run folder's scene.toml, a material or the swarf version differs
+    /// from the checkpoint's (the differences are printed; the continuation is not the run it would have been).
+    #[arg(long, requires = "resume")]
+    accept_changes: bool,
+    /// Clear a non-empty run folder before the run (by default a new run refuses one, naming it).
+    #[arg(long)]
+    force: bool,
     /// Write a checkpoint every this many seconds of simulated time (Ctrl-C always writes one).
     #[arg(long, value_name = "SECONDS")]
     checkpoint_every: Option<f64>,
@@ -409,13 +416,20 @@ fn run(cli: Cli) -> Result<()> {
 fn cmd_run(backend: BackendChoice, a: &RunArgs) -> Result<()> {
     let (scene, overrides, out) = match &a.resume {
         Some(dir) => {
-            let (sc, ov) = swarf::run::resume_scene(dir)?;
-            (sc, ov, dir.clone())
+            let r = swarf::resume::open(dir, a.accept_changes)?;
+            for c in &r.accepted {
+                eprintln!("warning: resuming with a change (--accept-changes): {c}");
+            }
+            (r.scene, r.overrides, dir.clone())
         }
         None => {
             let path = a.scene.clone().unwrap_or_else(swarf::run::default_scene);
             let sc = swarf::scene::Scene::load(&path, &a.set).map_err(|e| swarf::Error::Scene(e.to_string()))?;
             let out = a.out.clone().unwrap_or_else(|| std::path::PathBuf::from("runs").join(&sc.name));
+            let cleared = swarf::run_folder::prepare(&out, a.force)?;
+            if cleared > 0 && !a.quiet {
+                eprintln!("--force: cleared {} ({cleared} entries of an earlier run)", out.display());
+            }
             (sc, a.set.clone(), out)
         }
     };

@@ -97,11 +97,11 @@ pub fn default_scene() -> PathBuf {
 /// Set by the Ctrl-C handler: the run writes a checkpoint before its next step and stops.
 pub static INTERRUPTED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
-/// The scene of a run folder to resume: its `scene.toml` with the overrides recorded in its checkpoint.
+/// The scene of a run folder to resume: its `scene.toml` with the overrides recorded in its checkpoint, refused
+/// where it, its materials or the checkpoint differ from the run the checkpoint was written by ([`crate::resume`]).
 pub fn resume_scene(dir: &Path) -> Result<(Scene, Vec<String>)> {
-    let (h, _) = crate::checkpoint::read(&dir.join("checkpoint.bin"))?;
-    let scene = Scene::load(dir.join("scene.toml"), &h.overrides).map_err(|e| Error::Scene(e.to_string()))?;
-    Ok((scene, h.overrides))
+    let r = crate::resume::open(dir, false)?;
+    Ok((r.scene, r.overrides))
 }
 
 /// The outcome of a run.
@@ -186,6 +186,8 @@ struct Run<'a, B: Backend, M: Method<B>> {
     next_ckpt: f64,
     /// Where this process started (a resumed run's rates and time left count its own steps only).
     start: (u64, f64),
+    /// Cell-list rebuilds before this process started (a resumed run's, from its checkpoint).
+    rebuilds0: u64,
     /// The progress line's state (a terminal or a log).
     progress_out: crate::output::progress::Progress,
 }
@@ -282,6 +284,7 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
             next_out: 0.0,
             next_ckpt: opts.checkpoint_every.unwrap_or(f64::INFINITY),
             start: (0, 0.0),
+            rebuilds0: 0,
             progress_out: crate::output::progress::Progress::new(std::io::IsTerminal::is_terminal(&std::io::stderr())),
         })
     }
@@ -299,9 +302,18 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
                 h.particles,
             )));
         }
+        let bad = |e: String| Error::Checkpoint(format!("{}: {e}", self.ckpt_path.display()));
+        crate::checkpoint::validate(&h, &blobs).map_err(bad)?;
+        // The CFL re-check only lowers Δt, and stops the run below this fraction of the initial one.
+        let dt0 = self.plan.dt;
+        if h.dt < MIN_DT_FRACTION * dt0 {
+            return Err(bad(format!("header: dt = {:e} s: expected at least {:e} s (1 % of the scene's)", h.dt, dt0)));
+        }
         self.method.load_state(self.b, &blobs)?;
         self.method.set_clock(h.time, h.steps);
-        self.dt = h.dt;
+        // An accepted change of the scene (--accept-changes) may have lowered the stable step.
+        self.dt = h.dt.min(dt0);
+        self.rebuilds0 = h.rebuilds;
         self.method.set_nominal_dt(self.dt);
         self.frame = h.frame;
         self.next_out = h.next_out;
@@ -515,7 +527,7 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
             precision: self.plan.precision,
             particles: self.plan.particles,
             steps: self.method.steps(),
-            rebuilds: self.method.rebuilds(b)?,
+            rebuilds: self.rebuilds0 + u64::from(self.method.rebuilds(b)?),
             dt: self.plan.dt,
             wall,
             tuning: self.tuning,
@@ -592,6 +604,10 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
             next_out: self.next_out,
             next_checkpoint: self.next_ckpt.is_finite().then_some(self.next_ckpt),
             fields: Vec::new(),
+            version: String::new(),
+            provenance: Some(crate::provenance::Provenance::of(self.scene)),
+            rebuilds: self.rebuilds0 + u64::from(self.method.rebuilds(self.b)?),
+            checksums: Vec::new(),
         };
         crate::checkpoint::write(&self.ckpt_path, h, &state)
     }
@@ -896,7 +912,7 @@ fn set_centres(scene: &Scene) -> Vec<[f64; 3]> {
 }
 
 /// `summary.json` of the run folder: what ran, on what, with which tuning switches, how long (steps, and cell-list
-/// rebuilds since the run or its last resume started), and each body's final extent (bounding box, and the
+/// rebuilds, a resumed run's included), and each body's final extent (bounding box, and the
 /// largest distance from the body's initial centre axis in the x–y plane: a Taylor bar's footprint radius).
 struct Summary<'a> {
     dir: &'a Path,
@@ -906,7 +922,7 @@ struct Summary<'a> {
     precision: &'a str,
     particles: usize,
     steps: u64,
-    rebuilds: u32,
+    rebuilds: u64,
     dt: f64,
     wall: f64,
     tuning: &'a Tuning,
