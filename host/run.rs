@@ -230,8 +230,9 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
     fn start(b: &'a B, scene: &'a Scene, opts: &'a RunOptions) -> Result<Self> {
         let tuning = Tuning::current()?;
         let s = M::setup(scene, tuning)?;
-        let plan = M::plan(&s);
+        let mut plan = M::plan(&s);
         crate::check::fits(plan.memory_bytes, b.info())?;
+        plan.warnings.extend(crate::check::steps(scene, plan.dt, plan.h, plan.c0)?.1);
         std::fs::create_dir_all(&opts.out_dir).map_err(|e| io_err(&opts.out_dir, e))?;
         // The run folder keeps the scene it ran (as given, with the overrides recorded in summary.json).
         if let Ok(text) = std::fs::read(&scene.origin) {
@@ -331,7 +332,18 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
             c.resume(h.time)?;
         }
         if let Ok(entries) = crate::output::pvd::read(f.pvd.path()) {
-            for (t, name) in entries.into_iter().filter(|(t, _)| *t <= h.time) {
+            let kept: Vec<_> = entries.into_iter().filter(|(t, _)| *t <= h.time).collect();
+            // The checkpoint is written after its step's frame: the index holds exactly its frame count.
+            if self.opts.frames && kept.len() != h.frame {
+                return Err(Error::Checkpoint(format!(
+                    "{}: header: frame = {}: expected {}, the frames of particles.pvd up to t = {:e} s",
+                    self.ckpt_path.display(),
+                    h.frame,
+                    kept.len(),
+                    h.time
+                )));
+            }
+            for (t, name) in kept {
                 f.pvd.push(t, name).map_err(|e| io_err(f.pvd.path(), e))?;
             }
         }
@@ -350,7 +362,7 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
             p.h,
             p.c0,
             self.dt,
-            (scene.time.end / self.dt).ceil(),
+            crate::check::steps(scene, self.dt, p.h, p.c0).map_or("too many".into(), |s| s.0.to_string()),
             info.backend,
             info.name
         );

@@ -143,12 +143,13 @@ fn non_finite_position_is_refused() {
 #[test]
 fn header_values_out_of_range_are_refused() {
     type Edit = fn(&mut Header);
-    let cases: [(&str, Edit, &[&str]); 5] = [
+    let cases: [(&str, Edit, &[&str]); 6] = [
         ("dt0", |h| h.dt = 0.0, &["header: dt = 0e0", "expected a finite value > 0"]),
         ("dtneg", |h| h.dt = -1e-7, &["header: dt = -1e-7"]),
         ("dttiny", |h| h.dt = 1e-30, &["header: dt = 1e-30 s", "1 % of the scene's"]),
         ("timeneg", |h| h.time = -1e-6, &["header: time = -1e-6", ">= 0"]),
         ("frame", |h| h.frame = 1_000_000_000_000, &["header: frame = 1000000000000", "expected 1 to"]),
+        ("frame2", |h| h.frame += 2, &["frames of particles.pvd up to t"]),
     ];
     for (tag, f, expect) in cases {
         let d = copy(tag);
@@ -250,4 +251,52 @@ fn non_empty_run_folder_is_refused_unless_forced() {
     assert_eq!(o.status.code(), Some(1), "{err}");
     assert!(err.contains("not a swarf run folder"), "{err}");
     assert_eq!(std::fs::read(other.join("thesis.tex")).unwrap(), b"precious");
+}
+
+/// A velocity of 1e300 m/s and `time.dt = 1e-30`: before, `check` said "ok" with 18446744073709551615 steps and
+/// `run` hung at 0 %. Both now refuse before any work, naming Δt, where it comes from, and `time.max_steps`.
+#[test]
+fn runs_that_never_end_are_refused_first() {
+    let cases: [(&str, &[&str]); 2] = [
+        ("body.0.velocity=[1e300,0.0]", &["the CFL condition", "e300 m/s", "time.max_steps = 1e9"]),
+        ("time.dt=1e-30", &["dt = 1e-30 s (time.dt)", "time.max_steps = 1e9"]),
+    ];
+    for (set, expect) in cases {
+        let out = tmp("never");
+        for cmd in ["check", "run"] {
+            let mut args = vec!["--backend", "cpu", cmd, "cases/rings.toml", "--set", set];
+            if cmd == "run" {
+                args.extend(["--quiet", "--out", path(&out)]);
+            }
+            let o = swarf(&args);
+            let err = stderr(&o);
+            assert_eq!(o.status.code(), Some(1), "{cmd} --set {set}: {err}");
+            for e in expect {
+                assert!(err.contains(e), "{cmd} --set {set}: expected {e:?} in: {err}");
+            }
+        }
+        assert!(!out.exists(), "refused before the run folder is made");
+    }
+    // The limit is the scene's: raised, the same scene checks.
+    let o = swarf(&["--backend", "cpu", "check", "cases/rings.toml", "--set", "time.dt=1e-12", "--set", "time.end=1e-9"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+/// `output.every` below Δt: before, `check` said 11 steps (end/Δt) and the run took 200, each step cut short
+/// to the output interval, without a word. Now `check` reports the steps the run takes, and both warn.
+#[test]
+fn output_every_below_dt_is_reported_truthfully() {
+    let set = ["--set", "time.end=2e-6", "--set", "output.every=1e-8"];
+    let o = swarf(&[&["--backend", "cpu", "check", "cases/rings.toml"][..], &set].concat());
+    let text = String::from_utf8_lossy(&o.stdout).into_owned();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let line = text.lines().find(|l| l.starts_with("steps:")).expect("a steps line");
+    let checked: u64 = line.split_whitespace().nth(1).and_then(|n| n.parse().ok()).expect("a step count");
+    assert!(text.contains("warning:") && text.contains("output.every = 1e-8 s is below dt"), "{text}");
+    let out = tmp("every");
+    let o = swarf(&[&["--backend", "cpu", "run", "cases/rings.toml", "--out", path(&out)][..], &set].concat());
+    assert!(o.status.success() && stderr(&o).contains("is below dt"), "{}", stderr(&o));
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(v["steps"].as_u64(), Some(checked), "check's step count is the run's");
 }

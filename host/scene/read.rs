@@ -237,12 +237,13 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
     // [time]
     let time_expected = "a table [time] with end (and cfl, dt)";
     let t = root.required("time", time_expected, root.table("time", "time", time_expected)?)?;
-    t.check_keys(&["end", "cfl", "dt"], &[], "")?;
+    t.check_keys(&["end", "cfl", "dt", "max_steps"], &[], "")?;
     let e = "a positive time in seconds";
     let end = t.required("end", e, t.number("end", e, positive)?)?;
     let cfl = t.number("cfl", "a CFL number in (0, 1]", |x| x > 0.0 && x <= 1.0)?.unwrap_or(0.5);
     let dt = t.number("dt", "a positive time step in seconds", positive)?;
-    let time = Time { end, cfl, dt };
+    let max_steps = t.number("max_steps", "a step count >= 1", |x| x >= 1.0)?.unwrap_or(crate::check::MAX_STEPS);
+    let time = Time { end, cfl, dt, max_steps };
 
     // [output]
     let mut output = Output { every: end / 50.0 };
