@@ -111,9 +111,12 @@ struct RunArgs {
     /// Clear a non-empty run folder before the run (by default a new run refuses one, naming it).
     #[arg(long)]
     force: bool,
-    /// Write a checkpoint every this many seconds of simulated time (Ctrl-C always writes one).
+    /// Write a checkpoint every this many seconds of simulated time (Ctrl-C and SIGTERM always write one).
     #[arg(long, value_name = "SECONDS")]
     checkpoint_every: Option<f64>,
+    /// Also write a checkpoint every this many minutes of wall time, between frames too (0: never).
+    #[arg(long, value_name = "MINUTES", default_value_t = 30.0)]
+    checkpoint_minutes: f64,
     /// Floating-point precision of the particle state (default: the scene's, else f64).
     #[arg(long, value_enum)]
     precision: Option<PrecisionChoice>,
@@ -322,8 +325,8 @@ fn one<B: Backend, R: Real, D: Dim>(b: &B, n: usize, repeats: usize) -> Result<b
     bench::neighbours::<B, R, D>(b, n, repeats)
 }
 
-/// Ctrl-C (SIGINT): the run checkpoints before its next step and stops; a second Ctrl-C at least a second later
-/// stops at once. Signals closer together count once: `timeout -s INT` sends its signal to the command and to its
+/// Ctrl-C (SIGINT), and SIGTERM (what batch schedulers send) and SIGHUP: the run checkpoints before its next
+/// batch of steps (within about a second) and stops; a second signal at least a second later stops at once. Signals closer together count once: `timeout -s INT` sends its signal to the command and to its
 /// process group, so one timeout delivers two, which must not cost the checkpoint.
 fn on_interrupt() {
     use std::sync::atomic::{AtomicU64, Ordering};
@@ -439,6 +442,10 @@ fn cmd_run(backend: BackendChoice, a: &RunArgs) -> Result<()> {
         eprintln!("error: --checkpoint-every {c}: expected a positive time in seconds");
         std::process::exit(2);
     }
+    if !(a.checkpoint_minutes.is_finite() && a.checkpoint_minutes >= 0.0) {
+        eprintln!("error: --checkpoint-minutes {}: expected minutes >= 0 (0: never)", a.checkpoint_minutes);
+        std::process::exit(2);
+    }
     let (any, line) = AnyBackend::select(backend)?;
     if !a.quiet {
         eprintln!("{line}");
@@ -455,6 +462,7 @@ fn cmd_run(backend: BackendChoice, a: &RunArgs) -> Result<()> {
         overrides,
         checkpoint_every: a.checkpoint_every,
         resume: a.resume.is_some(),
+        checkpoint_wall: (a.checkpoint_minutes > 0.0).then_some(a.checkpoint_minutes * 60.0),
     };
     let r = swarf::run::run(&any, &scene, &opts)?;
     if !a.quiet {

@@ -39,6 +39,8 @@ pub struct RunOptions {
     pub checkpoint_every: Option<f64>,
     /// Continue from `out_dir/checkpoint.bin` (the scene must be the run folder's, see [`resume_scene`]).
     pub resume: bool,
+    /// Also write `checkpoint.bin` every this many seconds of wall time, between output steps too (None: never).
+    pub checkpoint_wall: Option<f64>,
 }
 
 impl RunOptions {
@@ -55,6 +57,7 @@ impl RunOptions {
             overrides: Vec::new(),
             checkpoint_every: None,
             resume: false,
+            checkpoint_wall: None,
         }
     }
 }
@@ -94,7 +97,7 @@ pub fn default_scene() -> PathBuf {
     if rel.is_file() { rel } else { Path::new(env!("CARGO_MANIFEST_DIR")).join(rel) }
 }
 
-/// Set by the Ctrl-C handler: the run writes a checkpoint before its next step and stops.
+/// Set by the Ctrl-C (and SIGTERM) handler: the run writes a checkpoint before its next batch of steps and stops.
 pub static INTERRUPTED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
 /// The scene of a run folder to resume: its `scene.toml` with the overrides recorded in its checkpoint, refused
@@ -188,6 +191,10 @@ struct Run<'a, B: Backend, M: Method<B>> {
     start: (u64, f64),
     /// Cell-list rebuilds before this process started (a resumed run's, from its checkpoint).
     rebuilds0: u64,
+    /// When the last checkpoint was written (or the run started), for the wall-time cadence.
+    last_ckpt: Instant,
+    /// Most steps of the next batch: adapted so that a batch takes about [`BATCH_WALL_S`].
+    batch: usize,
     /// The progress line's state (a terminal or a log).
     progress_out: crate::output::progress::Progress,
 }
@@ -211,6 +218,7 @@ fn run_typed<B: Backend, M: Method<B>>(
         if INTERRUPTED.load(std::sync::atomic::Ordering::Relaxed) {
             return Err(run.interrupt()?);
         }
+        run.wall_checkpoint()?;
         run.advance()?;
     }
     Ok(RunReport {
@@ -286,6 +294,8 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
             next_ckpt: opts.checkpoint_every.unwrap_or(f64::INFINITY),
             start: (0, 0.0),
             rebuilds0: 0,
+            last_ckpt: Instant::now(),
+            batch: GRAPH_BATCH,
             progress_out: crate::output::progress::Progress::new(std::io::IsTerminal::is_terminal(&std::io::stderr())),
         })
     }
@@ -365,6 +375,14 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
             crate::check::steps(scene, self.dt, p.h, p.c0).map_or("too many".into(), |s| s.0.to_string()),
             info.backend,
             info.name
+        );
+        // Where the run can be continued from (checkpoints only at output steps went unwritten with sparse frames).
+        let (every, wall) = (self.opts.checkpoint_every, self.opts.checkpoint_wall);
+        let head = format!(
+            "{head}; checkpoints{}{}{} and on Ctrl-C or SIGTERM",
+            every.map_or(String::new(), |e| format!(" every {e:e} s of simulated time")),
+            if every.is_some() && wall.is_some() { "," } else { "" },
+            wall.map_or(String::new(), |w| format!(" every {w} s of wall time"))
         );
         if !self.opts.quiet {
             eprintln!("{head}");
@@ -449,6 +467,7 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
                 self.next_ckpt += opts.checkpoint_every.unwrap_or(f64::INFINITY);
             }
             self.save_checkpoint()?;
+            self.last_ckpt = Instant::now();
             self.log.line(&format!("checkpoint at t = {time:e} s, step {steps}"))?;
         }
         let keep_going = match (observer.as_deref_mut(), kept.as_ref()) {
@@ -575,14 +594,34 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
         })
     }
 
-    /// Full steps up to the next event (an output, the end, a force sample) run as one batch; the step that lands
-    /// on an output time is cut short. A non-finite value is reported at once, not at the next output:
+    /// The wall-time cadence (`checkpoint_wall`): a checkpoint between output steps too, so that a run with sparse
+    /// frames has one.
+    fn wall_checkpoint(&mut self) -> Result<()> {
+        let Some(every) = self.opts.checkpoint_wall else { return Ok(()) };
+        if self.last_ckpt.elapsed().as_secs_f64() < every {
+            return Ok(());
+        }
+        if let Some(d) = self.pending.join(&mut self.files)? {
+            self.history.push(d);
+        }
+        self.save_checkpoint()?;
+        self.last_ckpt = Instant::now();
+        let (time, step) = (self.method.time(), self.method.steps());
+        self.log.line(&format!("checkpoint at t = {time:e} s, step {step} ({every} s of wall time since the last)"))
+    }
+
+    /// Full steps up to the next event (an output, the end, a force sample) run as one batch of at most
+    /// `self.batch` steps, halved when a batch takes longer than [`BATCH_WALL_S`] and doubled (up to
+    /// [`MAX_BATCH`]) when one takes under a quarter of it, so that Ctrl-C acts within about a second on any
+    /// backend (with batches of 4096 steps it took 15 s on a CPU); the step that lands on an output time is cut
+    /// short. A non-finite value is reported at once, not at the next output:
     /// non-finite particles rebuild the cell list every step and pile into its void bucket, which slows every
     /// step down (the 150k f32 cut stalled for minutes).
     fn advance(&mut self) -> Result<()> {
         let (b, dt, end) = (self.b, self.dt, self.scene.time.end);
         let t = self.method.time();
-        let full = full_steps(t, dt, self.next_out, end, self.cut.as_ref().map(|c| c.next()), MAX_BATCH);
+        let clock = Instant::now();
+        let full = full_steps(t, dt, self.next_out, end, self.cut.as_ref().map(|c| c.next()), self.batch);
         if full > 0 {
             self.method.advance(b, dt, full)?;
         } else {
@@ -591,6 +630,13 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
         if self.method.non_finite_seen(b)? {
             self.next_out = self.method.time();
             return Ok(());
+        }
+        // Timed after the flag's read, which waits for the device.
+        let took = clock.elapsed().as_secs_f64();
+        if took > BATCH_WALL_S {
+            self.batch = (self.batch / 2).max(1);
+        } else if took < BATCH_WALL_S / 4.0 && full == self.batch {
+            self.batch = (2 * self.batch).min(MAX_BATCH);
         }
         if let Some(c) = self.cut.as_mut()
             && c.due(self.method.time())
@@ -627,6 +673,10 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
 
 /// Most steps between two checks for an interrupt.
 const MAX_BATCH: usize = 4096;
+/// The first batch's steps (a whole number of the GPU's captured batches).
+const GRAPH_BATCH: usize = 2 * crate::solver::GRAPH_STEPS;
+/// The wall time a batch of steps aims at [s].
+const BATCH_WALL_S: f64 = 0.5;
 
 /// How many steps of exactly `dt` the run loop takes from `t` before its next event: each must fit before the
 /// output time and the end (else the step is cut short), and the batch stops after the step that reaches an output

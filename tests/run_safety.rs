@@ -300,3 +300,75 @@ fn output_every_below_dt_is_reported_truthfully() {
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     assert_eq!(v["steps"].as_u64(), Some(checked), "check's step count is the run's");
 }
+
+/// Ctrl-C and SIGTERM in the middle of a long stretch without frames (about 3000 steps between two): before,
+/// the signal was looked at only between batches of up to 4096 steps (Ctrl-C took 15 s, here the run went on to
+/// its end and exited 0), and SIGTERM killed the run with no checkpoint. Now each writes a checkpoint that
+/// validates and stops with exit code 130, well before the run would have ended.
+#[cfg(unix)]
+#[test]
+fn signals_checkpoint_and_stop_within_a_batch() {
+    for sig in ["-INT", "-TERM"] {
+        let d = tmp(&format!("signal{sig}"));
+        let mut child = Command::new(env!("CARGO_BIN_EXE_swarf"))
+            .args(["--backend", "cpu", "run", "cases/rings.toml", "--quiet", "--set", "output.every=5.8e-4", "--out"])
+            .arg(&d)
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .expect("swarf starts");
+        // Stepping: the first frame is written.
+        let start = Instant::now();
+        while !d.join("frame_00000.vtu").exists() && start.elapsed() < Duration::from_secs(30) {
+            std::thread::sleep(Duration::from_millis(50));
+        }
+        std::thread::sleep(Duration::from_millis(1000));
+        let sent = Instant::now();
+        assert!(Command::new("kill").args([sig, &child.id().to_string()]).status().unwrap().success());
+        let code = loop {
+            if let Some(st) = child.try_wait().unwrap() {
+                break st.code();
+            }
+            if sent.elapsed() > Duration::from_secs(10) {
+                let _ = child.kill();
+                panic!("{sig}: still running 10 s after the signal");
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        };
+        assert_eq!(code, Some(130), "{sig}: exit code");
+        let (h, state) = checkpoint::read(&d.join("checkpoint.bin")).expect("a checkpoint");
+        checkpoint::validate(&h, &state).expect("a valid checkpoint");
+        assert!(h.frame == 1 && h.steps > 0, "{sig}: written between the first two frames, at step {}", h.steps);
+        let log = std::fs::read_to_string(d.join("run.log")).unwrap();
+        assert!(log.contains("interrupted at"), "{log}");
+    }
+}
+
+/// A run whose frames are sparse still gets checkpoints, on the wall-time cadence (`--checkpoint-minutes`), and
+/// says so in run.log: before, checkpoints were written only at output steps, so with sparse frames none was,
+/// and nobody was told.
+#[test]
+fn sparse_frames_still_get_wall_time_checkpoints() {
+    let d = tmp("wall");
+    let o = swarf(&[
+        "--backend",
+        "cpu",
+        "run",
+        "cases/rings.toml",
+        "--quiet",
+        "--set",
+        "time.end=1.5e-4",
+        "--set",
+        "output.every=1.5e-4",
+        "--checkpoint-minutes",
+        "0.002",
+        "--out",
+        path(&d),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let log = std::fs::read_to_string(d.join("run.log")).unwrap();
+    assert!(log.contains("; checkpoints every 0.12 s of wall time and on Ctrl-C or SIGTERM"), "{log}");
+    assert!(log.contains("s of wall time since the last)"), "{log}");
+    let (h, state) = checkpoint::read(&d.join("checkpoint.bin")).expect("a checkpoint");
+    checkpoint::validate(&h, &state).expect("a valid checkpoint");
+    assert_eq!(h.frame, 1, "written between the only two frames");
+}
