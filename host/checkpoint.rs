@@ -70,7 +70,8 @@ pub fn write(path: &Path, mut h: Header, state: &StateBlobs) -> Result<()> {
         }
         Ok(())
     })
-    .map_err(|e| Error::Checkpoint(format!("{}: {e}", path.display())))
+    // The atomic write's error names the path already.
+    .map_err(|e| Error::Checkpoint(e.to_string()))
 }
 
 pub fn read(path: &Path) -> Result<(Header, StateBlobs)> {

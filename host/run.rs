@@ -695,8 +695,10 @@ pub fn full_steps(t: f64, dt: f64, next_out: f64, end: f64, sample: Option<f64>,
     k
 }
 
+/// An output error naming `path` once (the atomic writes' errors already start with it).
 fn io_err(path: &Path, e: std::io::Error) -> Error {
-    Error::Output(format!("{}: {e}", path.display()))
+    let (p, text) = (path.display().to_string(), e.to_string());
+    Error::Output(if text.starts_with(&p) { text } else { format!("{p}: {text}") })
 }
 
 /// `run.log` of the run folder: the header and one line per output step, rewritten atomically each time.

@@ -32,7 +32,9 @@ pub fn prepare(dir: &Path, force: bool) -> Result<usize> {
         let more = if names.len() > 3 { ", …" } else { "" };
         let holds = format!("the run folder is not empty ({} entries: {shown}{more})", names.len());
         return Err(err(if !is_run {
-            format!("{holds} and is not a swarf run folder (no run.log or scene.toml): not cleared; choose another --out")
+            format!(
+                "{holds} and is not a swarf run folder (no run.log or scene.toml): not cleared; choose another --out"
+            )
         } else if dir.join("checkpoint.bin").is_file() {
             format!(
                 "{holds}: an earlier run. Continue it with `swarf run --resume {}`, write to another folder with \

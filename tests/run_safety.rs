@@ -220,15 +220,14 @@ fn resumed_summary_counts_all_cell_list_rebuilds() {
 fn non_empty_run_folder_is_refused_unless_forced() {
     let d = copy("force");
     std::fs::write(d.join("frame_09999.vtu"), b"stale").unwrap();
-    let args =
-        |extra: &'static [&'static str]| -> Vec<String> {
-            let mut a: Vec<String> = ["--backend", "cpu", "run", "cases/rings.toml", "--quiet", "--set", "time.end=2e-6"]
-                .map(String::from)
-                .to_vec();
-            a.extend(["--out".to_string(), path(&d).to_string()]);
-            a.extend(extra.iter().map(|s| s.to_string()));
-            a
-        };
+    let args = |extra: &'static [&'static str]| -> Vec<String> {
+        let mut a: Vec<String> = ["--backend", "cpu", "run", "cases/rings.toml", "--quiet", "--set", "time.end=2e-6"]
+            .map(String::from)
+            .to_vec();
+        a.extend(["--out".to_string(), path(&d).to_string()]);
+        a.extend(extra.iter().map(|s| s.to_string()));
+        a
+    };
     let run = |extra| {
         let a = args(extra);
         swarf(&a.iter().map(String::as_str).collect::<Vec<_>>())
@@ -278,7 +277,8 @@ fn runs_that_never_end_are_refused_first() {
         assert!(!out.exists(), "refused before the run folder is made");
     }
     // The limit is the scene's: raised, the same scene checks.
-    let o = swarf(&["--backend", "cpu", "check", "cases/rings.toml", "--set", "time.dt=1e-12", "--set", "time.end=1e-9"]);
+    let o =
+        swarf(&["--backend", "cpu", "check", "cases/rings.toml", "--set", "time.dt=1e-12", "--set", "time.end=1e-9"]);
     assert!(o.status.success(), "{}", stderr(&o));
 }
 
@@ -371,4 +371,84 @@ fn sparse_frames_still_get_wall_time_checkpoints() {
     let (h, state) = checkpoint::read(&d.join("checkpoint.bin")).expect("a checkpoint");
     checkpoint::validate(&h, &state).expect("a valid checkpoint");
     assert_eq!(h.frame, 1, "written between the only two frames");
+}
+
+/// `[tool]` in a 3D scene: before, `tool.rake_angle: missing` although it was present. Now the table is named,
+/// with the dimension it needs.
+#[test]
+fn tool_in_a_3d_scene_names_the_table_and_dim() {
+    let taylor = std::fs::read_to_string("cases/taylor-bar.toml").unwrap();
+    let v0060 = std::fs::read_to_string("cases/cutting/v0060.toml").unwrap();
+    let tool = &v0060[v0060.find("[tool]").unwrap()..v0060.find("friction = 0.35").unwrap()];
+    let text = format!("{taylor}\n{tool}");
+    let err = swarf::scene::Scene::from_str(&text, "t3.toml", &[]).expect_err("a 3D tool").to_string();
+    assert!(err.contains("tool = [tool] in a dim = 3 scene: expected a 2D scene (dim = 2)"), "{err}");
+    assert!(!err.contains("missing"), "{err}");
+}
+
+/// `--set boundary.0.kind=...` in a scene without boundaries: before, `boundary: expected [[boundary]] tables`,
+/// about a table the override itself had made. Now the index and the missing entries are named.
+#[test]
+fn set_into_a_missing_array_names_it() {
+    let set = ["boundary.0.kind=\"fixed\"".to_string()];
+    let err = swarf::scene::Scene::load("cases/rings.toml", &set).expect_err("no boundaries").to_string();
+    assert!(
+        err.contains("--set boundary.0.kind=\"fixed\": index 0 out of range: the scene has no [[boundary]]"),
+        "{err}"
+    );
+}
+
+/// A body too large for the lattice, in the file or by `--set`: before, blamed on `discretisation.dx` (line 13).
+/// Now the largest body is named at its own line, with its lattice points; dx is offered as the other fix.
+#[test]
+fn too_large_body_is_named() {
+    let text =
+        std::fs::read_to_string("cases/rings.toml").unwrap().replacen("outer_radius = 0.04", "outer_radius = 1e3", 1);
+    let err = swarf::scene::Scene::from_str(&text, "cases/rings.toml", &[]).expect_err("too large").to_string();
+    assert!(err.starts_with("cases/rings.toml:23: body.0 = 'left', 3.9"), "{err}");
+    assert!(err.contains("a smaller body or a larger discretisation.dx"), "{err}");
+    let set = ["body.1.outer_radius=1e3".to_string()];
+    let err = swarf::scene::Scene::load("cases/rings.toml", &set).expect_err("too large").to_string();
+    assert!(err.starts_with("cases/rings.toml:31: body.1 = 'right', 3.9"), "{err}");
+}
+
+/// `swarf material --plot` into a missing folder: before, a raw `ImageError(IoError(Os { .. }))`. Now the folder
+/// is named.
+#[test]
+fn plot_into_a_missing_folder_names_it() {
+    let dir = tmp("noplot").join("sub");
+    let png = dir.join("ti.png");
+    let o = swarf(&["material", "Ti6Al4V-Roethlin", "--plot", path(&png)]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains(&format!("the folder {} does not exist", dir.display())), "{err}");
+    assert!(!err.contains("ImageError"), "{err}");
+}
+
+/// An empty `materials/` beside the scene: before, `one of ` and an empty list. Now it says the folder holds no
+/// material files and where the library is looked for.
+#[test]
+fn empty_local_material_folder_says_where_it_looked() {
+    let d = tmp("emptylib");
+    std::fs::create_dir_all(d.join("materials")).unwrap();
+    let scene = d.join("v0060.toml");
+    std::fs::copy("cases/cutting/v0060.toml", &scene).unwrap();
+    let err = swarf::scene::Scene::load(&scene, &[]).expect_err("an empty library").to_string();
+    assert!(err.contains("holds no material files") && err.contains("cases/materials"), "{err}");
+    assert!(!err.contains("one of \n") && !err.trim_end().ends_with("one of"), "{err}");
+}
+
+/// An output file that cannot be written: before, its path was printed twice (`x/energy.csv: x/energy.csv: Is a
+/// directory`). Now once.
+#[test]
+fn output_errors_name_the_path_once() {
+    use swarf::backend::{AnyBackend, BackendChoice};
+    let d = tmp("twice");
+    std::fs::create_dir_all(d.join("energy.csv")).unwrap();
+    let scene = swarf::scene::Scene::load("cases/rings.toml", &["time.end=2e-6".to_string()]).unwrap();
+    let any = AnyBackend::select(BackendChoice::Cpu).expect("cpu").0;
+    let err = swarf::run::run(&any, &scene, &swarf::run::RunOptions::quiet(d.clone())).expect_err("unwritable");
+    let msg = err.to_string();
+    let p = d.join("energy.csv").display().to_string();
+    assert_eq!(msg.matches(&p).count(), 1, "{msg}");
 }
