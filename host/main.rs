@@ -429,10 +429,6 @@ fn cmd_run(backend: BackendChoice, a: &RunArgs) -> Result<()> {
             let path = a.scene.clone().unwrap_or_else(swarf::run::default_scene);
             let sc = swarf::scene::Scene::load(&path, &a.set).map_err(|e| swarf::Error::Scene(e.to_string()))?;
             let out = a.out.clone().unwrap_or_else(|| std::path::PathBuf::from("runs").join(&sc.name));
-            let cleared = swarf::run_folder::prepare(&out, a.force)?;
-            if cleared > 0 && !a.quiet {
-                eprintln!("--force: cleared {} ({cleared} entries of an earlier run)", out.display());
-            }
             (sc, a.set.clone(), out)
         }
     };
@@ -449,6 +445,13 @@ fn cmd_run(backend: BackendChoice, a: &RunArgs) -> Result<()> {
     let (any, line) = AnyBackend::select(backend)?;
     if !a.quiet {
         eprintln!("{line}");
+    }
+    // A new run's folder: empty, or cleared with --force once the arguments and backend are known good.
+    if a.resume.is_none() {
+        let cleared = swarf::run_folder::prepare(&out, a.force)?;
+        if cleared > 0 && !a.quiet {
+            eprintln!("--force: cleared {} ({cleared} entries of an earlier run)", out.display());
+        }
     }
     // Ctrl-C: checkpoint before the next step and stop; a second Ctrl-C stops at once.
     on_interrupt();
