@@ -35,6 +35,45 @@ impl CheckReport {
 
 pub use crate::method::sph::memory_estimate;
 
+/// The default of `time.max_steps`: the most steps a run takes unless its scene allows more.
+pub const MAX_STEPS: f64 = 1e9;
+
+/// The steps a run at `dt` takes to `time.end`, and a warning where `output.every` is below `dt` (every step is
+/// then cut short at the next output time: the run takes end/every steps, not end/dt). Refuses, before any work,
+/// a count above `time.max_steps` (a velocity of 1e300 m/s or `time.dt = 1e-30` gave 18446744073709551615 steps
+/// and a run that never ended), naming Δt and where it comes from (`h`, `c0`: the plan's).
+pub fn steps(scene: &Scene, dt: f64, h: f64, c0: f64) -> Result<(u64, Option<String>)> {
+    let (end, every) = (scene.time.end, scene.output.every);
+    let steps = (end / dt).ceil().max((end / every).ceil());
+    let warning = (every < dt).then(|| {
+        format!(
+            "output.every = {every:e} s is below dt = {dt:e} s: every step is cut short to it, so the run takes {steps} \
+             steps and writes {steps} frames, not {}; raise output.every to at least dt",
+            (end / dt).ceil()
+        )
+    });
+    let max = scene.time.max_steps;
+    if steps.is_nan() || steps > max {
+        let why = match scene.time.dt {
+            Some(_) => "time.dt".to_string(),
+            // dt = cfl·h/(c0 + |v|max): the speeds of the scene are what make it this small.
+            None => {
+                let tool = scene.tool.as_ref().map(|t| t.velocity);
+                let v = scene.bodies.iter().flat_map(|b| b.velocity).chain(tool.into_iter().flatten());
+                let vmax = v.fold(0.0f64, |m, x| m.max(x.abs()));
+                format!("the CFL condition: h = {h:e} m, c0 = {c0:.1} m/s, largest velocity component {vmax:e} m/s")
+            }
+        };
+        let per = if every < dt { format!("output.every = {every:e} s") } else { format!("dt = {dt:e} s ({why})") };
+        return Err(crate::Error::Scene(format!(
+            "{}: time.end = {end:e} s at {per} is {steps:e} steps: expected at most time.max_steps = {max:e}; check \
+             time.end, time.dt, output.every and the velocities, or raise time.max_steps",
+            scene.origin
+        )));
+    }
+    Ok((steps as u64, warning))
+}
+
 /// Refuses a run that cannot fit the GPU's memory, or on the CPU the host memory available now, naming the bytes
 /// needed and available: before anything is allocated, instead of an allocation failure that aborts the process
 /// (issue 27). Where the host's available memory cannot be read, the CPU run is not checked.
@@ -74,10 +113,11 @@ impl MethodFn for Probe {
     type Out = CheckReport;
     fn call<B: Backend, M: Method<B>>(self, b: &B, scene: &Scene) -> Result<CheckReport> {
         let s = M::setup(scene, Tuning::current()?)?;
-        let plan = M::plan(&s);
+        let mut plan = M::plan(&s);
         let info = b.info();
         fits(plan.memory_bytes, info)?;
-        let steps = (scene.time.end / plan.dt).ceil() as u64;
+        let (steps, warning) = self::steps(scene, plan.dt, plan.h, plan.c0)?;
+        plan.warnings.extend(warning);
         let mut method = M::new(b, &s)?;
         method.step(b, plan.dt)?;
         b.synchronize()?;

@@ -102,11 +102,21 @@ struct RunArgs {
     /// cases/cutting/v0060.toml (Ti6Al4V, 381 m/min, 0.1 mm, the experiment V0060).
     scene: Option<std::path::PathBuf>,
     /// Continue the run in this folder from its checkpoint.bin (same backend and precision: bit for bit).
-    #[arg(long, value_name = "RUN_FOLDER", conflicts_with_all = ["scene", "set", "out"])]
+    #[arg(long, value_name = "RUN_FOLDER", conflicts_with_all = ["scene", "set", "out", "force"])]
     resume: Option<std::path::PathBuf>,
-    /// Write a checkpoint every this many seconds of simulated time (Ctrl-C always writes one).
+    /// With --resume: continue even though the run folder's scene.toml, a material or the swarf version differs
+    /// from the checkpoint's (the differences are printed; the continuation is not the run it would have been).
+    #[arg(long, requires = "resume")]
+    accept_changes: bool,
+    /// Clear a non-empty run folder before the run (by default a new run refuses one, naming it).
+    #[arg(long)]
+    force: bool,
+    /// Write a checkpoint every this many seconds of simulated time (Ctrl-C and SIGTERM always write one).
     #[arg(long, value_name = "SECONDS")]
     checkpoint_every: Option<f64>,
+    /// Also write a checkpoint every this many minutes of wall time, between frames too (0: never).
+    #[arg(long, value_name = "MINUTES", default_value_t = 30.0)]
+    checkpoint_minutes: f64,
     /// Floating-point precision of the particle state (default: the scene's, else f64).
     #[arg(long, value_enum)]
     precision: Option<PrecisionChoice>,
@@ -315,8 +325,8 @@ fn one<B: Backend, R: Real, D: Dim>(b: &B, n: usize, repeats: usize) -> Result<b
     bench::neighbours::<B, R, D>(b, n, repeats)
 }
 
-/// Ctrl-C (SIGINT): the run checkpoints before its next step and stops; a second Ctrl-C at least a second later
-/// stops at once. Signals closer together count once: `timeout -s INT` sends its signal to the command and to its
+/// Ctrl-C (SIGINT), and SIGTERM (what batch schedulers send) and SIGHUP: the run checkpoints before its next
+/// batch of steps (within about a second) and stops; a second signal at least a second later stops at once. Signals closer together count once: `timeout -s INT` sends its signal to the command and to its
 /// process group, so one timeout delivers two, which must not cost the checkpoint.
 fn on_interrupt() {
     use std::sync::atomic::{AtomicU64, Ordering};
@@ -409,8 +419,11 @@ fn run(cli: Cli) -> Result<()> {
 fn cmd_run(backend: BackendChoice, a: &RunArgs) -> Result<()> {
     let (scene, overrides, out) = match &a.resume {
         Some(dir) => {
-            let (sc, ov) = swarf::run::resume_scene(dir)?;
-            (sc, ov, dir.clone())
+            let r = swarf::resume::open(dir, a.accept_changes)?;
+            for c in &r.accepted {
+                eprintln!("warning: resuming with a change (--accept-changes): {c}");
+            }
+            (r.scene, r.overrides, dir.clone())
         }
         None => {
             let path = a.scene.clone().unwrap_or_else(swarf::run::default_scene);
@@ -425,9 +438,20 @@ fn cmd_run(backend: BackendChoice, a: &RunArgs) -> Result<()> {
         eprintln!("error: --checkpoint-every {c}: expected a positive time in seconds");
         std::process::exit(2);
     }
+    if !(a.checkpoint_minutes.is_finite() && a.checkpoint_minutes >= 0.0) {
+        eprintln!("error: --checkpoint-minutes {}: expected minutes >= 0 (0: never)", a.checkpoint_minutes);
+        std::process::exit(2);
+    }
     let (any, line) = AnyBackend::select(backend)?;
     if !a.quiet {
         eprintln!("{line}");
+    }
+    // A new run's folder: empty, or cleared with --force once the arguments and backend are known good.
+    if a.resume.is_none() {
+        let cleared = swarf::run_folder::prepare(&out, a.force)?;
+        if cleared > 0 && !a.quiet {
+            eprintln!("--force: cleared {} ({cleared} entries of an earlier run)", out.display());
+        }
     }
     // Ctrl-C: checkpoint before the next step and stop; a second Ctrl-C stops at once.
     on_interrupt();
@@ -441,6 +465,7 @@ fn cmd_run(backend: BackendChoice, a: &RunArgs) -> Result<()> {
         overrides,
         checkpoint_every: a.checkpoint_every,
         resume: a.resume.is_some(),
+        checkpoint_wall: (a.checkpoint_minutes > 0.0).then_some(a.checkpoint_minutes * 60.0),
     };
     let r = swarf::run::run(&any, &scene, &opts)?;
     if !a.quiet {

@@ -40,6 +40,8 @@ pub struct RunOptions {
     pub checkpoint_every: Option<f64>,
     /// Continue from `out_dir/checkpoint.bin` (the scene must be the run folder's, see [`resume_scene`]).
     pub resume: bool,
+    /// Also write `checkpoint.bin` every this many seconds of wall time, between output steps too (None: never).
+    pub checkpoint_wall: Option<f64>,
 }
 
 impl RunOptions {
@@ -56,6 +58,7 @@ impl RunOptions {
             overrides: Vec::new(),
             checkpoint_every: None,
             resume: false,
+            checkpoint_wall: None,
         }
     }
 }
@@ -95,14 +98,14 @@ pub fn default_scene() -> PathBuf {
     if rel.is_file() { rel } else { Path::new(env!("CARGO_MANIFEST_DIR")).join(rel) }
 }
 
-/// Set by the Ctrl-C handler: the run writes a checkpoint before its next step and stops.
+/// Set by the Ctrl-C (and SIGTERM) handler: the run writes a checkpoint before its next batch of steps and stops.
 pub static INTERRUPTED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
-/// The scene of a run folder to resume: its `scene.toml` with the overrides recorded in its checkpoint.
+/// The scene of a run folder to resume: its `scene.toml` with the overrides recorded in its checkpoint, refused
+/// where it, its materials or the checkpoint differ from the run the checkpoint was written by ([`crate::resume`]).
 pub fn resume_scene(dir: &Path) -> Result<(Scene, Vec<String>)> {
-    let (h, _) = crate::checkpoint::read(&dir.join("checkpoint.bin"))?;
-    let scene = Scene::load(dir.join("scene.toml"), &h.overrides).map_err(|e| Error::Scene(e.to_string()))?;
-    Ok((scene, h.overrides))
+    let r = crate::resume::open(dir, false)?;
+    Ok((r.scene, r.overrides))
 }
 
 /// The outcome of a run.
@@ -187,6 +190,12 @@ struct Run<'a, B: Backend, M: Method<B>> {
     next_ckpt: f64,
     /// Where this process started (a resumed run's rates and time left count its own steps only).
     start: (u64, f64),
+    /// Cell-list rebuilds before this process started (a resumed run's, from its checkpoint).
+    rebuilds0: u64,
+    /// When the last checkpoint was written (or the run started), for the wall-time cadence.
+    last_ckpt: Instant,
+    /// Most steps of the next batch: adapted so that a batch takes about [`BATCH_WALL_S`].
+    batch: usize,
     /// The progress line's state (a terminal or a log).
     progress_out: crate::output::progress::Progress,
 }
@@ -210,6 +219,7 @@ fn run_typed<B: Backend, M: Method<B>>(
         if INTERRUPTED.load(std::sync::atomic::Ordering::Relaxed) {
             return Err(run.interrupt()?);
         }
+        run.wall_checkpoint()?;
         run.advance()?;
     }
     Ok(RunReport {
@@ -229,8 +239,9 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
     fn start(b: &'a B, scene: &'a Scene, opts: &'a RunOptions) -> Result<Self> {
         let tuning = Tuning::current()?;
         let s = M::setup(scene, tuning)?;
-        let plan = M::plan(&s);
+        let mut plan = M::plan(&s);
         crate::check::fits(plan.memory_bytes, b.info())?;
+        plan.warnings.extend(crate::check::steps(scene, plan.dt, plan.h, plan.c0)?.1);
         std::fs::create_dir_all(&opts.out_dir).map_err(|e| io_err(&opts.out_dir, e))?;
         // The run folder keeps the scene it ran (as given, with the overrides recorded in summary.json).
         if let Ok(text) = std::fs::read(&scene.origin) {
@@ -283,6 +294,9 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
             next_out: 0.0,
             next_ckpt: opts.checkpoint_every.unwrap_or(f64::INFINITY),
             start: (0, 0.0),
+            rebuilds0: 0,
+            last_ckpt: Instant::now(),
+            batch: GRAPH_BATCH,
             progress_out: crate::output::progress::Progress::new(std::io::IsTerminal::is_terminal(&std::io::stderr())),
         })
     }
@@ -300,9 +314,18 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
                 h.particles,
             )));
         }
+        let bad = |e: String| Error::Checkpoint(format!("{}: {e}", self.ckpt_path.display()));
+        crate::checkpoint::validate(&h, &blobs).map_err(bad)?;
+        // The CFL re-check only lowers Δt, and stops the run below this fraction of the initial one.
+        let dt0 = self.plan.dt;
+        if h.dt < MIN_DT_FRACTION * dt0 {
+            return Err(bad(format!("header: dt = {:e} s: expected at least {:e} s (1 % of the scene's)", h.dt, dt0)));
+        }
         self.method.load_state(self.b, &blobs)?;
         self.method.set_clock(h.time, h.steps);
-        self.dt = h.dt;
+        // An accepted change of the scene (--accept-changes) may have lowered the stable step.
+        self.dt = h.dt.min(dt0);
+        self.rebuilds0 = h.rebuilds;
         self.method.set_nominal_dt(self.dt);
         self.frame = h.frame;
         self.next_out = h.next_out;
@@ -320,7 +343,20 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
             c.resume(h.time)?;
         }
         if let Ok(entries) = crate::output::pvd::read_parts(f.pvd.path()) {
-            for (t, part, name) in entries.into_iter().filter(|e| e.0 <= h.time) {
+            let kept: Vec<_> = entries.into_iter().filter(|e| e.0 <= h.time).collect();
+            // The checkpoint is written after its step's frame: the index holds exactly its frame count (part 0;
+            // part 1 is the tool's outline beside a frame).
+            let frames = kept.iter().filter(|e| e.1 == 0).count();
+            if self.opts.frames && frames != h.frame {
+                return Err(Error::Checkpoint(format!(
+                    "{}: header: frame = {}: expected {}, the frames of particles.pvd up to t = {:e} s",
+                    self.ckpt_path.display(),
+                    h.frame,
+                    frames,
+                    h.time
+                )));
+            }
+            for (t, part, name) in kept {
                 f.pvd.push_part(t, part, name).map_err(|e| io_err(f.pvd.path(), e))?;
             }
         }
@@ -339,9 +375,17 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
             p.h,
             p.c0,
             self.dt,
-            (scene.time.end / self.dt).ceil(),
+            crate::check::steps(scene, self.dt, p.h, p.c0).map_or("too many".into(), |s| s.0.to_string()),
             info.backend,
             info.name
+        );
+        // Where the run can be continued from (checkpoints only at output steps went unwritten with sparse frames).
+        let (every, wall) = (self.opts.checkpoint_every, self.opts.checkpoint_wall);
+        let head = format!(
+            "{head}; checkpoints{}{}{} and on Ctrl-C or SIGTERM",
+            every.map_or(String::new(), |e| format!(" every {e:e} s of simulated time")),
+            if every.is_some() && wall.is_some() { "," } else { "" },
+            wall.map_or(String::new(), |w| format!(" every {w} s of wall time"))
         );
         if !self.opts.quiet {
             eprintln!("{head}");
@@ -427,6 +471,7 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
                 self.next_ckpt += opts.checkpoint_every.unwrap_or(f64::INFINITY);
             }
             self.save_checkpoint()?;
+            self.last_ckpt = Instant::now();
             self.log.line(&format!("checkpoint at t = {time:e} s, step {steps}"))?;
         }
         let keep_going = match (observer.as_deref_mut(), kept.as_ref()) {
@@ -517,7 +562,7 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
             precision: self.plan.precision,
             particles: self.plan.particles,
             steps: self.method.steps(),
-            rebuilds: self.method.rebuilds(b)?,
+            rebuilds: self.rebuilds0 + u64::from(self.method.rebuilds(b)?),
             dt: self.plan.dt,
             wall,
             tuning: self.tuning,
@@ -553,14 +598,34 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
         })
     }
 
-    /// Full steps up to the next event (an output, the end, a force sample) run as one batch; the step that lands
-    /// on an output time is cut short. A non-finite value is reported at once, not at the next output:
+    /// The wall-time cadence (`checkpoint_wall`): a checkpoint between output steps too, so that a run with sparse
+    /// frames has one.
+    fn wall_checkpoint(&mut self) -> Result<()> {
+        let Some(every) = self.opts.checkpoint_wall else { return Ok(()) };
+        if self.last_ckpt.elapsed().as_secs_f64() < every {
+            return Ok(());
+        }
+        if let Some(d) = self.pending.join(&mut self.files)? {
+            self.history.push(d);
+        }
+        self.save_checkpoint()?;
+        self.last_ckpt = Instant::now();
+        let (time, step) = (self.method.time(), self.method.steps());
+        self.log.line(&format!("checkpoint at t = {time:e} s, step {step} ({every} s of wall time since the last)"))
+    }
+
+    /// Full steps up to the next event (an output, the end, a force sample) run as one batch of at most
+    /// `self.batch` steps, halved when a batch takes longer than [`BATCH_WALL_S`] and doubled (up to
+    /// [`MAX_BATCH`]) when one takes under a quarter of it, so that Ctrl-C acts within about a second on any
+    /// backend (with batches of 4096 steps it took 15 s on a CPU); the step that lands on an output time is cut
+    /// short. A non-finite value is reported at once, not at the next output:
     /// non-finite particles rebuild the cell list every step and pile into its void bucket, which slows every
     /// step down (the 150k f32 cut stalled for minutes).
     fn advance(&mut self) -> Result<()> {
         let (b, dt, end) = (self.b, self.dt, self.scene.time.end);
         let t = self.method.time();
-        let full = full_steps(t, dt, self.next_out, end, self.cut.as_ref().map(|c| c.next()), MAX_BATCH);
+        let clock = Instant::now();
+        let full = full_steps(t, dt, self.next_out, end, self.cut.as_ref().map(|c| c.next()), self.batch);
         if full > 0 {
             self.method.advance(b, dt, full)?;
         } else {
@@ -569,6 +634,13 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
         if self.method.non_finite_seen(b)? {
             self.next_out = self.method.time();
             return Ok(());
+        }
+        // Timed after the flag's read, which waits for the device.
+        let took = clock.elapsed().as_secs_f64();
+        if took > BATCH_WALL_S {
+            self.batch = (self.batch / 2).max(1);
+        } else if took < BATCH_WALL_S / 4.0 && full == self.batch {
+            self.batch = (2 * self.batch).min(MAX_BATCH);
         }
         if let Some(c) = self.cut.as_mut()
             && c.due(self.method.time())
@@ -594,6 +666,10 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
             next_out: self.next_out,
             next_checkpoint: self.next_ckpt.is_finite().then_some(self.next_ckpt),
             fields: Vec::new(),
+            version: String::new(),
+            provenance: Some(crate::provenance::Provenance::of(self.scene)),
+            rebuilds: self.rebuilds0 + u64::from(self.method.rebuilds(self.b)?),
+            checksums: Vec::new(),
         };
         crate::checkpoint::write(&self.ckpt_path, h, &state)
     }
@@ -601,6 +677,10 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
 
 /// Most steps between two checks for an interrupt.
 const MAX_BATCH: usize = 4096;
+/// The first batch's steps (a whole number of the GPU's captured batches).
+const GRAPH_BATCH: usize = 2 * crate::solver::GRAPH_STEPS;
+/// The wall time a batch of steps aims at [s].
+const BATCH_WALL_S: f64 = 0.5;
 
 /// How many steps of exactly `dt` the run loop takes from `t` before its next event: each must fit before the
 /// output time and the end (else the step is cut short), and the batch stops after the step that reaches an output
@@ -619,8 +699,10 @@ pub fn full_steps(t: f64, dt: f64, next_out: f64, end: f64, sample: Option<f64>,
     k
 }
 
+/// An output error naming `path` once (the atomic writes' errors already start with it).
 fn io_err(path: &Path, e: std::io::Error) -> Error {
-    Error::Output(format!("{}: {e}", path.display()))
+    let (p, text) = (path.display().to_string(), e.to_string());
+    Error::Output(if text.starts_with(&p) { text } else { format!("{p}: {text}") })
 }
 
 /// `run.log` of the run folder: the header and one line per output step, rewritten atomically each time.
@@ -906,7 +988,7 @@ fn set_centres(scene: &Scene) -> Vec<[f64; 3]> {
 }
 
 /// `summary.json` of the run folder: what ran, on what, with which tuning switches, how long (steps, and cell-list
-/// rebuilds since the run or its last resume started), and each body's final extent (bounding box, and the
+/// rebuilds, a resumed run's included), and each body's final extent (bounding box, and the
 /// largest distance from the body's initial centre axis in the x–y plane: a Taylor bar's footprint radius).
 struct Summary<'a> {
     dir: &'a Path,
@@ -916,7 +998,7 @@ struct Summary<'a> {
     precision: &'a str,
     particles: usize,
     steps: u64,
-    rebuilds: u32,
+    rebuilds: u64,
     dt: f64,
     wall: f64,
     tuning: &'a Tuning,

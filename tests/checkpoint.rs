@@ -18,6 +18,7 @@ fn opts(out: &Path, overrides: &[String], every: Option<f64>, resume: bool) -> R
         overrides: overrides.to_vec(),
         checkpoint_every: every,
         resume,
+        checkpoint_wall: None,
     }
 }
 

@@ -315,7 +315,7 @@ fn bad_overrides_are_refused() {
     let msg = refused(&text, &["time.end"]);
     assert_has(&msg, &["--set time.end", "expected key=value"]);
     let msg = refused(&text, &["time.ned=1"]);
-    assert_has(&msg, &["--set time.ned=1: unknown key 'time.ned' (expected one of: end, cfl, dt)"]);
+    assert_has(&msg, &["--set time.ned=1: unknown key 'time.ned' (expected one of: end, cfl, dt, max_steps)"]);
     let msg = refused(&text, &["time.end.x=1"]);
     assert_has(&msg, &["--set time.end.x=1", "'time.end' is a float, not a table"]);
     let msg = refused(&text, &["time.end=-1"]);

@@ -179,6 +179,14 @@ pub(crate) fn draw_atomic(
     render: impl FnOnce(&Path) -> Result<(), String>,
 ) -> Result<Drawn, PlotError> {
     register_embedded_font(path)?;
+    // Said plainly, not as plotters' `ImageError(IoError(Os { .. }))`.
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty() && !d.is_dir()) {
+        let e = io::Error::new(
+            io::ErrorKind::NotFound,
+            format!("{}: the folder {} does not exist", path.display(), dir.display()),
+        );
+        return Err(PlotError::Write { path: path.to_path_buf(), error: e });
+    }
     let scratch = Scratch::new(path)?;
     render(&scratch.path).map_err(|message| PlotError::Draw {
         path: path.to_path_buf(),

@@ -149,6 +149,14 @@ impl Doc {
                 Val::Table(entries) => {
                     let pos = match entries.iter().position(|e| e.key == *segment) {
                         Some(pos) => pos,
+                        // An index into an array the scene does not have (it was blamed on the table made here).
+                        None if segments.get(i + 1).is_some_and(|s| s.parse::<usize>().is_ok()) => {
+                            return Err(fail(format!(
+                                "index {} out of range: the scene has no [[{}]] entries; add one to the scene file",
+                                segments[i + 1],
+                                segments[..=i].join(".")
+                            )));
+                        }
                         None => {
                             entries.push(Entry {
                                 key: segment.to_string(),

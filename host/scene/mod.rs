@@ -518,6 +518,9 @@ pub struct Time {
     pub cfl: f64,
     /// `dt` (optional; unit s), > 0: a fixed time step (the solver refuses it if above the CFL limit).
     pub dt: Option<f64>,
+    /// `max_steps` (optional, default 1e9), ≥ 1: the most steps the run may take; `check` and `run` refuse a
+    /// scene that needs more (`check::steps`) before any work, instead of a run that never ends.
+    pub max_steps: f64,
 }
 
 /// `[output]`.

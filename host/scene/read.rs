@@ -237,12 +237,13 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
     // [time]
     let time_expected = "a table [time] with end (and cfl, dt)";
     let t = root.required("time", time_expected, root.table("time", "time", time_expected)?)?;
-    t.check_keys(&["end", "cfl", "dt"], &[], "")?;
+    t.check_keys(&["end", "cfl", "dt", "max_steps"], &[], "")?;
     let e = "a positive time in seconds";
     let end = t.required("end", e, t.number("end", e, positive)?)?;
     let cfl = t.number("cfl", "a CFL number in (0, 1]", |x| x > 0.0 && x <= 1.0)?.unwrap_or(0.5);
     let dt = t.number("dt", "a positive time step in seconds", positive)?;
-    let time = Time { end, cfl, dt };
+    let max_steps = t.number("max_steps", "a step count >= 1", |x| x >= 1.0)?.unwrap_or(crate::check::MAX_STEPS);
+    let time = Time { end, cfl, dt, max_steps };
 
     // [output]
     let mut output = Output { every: end / 50.0 };
@@ -297,12 +298,7 @@ fn material(root: &Tab<'_>, doc: &Doc) -> Result<Material> {
             match lib.get(name) {
                 Ok(m) => Some(m.clone()),
                 Err(_) => {
-                    let names = lib.names().collect::<Vec<_>>().join(", ");
-                    return Err(mat.invalid(
-                        "name",
-                        mat.get("name"),
-                        format!("a material of {}: one of {names}", dir.display()),
-                    ));
+                    return Err(mat.invalid("name", mat.get("name"), material_choices(&dir, &lib)));
                 }
             }
         }
@@ -416,7 +412,7 @@ fn physics(root: &Tab<'_>, material: &Material) -> Result<Physics> {
 }
 
 /// `[[body]]`: one or more bodies, each checked against the scene material and the conduction, and their lattice
-/// points against the limit (an error at `disc`'s dx).
+/// points against the limit (an error at the largest body, or at dx where only dx was just overridden).
 fn bodies(
     root: &Tab<'_>,
     disc: &Tab<'_>,
@@ -434,6 +430,8 @@ fn bodies(
     let body_paths: Vec<String> = (0..body_tables.len()).map(|i| format!("body.{i}")).collect();
     let mut bodies: Vec<Body> = Vec::new();
     let mut lattice_points = 0.0;
+    // The body with the most lattice points (index, points): the one to name when there are too many.
+    let mut largest = (0, 0.0f64);
     for (i, &(node, entries)) in body_tables.iter().enumerate() {
         let t = Tab { doc, path: &body_paths[i], node, entries };
         let (body, points) = body(&t, i, dim, dx, &bodies)?;
@@ -463,17 +461,34 @@ fn bodies(
             ));
         }
         lattice_points += points;
+        if points > largest.1 {
+            largest = (i, points);
+        }
         bodies.push(body);
     }
     if lattice_points > MAX_POINTS {
-        return Err(disc.invalid(
-            "dx",
-            disc.get("dx"),
-            format!(
-                "a lattice spacing giving at most 2^31 - 1 lattice points (this one gives {lattice_points:.3e}; \
-                 dx is too small for these bodies)"
+        let (i, points) = largest;
+        let set = |n: &Node| matches!(n.at, super::doc::At::Set(_));
+        if disc.get("dx").is_some_and(set) && !body_tables[i].1.iter().any(|e| set(&e.node)) {
+            return Err(disc.invalid(
+                "dx",
+                disc.get("dx"),
+                format!(
+                    "a lattice spacing giving at most 2^31 - 1 lattice points (this one gives {lattice_points:.3e}; \
+                     dx is too small for these bodies)"
+                ),
+            ));
+        }
+        // Else named by its body, the largest (a too-large body was blamed on `discretisation.dx`).
+        return Err(SceneError::Invalid {
+            at: doc.loc(body_tables[i].0.at),
+            key: body_paths[i].clone(),
+            value: Some(format!("'{}', {points:.3e} lattice points at dx = {dx:e} m", bodies[i].name)),
+            expected: format!(
+                "bodies of at most 2^31 - 1 lattice points in all (these give {lattice_points:.3e}): a smaller body \
+                 or a larger discretisation.dx"
             ),
-        ));
+        });
     }
     Ok(bodies)
 }
@@ -572,10 +587,22 @@ fn library_material(t: &Tab<'_>, doc: &Doc, k: &str) -> Result<crate::material::
     let dir = super::library_dir(&doc.file);
     let lib = crate::material::Library::load_dir(&dir)
         .map_err(|err| t.invalid(k, t.get(k), format!("a material of the library {} ({err})", dir.display())))?;
-    lib.get(name).cloned().map_err(|_| {
-        let names = lib.names().collect::<Vec<_>>().join(", ");
-        t.invalid(k, t.get(k), format!("a material of {}: one of {names}", dir.display()))
-    })
+    lib.get(name).cloned().map_err(|_| t.invalid(k, t.get(k), material_choices(&dir, &lib)))
+}
+
+/// What a material name must be: one of the library's, or, where the library folder holds none (an empty local
+/// `materials/` hides the others: the message was `one of ` and nothing), where it was looked for.
+fn material_choices(dir: &Path, lib: &crate::material::Library) -> String {
+    let names = lib.names().collect::<Vec<_>>().join(", ");
+    if names.is_empty() {
+        format!(
+            "a material of the library, but {} holds no material files; the library is the first folder of \
+             materials/ beside the scene, materials/ in its parent folder and cases/materials that exists",
+            dir.display()
+        )
+    } else {
+        format!("a material of {}: one of {names}", dir.display())
+    }
 }
 
 /// The `[tool]` table.
@@ -607,7 +634,13 @@ const TOOL_KEYS: &[&str] = &[
 fn tool(t: &Tab<'_>, doc: &Doc, dim: usize, dx: f64, physics: &Physics, bodies: &[Body]) -> Result<Tool> {
     t.check_keys(TOOL_KEYS, &[], "")?;
     if dim != 2 {
-        return Err(t.invalid("rake_angle", None, "a 2D scene: the parametric tool is 2D (dim = 2)"));
+        // About the table, not one of its keys (it said `tool.rake_angle: missing` with the key present).
+        return Err(SceneError::Invalid {
+            at: doc.loc(t.node.at),
+            key: "tool".into(),
+            value: Some(format!("[tool] in a dim = {dim} scene")),
+            expected: "a 2D scene (dim = 2): the parametric tool is 2D".into(),
+        });
     }
     let outline = tool_outline(t)?;
     let (position, depth_of_cut, body) = tool_position(t, dx, bodies)?;
@@ -931,10 +964,7 @@ fn body(t: &Tab<'_>, index: usize, dim: usize, dx: f64, earlier: &[Body]) -> Res
             })?;
             match lib.get(mname) {
                 Ok(m) => Some(m.clone()),
-                Err(_) => {
-                    let names = lib.names().collect::<Vec<_>>().join(", ");
-                    return Err(t.invalid("material", t.get("material"), format!("one of {names}")));
-                }
+                Err(_) => return Err(t.invalid("material", t.get("material"), material_choices(&dir, &lib))),
             }
         }
         None => None,
