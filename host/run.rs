@@ -88,20 +88,59 @@ pub const ENERGY_COLUMNS: &[&str] = &[
 ];
 
 /// The built-in default scene, `swarf run` without a scene: the V0060 orthogonal cut (cases/cutting/v0060.toml),
-/// from the working directory if it has the repository's `cases/`, else from the source tree swarf was built from.
-pub fn default_scene() -> PathBuf {
-    let rel = Path::new("cases").join("cutting").join("v0060.toml");
-    if rel.is_file() { rel } else { Path::new(env!("CARGO_MANIFEST_DIR")).join(rel) }
+/// embedded at build time so that an installed swarf runs it from any folder.
+pub const DEFAULT_SCENE: &str = include_str!("../cases/cutting/v0060.toml");
+
+/// The default scene's origin (messages, summary.json's `scene_file`).
+pub const DEFAULT_SCENE_ORIGIN: &str = "built-in:cases/cutting/v0060.toml";
+
+/// The default scene with `overrides`; its material names come from `SWARF_MATERIALS` and the built-in library.
+pub fn default_scene(overrides: &[String]) -> Result<Scene> {
+    let search = crate::material::search::Search::without_scene();
+    Scene::from_str_in(DEFAULT_SCENE, DEFAULT_SCENE_ORIGIN, overrides, search).map_err(|e| Error::Scene(e.to_string()))
 }
+
+/// The version of `swarf --version`, `swarf info` and run.log: the package version and the git commit it was
+/// built from (build.rs; "unknown" where the source had no git). summary.json has both as keys.
+pub const VERSION: &str = concat!(env!("CARGO_PKG_VERSION"), " (commit ", env!("SWARF_GIT_COMMIT"), ")");
 
 /// Set by the Ctrl-C handler: the run writes a checkpoint before its next step and stops.
 pub static INTERRUPTED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
-/// The scene of a run folder to resume: its `scene.toml` with the overrides recorded in its checkpoint.
+/// The scene of a run folder to resume: its `scene.toml` with the overrides recorded in its checkpoint, and the
+/// materials it recorded (`materials/`, [`crate::material::search::Search::recorded`]).
 pub fn resume_scene(dir: &Path) -> Result<(Scene, Vec<String>)> {
     let (h, _) = crate::checkpoint::read(&dir.join("checkpoint.bin"))?;
-    let scene = Scene::load(dir.join("scene.toml"), &h.overrides).map_err(|e| Error::Scene(e.to_string()))?;
+    let path = dir.join("scene.toml");
+    let file = path.display().to_string();
+    let text = std::fs::read_to_string(&path).map_err(|e| io_err(&path, e))?;
+    let search = crate::material::search::Search::recorded(dir);
+    let scene = Scene::from_str_in(&text, &file, &h.overrides, search).map_err(|e| Error::Scene(e.to_string()))?;
     Ok((scene, h.overrides))
+}
+
+/// Writes the scene's text (`scene.toml`) and the library materials it names (`materials/<name>.toml`, the
+/// files' text) into the run folder, so that the folder holds every value it ran and resumes from anywhere.
+fn record_inputs(scene: &Scene, dir: &Path) -> Result<()> {
+    let text = match std::fs::read(&scene.origin) {
+        Ok(t) => Some(t),
+        Err(_) => (scene.origin == DEFAULT_SCENE_ORIGIN).then(|| DEFAULT_SCENE.as_bytes().to_vec()),
+    };
+    if let Some(text) = text {
+        let copy = dir.join("scene.toml");
+        crate::output::write_atomic(&copy, &text).map_err(|e| io_err(&copy, e))?;
+    }
+    let materials = scene.library_materials();
+    if materials.is_empty() {
+        return Ok(());
+    }
+    let folder = dir.join(crate::material::search::FOLDER);
+    std::fs::create_dir_all(&folder).map_err(|e| io_err(&folder, e))?;
+    for m in materials {
+        let path = folder.join(format!("{}.toml", m.name));
+        crate::output::write_atomic(&path, m.text.as_bytes()).map_err(|e| io_err(&path, e))?;
+    }
+    Ok(())
 }
 
 /// The outcome of a run.
@@ -232,10 +271,7 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
         crate::check::fits(plan.memory_bytes, b.info())?;
         std::fs::create_dir_all(&opts.out_dir).map_err(|e| io_err(&opts.out_dir, e))?;
         // The run folder keeps the scene it ran (as given, with the overrides recorded in summary.json).
-        if let Ok(text) = std::fs::read(&scene.origin) {
-            let copy = opts.out_dir.join("scene.toml");
-            crate::output::write_atomic(&copy, &text).map_err(|e| io_err(&copy, e))?;
-        }
+        record_inputs(scene, &opts.out_dir)?;
         let mut log = RunLog::new(opts.out_dir.join("run.log"));
         if opts.resume {
             log.text = std::fs::read_to_string(&log.path).unwrap_or_default();
@@ -345,6 +381,7 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
         if !self.opts.quiet {
             eprintln!("{head}");
         }
+        self.log.line(&format!("swarf {VERSION}"))?;
         self.log.line(&head)?;
         for w in &p.warnings {
             if !self.opts.quiet {
@@ -948,6 +985,8 @@ impl Summary<'_> {
             })
             .collect();
         let mut v = serde_json::json!({
+            "swarf_version": env!("CARGO_PKG_VERSION"),
+            "git_commit": env!("SWARF_GIT_COMMIT"),
             "scene": scene.name,
             "scene_file": scene.origin,
             "overrides": self.overrides,

@@ -289,23 +289,7 @@ fn material(root: &Tab<'_>, doc: &Doc) -> Result<Material> {
     let mat = root.required("material", mat_expected, root.table("material", "material", mat_expected)?)?;
     mat.check_keys(&["name", "density", "youngs_modulus", "poisson_ratio"], &[], "")?;
     let library = match mat.string("name", "the name of a material of the library", |s| !s.trim().is_empty())? {
-        Some(name) => {
-            let dir = super::library_dir(&doc.file);
-            let lib = crate::material::Library::load_dir(&dir).map_err(|e| {
-                mat.invalid("name", mat.get("name"), format!("a material of the library {} ({e})", dir.display()))
-            })?;
-            match lib.get(name) {
-                Ok(m) => Some(m.clone()),
-                Err(_) => {
-                    let names = lib.names().collect::<Vec<_>>().join(", ");
-                    return Err(mat.invalid(
-                        "name",
-                        mat.get("name"),
-                        format!("a material of {}: one of {names}", dir.display()),
-                    ));
-                }
-            }
-        }
+        Some(name) => Some(named_material(&mat, doc, "name", name)?),
         None => None,
     };
     let lib_elastic = library.as_ref().and_then(|m| m.elastic);
@@ -569,12 +553,19 @@ fn experiment(t: &Tab<'_>, catalogue: &[super::observe::Observable]) -> Result<V
 fn library_material(t: &Tab<'_>, doc: &Doc, k: &str) -> Result<crate::material::Material> {
     let e = "the name of a material of the library";
     let name = t.required(k, e, t.string(k, e, |s| !s.trim().is_empty())?)?;
-    let dir = super::library_dir(&doc.file);
-    let lib = crate::material::Library::load_dir(&dir)
-        .map_err(|err| t.invalid(k, t.get(k), format!("a material of the library {} ({err})", dir.display())))?;
+    named_material(t, doc, k, name)
+}
+
+/// The material `name` of the key `k` of table `t`, from the scene's material search path
+/// ([`crate::material::search`]); the error names the places searched and the names found there.
+fn named_material(t: &Tab<'_>, doc: &Doc, k: &str, name: &str) -> Result<crate::material::Material> {
+    let search = &doc.materials;
+    let lib = search
+        .library()
+        .map_err(|err| t.invalid(k, t.get(k), format!("a material of the library ({search}): {err}")))?;
     lib.get(name).cloned().map_err(|_| {
         let names = lib.names().collect::<Vec<_>>().join(", ");
-        t.invalid(k, t.get(k), format!("a material of {}: one of {names}", dir.display()))
+        t.invalid(k, t.get(k), format!("a material of the library ({search}): one of {names}"))
     })
 }
 
@@ -924,19 +915,7 @@ fn body(t: &Tab<'_>, index: usize, dim: usize, dx: f64, earlier: &[Body]) -> Res
     // A body's own library material supplies its thermal data (per-material conductivity and heat capacity);
     // mechanics uses the scene's material, so a body material must not disagree with it elastically.
     let material = match t.string("material", "the name of a material of the library", |s| !s.trim().is_empty())? {
-        Some(mname) => {
-            let dir = super::library_dir(&t.doc.file);
-            let lib = crate::material::Library::load_dir(&dir).map_err(|e| {
-                t.invalid("material", t.get("material"), format!("a material of the library {} ({e})", dir.display()))
-            })?;
-            match lib.get(mname) {
-                Ok(m) => Some(m.clone()),
-                Err(_) => {
-                    let names = lib.names().collect::<Vec<_>>().join(", ");
-                    return Err(t.invalid("material", t.get("material"), format!("one of {names}")));
-                }
-            }
-        }
+        Some(mname) => Some(named_material(t, t.doc, "material", mname)?),
         None => None,
     };
     let temperature = t.number("temperature", "a positive temperature in K", positive)?;

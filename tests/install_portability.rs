@@ -1,0 +1,183 @@
+//! swarf outside the repository (issue 27, "What users of peer tools expect"): every command runs with a working
+//! directory outside the source tree, as an installed `swarf` does. Before the material library was embedded, a
+//! scene naming a library material, `swarf material` and `--resume` failed there with "cases/materials: No such
+//! file or directory"; `swarf run` without a scene read cases/cutting/v0060.toml from the source tree.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+const REPO: &str = env!("CARGO_MANIFEST_DIR");
+
+/// A fresh folder under the system's temporary folder (outside the repository).
+fn scratch(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("swarf-test-port-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("create scratch folder");
+    d
+}
+
+/// `swarf` on the CPU in the folder `cwd`, with SWARF_MATERIALS unset unless `materials` is given.
+fn swarf(cwd: &Path, materials: Option<&Path>, args: &[&str]) -> Output {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_swarf"));
+    c.current_dir(cwd).env_remove("SWARF_MATERIALS").args(["--backend", "cpu"]).args(args);
+    if let Some(m) = materials {
+        c.env("SWARF_MATERIALS", m);
+    }
+    c.output().expect("swarf starts")
+}
+
+fn ok(out: &Output, what: &str) -> String {
+    let text = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert!(out.status.success(), "{what} failed: {text}");
+    text
+}
+
+fn read(p: &Path) -> String {
+    std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
+/// A 2D block of 10 × 10 particles of the library material AISI4340-Roethlin, moving at 10 m/s: a few steps.
+const SCENE: &str = r#"
+name = "block"
+dim = 2
+[discretisation]
+dx = 1.0e-3
+h_over_dx = 1.5
+[material]
+name = "AISI4340-Roethlin"
+[[body]]
+name = "block"
+shape = "rectangle"
+min = [0.0, 0.0]
+max = [0.01, 0.01]
+velocity = [10.0, 0.0]
+[time]
+end = 2.0e-6
+"#;
+
+fn library_file(name: &str) -> String {
+    read(&Path::new(REPO).join("cases/materials").join(format!("{name}.toml")))
+}
+
+/// A user's copy of AISI4340-Roethlin with another density, in its own folder.
+fn user_library(dir: &Path) -> (PathBuf, String) {
+    let lib = dir.join("mylib");
+    std::fs::create_dir_all(&lib).expect("mkdir");
+    let text = library_file("AISI4340-Roethlin");
+    let edited = text.replacen("density = 7830.0", "density = 7000.0", 1);
+    assert_ne!(edited, text, "cases/materials/AISI4340-Roethlin.toml gives density = 7830.0");
+    std::fs::write(lib.join("AISI4340-Roethlin.toml"), &edited).expect("write");
+    (lib, edited)
+}
+
+/// A scene outside the repository that names a library material runs (from the built-in library), and its run
+/// folder records the material's file (`materials/AISI4340-Roethlin.toml`, the library's text) beside the scene.
+/// Before: "material.name: expected a material of the library cases/materials (No such file or directory)".
+#[test]
+fn library_material_scene_runs_outside_the_repository() {
+    let d = scratch("lib");
+    std::fs::write(d.join("block.toml"), SCENE).expect("write scene");
+    let out = swarf(&d, None, &["run", "block.toml", "--quiet", "--out", "run"]);
+    ok(&out, "swarf run block.toml");
+    assert_eq!(read(&d.join("run/materials/AISI4340-Roethlin.toml")), library_file("AISI4340-Roethlin"));
+    assert_eq!(read(&d.join("run/scene.toml")), SCENE);
+}
+
+/// SWARF_MATERIALS shadows the built-in material of the same name: `swarf material` names the user's file and
+/// prints its density, and a run records the user's values. A folder in SWARF_MATERIALS that does not exist is an
+/// error naming it.
+#[test]
+fn swarf_materials_overrides_the_built_in_library() {
+    let d = scratch("env");
+    let (lib, edited) = user_library(&d);
+    let text = ok(&swarf(&d, Some(&lib), &["material", "AISI4340-Roethlin"]), "swarf material");
+    assert!(text.contains("density 7000 kg/m^3"), "{text}");
+    assert!(text.contains(&lib.join("AISI4340-Roethlin.toml").display().to_string()), "{text}");
+    std::fs::write(d.join("block.toml"), SCENE).expect("write scene");
+    ok(&swarf(&d, Some(&lib), &["run", "block.toml", "--quiet", "--out", "run"]), "swarf run");
+    assert_eq!(read(&d.join("run/materials/AISI4340-Roethlin.toml")), edited);
+    let missing = d.join("no-such-folder");
+    let out = swarf(&d, Some(&missing), &["check", "block.toml"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("no-such-folder") && err.contains("material.name"), "{err}");
+}
+
+/// A `materials/` folder beside the scene shadows the built-in library; one without the name falls through to
+/// the built-in library (an empty folder does not hide it).
+#[test]
+fn materials_folder_beside_the_scene() {
+    let d = scratch("beside");
+    std::fs::write(d.join("block.toml"), SCENE).expect("write scene");
+    std::fs::create_dir_all(d.join("materials")).expect("mkdir");
+    ok(&swarf(&d, None, &["check", "block.toml"]), "check with an empty materials/");
+    let (lib, edited) = user_library(&d);
+    std::fs::rename(lib.join("AISI4340-Roethlin.toml"), d.join("materials/AISI4340-Roethlin.toml")).expect("mv");
+    ok(&swarf(&d, None, &["run", "block.toml", "--quiet", "--out", "run"]), "swarf run");
+    assert_eq!(read(&d.join("run/materials/AISI4340-Roethlin.toml")), edited);
+}
+
+/// `swarf material` lists the built-in library from any folder (before: "cases/materials: No such file").
+#[test]
+fn material_command_runs_outside_the_repository() {
+    let d = scratch("list");
+    let text = ok(&swarf(&d, None, &["material"]), "swarf material");
+    let files = std::fs::read_dir(Path::new(REPO).join("cases/materials")).expect("cases/materials").count();
+    assert_eq!(text.lines().count(), files, "one line per file of cases/materials:\n{text}");
+    assert!(text.contains("Ti6Al4V-Roethlin"), "{text}");
+}
+
+/// `--resume` of a run folder works from another folder and uses the materials the run recorded, not a
+/// SWARF_MATERIALS set since: the resumed run's folder still holds the library's values.
+#[test]
+fn resume_uses_the_recorded_materials_from_any_folder() {
+    let d = scratch("resume");
+    std::fs::write(d.join("block.toml"), SCENE).expect("write scene");
+    let run = d.join("run");
+    let args = ["run", "block.toml", "--quiet", "--checkpoint-every", "1e-6", "--out", "run"];
+    ok(&swarf(&d, None, &args), "swarf run");
+    assert!(run.join("checkpoint.bin").is_file(), "a checkpoint half way");
+    let elsewhere = scratch("resume-cwd");
+    let (lib, _) = user_library(&elsewhere);
+    let run_arg = run.display().to_string();
+    ok(&swarf(&elsewhere, Some(&lib), &["run", "--quiet", "--resume", &run_arg]), "swarf run --resume");
+    assert_eq!(read(&run.join("materials/AISI4340-Roethlin.toml")), library_file("AISI4340-Roethlin"));
+}
+
+/// The default scene is built in: `swarf check` and a short `swarf run` without a scene work outside the
+/// repository, and the run folder holds the scene's text and its material.
+#[test]
+fn default_scene_is_built_in() {
+    let d = scratch("default");
+    let text = ok(&swarf(&d, None, &["check"]), "swarf check");
+    assert!(text.contains("v0060"), "{text}");
+    // 5e-7 s: the tool (3 µm clear at 6.355 m/s) must reach the workpiece before the end.
+    let out = swarf(&d, None, &["run", "--quiet", "--set", "time.end=5e-7", "--set", "output.every=2.5e-7"]);
+    ok(&out, "swarf run");
+    let run = d.join("runs/v0060");
+    assert_eq!(read(&run.join("scene.toml")), read(&Path::new(REPO).join("cases/cutting/v0060.toml")));
+    assert!(run.join("materials/Ti6Al4V-V0060-DE-mu035.toml").is_file());
+}
+
+/// The version and the git commit are in `swarf info`, `swarf --version`, run.log and summary.json (before: the
+/// version only, in `swarf info`).
+#[test]
+fn version_and_commit_are_recorded() {
+    let d = scratch("version");
+    let commit = Command::new("git")
+        .current_dir(REPO)
+        .args(["rev-parse", "--short", "HEAD"])
+        .output()
+        .ok()
+        .filter(|o| o.status.success())
+        .map_or("unknown".to_string(), |o| String::from_utf8_lossy(&o.stdout).trim().to_string());
+    let line = format!("{} (commit {commit})", env!("CARGO_PKG_VERSION"));
+    assert_eq!(swarf::run::VERSION, line);
+    assert!(ok(&swarf(&d, None, &["info"]), "swarf info").starts_with(&format!("swarf {line}\n")));
+    assert!(ok(&swarf(&d, None, &["--version"]), "swarf --version").contains(&line));
+    std::fs::write(d.join("block.toml"), SCENE).expect("write scene");
+    ok(&swarf(&d, None, &["run", "block.toml", "--quiet", "--out", "run"]), "swarf run");
+    assert!(read(&d.join("run/run.log")).starts_with(&format!("swarf {line}\n")));
+    let summary: serde_json::Value = serde_json::from_str(&read(&d.join("run/summary.json"))).expect("json");
+    assert_eq!(summary["swarf_version"], env!("CARGO_PKG_VERSION"));
+    assert_eq!(summary["git_commit"], commit.as_str());
+}
