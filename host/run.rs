@@ -437,7 +437,7 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
             initial: self.initial.clone(),
             radius: 2.0 * self.plan.h,
             params: out.params,
-            frame: opts.frames.then(|| (opts.out_dir.clone(), self.frame)),
+            frame: opts.frames.then(|| (opts.out_dir.clone(), self.frame, self.scene.output.vtu_encoding)),
             time,
             steps,
         };
@@ -699,8 +699,8 @@ struct OutputJob<R: Real, D: TensorOps<R>> {
     /// The closest-pair search radius (2h).
     radius: f64,
     params: SphParams<R>,
-    /// The run folder and frame index, when frames are written.
-    frame: Option<(PathBuf, usize)>,
+    /// The run folder, frame index and VTU encoding, when frames are written.
+    frame: Option<(PathBuf, usize, vtu::Encoding)>,
     time: f64,
     steps: u64,
 }
@@ -768,10 +768,10 @@ impl<R: Real, D: TensorOps<R>> OutputJob<R, D> {
             t.push(&[d.time, d.step as f64, d.temperature_max]).map_err(|e| io_err(t.path(), e))?;
             t.write().map_err(|e| io_err(t.path(), e))?;
         }
-        if let Some((dir, index)) = frame {
+        if let Some((dir, index, encoding)) = frame {
             let name = format!("frame_{index:05}.vtu");
             let temp = internal[0].as_deref();
-            write_frame(&dir.join(&name), h5, host, temp, fields, params, time, steps)?;
+            write_frame((&dir.join(&name), *encoding), h5, host, temp, fields, params, time, steps)?;
             f.pvd.push(time, name).map_err(|e| io_err(f.pvd.path(), e))?;
             f.pvd.write().map_err(|e| io_err(f.pvd.path(), e))?;
         }
@@ -854,7 +854,7 @@ fn open_hdf5(opts: &RunOptions) -> Result<Option<H5>> {
 /// xy, yz, xz) and von Mises stress.
 #[allow(clippy::too_many_arguments)]
 fn write_frame<R: Real, D: TensorOps<R>>(
-    path: &Path,
+    (path, encoding): (&Path, vtu::Encoding),
     h5: &mut Option<H5>,
     p: &HostParticles<R, D>,
     temp: Option<&[f64]>,
@@ -899,7 +899,7 @@ fn write_frame<R: Real, D: TensorOps<R>>(
         point_data.push(Array { name, components: 1, values: Values::F64(v) });
     }
     let frame = Frame { time, points: Values::F64(&pts), point_data, field_data: vec![("STEP", step as f64)] };
-    vtu::write(path, &frame).map_err(|e| io_err(path, e))?;
+    vtu::write_encoded(path, &frame, encoding).map_err(|e| io_err(path, e))?;
     #[cfg(feature = "hdf5")]
     if let Some(w) = h5.as_mut() {
         let p = w.path().to_path_buf();

@@ -517,6 +517,9 @@ pub struct Time {
 pub struct Output {
     /// `every` (optional, default `time.end / 50`; unit s), > 0: simulated time between frames.
     pub every: f64,
+    /// `vtu_encoding` (optional, default `"raw"`): the frames' appended data, `"raw"` (fastest; ParaView, VTK) or
+    /// `"base64-zlib"` (smaller; also meshio), [`crate::output::vtu::Encoding`].
+    pub vtu_encoding: crate::output::vtu::Encoding,
 }
 
 impl Scene {

@@ -245,11 +245,16 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
     let time = Time { end, cfl, dt };
 
     // [output]
-    let mut output = Output { every: end / 50.0 };
-    if let Some(o) = root.table("output", "output", "a table [output] with every")? {
-        o.check_keys(&["every"], &[], "")?;
+    let mut output = Output { every: end / 50.0, vtu_encoding: Default::default() };
+    if let Some(o) = root.table("output", "output", "a table [output] with every, vtu_encoding")? {
+        o.check_keys(&["every", "vtu_encoding"], &[], "")?;
         if let Some(every) = o.number("every", "a positive time in seconds", positive)? {
             output.every = every;
+        }
+        use crate::output::vtu::Encoding;
+        let e = "\"raw\" or \"base64-zlib\"";
+        if let Some(name) = o.string("vtu_encoding", e, |s| Encoding::from_name(s).is_some())? {
+            output.vtu_encoding = Encoding::from_name(name).unwrap_or_default();
         }
     }
 
