@@ -36,7 +36,8 @@ fn run_folder_holds_scene_summary_log_outputs_and_plots() {
         assert_eq!(swarf::output::vtu::read(&out.join(f)).unwrap().n, 1600);
     }
     let log = std::fs::read_to_string(out.join("run.log")).unwrap();
-    assert_eq!(log.lines().count(), 52, "a header and one line per output step");
+    assert!(log.starts_with(&format!("swarf {}\n", swarf::run::VERSION)), "the version line first");
+    assert_eq!(log.lines().count(), 53, "the version, a header and one line per output step");
 }
 
 /// SIGKILL at several moments of a run that writes a frame every few steps: the PVD index always parses and
