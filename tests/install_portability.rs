@@ -288,3 +288,77 @@ fn vtu_encoding_scene_key() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success() && err.contains("output.vtu_encoding") && err.contains("base64-zlib"), "{err}");
 }
+
+fn v0060() -> String {
+    read(&Path::new(REPO).join("cases/cutting/v0060.toml"))
+}
+
+/// Replaces the line starting with `key =` (its first occurrence) by `key = value`.
+fn set_line(text: &str, key: &str, value: &str) -> String {
+    let prefix = format!("{key} =");
+    let line = text.lines().find(|l| l.starts_with(&prefix)).unwrap_or_else(|| panic!("no line {prefix}"));
+    text.replacen(line, &format!("{key} = {value}"), 1)
+}
+
+/// Length, speed, angle and temperature keys take a unit suffix: the V0060 cut written in the units of the
+/// experiment's report (381.3 m/min, 33 µm, 7°, 24.85 °C, 10 µm) is the same scene as the SI file, to the
+/// conversions' rounding; from the file and from `--set`. Before: "expected a positive radius in m".
+#[test]
+fn unit_suffixes_give_the_si_scene() {
+    use swarf::scene::Scene;
+    let si = Scene::from_str(&v0060(), "v0060.toml", &[]).expect("v0060");
+    let mut text = v0060();
+    for (key, value) in [
+        ("velocity", r#"["381.3 m/min", 0.0]"#),
+        ("edge_radius", r#""33 um""#),
+        ("clearance_angle", r#""7 deg""#),
+        ("initial_temperature", r#""24.85 C""#),
+        ("dx", r#""10 µm""#),
+        ("depth_of_cut", r#""0.1 mm""#),
+    ] {
+        text = set_line(&text, key, value);
+    }
+    let with_units = Scene::from_str(&text, "v0060.toml", &[]).expect("the scene with units");
+    let (a, b) = (si.tool.as_ref().expect("tool"), with_units.tool.as_ref().expect("tool"));
+    let close = |x: f64, y: f64, what: &str| assert!((x - y).abs() <= 1e-12 * y.abs().max(1.0), "{what}: {x} {y}");
+    close(b.velocity[0], a.velocity[0], "tool.velocity: 381.3 m/min = 6.355 m/s");
+    close(b.edge_radius, a.edge_radius, "tool.edge_radius");
+    close(b.clearance_angle, a.clearance_angle, "tool.clearance_angle");
+    close(with_units.physics.initial_temperature, si.physics.initial_temperature, "physics.initial_temperature");
+    close(with_units.discretisation.dx, si.discretisation.dx, "discretisation.dx");
+    // The summary echoes SI.
+    assert!(with_units.summary().contains("dx = 1e-5 m"), "{}", with_units.summary());
+    let set = [r#"tool.velocity=["381.3 m/min", "0 m/s"]"#.to_string(), r#"tool.rake_angle="0.1 rad""#.to_string()];
+    let s = Scene::from_str(&v0060(), "v0060.toml", &set).expect("--set with units");
+    let t = s.tool.as_ref().expect("tool");
+    close(t.velocity[0], a.velocity[0], "--set tool.velocity");
+    close(t.rake_angle, 0.1f64.to_degrees(), "--set tool.rake_angle in rad, stored in degrees");
+}
+
+/// An unknown unit, a unit of another quantity, or a unit on a key without units is refused, naming the file, the
+/// line, the key and (for keys with units) the units allowed.
+#[test]
+fn unknown_units_are_refused_with_the_allowed_ones() {
+    use swarf::scene::Scene;
+    let cases = [
+        ("edge_radius", r#""33 uM""#, "tool.edge_radius", Some("m, cm, mm, um, µm, μm, nm")),
+        ("edge_radius", r#""33 m/s""#, "tool.edge_radius", Some("length unit")),
+        ("clearance_angle", r#""7 grad""#, "tool.clearance_angle", Some("deg, °, rad")),
+        ("initial_temperature", r#""25 F""#, "physics.initial_temperature", Some("K, C, °C, degC")),
+        ("velocity", r#"["381.3 m/h", 0.0]"#, "tool.velocity", Some("m/s, m/min, mm/s, mm/min, km/h")),
+        ("end", r#""1 ms""#, "time.end", None),
+    ];
+    for (key, value, dotted, units) in cases {
+        let text = set_line(&v0060(), key, value);
+        let line = text.lines().position(|l| l.starts_with(&format!("{key} = {value}"))).expect("line") + 1;
+        let e = Scene::from_str(&text, "v0060.toml", &[]).expect_err(value).to_string();
+        assert!(e.contains(&format!("v0060.toml:{line}")) && e.contains(dotted), "{value}: {e}");
+        match units {
+            Some(u) => assert!(e.contains(u), "{value}: {e}"),
+            None => assert!(!e.contains("unit:"), "{value}: {e}"),
+        }
+    }
+    // Converted values are range-checked like plain ones.
+    let e = Scene::from_str(&set_line(&v0060(), "edge_radius", r#""-3 um""#), "v0060.toml", &[]).expect_err("< 0");
+    assert!(e.to_string().contains("tool.edge_radius"), "{e}");
+}

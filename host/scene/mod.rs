@@ -38,6 +38,7 @@ mod error;
 mod generate;
 pub mod observe;
 mod read;
+mod units;
 
 use std::fmt::Write as _;
 use std::path::Path;

@@ -82,12 +82,22 @@ impl<'a> Tab<'a> {
         value.ok_or_else(|| self.invalid(k, None, expected))
     }
 
-    /// A finite number (TOML float or integer) satisfying `ok`.
+    /// A finite number (TOML float or integer) satisfying `ok`; for a key with units, also a string of a number
+    /// and a unit ([`super::units`]), converted to the key's unit.
     fn number(&self, k: &str, expected: &str, ok: impl Fn(f64) -> bool) -> Result<Option<f64>> {
         let Some(node) = self.get(k) else { return Ok(None) };
-        match as_number(node) {
+        let quantity = super::units::quantity(&self.key(k));
+        match self.scalar(node, quantity) {
             Some(x) if x.is_finite() && ok(x) => Ok(Some(x)),
-            _ => Err(self.invalid(k, Some(node), expected)),
+            _ => Err(self.invalid(k, Some(node), with_units(expected, quantity, node))),
+        }
+    }
+
+    /// A node's number, or for a `quantity` its string with a unit converted.
+    fn scalar(&self, node: &Node, quantity: Option<super::units::Quantity>) -> Option<f64> {
+        match (&node.val, quantity) {
+            (Val::Leaf(toml::Value::String(text)), Some(q)) => q.parse(text),
+            _ => as_number(node),
         }
     }
 
@@ -115,17 +125,19 @@ impl<'a> Tab<'a> {
         }
     }
 
-    /// An array of exactly `n` finite numbers, padded with zeros to three.
+    /// An array of exactly `n` finite numbers (for a key with units, each also a string with a unit), padded
+    /// with zeros to three.
     fn vector(&self, k: &str, n: usize, expected: &str) -> Result<Option<[f64; 3]>> {
         let Some(node) = self.get(k) else { return Ok(None) };
-        let bad = || self.invalid(k, Some(node), expected);
+        let quantity = super::units::quantity(&self.key(k));
+        let bad = || self.invalid(k, Some(node), with_units(expected, quantity, node));
         let Val::Array(items) = &node.val else { return Err(bad()) };
         if items.len() != n {
             return Err(bad());
         }
         let mut v = [0.0; 3];
         for (slot, item) in v.iter_mut().zip(items) {
-            *slot = as_number(item).filter(|x| x.is_finite()).ok_or_else(bad)?;
+            *slot = self.scalar(item, quantity).filter(|x| x.is_finite()).ok_or_else(bad)?;
         }
         Ok(Some(v))
     }
@@ -150,6 +162,20 @@ impl<'a> Tab<'a> {
                 _ => Err(self.invalid(k, Some(node), expected)),
             })
             .collect()
+    }
+}
+
+/// `expected`, and where a key with units was given a string (`node` or one of its elements), what its strings
+/// may say.
+fn with_units(expected: &str, quantity: Option<super::units::Quantity>, node: &Node) -> String {
+    let is_string = |n: &Node| matches!(n.val, Val::Leaf(toml::Value::String(_)));
+    let strings = match &node.val {
+        Val::Array(items) => items.iter().any(is_string),
+        _ => is_string(node),
+    };
+    match quantity {
+        Some(q) if strings => format!("{expected}, or {}", q.help()),
+        _ => expected.to_string(),
     }
 }
 
