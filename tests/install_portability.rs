@@ -247,7 +247,8 @@ fn base64_zlib_frames_read_back_as_the_raw_ones() {
 }
 
 /// A damaged base64-zlib frame is refused with an error naming the file, not a panic or a silent wrong value:
-/// a flipped character in the compressed data, and a file cut short.
+/// a flipped character in the compressed data, a file cut short, and padding inside the first array's header
+/// (which decodes to fewer bytes than the header's three words).
 #[test]
 fn damaged_base64_zlib_frames_are_refused() {
     use swarf::output::vtu::{self, Encoding};
@@ -261,7 +262,9 @@ fn damaged_base64_zlib_frames_are_refused() {
     let k = start + (text.len() - start) / 2;
     flipped[k] = if flipped[k] == b'A' { b'B' } else { b'A' };
     let cut = text[..start + (text.len() - start) / 3].to_vec();
-    for (name, bytes) in [("flipped.vtu", flipped), ("cut.vtu", cut)] {
+    let mut padded = text.clone();
+    padded[start + 30..start + 32].copy_from_slice(b"==");
+    for (name, bytes) in [("flipped.vtu", flipped), ("cut.vtu", cut), ("padded.vtu", padded)] {
         let path = d.join(name);
         std::fs::write(&path, bytes).expect("write");
         let e = vtu::read(&path).expect_err("a damaged frame must be refused");

@@ -571,15 +571,16 @@ fn raw_block(data: &[u8], offset: usize) -> Result<(&[u8], usize), String> {
 /// A base64 + zlib block at character `offset` of the appended data (the module's layout): its uncompressed bytes
 /// and where it ends.
 fn zlib_base64_block(data: &[u8], offset: usize) -> Result<(Vec<u8>, usize), String> {
-    let at = |from: usize, len: usize| {
+    // `len` characters from `from`, decoded to `bytes` bytes (misplaced padding would give fewer).
+    let at = |from: usize, len: usize, bytes: usize| {
         let text = from.checked_add(len).and_then(|stop| data.get(from..stop));
         let text = text.ok_or_else(|| format!("block at {offset}: runs past the end of the file"))?;
-        base64::decode(text).ok_or_else(|| format!("block at {offset}: not base64"))
+        base64::decode(text).filter(|b| b.len() == bytes).ok_or_else(|| format!("block at {offset}: not base64"))
     };
     let words = |b: &[u8]| -> Vec<u64> {
         b.chunks_exact(8).map(|w| u64::from_le_bytes([w[0], w[1], w[2], w[3], w[4], w[5], w[6], w[7]])).collect()
     };
-    let first = words(&at(offset, base64::encoded_len(24))?);
+    let first = words(&at(offset, base64::encoded_len(24), 24)?);
     let (blocks, size, last) = (first[0], first[1], first[2]);
     // Every block takes at least one character: more blocks than characters left is a corrupt header.
     let blocks = usize::try_from(blocks)
@@ -591,11 +592,11 @@ fn zlib_base64_block(data: &[u8], offset: usize) -> Result<(Vec<u8>, usize), Str
         return Err(format!("block at {offset}: block size {size}, last block {last}"));
     }
     let head_len = base64::encoded_len((3 + blocks) * 8);
-    let sizes = words(&at(offset, head_len)?)[3..].to_vec();
+    let sizes = words(&at(offset, head_len, (3 + blocks) * 8)?)[3..].to_vec();
     let total = sizes.iter().try_fold(0usize, |t, &s| usize::try_from(s).ok().and_then(|s| t.checked_add(s)));
     let total = total.ok_or(format!("block at {offset}: compressed sizes overflow"))?;
     let data_len = base64::encoded_len(total);
-    let packed = at(offset + head_len, data_len)?;
+    let packed = at(offset + head_len, data_len, total)?;
     let mut out = Vec::new();
     let mut pos = 0;
     for (k, &c) in sizes.iter().enumerate() {
@@ -605,7 +606,7 @@ fn zlib_base64_block(data: &[u8], offset: usize) -> Result<(Vec<u8>, usize), Str
         let before = out.len();
         // At most one byte more than declared is read, so a corrupt stream cannot inflate without bound.
         flate2::read::ZlibDecoder::new(z)
-            .take(want as u64 + 1)
+            .take((want as u64).saturating_add(1))
             .read_to_end(&mut out)
             .map_err(|e| format!("block at {offset}: zlib block {k}: {e}"))?;
         if out.len() - before != want {
