@@ -23,6 +23,8 @@ fn main() {
     println!("cargo:rerun-if-changed=kernels/Cargo.toml");
     println!("cargo:rerun-if-env-changed=SWARF_REQUIRE_PTX");
     println!("cargo:rerun-if-env-changed=SWARF_NO_PTX");
+    embed_materials();
+    git_commit();
 
     let out = PathBuf::from(env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
     let require = env::var("SWARF_REQUIRE_PTX").is_ok_and(|v| v == "1");
@@ -55,6 +57,56 @@ fn main() {
         }
     };
     fs::write(out.join("ptx_embed.rs"), code).expect("write ptx_embed.rs");
+}
+
+/// The material library `cases/materials/*.toml`, embedded so that an installed swarf has it
+/// (host/material/search.rs reads `materials_embed.rs`).
+fn embed_materials() {
+    println!("cargo:rerun-if-changed=cases/materials");
+    let manifest = PathBuf::from(env::var("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"));
+    let dir = manifest.join("cases/materials");
+    let mut files: Vec<PathBuf> = fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.is_file() && p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    files.sort();
+    let entries: Vec<String> = files
+        .iter()
+        .map(|p| {
+            let name = p.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+            format!("    ({name:?}, include_str!({:?})),", p.display().to_string())
+        })
+        .collect();
+    let code = format!(
+        "/// cases/materials/*.toml at build time: (file name, text), sorted by name.\n\
+         pub const EMBEDDED: &[(&str, &str)] = &[\n{}\n];\n",
+        entries.join("\n")
+    );
+    let out = PathBuf::from(env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
+    fs::write(out.join("materials_embed.rs"), code).expect("write materials_embed.rs");
+}
+
+/// `SWARF_GIT_COMMIT`: the short commit hash of the source tree, or "unknown" without git (a source archive).
+/// Reruns when HEAD or the branch it names moves.
+fn git_commit() {
+    let git = |args: &[&str]| {
+        Command::new("git")
+            .args(args)
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+            .filter(|s| !s.is_empty())
+    };
+    for path in ["HEAD", "packed-refs"].map(String::from).into_iter().chain(git(&["symbolic-ref", "-q", "HEAD"])) {
+        // A missing file would rerun the build script on every build: name only those that exist.
+        if let Some(p) = git(&["rev-parse", "--git-path", &path]).filter(|p| Path::new(p).exists()) {
+            println!("cargo:rerun-if-changed={p}");
+        }
+    }
+    let commit = git(&["rev-parse", "--short", "HEAD"]).unwrap_or_else(|| "unknown".to_string());
+    println!("cargo:rustc-env=SWARF_GIT_COMMIT={commit}");
 }
 
 fn first_line(s: &str) -> &str {

@@ -7,7 +7,7 @@ use std::fmt::Write;
 /// The report of `swarf info`; with `kernels`, the GPU compiler's report of every kernel.
 pub fn report(choice: BackendChoice, kernels: bool) -> Result<String> {
     let mut s = String::new();
-    let _ = writeln!(s, "swarf {}", env!("CARGO_PKG_VERSION"));
+    let _ = writeln!(s, "swarf {}", crate::run::VERSION);
     // A bad switch is refused here too, naming the variable, before any backend is chosen.
     let tuning = crate::tuning::Tuning::current()?;
     let (b, line) = AnyBackend::select(choice)?;

@@ -6,7 +6,7 @@ use swarf::kernels::{Dim, Dim2, Dim3, Real};
 use swarf::{Result, bench, with_backend};
 
 #[derive(Parser)]
-#[command(name = "swarf", version, about = "GPU meshless simulator for metal cutting")]
+#[command(name = "swarf", version = swarf::run::VERSION, about = "GPU meshless simulator for metal cutting")]
 struct Cli {
     /// Where to run: the GPU if a CUDA driver and device are present (auto), or force one.
     #[arg(long, value_enum, default_value = "auto", global = true)]
@@ -31,7 +31,8 @@ enum Cmd {
     Run(RunArgs),
     /// Validate a scene and print particles, h, c0, dt, steps, memory and the expected run time on this backend.
     Check {
-        scene: std::path::PathBuf,
+        /// The scene file (TOML); default: the built-in cutting scene, as for `run`.
+        scene: Option<std::path::PathBuf>,
         #[arg(long, value_enum)]
         precision: Option<PrecisionChoice>,
         /// Override a scene key (repeatable), as for `run`.
@@ -50,9 +51,10 @@ enum Cmd {
         /// Draw flow curves to this PNG (at the --at rates and temperatures, or three default rates).
         #[arg(long)]
         plot: Option<std::path::PathBuf>,
-        /// The library folder.
-        #[arg(long, default_value = "cases/materials")]
-        library: std::path::PathBuf,
+        /// Read the materials of this folder first (default: the SWARF_MATERIALS folders); then the built-in
+        /// library.
+        #[arg(long)]
+        library: Option<std::path::PathBuf>,
     },
     /// Run a scene over resolutions × precisions (× backends) and report wall time against error (study.csv,
     /// study.md, study.png in the output folder).
@@ -276,8 +278,9 @@ fn run_bench<B: Backend>(b: &B, a: &BenchArgs, sizes: &[usize]) -> Result<()> {
         ));
     }
     if a.workload == Workload::Plasticity {
-        let lib =
-            swarf::material::Library::load_dir("cases/materials").map_err(|e| swarf::Error::Scene(e.to_string()))?;
+        let lib = swarf::material::search::Search::without_scene()
+            .library()
+            .map_err(|e| swarf::Error::Scene(e.to_string()))?;
         println!("| material (model) | return maps/s |\n|---|---|");
         for (name, rate) in bench::plasticity(b, &lib, 1_000_000, a.repeats)? {
             println!("| {name} | {rate:.3e} |");
@@ -374,10 +377,10 @@ fn run(cli: Cli) -> Result<()> {
         }
         Cmd::Run(a) => cmd_run(cli.backend, &a),
         Cmd::Study(a) => cmd_study(cli.backend, &a),
-        Cmd::Material { name, at, plot, library } => cmd_material(name, &at, plot, &library),
+        Cmd::Material { name, at, plot, library } => cmd_material(name, &at, plot, library.as_deref()),
         Cmd::Model(a) => cmd_model(&a),
         Cmd::Check { scene, precision, set } => {
-            let sc = swarf::scene::Scene::load(&scene, &set).map_err(|e| swarf::Error::Scene(e.to_string()))?;
+            let sc = load_scene(scene.as_deref(), &set)?;
             let (any, line) = AnyBackend::select(cli.backend)?;
             eprintln!("{line}");
             let p = precision.map(PrecisionChoice::precision);
@@ -415,6 +418,14 @@ fn run(cli: Cli) -> Result<()> {
     }
 }
 
+/// The scene file `path` with `set`, or without one the built-in default scene.
+fn load_scene(path: Option<&std::path::Path>, set: &[String]) -> Result<swarf::scene::Scene> {
+    match path {
+        Some(p) => swarf::scene::Scene::load(p, set).map_err(|e| swarf::Error::Scene(e.to_string())),
+        None => swarf::run::default_scene(set),
+    }
+}
+
 /// `swarf run`: a scene (or a run folder to resume) into its output folder.
 fn cmd_run(backend: BackendChoice, a: &RunArgs) -> Result<()> {
     let (scene, overrides, out) = match &a.resume {
@@ -426,8 +437,7 @@ fn cmd_run(backend: BackendChoice, a: &RunArgs) -> Result<()> {
             (r.scene, r.overrides, dir.clone())
         }
         None => {
-            let path = a.scene.clone().unwrap_or_else(swarf::run::default_scene);
-            let sc = swarf::scene::Scene::load(&path, &a.set).map_err(|e| swarf::Error::Scene(e.to_string()))?;
+            let sc = load_scene(a.scene.as_deref(), &a.set)?;
             let out = a.out.clone().unwrap_or_else(|| std::path::PathBuf::from("runs").join(&sc.name));
             (sc, a.set.clone(), out)
         }
@@ -532,9 +542,11 @@ fn cmd_material(
     name: Option<String>,
     at: &[String],
     plot: Option<std::path::PathBuf>,
-    library: &std::path::Path,
+    library: Option<&std::path::Path>,
 ) -> Result<()> {
-    let lib = swarf::material::Library::load_dir(library).map_err(|e| swarf::Error::Scene(e.to_string()))?;
+    use swarf::material::search::Search;
+    let search = library.map_or_else(Search::without_scene, Search::folder);
+    let lib = search.library().map_err(|e| swarf::Error::Scene(e.to_string()))?;
     let Some(name) = name else {
         print!("{}", swarf::material::report::list(&lib));
         return Ok(());

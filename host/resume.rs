@@ -24,7 +24,13 @@ pub fn open(dir: &Path, accept_changes: bool) -> Result<Resumable> {
     let path = dir.join("checkpoint.bin");
     let (h, state) = crate::checkpoint::read(&path)?;
     crate::checkpoint::validate(&h, &state).map_err(|e| Error::Checkpoint(format!("{}: {e}", path.display())))?;
-    let scene = Scene::load(dir.join("scene.toml"), &h.overrides).map_err(|e| Error::Scene(e.to_string()))?;
+    // The scene as the folder holds it, its material names looked up first in the materials the run recorded
+    // (`materials/`), so that a run folder resumes from any folder.
+    let scene_path = dir.join("scene.toml");
+    let text = std::fs::read_to_string(&scene_path).map_err(|e| crate::run::io_err(&scene_path, e))?;
+    let search = crate::material::search::Search::recorded(dir);
+    let scene = Scene::from_str_in(&text, &scene_path.display().to_string(), &h.overrides, search)
+        .map_err(|e| Error::Scene(e.to_string()))?;
     let changes = differences(&h, &scene);
     if !changes.is_empty() && !accept_changes {
         return Err(Error::Checkpoint(format!(

@@ -92,11 +92,21 @@ pub const ENERGY_COLUMNS: &[&str] = &[
 ];
 
 /// The built-in default scene, `swarf run` without a scene: the V0060 orthogonal cut (cases/cutting/v0060.toml),
-/// from the working directory if it has the repository's `cases/`, else from the source tree swarf was built from.
-pub fn default_scene() -> PathBuf {
-    let rel = Path::new("cases").join("cutting").join("v0060.toml");
-    if rel.is_file() { rel } else { Path::new(env!("CARGO_MANIFEST_DIR")).join(rel) }
+/// embedded at build time so that an installed swarf runs it from any folder.
+pub const DEFAULT_SCENE: &str = include_str!("../cases/cutting/v0060.toml");
+
+/// The default scene's origin (messages, summary.json's `scene_file`).
+pub const DEFAULT_SCENE_ORIGIN: &str = "built-in:cases/cutting/v0060.toml";
+
+/// The default scene with `overrides`; its material names come from `SWARF_MATERIALS` and the built-in library.
+pub fn default_scene(overrides: &[String]) -> Result<Scene> {
+    let search = crate::material::search::Search::without_scene();
+    Scene::from_str_in(DEFAULT_SCENE, DEFAULT_SCENE_ORIGIN, overrides, search).map_err(|e| Error::Scene(e.to_string()))
 }
+
+/// The version of `swarf --version`, `swarf info` and run.log: the package version and the git commit it was
+/// built from (build.rs; "unknown" where the source had no git). summary.json has both as keys.
+pub const VERSION: &str = concat!(env!("CARGO_PKG_VERSION"), " (commit ", env!("SWARF_GIT_COMMIT"), ")");
 
 /// Set by the Ctrl-C (and SIGTERM) handler: the run writes a checkpoint before its next batch of steps and stops.
 pub static INTERRUPTED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
@@ -106,6 +116,30 @@ pub static INTERRUPTED: std::sync::atomic::AtomicBool = std::sync::atomic::Atomi
 pub fn resume_scene(dir: &Path) -> Result<(Scene, Vec<String>)> {
     let r = crate::resume::open(dir, false)?;
     Ok((r.scene, r.overrides))
+}
+
+/// Writes the scene's text (`scene.toml`) and the library materials it names (`materials/<name>.toml`, the
+/// files' text) into the run folder, so that the folder holds every value it ran and resumes from anywhere.
+fn record_inputs(scene: &Scene, dir: &Path) -> Result<()> {
+    let text = match std::fs::read(&scene.origin) {
+        Ok(t) => Some(t),
+        Err(_) => (scene.origin == DEFAULT_SCENE_ORIGIN).then(|| DEFAULT_SCENE.as_bytes().to_vec()),
+    };
+    if let Some(text) = text {
+        let copy = dir.join("scene.toml");
+        crate::output::write_atomic(&copy, &text).map_err(|e| io_err(&copy, e))?;
+    }
+    let materials = scene.library_materials();
+    if materials.is_empty() {
+        return Ok(());
+    }
+    let folder = dir.join(crate::material::search::FOLDER);
+    std::fs::create_dir_all(&folder).map_err(|e| io_err(&folder, e))?;
+    for m in materials {
+        let path = folder.join(format!("{}.toml", m.name));
+        crate::output::write_atomic(&path, m.text.as_bytes()).map_err(|e| io_err(&path, e))?;
+    }
+    Ok(())
 }
 
 /// The outcome of a run.
@@ -244,10 +278,7 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
         plan.warnings.extend(crate::check::steps(scene, plan.dt, plan.h, plan.c0)?.1);
         std::fs::create_dir_all(&opts.out_dir).map_err(|e| io_err(&opts.out_dir, e))?;
         // The run folder keeps the scene it ran (as given, with the overrides recorded in summary.json).
-        if let Ok(text) = std::fs::read(&scene.origin) {
-            let copy = opts.out_dir.join("scene.toml");
-            crate::output::write_atomic(&copy, &text).map_err(|e| io_err(&copy, e))?;
-        }
+        record_inputs(scene, &opts.out_dir)?;
         let mut log = RunLog::new(opts.out_dir.join("run.log"));
         if opts.resume {
             log.text = std::fs::read_to_string(&log.path).unwrap_or_default();
@@ -390,6 +421,7 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
         if !self.opts.quiet {
             eprintln!("{head}");
         }
+        self.log.line(&format!("swarf {VERSION}"))?;
         self.log.line(&head)?;
         for w in &p.warnings {
             if !self.opts.quiet {
@@ -446,7 +478,7 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
             initial: self.initial.clone(),
             radius: 2.0 * self.plan.h,
             params: out.params,
-            frame: opts.frames.then(|| (opts.out_dir.clone(), self.frame)),
+            frame: opts.frames.then(|| (opts.out_dir.clone(), self.frame, self.scene.output.vtu_encoding)),
             time,
             steps,
         };
@@ -700,7 +732,7 @@ pub fn full_steps(t: f64, dt: f64, next_out: f64, end: f64, sample: Option<f64>,
 }
 
 /// An output error naming `path` once (the atomic writes' errors already start with it).
-fn io_err(path: &Path, e: std::io::Error) -> Error {
+pub(crate) fn io_err(path: &Path, e: std::io::Error) -> Error {
     let (p, text) = (path.display().to_string(), e.to_string());
     Error::Output(if text.starts_with(&p) { text } else { format!("{p}: {text}") })
 }
@@ -748,8 +780,8 @@ struct OutputJob<R: Real, D: TensorOps<R>> {
     /// The closest-pair search radius (2h).
     radius: f64,
     params: SphParams<R>,
-    /// The run folder and frame index, when frames are written.
-    frame: Option<(PathBuf, usize)>,
+    /// The run folder, frame index and VTU encoding, when frames are written.
+    frame: Option<(PathBuf, usize, vtu::Encoding)>,
     time: f64,
     steps: u64,
 }
@@ -817,10 +849,10 @@ impl<R: Real, D: TensorOps<R>> OutputJob<R, D> {
             t.push(&[d.time, d.step as f64, d.temperature_max]).map_err(|e| io_err(t.path(), e))?;
             t.write().map_err(|e| io_err(t.path(), e))?;
         }
-        if let Some((dir, index)) = frame {
+        if let Some((dir, index, encoding)) = frame {
             let name = format!("frame_{index:05}.vtu");
             let temp = internal[0].as_deref();
-            write_frame(&dir.join(&name), h5, host, temp, fields, params, time, steps)?;
+            write_frame((&dir.join(&name), *encoding), h5, host, temp, fields, params, time, steps)?;
             f.pvd.push(time, name).map_err(|e| io_err(f.pvd.path(), e))?;
             if let Some(outline) = tool {
                 let name = format!("tool_{index:05}.vtp");
@@ -909,7 +941,7 @@ fn open_hdf5(opts: &RunOptions) -> Result<Option<H5>> {
 /// xy, yz, xz) and von Mises stress.
 #[allow(clippy::too_many_arguments)]
 fn write_frame<R: Real, D: TensorOps<R>>(
-    path: &Path,
+    (path, encoding): (&Path, vtu::Encoding),
     h5: &mut Option<H5>,
     p: &HostParticles<R, D>,
     temp: Option<&[f64]>,
@@ -954,7 +986,7 @@ fn write_frame<R: Real, D: TensorOps<R>>(
         point_data.push(Array { name: f.name, components: f.components, values: Values::F64(&f.values) });
     }
     let frame = Frame { time, points: Values::F64(&pts), point_data, field_data: vec![("STEP", step as f64)] };
-    vtu::write(path, &frame).map_err(|e| io_err(path, e))?;
+    vtu::write_encoded(path, &frame, encoding).map_err(|e| io_err(path, e))?;
     #[cfg(feature = "hdf5")]
     if let Some(w) = h5.as_mut() {
         let p = w.path().to_path_buf();
@@ -1040,6 +1072,8 @@ impl Summary<'_> {
             })
             .collect();
         let mut v = serde_json::json!({
+            "swarf_version": env!("CARGO_PKG_VERSION"),
+            "git_commit": env!("SWARF_GIT_COMMIT"),
             "scene": scene.name,
             "scene_file": scene.origin,
             "overrides": self.overrides,

@@ -36,9 +36,10 @@ fn run_folder_holds_scene_summary_log_outputs_and_plots() {
         assert_eq!(swarf::output::vtu::read(&out.join(f)).unwrap().n, 1600);
     }
     let log = std::fs::read_to_string(out.join("run.log")).unwrap();
+    assert!(log.starts_with(&format!("swarf {}\n", swarf::run::VERSION)), "the version line first");
     // time.end = 2e-6 s gives output.every = 4e-8 s, below this scene's Δt: run.log warns (issue 27).
     assert!(log.contains("output.every = 4e-8 s is below dt"), "{log}");
-    assert_eq!(log.lines().count(), 53, "a header, the warning and one line per output step");
+    assert_eq!(log.lines().count(), 54, "the version, a header, the warning and one line per output step");
 }
 
 /// SIGKILL at several moments of a run that writes a frame every few steps: the PVD index always parses and

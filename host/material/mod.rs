@@ -1,7 +1,8 @@
 //! The material library (cases/materials/): loading, listing and evaluating named parameter sets.
 //!
-//! One parameter set per file, `cases/materials/<name>.toml`; every number carries its unit and source in a
-//! comment. The formulas live once in `swarf_kernels::material`: [`Material::sigma_y`] and [`FlowModel`] dispatch
+//! One parameter set per file, `cases/materials/<name>.toml`, built into the binary; [`search`] says where else
+//! a name is looked up (`SWARF_MATERIALS`, a `materials/` folder beside the scene). Every number carries its
+//! unit and source in a comment. The formulas live once in `swarf_kernels::material`: [`Material::sigma_y`] and [`FlowModel`] dispatch
 //! to the kernel functions and never re-implement them.
 //!
 //! # Schema
@@ -48,6 +49,7 @@
 //! expected.
 
 pub mod report;
+pub mod search;
 
 use std::collections::{BTreeMap, HashMap};
 use std::fmt;
@@ -216,8 +218,10 @@ pub struct Material {
     pub name: String,
     pub description: String,
     pub source: String,
-    /// The file it was read from.
+    /// The file it was read from (for a built-in material, `built-in:<name>.toml`).
     pub file: PathBuf,
+    /// The file's text: a run folder records it (`materials/<name>.toml`), so that it holds the values it ran.
+    pub text: String,
     pub elastic: Option<Elastic>,
     pub thermal: Option<Thermal>,
     pub flow_stress: Option<FlowModel>,
@@ -268,6 +272,7 @@ impl Material {
             description: description.to_string(),
             source: source.to_string(),
             file: PathBuf::from(file),
+            text: text.to_string(),
             elastic,
             thermal,
             flow_stress,
@@ -329,6 +334,14 @@ impl Library {
             materials.insert(m.name.clone(), m);
         }
         Ok(Library { materials })
+    }
+
+    /// Adds the materials of `other` whose names this library lacks (an earlier folder of a search path shadows a
+    /// later one).
+    pub fn add_missing(&mut self, other: Library) {
+        for (name, m) in other.materials {
+            self.materials.entry(name).or_insert(m);
+        }
     }
 
     /// The material `name`; the error lists the available names.

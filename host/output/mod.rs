@@ -9,12 +9,14 @@
 //! I/O errors are returned, never swallowed or unwrapped, and name the file they concern; invalid input (array
 //! lengths, row lengths, names) is refused with [`std::io::ErrorKind::InvalidInput`] before any file is created.
 //!
-//! - [`vtu`]: particle frames as binary VTK XML unstructured grids (vertex cells, raw appended data).
+//! - [`vtu`]: particle frames as binary VTK XML unstructured grids (vertex cells, raw or base64 + zlib appended
+//!   data).
 //! - [`pvd`]: the ParaView collection listing the frames with their times.
 //! - [`vtp`]: the tool's outline beside each frame (PolyData, one closed polyline).
 //! - [`csv`]: per-step time series.
 
 pub mod atomic;
+mod base64;
 pub mod csv;
 #[cfg(feature = "hdf5")]
 pub mod hdf5;

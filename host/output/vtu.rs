@@ -1,26 +1,60 @@
 //! Particle frames as binary VTK XML unstructured grids (.vtu), which ParaView opens directly.
 //!
 //! Layout (VTK XML file format version 1.0): every particle is a `VTK_VERTEX` cell (type 1) so that ParaView
-//! renders the points without a glyph filter; all arrays are raw little-endian binary in one
-//! `<AppendedData encoding="raw">` block, each prefixed by its byte count as a UInt64 (`header_type="UInt64"`, so
-//! frames above 4 GiB work), and the XML `offset` attributes are byte offsets into that block. Raw appended data is
-//! the fastest form to write and to read (no base64, no compression) and is exact.
+//! renders the points without a glyph filter; all arrays are little-endian binary in one `<AppendedData>` block,
+//! in one of two [`Encoding`]s:
+//!
+//! - `raw` (the default): each array prefixed by its byte count as a UInt64 (`header_type="UInt64"`, so frames
+//!   above 4 GiB work); the XML `offset` attributes are byte offsets into the block. The fastest form to write and
+//!   to read, exact; ParaView and VTK read it, meshio does not.
+//! - `base64-zlib`: VTK's compressed layout (`compressor="vtkZLibDataCompressor"`): each array cut into blocks of
+//!   32 KiB, each block zlib-compressed; a UInt64 header (number of blocks, block size, size of the last partial
+//!   block or 0, each block's compressed size) base64-encoded on its own, then the compressed blocks base64-encoded
+//!   together; the offsets count base64 characters. Exact too, smaller, and read by meshio as well.
 //!
 //! The frame time goes into `<FieldData>` twice: as `TimeValue`, which VTK ≥ 8.2 readers turn into the
 //! data set's time (ParaView's file-series reader then orders frames by it), and as `TIME`, the older convention
 //! (VisIt, legacy VTK). Both are Float64 with one tuple.
 //!
-//! [`read`] reads back the files [`write`] produces, for tests and post-processing in Rust; it is not a general
-//! VTU reader.
+//! [`read`] reads back the files [`write_encoded`] produces (both encodings), for tests and post-processing in
+//! Rust; it is not a general VTU reader.
 
+use std::borrow::Cow;
 use std::fs;
-use std::io::{self, Write};
+use std::io::{self, Read, Write};
 use std::path::Path;
 
 use bytemuck::Pod;
 
 use super::atomic::{with_path, write_atomic_with};
+use super::base64;
 use super::text::{escape_attr, tags, unescape_attr};
+
+/// How a frame's appended data is stored (the module's documentation gives both layouts).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub enum Encoding {
+    #[default]
+    #[serde(rename = "raw")]
+    Raw,
+    #[serde(rename = "base64-zlib")]
+    Base64Zlib,
+}
+
+impl Encoding {
+    /// The names of the scene key `output.vtu_encoding`.
+    pub const NAMES: [&str; 2] = ["raw", "base64-zlib"];
+
+    pub fn from_name(name: &str) -> Option<Encoding> {
+        match name {
+            "raw" => Some(Encoding::Raw),
+            "base64-zlib" => Some(Encoding::Base64Zlib),
+            _ => None,
+        }
+    }
+}
+
+/// Uncompressed bytes per zlib block (VTK's default block size).
+const ZLIB_BLOCK: usize = 1 << 15;
 
 /// Field-data names written from [`Frame::time`]; a caller's field data may not use them.
 pub const RESERVED_FIELD_NAMES: [&str; 2] = ["TimeValue", "TIME"];
@@ -148,31 +182,91 @@ enum Block<'a> {
     Types,
 }
 
-/// Writes `frame` to `path` atomically. The frame is validated first, so an invalid frame creates no file:
-/// lengths, component counts and names (non-empty, unique) are checked and refused with
-/// [`io::ErrorKind::InvalidInput`] naming the array.
-pub fn write(path: &Path, frame: &Frame) -> io::Result<()> {
-    let (header, blocks, n) = layout(frame).map_err(|msg| invalid_input(path, &msg))?;
-    write_atomic_with(path, |w| {
-        w.write_all(header.as_bytes())?;
-        for block in &blocks {
-            let bytes = match block {
-                Block::Scalar(_) => 8,
-                Block::Values(v) => v.byte_len(),
-                Block::Connectivity | Block::Offsets => 8 * n,
-                Block::Types => n,
-            };
-            w.write_all(&(bytes as u64).to_le_bytes())?;
-            match block {
-                Block::Scalar(x) => w.write_all(&x.to_le_bytes())?,
-                Block::Values(v) => v.write_to(w)?,
-                Block::Connectivity => write_counting(w, 0, n)?,
-                Block::Offsets => write_counting(w, 1, n)?,
-                Block::Types => write_types(w, n)?,
-            }
+impl Block<'_> {
+    /// Its data's bytes, for n points.
+    fn byte_len(&self, n: usize) -> usize {
+        match self {
+            Block::Scalar(_) => 8,
+            Block::Values(v) => v.byte_len(),
+            Block::Connectivity | Block::Offsets => 8 * n,
+            Block::Types => n,
         }
-        w.write_all(b"\n  </AppendedData>\n</VTKFile>\n")
-    })
+    }
+
+    /// Writes its data (without a length prefix), little-endian.
+    fn write_to(&self, w: &mut dyn Write, n: usize) -> io::Result<()> {
+        match self {
+            Block::Scalar(x) => w.write_all(&x.to_le_bytes()),
+            Block::Values(v) => v.write_to(w),
+            Block::Connectivity => write_counting(w, 0, n),
+            Block::Offsets => write_counting(w, 1, n),
+            Block::Types => write_types(w, n),
+        }
+    }
+}
+
+/// Writes `frame` to `path` atomically with raw appended data ([`write_encoded`]).
+pub fn write(path: &Path, frame: &Frame) -> io::Result<()> {
+    write_encoded(path, frame, Encoding::Raw)
+}
+
+/// Writes `frame` to `path` atomically in `encoding`. The frame is validated first, so an invalid frame creates
+/// no file: lengths, component counts and names (non-empty, unique) are checked and refused with
+/// [`io::ErrorKind::InvalidInput`] naming the array.
+pub fn write_encoded(path: &Path, frame: &Frame, encoding: Encoding) -> io::Result<()> {
+    const END: &[u8] = b"\n  </AppendedData>\n</VTKFile>\n";
+    match encoding {
+        Encoding::Raw => {
+            let (header, blocks, n) =
+                layout(frame, encoding, &mut |_, bytes| 8 + bytes).map_err(|m| invalid_input(path, &m))?;
+            write_atomic_with(path, |w| {
+                w.write_all(header.as_bytes())?;
+                for block in &blocks {
+                    w.write_all(&(block.byte_len(n) as u64).to_le_bytes())?;
+                    block.write_to(w, n)?;
+                }
+                w.write_all(END)
+            })
+        }
+        Encoding::Base64Zlib => {
+            // The offsets depend on the compressed sizes: compress every block first, then lay the header out.
+            let (_, blocks, n) = layout(frame, encoding, &mut |_, bytes| bytes).map_err(|m| invalid_input(path, &m))?;
+            let mut raw = Vec::new();
+            let mut coded = Vec::with_capacity(blocks.len());
+            for block in &blocks {
+                raw.clear();
+                block.write_to(&mut raw, n)?;
+                coded.push(zlib_base64(&raw)?);
+            }
+            let (header, _, _) =
+                layout(frame, encoding, &mut |k, _| coded[k].len()).map_err(|m| invalid_input(path, &m))?;
+            write_atomic_with(path, |w| {
+                w.write_all(header.as_bytes())?;
+                coded.iter().try_for_each(|c| w.write_all(c))?;
+                w.write_all(END)
+            })
+        }
+    }
+}
+
+/// One array in VTK's zlib layout: the UInt64 header (blocks, block size, last partial block size or 0, each
+/// block's compressed size), base64-encoded on its own, then the compressed blocks, base64-encoded together.
+fn zlib_base64(raw: &[u8]) -> io::Result<Vec<u8>> {
+    let mut sizes = Vec::new();
+    let mut data = Vec::new();
+    for chunk in raw.chunks(ZLIB_BLOCK) {
+        let mut z = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::default());
+        z.write_all(chunk)?;
+        let c = z.finish()?;
+        sizes.push(c.len() as u64);
+        data.extend_from_slice(&c);
+    }
+    let words = [sizes.len() as u64, ZLIB_BLOCK as u64, (raw.len() % ZLIB_BLOCK) as u64];
+    let header: Vec<u8> = words.iter().chain(&sizes).flat_map(|w| w.to_le_bytes()).collect();
+    let mut out = Vec::with_capacity(base64::encoded_len(header.len()) + base64::encoded_len(data.len()));
+    base64::encode(&header, &mut out);
+    base64::encode(&data, &mut out);
+    Ok(out)
 }
 
 fn invalid_input(path: &Path, msg: &str) -> io::Error {
@@ -180,8 +274,13 @@ fn invalid_input(path: &Path, msg: &str) -> io::Error {
 }
 
 /// Validates the frame and builds the XML header (up to and including the `_` that starts the appended data)
-/// and the list of blocks in the order of their offsets.
-fn layout<'a>(frame: &Frame<'a>) -> Result<(String, Vec<Block<'a>>, usize), String> {
+/// and the list of blocks in the order of their offsets; `stored(k, bytes)` is the length in the appended data
+/// of block `k`, whose data has `bytes` bytes.
+fn layout<'a>(
+    frame: &Frame<'a>,
+    encoding: Encoding,
+    stored: &mut dyn FnMut(usize, usize) -> usize,
+) -> Result<(String, Vec<Block<'a>>, usize), String> {
     use std::fmt::Write as _;
 
     if !matches!(frame.points, Values::F32(_) | Values::F64(_)) {
@@ -212,12 +311,16 @@ fn layout<'a>(frame: &Frame<'a>) -> Result<(String, Vec<Block<'a>>, usize), Stri
 
     let mut blocks = Vec::new();
     let mut offset = 0usize;
-    // Declares the next block and returns its offset; every block is its 8-byte length plus its data.
+    // Declares the next block and returns its offset.
     let mut push = |block: Block<'a>, bytes: usize| {
         let at = offset;
-        offset += 8 + bytes;
+        offset += stored(blocks.len(), bytes);
         blocks.push(block);
         at
+    };
+    let (compressor, appended) = match encoding {
+        Encoding::Raw => ("", "raw"),
+        Encoding::Base64Zlib => (r#" compressor="vtkZLibDataCompressor""#, "base64"),
     };
 
     let mut h = String::new();
@@ -226,7 +329,7 @@ fn layout<'a>(frame: &Frame<'a>) -> Result<(String, Vec<Block<'a>>, usize), Stri
     let _ = writeln!(w, r#"<?xml version="1.0"?>"#);
     let _ = writeln!(
         w,
-        r#"<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian" header_type="UInt64">"#
+        r#"<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian" header_type="UInt64"{compressor}>"#
     );
     let _ = writeln!(w, "  <UnstructuredGrid>");
     let _ = writeln!(w, "    <FieldData>");
@@ -272,7 +375,7 @@ fn layout<'a>(frame: &Frame<'a>) -> Result<(String, Vec<Block<'a>>, usize), Stri
     let _ = writeln!(w, "      </Cells>");
     let _ = writeln!(w, "    </Piece>");
     let _ = writeln!(w, "  </UnstructuredGrid>");
-    let _ = writeln!(w, r#"  <AppendedData encoding="raw">"#);
+    let _ = writeln!(w, r#"  <AppendedData encoding="{appended}">"#);
     let _ = write!(w, "   _");
     Ok((h, blocks, n))
 }
@@ -347,29 +450,34 @@ struct Decl<'a> {
 const SECTIONS: [&str; 5] = ["FieldData", "PointData", "CellData", "Points", "Cells"];
 
 fn parse(bytes: &[u8]) -> Result<ReadFrame, String> {
-    const MARK: &[u8] = br#"<AppendedData encoding="raw">"#;
-    let at = bytes.windows(MARK.len()).position(|w| w == MARK).ok_or("no raw <AppendedData> element")?;
+    const RAW: &[u8] = br#"<AppendedData encoding="raw">"#;
+    const BASE64: &[u8] = br#"<AppendedData encoding="base64">"#;
+    let find = |mark: &[u8]| bytes.windows(mark.len()).position(|w| w == mark).map(|at| (at, at + mark.len()));
+    let (encoding, at, after) = match (find(RAW), || find(BASE64)) {
+        (Some((at, after)), _) => (Encoding::Raw, at, after),
+        (None, base64) => {
+            let (at, after) = base64().ok_or("no raw or base64 <AppendedData> element")?;
+            (Encoding::Base64Zlib, at, after)
+        }
+    };
     let header = std::str::from_utf8(&bytes[..at]).map_err(|_| "the XML header is not UTF-8")?;
-    let underscore = bytes[at + MARK.len()..]
+    let underscore = bytes[after..]
         .iter()
         .position(|b| !b.is_ascii_whitespace())
-        .map(|i| at + MARK.len() + i)
+        .map(|i| after + i)
         .filter(|&i| bytes[i] == b'_')
         .ok_or("no '_' at the start of the appended data")?;
     let data = &bytes[underscore + 1..];
 
-    let (n, decls) = declarations(header)?;
+    let (n, decls) = declarations(header, encoding)?;
 
     let mut end = 0; // end of the last block, to check what follows the data
-    let mut block = |offset: usize| -> Result<&[u8], String> {
-        let len_at = offset.checked_add(8).and_then(|stop| data.get(offset..stop));
-        let len_at = len_at.ok_or_else(|| format!("offset {offset} beyond the data"))?;
-        let len = u64::from_le_bytes(len_at.try_into().map_err(|_| "short length prefix")?);
-        let len = usize::try_from(len).map_err(|_| format!("block at {offset}: length {len} too large"))?;
-        let start = offset + 8;
-        let bytes = start.checked_add(len).and_then(|stop| data.get(start..stop));
-        let bytes = bytes.ok_or_else(|| format!("block at {offset}: {len} bytes run past the end of the file"))?;
-        end = end.max(start + len);
+    let mut block = |offset: usize| -> Result<Cow<'_, [u8]>, String> {
+        let (bytes, stop) = match encoding {
+            Encoding::Raw => raw_block(data, offset).map(|(b, stop)| (Cow::Borrowed(b), stop))?,
+            Encoding::Base64Zlib => zlib_base64_block(data, offset).map(|(b, stop)| (Cow::Owned(b), stop))?,
+        };
+        end = end.max(stop);
         Ok(bytes)
     };
 
@@ -380,6 +488,7 @@ fn parse(bytes: &[u8]) -> Result<ReadFrame, String> {
     let (mut connectivity, mut offsets, mut types) = (None, None, None);
     for d in &decls {
         let bytes = block(d.offset)?;
+        let bytes = bytes.as_ref();
         let what = format!("{} array \"{}\"", d.section, d.name);
         match d.section {
             "FieldData" => {
@@ -447,9 +556,73 @@ fn parse(bytes: &[u8]) -> Result<ReadFrame, String> {
     Ok(ReadFrame { n, time, points: points.ok_or("no <Points> array")?, point_data, field_data })
 }
 
-/// The XML header's checks (an UnstructuredGrid, little-endian, 64-bit headers, one piece of vertex cells) and its
-/// points count and `<DataArray>` declarations, in order.
-fn declarations(header: &str) -> Result<(usize, Vec<Decl<'_>>), String> {
+/// A raw block at `offset` of the appended data: its bytes and where it ends.
+fn raw_block(data: &[u8], offset: usize) -> Result<(&[u8], usize), String> {
+    let len_at = offset.checked_add(8).and_then(|stop| data.get(offset..stop));
+    let len_at = len_at.ok_or_else(|| format!("offset {offset} beyond the data"))?;
+    let len = u64::from_le_bytes(len_at.try_into().map_err(|_| "short length prefix")?);
+    let len = usize::try_from(len).map_err(|_| format!("block at {offset}: length {len} too large"))?;
+    let start = offset + 8;
+    let bytes = start.checked_add(len).and_then(|stop| data.get(start..stop));
+    let bytes = bytes.ok_or_else(|| format!("block at {offset}: {len} bytes run past the end of the file"))?;
+    Ok((bytes, start + len))
+}
+
+/// A base64 + zlib block at character `offset` of the appended data (the module's layout): its uncompressed bytes
+/// and where it ends.
+fn zlib_base64_block(data: &[u8], offset: usize) -> Result<(Vec<u8>, usize), String> {
+    // `len` characters from `from`, decoded to `bytes` bytes (misplaced padding would give fewer).
+    let at = |from: usize, len: usize, bytes: usize| {
+        let text = from.checked_add(len).and_then(|stop| data.get(from..stop));
+        let text = text.ok_or_else(|| format!("block at {offset}: runs past the end of the file"))?;
+        base64::decode(text).filter(|b| b.len() == bytes).ok_or_else(|| format!("block at {offset}: not base64"))
+    };
+    let words = |b: &[u8]| -> Vec<u64> {
+        b.chunks_exact(8).map(|w| u64::from_le_bytes([w[0], w[1], w[2], w[3], w[4], w[5], w[6], w[7]])).collect()
+    };
+    let first = words(&at(offset, base64::encoded_len(24), 24)?);
+    let (blocks, size, last) = (first[0], first[1], first[2]);
+    // Every block takes at least one character: more blocks than characters left is a corrupt header.
+    let blocks = usize::try_from(blocks)
+        .ok()
+        .filter(|&b| b <= data.len())
+        .ok_or(format!("block at {offset}: {blocks} blocks"))?;
+    let (size, last) = (usize::try_from(size).unwrap_or(0), usize::try_from(last).unwrap_or(usize::MAX));
+    if size == 0 || last >= size {
+        return Err(format!("block at {offset}: block size {size}, last block {last}"));
+    }
+    let head_len = base64::encoded_len((3 + blocks) * 8);
+    let sizes = words(&at(offset, head_len, (3 + blocks) * 8)?)[3..].to_vec();
+    let total = sizes.iter().try_fold(0usize, |t, &s| usize::try_from(s).ok().and_then(|s| t.checked_add(s)));
+    let total = total.ok_or(format!("block at {offset}: compressed sizes overflow"))?;
+    let data_len = base64::encoded_len(total);
+    let packed = at(offset + head_len, data_len, total)?;
+    let mut out = Vec::new();
+    let mut pos = 0;
+    for (k, &c) in sizes.iter().enumerate() {
+        let want = if k + 1 == blocks && last != 0 { last } else { size };
+        let stop = pos + c as usize;
+        let z = packed.get(pos..stop).ok_or(format!("block at {offset}: compressed block {k} runs past its data"))?;
+        let before = out.len();
+        // At most one byte more than declared is read, so a corrupt stream cannot inflate without bound.
+        flate2::read::ZlibDecoder::new(z)
+            .take((want as u64).saturating_add(1))
+            .read_to_end(&mut out)
+            .map_err(|e| format!("block at {offset}: zlib block {k}: {e}"))?;
+        if out.len() - before != want {
+            return Err(format!(
+                "block at {offset}: zlib block {k} holds {} bytes, expected {want}",
+                out.len() - before
+            ));
+        }
+        pos = stop;
+    }
+    Ok((out, offset + head_len + data_len))
+}
+
+/// The XML header's checks (an UnstructuredGrid, little-endian, 64-bit headers, the zlib compressor exactly for
+/// base64 data, one piece of vertex cells) and its points count and `<DataArray>` declarations, in order.
+fn declarations(header: &str, encoding: Encoding) -> Result<(usize, Vec<Decl<'_>>), String> {
     let mut section: Option<&str> = None;
     let mut counts: Option<(usize, usize)> = None;
     let mut vtk_file = false;
@@ -462,6 +635,13 @@ fn declarations(header: &str) -> Result<(usize, Vec<Decl<'_>>), String> {
                     if tag.attr(key) != Some(value) {
                         return Err(format!("<VTKFile> {key} is {:?}, expected \"{value}\"", tag.attr(key)));
                     }
+                }
+                let compressor = (encoding == Encoding::Base64Zlib).then_some("vtkZLibDataCompressor");
+                if tag.attr("compressor") != compressor {
+                    return Err(format!(
+                        "<VTKFile> compressor is {:?}, expected {compressor:?}",
+                        tag.attr("compressor")
+                    ));
                 }
                 vtk_file = true;
             }

@@ -46,6 +46,8 @@ pub(crate) struct Doc {
     pub file: String,
     /// The `--set` arguments, indexed by [`At::Set`].
     pub sets: Vec<String>,
+    /// Where the scene's material names are looked up (by default the search path of a scene file `file`).
+    pub materials: crate::material::search::Search,
 }
 
 /// Byte offset to 1-based line.
@@ -115,7 +117,8 @@ impl Doc {
         let de = DeTable::parse(text).map_err(syntax)?;
         let de = Spanned::new(de.span(), DeValue::Table(de.into_inner()));
         let root = build(&de, At::Root, toml::Value::Table(table), text);
-        Ok(Doc { root, file: file.to_string(), sets: Vec::new() })
+        let materials = crate::material::search::Search::for_scene(file);
+        Ok(Doc { root, file: file.to_string(), sets: Vec::new(), materials })
     }
 
     /// Where a node came from, for messages.

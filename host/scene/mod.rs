@@ -38,6 +38,7 @@ mod error;
 mod generate;
 pub mod observe;
 mod read;
+mod units;
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -46,14 +47,6 @@ use serde::Serialize;
 
 pub use error::{Location, SceneError};
 pub use generate::{Bc, ParticleSet};
-
-/// Where a scene's named materials are looked up: `materials/` beside the scene file, else in its parent folder
-/// (`cases/materials` for a scene in `cases/cutting/`), else `cases/materials` of the working directory.
-pub fn library_dir(origin: &str) -> std::path::PathBuf {
-    let dir = Path::new(origin).parent();
-    let candidates = [dir.map(|d| d.join("materials")), dir.and_then(|d| d.parent()).map(|d| d.join("materials"))];
-    candidates.into_iter().flatten().find(|d| d.is_dir()).unwrap_or_else(|| Path::new("cases").join("materials"))
-}
 
 /// A validated scene. Vectors and points are stored with three components; in 2D the third is 0.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -282,9 +275,9 @@ pub struct Discretisation {
 /// `[material]`: linear elasticity (for now the only material; a library by name comes later).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Material {
-    /// `name` (optional): a material of the library (`materials/` beside the scene file, e.g.
-    /// cases/materials/AISI4340-Roethlin.toml); it supplies the elastic constants (unless given here), the
-    /// flow-stress model and the thermal data. Without `name` the material is inline and elastic.
+    /// `name` (optional): a material of the library (`SWARF_MATERIALS`, `materials/` beside the scene file, the
+    /// built-in cases/materials/: [`crate::material::search`]); it supplies the elastic constants (unless given
+    /// here), the flow-stress model and the thermal data. Without `name` the material is inline and elastic.
     #[serde(skip)]
     pub library: Option<crate::material::Material>,
     /// `density` (required unless `name` gives it; unit kg/m^3), > 0: the reference density ρ0.
@@ -528,6 +521,9 @@ pub struct Time {
 pub struct Output {
     /// `every` (optional, default `time.end / 50`; unit s), > 0: simulated time between frames.
     pub every: f64,
+    /// `vtu_encoding` (optional, default `"raw"`): the frames' appended data, `"raw"` (fastest; ParaView, VTK) or
+    /// `"base64-zlib"` (smaller; also meshio), [`crate::output::vtu::Encoding`].
+    pub vtu_encoding: crate::output::vtu::Encoding,
 }
 
 impl Scene {
@@ -548,13 +544,38 @@ impl Scene {
         Scene::from_str(&text, &file, overrides)
     }
 
-    /// Parses a scene from `text`; `origin` stands for the file name in messages.
+    /// Parses a scene from `text`; `origin` stands for the file name in messages and places its material search
+    /// path ([`crate::material::search::Search::for_scene`]).
     pub fn from_str(text: &str, origin: &str, overrides: &[String]) -> Result<Scene, SceneError> {
+        Scene::from_str_in(text, origin, overrides, crate::material::search::Search::for_scene(origin))
+    }
+
+    /// [`Scene::from_str`] with the material names looked up in `materials`.
+    pub fn from_str_in(
+        text: &str,
+        origin: &str,
+        overrides: &[String],
+        materials: crate::material::search::Search,
+    ) -> Result<Scene, SceneError> {
         let mut doc = doc::Doc::parse(text, origin)?;
+        doc.materials = materials;
         for arg in overrides {
             doc.apply(arg)?;
         }
         read::scene(&doc)
+    }
+
+    /// The library materials the scene names (scene, bodies, thermal tool), each once, in that order.
+    pub fn library_materials(&self) -> Vec<&crate::material::Material> {
+        let tool = self.tool.as_ref().and_then(|t| t.thermal.as_ref()).and_then(|t| t.material.as_ref());
+        let bodies = self.bodies.iter().filter_map(|b| b.material.as_ref());
+        let mut out: Vec<&crate::material::Material> = Vec::new();
+        for m in self.material.library.iter().chain(bodies).chain(tool) {
+            if !out.iter().any(|o| o.name == m.name) {
+                out.push(m);
+            }
+        }
+        out
     }
 
     /// The smoothing length h = h_over_dx · dx (m).

@@ -82,12 +82,22 @@ impl<'a> Tab<'a> {
         value.ok_or_else(|| self.invalid(k, None, expected))
     }
 
-    /// A finite number (TOML float or integer) satisfying `ok`.
+    /// A finite number (TOML float or integer) satisfying `ok`; for a key with units, also a string of a number
+    /// and a unit ([`super::units`]), converted to the key's unit.
     fn number(&self, k: &str, expected: &str, ok: impl Fn(f64) -> bool) -> Result<Option<f64>> {
         let Some(node) = self.get(k) else { return Ok(None) };
-        match as_number(node) {
+        let quantity = super::units::quantity(&self.key(k));
+        match self.scalar(node, quantity) {
             Some(x) if x.is_finite() && ok(x) => Ok(Some(x)),
-            _ => Err(self.invalid(k, Some(node), expected)),
+            _ => Err(self.invalid(k, Some(node), with_units(expected, quantity, node))),
+        }
+    }
+
+    /// A node's number, or for a `quantity` its string with a unit converted.
+    fn scalar(&self, node: &Node, quantity: Option<super::units::Quantity>) -> Option<f64> {
+        match (&node.val, quantity) {
+            (Val::Leaf(toml::Value::String(text)), Some(q)) => q.parse(text),
+            _ => as_number(node),
         }
     }
 
@@ -115,17 +125,19 @@ impl<'a> Tab<'a> {
         }
     }
 
-    /// An array of exactly `n` finite numbers, padded with zeros to three.
+    /// An array of exactly `n` finite numbers (for a key with units, each also a string with a unit), padded
+    /// with zeros to three.
     fn vector(&self, k: &str, n: usize, expected: &str) -> Result<Option<[f64; 3]>> {
         let Some(node) = self.get(k) else { return Ok(None) };
-        let bad = || self.invalid(k, Some(node), expected);
+        let quantity = super::units::quantity(&self.key(k));
+        let bad = || self.invalid(k, Some(node), with_units(expected, quantity, node));
         let Val::Array(items) = &node.val else { return Err(bad()) };
         if items.len() != n {
             return Err(bad());
         }
         let mut v = [0.0; 3];
         for (slot, item) in v.iter_mut().zip(items) {
-            *slot = as_number(item).filter(|x| x.is_finite()).ok_or_else(bad)?;
+            *slot = self.scalar(item, quantity).filter(|x| x.is_finite()).ok_or_else(bad)?;
         }
         Ok(Some(v))
     }
@@ -150,6 +162,20 @@ impl<'a> Tab<'a> {
                 _ => Err(self.invalid(k, Some(node), expected)),
             })
             .collect()
+    }
+}
+
+/// `expected`, and where a key with units was given a string (`node` or one of its elements), what its strings
+/// may say.
+fn with_units(expected: &str, quantity: Option<super::units::Quantity>, node: &Node) -> String {
+    let is_string = |n: &Node| matches!(n.val, Val::Leaf(toml::Value::String(_)));
+    let strings = match &node.val {
+        Val::Array(items) => items.iter().any(is_string),
+        _ => is_string(node),
+    };
+    match quantity {
+        Some(q) if strings => format!("{expected}, or {}", q.help()),
+        _ => expected.to_string(),
     }
 }
 
@@ -246,11 +272,16 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
     let time = Time { end, cfl, dt, max_steps };
 
     // [output]
-    let mut output = Output { every: end / 50.0 };
-    if let Some(o) = root.table("output", "output", "a table [output] with every")? {
-        o.check_keys(&["every"], &[], "")?;
+    let mut output = Output { every: end / 50.0, vtu_encoding: Default::default() };
+    if let Some(o) = root.table("output", "output", "a table [output] with every, vtu_encoding")? {
+        o.check_keys(&["every", "vtu_encoding"], &[], "")?;
         if let Some(every) = o.number("every", "a positive time in seconds", positive)? {
             output.every = every;
+        }
+        use crate::output::vtu::Encoding;
+        let e = "\"raw\" or \"base64-zlib\"";
+        if let Some(name) = o.string("vtu_encoding", e, |s| Encoding::from_name(s).is_some())? {
+            output.vtu_encoding = Encoding::from_name(name).unwrap_or_default();
         }
     }
 
@@ -290,18 +321,7 @@ fn material(root: &Tab<'_>, doc: &Doc) -> Result<Material> {
     let mat = root.required("material", mat_expected, root.table("material", "material", mat_expected)?)?;
     mat.check_keys(&["name", "density", "youngs_modulus", "poisson_ratio"], &[], "")?;
     let library = match mat.string("name", "the name of a material of the library", |s| !s.trim().is_empty())? {
-        Some(name) => {
-            let dir = super::library_dir(&doc.file);
-            let lib = crate::material::Library::load_dir(&dir).map_err(|e| {
-                mat.invalid("name", mat.get("name"), format!("a material of the library {} ({e})", dir.display()))
-            })?;
-            match lib.get(name) {
-                Ok(m) => Some(m.clone()),
-                Err(_) => {
-                    return Err(mat.invalid("name", mat.get("name"), material_choices(&dir, &lib)));
-                }
-            }
-        }
+        Some(name) => Some(named_material(&mat, doc, "name", name)?),
         None => None,
     };
     let lib_elastic = library.as_ref().and_then(|m| m.elastic);
@@ -584,25 +604,26 @@ fn experiment(t: &Tab<'_>, catalogue: &[super::observe::Observable]) -> Result<V
 fn library_material(t: &Tab<'_>, doc: &Doc, k: &str) -> Result<crate::material::Material> {
     let e = "the name of a material of the library";
     let name = t.required(k, e, t.string(k, e, |s| !s.trim().is_empty())?)?;
-    let dir = super::library_dir(&doc.file);
-    let lib = crate::material::Library::load_dir(&dir)
-        .map_err(|err| t.invalid(k, t.get(k), format!("a material of the library {} ({err})", dir.display())))?;
-    lib.get(name).cloned().map_err(|_| t.invalid(k, t.get(k), material_choices(&dir, &lib)))
+    named_material(t, doc, k, name)
 }
 
-/// What a material name must be: one of the library's, or, where the library folder holds none (an empty local
-/// `materials/` hides the others: the message was `one of ` and nothing), where it was looked for.
-fn material_choices(dir: &Path, lib: &crate::material::Library) -> String {
-    let names = lib.names().collect::<Vec<_>>().join(", ");
-    if names.is_empty() {
-        format!(
-            "a material of the library, but {} holds no material files; the library is the first folder of \
-             materials/ beside the scene, materials/ in its parent folder and cases/materials that exists",
-            dir.display()
-        )
-    } else {
-        format!("a material of {}: one of {names}", dir.display())
-    }
+/// The material `name` of the key `k` of table `t`, from the scene's material search path
+/// ([`crate::material::search`]); the error names the places searched and the names found there.
+fn named_material(t: &Tab<'_>, doc: &Doc, k: &str, name: &str) -> Result<crate::material::Material> {
+    let search = &doc.materials;
+    let lib = search
+        .library()
+        .map_err(|err| t.invalid(k, t.get(k), format!("a material of the library ({search}): {err}")))?;
+    lib.get(name).cloned().map_err(|_| {
+        let names = lib.names().collect::<Vec<_>>().join(", ");
+        // An empty list said "one of " and nothing (issue 27 #9): say where nothing was found instead.
+        let choices = if names.is_empty() {
+            format!("a material of the library, but no material files were found in {search}")
+        } else {
+            format!("a material of the library ({search}): one of {names}")
+        };
+        t.invalid(k, t.get(k), choices)
+    })
 }
 
 /// The `[tool]` table.
@@ -957,16 +978,7 @@ fn body(t: &Tab<'_>, index: usize, dim: usize, dx: f64, earlier: &[Body]) -> Res
     // A body's own library material supplies its thermal data (per-material conductivity and heat capacity);
     // mechanics uses the scene's material, so a body material must not disagree with it elastically.
     let material = match t.string("material", "the name of a material of the library", |s| !s.trim().is_empty())? {
-        Some(mname) => {
-            let dir = super::library_dir(&t.doc.file);
-            let lib = crate::material::Library::load_dir(&dir).map_err(|e| {
-                t.invalid("material", t.get("material"), format!("a material of the library {} ({e})", dir.display()))
-            })?;
-            match lib.get(mname) {
-                Ok(m) => Some(m.clone()),
-                Err(_) => return Err(t.invalid("material", t.get("material"), material_choices(&dir, &lib))),
-            }
-        }
+        Some(mname) => Some(named_material(t, t.doc, "material", mname)?),
         None => None,
     };
     let temperature = t.number("temperature", "a positive temperature in K", positive)?;
