@@ -425,17 +425,23 @@ fn plot_into_a_missing_folder_names_it() {
     assert!(!err.contains("ImageError"), "{err}");
 }
 
-/// An empty `materials/` beside the scene: before, `one of ` and an empty list. Now it says the folder holds no
-/// material files and where the library is looked for.
+/// An empty `materials/` beside the scene: before, it hid the library, and the error said `one of ` and an empty
+/// list. Now the library is a search path (`material::search`: the folder beside the scene, its parent's, the
+/// built-in library, each name from the first that has it), so the empty folder hides nothing: the scene loads,
+/// and an unknown name is refused naming every place searched and the names found.
 #[test]
-fn empty_local_material_folder_says_where_it_looked() {
+fn empty_local_material_folder_hides_nothing_and_errors_say_where_they_looked() {
     let d = tmp("emptylib");
     std::fs::create_dir_all(d.join("materials")).unwrap();
     let scene = d.join("v0060.toml");
     std::fs::copy("cases/cutting/v0060.toml", &scene).unwrap();
-    let err = swarf::scene::Scene::load(&scene, &[]).expect_err("an empty library").to_string();
-    assert!(err.contains("holds no material files") && err.contains("cases/materials"), "{err}");
-    assert!(!err.contains("one of \n") && !err.trim_end().ends_with("one of"), "{err}");
+    let s = swarf::scene::Scene::load(&scene, &[]).expect("the built-in library behind an empty folder");
+    assert_eq!(s.material.library.as_ref().map(|m| m.name.as_str()), Some("Ti6Al4V-V0060-DE-mu035"));
+    let err = swarf::scene::Scene::load(&scene, &["material.name=\"No-Such-Material\"".to_string()])
+        .expect_err("an unknown material")
+        .to_string();
+    assert!(err.contains(&d.join("materials").display().to_string()) && err.contains("the built-in library"), "{err}");
+    assert!(err.contains("Ti6Al4V-V0060-DE-mu035") && !err.trim_end().ends_with("one of"), "{err}");
 }
 
 /// An output file that cannot be written: before, its path was printed twice (`x/energy.csv: x/energy.csv: Is a
