@@ -852,7 +852,7 @@ impl<R: Real, D: TensorOps<R>> OutputJob<R, D> {
         if let Some((dir, index, encoding)) = frame {
             let name = format!("frame_{index:05}.vtu");
             let temp = internal[0].as_deref();
-            write_frame((&dir.join(&name), *encoding), h5, host, temp, fields, params, time, steps)?;
+            write_frame(&dir.join(&name), *encoding, h5, host, temp, fields, params, time, steps)?;
             f.pvd.push(time, name).map_err(|e| io_err(f.pvd.path(), e))?;
             if let Some(outline) = tool {
                 let name = format!("tool_{index:05}.vtp");
@@ -941,7 +941,8 @@ fn open_hdf5(opts: &RunOptions) -> Result<Option<H5>> {
 /// xy, yz, xz) and von Mises stress.
 #[allow(clippy::too_many_arguments)]
 fn write_frame<R: Real, D: TensorOps<R>>(
-    (path, encoding): (&Path, vtu::Encoding),
+    path: &Path,
+    encoding: vtu::Encoding,
     h5: &mut Option<H5>,
     p: &HostParticles<R, D>,
     temp: Option<&[f64]>,
