@@ -20,12 +20,14 @@ pub mod neighbour;
 pub mod output;
 pub mod plot;
 pub mod ptx;
+pub mod render;
 pub mod rng;
 pub mod run;
 pub mod scene;
 pub mod solver;
 pub mod state;
 pub mod study;
+pub mod sweep;
 pub mod tool;
 pub mod tuning;
 

@@ -3,6 +3,7 @@
 //! the engagement check) and the sample of its state that the cutting analyses record.
 
 pub mod motion;
+pub mod outline;
 pub mod setup;
 
 pub use motion::{Rotation, ToolMotion};
