@@ -22,6 +22,7 @@ pub mod output;
 pub mod plot;
 pub mod provenance;
 pub mod ptx;
+pub mod render;
 pub mod resume;
 pub mod rng;
 pub mod run;
@@ -30,6 +31,7 @@ pub mod scene;
 pub mod solver;
 pub mod state;
 pub mod study;
+pub mod sweep;
 pub mod tool;
 pub mod tuning;
 

@@ -68,6 +68,11 @@ enum Cmd {
         /// The run folder (holds energy.csv).
         run: std::path::PathBuf,
     },
+    /// Draw PNG pictures of a 2D run's particles coloured by a field, with a colour bar and the tool (<run>/render/).
+    Render(RenderArgs),
+    /// Run a scene over the cross product of --grid values (one run folder each); a table (sweep.csv, sweep.md)
+    /// and plots (sweep-<key>.png) of each run's summary values against every swept key.
+    Sweep(SweepArgs),
 }
 
 #[derive(clap::Args)]
@@ -379,6 +384,8 @@ fn run(cli: Cli) -> Result<()> {
         Cmd::Study(a) => cmd_study(cli.backend, &a),
         Cmd::Material { name, at, plot, library } => cmd_material(name, &at, plot, library.as_deref()),
         Cmd::Model(a) => cmd_model(&a),
+        Cmd::Render(a) => cmd_render(&a),
+        Cmd::Sweep(a) => cmd_sweep(cli.backend, &a),
         Cmd::Check { scene, precision, set } => {
             let sc = load_scene(scene.as_deref(), &set)?;
             let (any, line) = AnyBackend::select(cli.backend)?;
@@ -610,5 +617,96 @@ fn cmd_model(a: &ModelArgs) -> Result<()> {
     }
     let e = a.tangent_modulus / s.plane_modulus;
     print!("{}", table(&s, a.rake.to_radians(), a.friction, e, a.rubbing, &depths));
+    Ok(())
+}
+
+#[derive(clap::Args)]
+struct RenderArgs {
+    /// The run folder (holds particles.pvd and its frames).
+    run: std::path::PathBuf,
+    /// The field: a frame array (temperature, plastic_strain, von_mises, density, pressure, velocity, ...) or a
+    /// short name (T, eps, epsdot, vmises, rho, p, vel).
+    #[arg(long, default_value = "vmises")]
+    field: String,
+    /// The frame: its number in particles.pvd (0 is the first), last, or all.
+    #[arg(long, default_value = "last")]
+    frame: String,
+    /// Output folder (default <run>/render).
+    #[arg(long)]
+    out: Option<std::path::PathBuf>,
+}
+
+#[derive(clap::Args)]
+struct SweepArgs {
+    /// The scene file (TOML).
+    scene: std::path::PathBuf,
+    /// A swept scene key and its values, KEY=V1,V2,... as for --set (repeatable: the runs are the cross product).
+    #[arg(long = "grid", value_name = "KEY=V1,V2,...", required = true)]
+    grid: Vec<String>,
+    /// Override a scene key for every run (repeatable), as for `run`.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<String>,
+    /// Floating-point precision of every run (default: the scene's, else f64).
+    #[arg(long, value_enum)]
+    precision: Option<PrecisionChoice>,
+    /// Also write each run's particle frames (for `swarf render`).
+    #[arg(long)]
+    frames: bool,
+    /// Output folder (default runs/sweep-<scene name>).
+    #[arg(long)]
+    out: Option<std::path::PathBuf>,
+    /// Print nothing but errors.
+    #[arg(long)]
+    quiet: bool,
+}
+
+/// `swarf render`: pictures of a run folder's frames.
+fn cmd_render(a: &RenderArgs) -> Result<()> {
+    let frames = swarf::render::Frames::parse(&a.frame).map_err(swarf::Error::Scene)?;
+    let opts = swarf::render::RenderOptions { run: a.run.clone(), field: a.field.clone(), frames, out: a.out.clone() };
+    let done = swarf::render::render(&opts)?;
+    for w in &done.warnings {
+        eprintln!("warning: {w}");
+    }
+    for f in &done.files {
+        println!("wrote {}", f.display());
+    }
+    Ok(())
+}
+
+/// `swarf sweep`: the scene over a grid of overrides, then its table and plots.
+fn cmd_sweep(backend: BackendChoice, a: &SweepArgs) -> Result<()> {
+    let grids = a.grid.iter().map(|g| swarf::sweep::Grid::parse(g)).collect::<std::result::Result<Vec<_>, _>>();
+    let grids = grids.map_err(swarf::Error::Scene)?;
+    // The scene's name names the default folder; every run's scene is validated by `sweep` before any run.
+    let sc = swarf::scene::Scene::load(&a.scene, &a.set).map_err(|e| swarf::Error::Scene(e.to_string()))?;
+    let out = a.out.clone().unwrap_or_else(|| std::path::PathBuf::from("runs").join(format!("sweep-{}", sc.name)));
+    let (any, line) = AnyBackend::select(backend)?;
+    if !a.quiet {
+        eprintln!("{line}");
+    }
+    on_interrupt();
+    let opts = swarf::sweep::SweepOptions {
+        scene: a.scene.clone(),
+        overrides: a.set.clone(),
+        grids,
+        out_dir: out.clone(),
+        precision: a.precision.map(PrecisionChoice::precision),
+        frames: a.frames,
+        quiet: a.quiet,
+    };
+    let s = swarf::sweep::sweep(&any, &opts)?;
+    for w in &s.warnings {
+        eprintln!("warning: {w}");
+    }
+    if !a.quiet {
+        eprintln!(
+            "sweep: {} runs; {}, {} and the plots written in {}",
+            s.points.len(),
+            swarf::sweep::CSV,
+            swarf::sweep::MARKDOWN,
+            out.display()
+        );
+    }
     Ok(())
 }

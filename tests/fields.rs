@@ -32,7 +32,12 @@ fn check_scene<R: Real, D: TensorOps<R>>(scene: &Scene, what: &str) -> Vec<When>
     assert_eq!(saved, expected, "{what}: checkpointed fields");
     let downloaded = solver.download_frame_fields(&b).expect("frames");
     for f in &downloaded {
-        assert_eq!(f.values.len(), f.components * solver.n, "{what}: frame field {} holds n × components values", f.name);
+        assert_eq!(
+            f.values.len(),
+            f.components * solver.n,
+            "{what}: frame field {} holds n × components values",
+            f.name
+        );
     }
     let frames: Vec<&str> = downloaded.iter().map(|f| f.name).collect();
     let expected: Vec<&str> = FIELDS.iter().filter(|f| held.contains(&f.when)).filter_map(|f| f.frame).collect();

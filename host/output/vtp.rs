@@ -69,7 +69,7 @@ pub fn read_outline(path: &Path) -> io::Result<(f64, Vec<[f64; 3]>)> {
     let (coords, _) = between("<DataArray", "</DataArray>", points_at).ok_or_else(|| bad("no point coordinates"))?;
     let c: Vec<f64> =
         coords.split_whitespace().map(str::parse).collect::<Result<_, _>>().map_err(|_| bad("bad coordinate"))?;
-    if c.len() % 3 != 0 {
+    if !c.len().is_multiple_of(3) {
         return Err(bad("coordinates are not triples"));
     }
     Ok((time, c.chunks(3).map(|p| [p[0], p[1], p[2]]).collect()))

@@ -46,7 +46,7 @@ pub use run::{plot_run, plot_run_sized};
 static FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans-subset.ttf");
 
 /// The family name every text style here uses; the embedded font is registered under it.
-const FAMILY: &str = "sans-serif";
+pub(crate) const FAMILY: &str = "sans-serif";
 
 /// Smallest accepted image (width, height) in pixels: below it the axes leave no room for data.
 pub const MIN_SIZE: (u32, u32) = (160, 120);
@@ -317,7 +317,7 @@ impl Limits {
 
 /// `(lo, hi)` widened by `margin` of its span on each side; a zero span, or one below 10⁻⁹ of the magnitude
 /// (beyond what tick labels of 15 decimals can resolve), is widened to ±5 % of the value, or ±1 around zero.
-fn pad((lo, hi): (f64, f64), margin: f64) -> (f64, f64) {
+pub(crate) fn pad((lo, hi): (f64, f64), margin: f64) -> (f64, f64) {
     let span = hi - lo;
     let mag = lo.abs().max(hi.abs());
     if span <= mag * 1e-9 {
@@ -331,7 +331,7 @@ fn pad((lo, hi): (f64, f64), margin: f64) -> (f64, f64) {
 /// Formats tick values of an axis spanning `(lo, hi)`: plain decimals for magnitudes in [10⁻³, 10⁵), with the
 /// decimals the tick spacing (about a tenth of the span) needs; exponent form otherwise, without trailing zeros
 /// (`2e-5`, `2.5e-5`).
-fn tick_formatter((lo, hi): (f64, f64)) -> impl Fn(&f64) -> String {
+pub(crate) fn tick_formatter((lo, hi): (f64, f64)) -> impl Fn(&f64) -> String {
     let mag = lo.abs().max(hi.abs());
     let step = (hi - lo) / 10.0;
     let step_exp = step.log10().floor() as i32;
@@ -406,15 +406,15 @@ fn legend_place(p: &Prepared, legend: (u32, u32), plot: (u32, u32)) -> SeriesLab
 }
 
 /// Sizes derived from the image: the base font size in pixels and the line width.
-struct Metrics {
-    font: u32,
-    title: u32,
-    stroke: u32,
-    margin: u32,
+pub(crate) struct Metrics {
+    pub(crate) font: u32,
+    pub(crate) title: u32,
+    pub(crate) stroke: u32,
+    pub(crate) margin: u32,
 }
 
 impl Metrics {
-    fn new((width, height): (u32, u32)) -> Self {
+    pub(crate) fn new((width, height): (u32, u32)) -> Self {
         let side = width.min(height);
         let font = (side / 40).clamp(10, 48);
         Self { font, title: font * 5 / 4, stroke: (side / 400).clamp(1, 8), margin: font }

@@ -48,11 +48,11 @@ pub fn errors(study: &Study, k: usize) -> Errors {
 }
 
 /// A CSV field: numbers in Rust's shortest round-trip form, missing as empty, text quoted where RFC 4180 needs it.
-fn num(x: Option<f64>) -> String {
+pub fn num(x: Option<f64>) -> String {
     x.map_or(String::new(), |v| format!("{v}"))
 }
 
-fn text(s: &str) -> String {
+pub fn text(s: &str) -> String {
     if s.contains([',', '"', '\n', '\r']) { format!("\"{}\"", s.replace('"', "\"\"")) } else { s.to_string() }
 }
 

@@ -41,3 +41,11 @@ pub fn outline(tool: &Tool2d) -> Vec<[f64; 2]> {
 pub fn in_world(outline: &[[f64; 2]], s: &ToolState) -> Vec<[f64; 3]> {
     outline.iter().map(|p| s.point_to_world([p[0], p[1], 0.0])).collect()
 }
+
+/// The outline of the scene's tool `t` in the world at time `time` [s] (x, y), built and moved by the run's own
+/// code (`setup::build_tool`, `setup::motion`): for pictures of run folders written before frames carried it.
+pub fn outline_at(t: &crate::scene::Tool, time: f64) -> crate::Result<Vec<[f64; 2]>> {
+    let tool = super::setup::build_tool(t)?;
+    let state = super::setup::motion(t).state_at(time, 0.0, 0.0);
+    Ok(in_world(&outline(&tool), &state).into_iter().map(|p| [p[0], p[1]]).collect())
+}
