@@ -319,7 +319,13 @@ pub fn checkpoints<B: Backend>(b: &B, dirs: &[std::path::PathBuf], steps: usize)
     let peak = copy_bandwidth(b)?;
     println!("{}", header(peak));
     for dir in dirs {
-        let (scene, _) = crate::run::resume_scene(dir)?;
+        // A measurement, not a continuation: a checkpoint of another build or an edited scene is timed as it is
+        // (its buffers and header are still checked), with what differs said.
+        let r = crate::resume::open(dir, true)?;
+        for d in &r.accepted {
+            eprintln!("note: {}: {d}", dir.display());
+        }
+        let scene = r.scene;
         let saved = crate::checkpoint::read(&dir.join("checkpoint.bin"))?;
         use crate::kernels::{Dim2, Dim3};
         use crate::scene::Precision;
