@@ -337,18 +337,8 @@ fn one<B: Backend, R: Real, D: Dim>(b: &B, n: usize, repeats: usize) -> Result<b
 /// batch of steps (within about a second) and stops; a second signal at least a second later stops at once. Signals closer together count once: `timeout -s INT` sends its signal to the command and to its
 /// process group, so one timeout delivers two, which must not cost the checkpoint.
 fn on_interrupt() {
-    use std::sync::atomic::{AtomicU64, Ordering};
-    static FIRST_MS: AtomicU64 = AtomicU64::new(0);
-    let now_ms = || {
-        std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(1, |d| d.as_millis() as u64).max(1)
-    };
-    let _ = ctrlc::set_handler(move || {
-        let now = now_ms();
-        let first = FIRST_MS.load(Ordering::Relaxed);
-        if first == 0 {
-            FIRST_MS.store(now, Ordering::Relaxed);
-            swarf::run::INTERRUPTED.store(true, Ordering::Relaxed);
-        } else if now.saturating_sub(first) >= 1000 {
+    let _ = ctrlc::set_handler(|| {
+        if swarf::run::on_signal() == swarf::run::SignalAction::Exit {
             std::process::exit(130);
         }
     });

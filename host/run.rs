@@ -111,6 +111,25 @@ pub const VERSION: &str = concat!(env!("CARGO_PKG_VERSION"), " (commit ", env!("
 /// Set by the Ctrl-C (and SIGTERM) handler: the run writes a checkpoint before its next batch of steps and stops.
 pub static INTERRUPTED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
+/// What a Ctrl-C (SIGINT, SIGTERM, SIGHUP) asks for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SignalAction {
+    /// The first: the run writes a checkpoint after its current batch and stops ([`INTERRUPTED`]).
+    Checkpoint,
+    /// Any later one: exit at once (issue 27 #6: a second Ctrl-C within a second of the first used to be ignored,
+    /// so pressing it twice did not force the exit).
+    Exit,
+}
+
+/// The signal handler's decision: the first signal sets [`INTERRUPTED`], every later one forces the exit.
+pub fn on_signal() -> SignalAction {
+    if INTERRUPTED.swap(true, std::sync::atomic::Ordering::Relaxed) {
+        SignalAction::Exit
+    } else {
+        SignalAction::Checkpoint
+    }
+}
+
 /// The scene of a run folder to resume: its `scene.toml` with the overrides recorded in its checkpoint, refused
 /// where it, its materials or the checkpoint differ from the run the checkpoint was written by ([`crate::resume`]).
 pub fn resume_scene(dir: &Path) -> Result<(Scene, Vec<String>)> {
