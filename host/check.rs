@@ -35,8 +35,8 @@ impl CheckReport {
 
 pub use crate::method::sph::memory_estimate;
 
-/// The default of `time.max_steps`: the most steps a run takes unless its scene allows more.
-pub const MAX_STEPS: f64 = 1e9;
+/// The default of `time.max_steps` (declared with the scene keys).
+pub use crate::scene::DEFAULT_MAX_STEPS as MAX_STEPS;
 
 /// The steps a run at `dt` takes to `time.end`, and a warning where `output.every` is below `dt` (every step is
 /// then cut short at the next output time: the run takes end/every steps, not end/dt). Refuses, before any work,

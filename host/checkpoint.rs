@@ -9,7 +9,7 @@
 //! materials) and an FNV-1a 64 checksum of each buffer; [`read`] verifies the checksums and [`validate`] the
 //! header's values and the particle ids and positions, so that a damaged or edited checkpoint is refused with what
 //! is wrong before any work (issue 27). Checkpoints of an older swarf, without them, are still read (`swarf bench
-//! step --from`); `swarf run --resume` refuses them ([`crate::resume`]).
+//! step --from`); `swarf run --resume` refuses them (`resume`).
 
 use crate::hash::fnv1a64;
 use crate::provenance::Provenance;

@@ -27,7 +27,8 @@ pub fn open(dir: &Path, accept_changes: bool) -> Result<Resumable> {
     // The scene as the folder holds it, its material names looked up first in the materials the run recorded
     // (`materials/`), so that a run folder resumes from any folder.
     let scene_path = dir.join("scene.toml");
-    let text = std::fs::read_to_string(&scene_path).map_err(|e| crate::run::io_err(&scene_path, e))?;
+    let text =
+        std::fs::read_to_string(&scene_path).map_err(|e| Error::Scene(format!("{}: {e}", scene_path.display())))?;
     let search = crate::material::search::Search::recorded(dir);
     let scene = Scene::from_str_in(&text, &scene_path.display().to_string(), &h.overrides, search)
         .map_err(|e| Error::Scene(e.to_string()))?;

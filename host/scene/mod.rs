@@ -46,6 +46,9 @@ use std::path::Path;
 use serde::Serialize;
 
 pub use error::{Location, SceneError};
+
+/// The default of `time.max_steps`: the most steps a run takes unless its scene allows more.
+pub const DEFAULT_MAX_STEPS: f64 = 1e9;
 pub use generate::{Bc, ParticleSet};
 
 /// A validated scene. Vectors and points are stored with three components; in 2D the third is 0.

@@ -268,7 +268,7 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
     let end = t.required("end", e, t.number("end", e, positive)?)?;
     let cfl = t.number("cfl", "a CFL number in (0, 1]", |x| x > 0.0 && x <= 1.0)?.unwrap_or(0.5);
     let dt = t.number("dt", "a positive time step in seconds", positive)?;
-    let max_steps = t.number("max_steps", "a step count >= 1", |x| x >= 1.0)?.unwrap_or(crate::check::MAX_STEPS);
+    let max_steps = t.number("max_steps", "a step count >= 1", |x| x >= 1.0)?.unwrap_or(super::DEFAULT_MAX_STEPS);
     let time = Time { end, cfl, dt, max_steps };
 
     // [output]
