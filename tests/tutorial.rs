@@ -1,7 +1,8 @@
 //! docs/tutorial.md runs as written (issue 27, item 8): every `$ swarf ...` line of its `console` blocks is run,
 //! in order, in a fresh folder outside the repository, with the files its `<!-- file: NAME -->` blocks give, and
 //! must succeed; then the files the tutorial says they make must be there. The one other command, `cargo install
-//! --path .`, is run by `.ci/run`'s install step (from a temporary folder, the same way).
+//! --locked --path .`, is run by `.ci/run`'s install step, which then runs this test with the installed binary
+//! (`SWARF_TUTORIAL_BIN`).
 
 use std::path::Path;
 use std::process::Command;
@@ -46,6 +47,8 @@ fn the_tutorial_runs_as_written() {
     let dir = std::env::temp_dir().join(format!("swarf-tutorial-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("a fresh folder");
+    // The installed binary where .ci/run gives it (after `cargo install`), else this build's.
+    let bin = std::env::var("SWARF_TUTORIAL_BIN").unwrap_or_else(|_| env!("CARGO_BIN_EXE_swarf").to_string());
     let (mut files, mut commands) = (0, 0);
     for step in steps(&md) {
         match step {
@@ -59,11 +62,7 @@ fn the_tutorial_runs_as_written() {
                     continue;
                 }
                 assert_eq!(words[0], "swarf", "a tutorial command that is not swarf's: {line}");
-                let out = Command::new(env!("CARGO_BIN_EXE_swarf"))
-                    .args(&words[1..])
-                    .current_dir(&dir)
-                    .output()
-                    .expect("swarf starts");
+                let out = Command::new(&bin).args(&words[1..]).current_dir(&dir).output().expect("swarf starts");
                 assert!(
                     out.status.success(),
                     "`{line}` failed ({}):\n{}{}",
