@@ -337,8 +337,11 @@ fn one<B: Backend, R: Real, D: Dim>(b: &B, n: usize, repeats: usize) -> Result<b
 /// batch of steps (within about a second) and stops; a second signal at least a second later stops at once. Signals closer together count once: `timeout -s INT` sends its signal to the command and to its
 /// process group, so one timeout delivers two, which must not cost the checkpoint.
 fn on_interrupt() {
-    let _ = ctrlc::set_handler(|| {
-        if swarf::run::on_signal() == swarf::run::SignalAction::Exit {
+    static FIRST_MS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let start = std::time::Instant::now();
+    let _ = ctrlc::set_handler(move || {
+        let now_ms = start.elapsed().as_millis() as u64 + 1;
+        if swarf::run::on_signal(&FIRST_MS, now_ms) == swarf::run::SignalAction::Exit {
             std::process::exit(130);
         }
     });

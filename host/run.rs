@@ -116,17 +116,29 @@ pub static INTERRUPTED: std::sync::atomic::AtomicBool = std::sync::atomic::Atomi
 pub enum SignalAction {
     /// The first: the run writes a checkpoint after its current batch and stops ([`INTERRUPTED`]).
     Checkpoint,
-    /// Any later one: exit at once (issue 27 #6: a second Ctrl-C within a second of the first used to be ignored,
-    /// so pressing it twice did not force the exit).
+    /// A later one: exit at once.
     Exit,
+    /// A copy of the first (within [`SIGNAL_ECHO_MS`] of it): ignored.
+    Echo,
 }
 
-/// The signal handler's decision: the first signal sets [`INTERRUPTED`], every later one forces the exit.
-pub fn on_signal() -> SignalAction {
-    if INTERRUPTED.swap(true, std::sync::atomic::Ordering::Relaxed) {
-        SignalAction::Exit
-    } else {
-        SignalAction::Checkpoint
+/// Signals this soon after the first are the same Ctrl-C: `kill -INT` of a command can reach it twice (the
+/// command and its process group). A person's second press comes later; before issue 27 the window was a whole
+/// second, so pressing Ctrl-C twice in quick succession did not force the exit.
+pub const SIGNAL_ECHO_MS: u64 = 200;
+
+/// The signal handler's decision for a signal at `now_ms` (any monotonic milliseconds, above 0), given the time of
+/// the first (`first_ms`, 0 before any, which this sets): the first asks for a checkpoint (and sets
+/// [`INTERRUPTED`]), an echo within [`SIGNAL_ECHO_MS`] is ignored, any later one forces the exit.
+pub fn on_signal(first_ms: &std::sync::atomic::AtomicU64, now_ms: u64) -> SignalAction {
+    use std::sync::atomic::Ordering;
+    match first_ms.compare_exchange(0, now_ms.max(1), Ordering::Relaxed, Ordering::Relaxed) {
+        Ok(_) => {
+            INTERRUPTED.store(true, Ordering::Relaxed);
+            SignalAction::Checkpoint
+        }
+        Err(first) if now_ms.saturating_sub(first) < SIGNAL_ECHO_MS => SignalAction::Echo,
+        Err(_) => SignalAction::Exit,
     }
 }
 
