@@ -22,8 +22,7 @@ fn tool_of(path: &str) -> (Scene, Tool2d) {
 /// r (1 − cos(Δθ/2)) inside on the arc. For the V0060 tool and for the same tool with a sharp edge.
 #[test]
 fn the_outline_lies_on_the_tool() {
-    let (_, rounded) = tool_of("cases/cutting/v0060.toml");
-    let (scene, _) = tool_of("cases/cutting/v0060.toml");
+    let (scene, rounded) = tool_of("cases/cutting/v0060.toml");
     let mut sharp_spec = scene.tool.clone().expect("tool");
     sharp_spec.edge_radius = 0.0;
     let sharp = build_tool(&sharp_spec).expect("a sharp tool builds");
