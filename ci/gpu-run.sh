@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abregs abblock abenv ncusrc refvar
+# ensemble bgensemble waitensemble whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -104,6 +104,26 @@ for p in $parts; do
                     OUT=/tmp/swarf-from/make-out setsid nohup bash "$here/gpu-run.sh" make150k \
                         > /tmp/swarf-from/make150k.out 2>&1 < /dev/null &
                     echo "making the 150k state in the background (pid $!) at $(date +%T)" ;;
+        ensemble) # issue 23: whole V0060 runs per hour and day as a batched ensemble at each width
+                  # (SWARF_ENSEMBLE_WIDTHS, default 1,4,8,16,32; SWARF_ENSEMBLE_S s each, default 45;
+                  # SWARF_ENSEMBLE_SET: --set arguments, e.g. the early stop)
+                  run ensemble "$here/swarf" --backend gpu bench ensemble --widths "${SWARF_ENSEMBLE_WIDTHS:-1,4,8,16,32}" \
+                      --duration "${SWARF_ENSEMBLE_S:-45}" ${SWARF_ENSEMBLE_SET:-} ;;
+        bgensemble) # issue 23: `ensemble` in the background (its own session: runs on past this call's 10 minutes,
+                    # e.g. SWARF_ENSEMBLE_S=600); waitensemble collects it
+                    mkdir -p /tmp/swarf-ens
+                    OUT=/tmp/swarf-ens/out setsid nohup bash "$here/gpu-run.sh" ensemble > /tmp/swarf-ens/bg.out 2>&1 < /dev/null &
+                    echo "ensemble in the background (pid $!) at $(date +%T)" ;;
+        waitensemble) # waits (at most SWARF_WAIT_LIMIT s, default 540) for bgensemble and copies its log here
+                      waitens() {
+                          local t=0
+                          while pgrep -f "gpu-run.sh ensemble" > /dev/null && [ $t -lt "${SWARF_WAIT_LIMIT:-540}" ]; do
+                              sleep 5; t=$((t + 5))
+                          done
+                          cat /tmp/swarf-ens/bg.out; cat /tmp/swarf-ens/out/ensemble.log
+                          ! pgrep -f "gpu-run.sh ensemble" > /dev/null
+                      }
+                      run waitensemble waitens ;;
         tests) run test-gpu "$here/test-gpu" --test-threads=1 --nocapture
                run test-ptx "$here/test-ptx" ;;
         regs) # issue 7: the register cap of the neighbour kernels (SWARF_MAXNREG) against the compiler's choice

@@ -10,6 +10,7 @@ pub mod bench;
 pub mod check;
 pub mod checkpoint;
 pub mod cutting;
+pub mod ensemble;
 pub mod error;
 pub mod grid;
 pub mod hash;

@@ -199,6 +199,9 @@ enum Workload {
     /// The whole step of scenes (`--scenes`): ms/step, per-phase times, interactions/s, bandwidth against the
     /// measured copy bandwidth; with `--options`, the step cost of each physics option.
     Step,
+    /// Whole runs of one scene (`--scene`, `--set`) per hour and per day as a batched ensemble, at each width of
+    /// `--widths`, each measured for `--duration` seconds.
+    Ensemble,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -234,9 +237,19 @@ struct BenchArgs {
     /// rings: steps per size (default: the whole run to the thesis' end time).
     #[arg(long)]
     steps: Option<u64>,
-    /// rings: the scene file to scale.
-    #[arg(long, default_value = "cases/rings.toml")]
-    scene: std::path::PathBuf,
+    /// rings: the scene file to scale (default cases/rings.toml); ensemble: the scene run many times (default:
+    /// the built-in V0060 cut).
+    #[arg(long)]
+    scene: Option<std::path::PathBuf>,
+    /// ensemble: override a scene key of every member (repeatable), as for `run --set`.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<String>,
+    /// ensemble: members run at once, comma separated; each width is measured in turn.
+    #[arg(long, value_delimiter = ',', default_value = "1,4,8,16")]
+    widths: Vec<usize>,
+    /// ensemble: seconds of wall time each width keeps starting runs (the running ones then finish).
+    #[arg(long, default_value_t = 60.0)]
+    duration: f64,
     /// step: the scenes, comma separated.
     #[arg(
         long,
@@ -263,6 +276,34 @@ fn parse_count(s: &str) -> std::result::Result<usize, String> {
         .filter(|v| v.is_finite() && *v >= 1.0 && *v <= u32::MAX as f64)
         .map(|v| v as usize)
         .ok_or_else(|| format!("--sizes: '{s}' is not a particle count (expected e.g. 1e6 or 1000000)"))
+}
+
+/// `--batch`: how many runs an ensemble runs at once, a whole number from 1 to 1024.
+fn parse_width(s: &str) -> std::result::Result<usize, String> {
+    s.trim().parse::<usize>().ok().filter(|v| (1..=1024).contains(v)).ok_or_else(|| {
+        format!("--batch: '{s}' is not a number of runs at once (expected a whole number from 1 to 1024)")
+    })
+}
+
+/// `swarf bench ensemble`: runs per hour of `--scene` (default: the built-in V0060 cut) at each width.
+fn bench_ensemble(any: &AnyBackend, a: &BenchArgs) -> Result<()> {
+    if let Some(w) = a.widths.iter().find(|w| !(1..=1024).contains(*w)) {
+        return Err(swarf::Error::Scene(format!("bench: --widths: {w} is not a width (expected 1 to 1024)")));
+    }
+    if !(a.duration.is_finite() && a.duration >= 0.0) {
+        return Err(swarf::Error::Scene(format!("bench: --duration {}: expected seconds >= 0", a.duration)));
+    }
+    let scene = load_scene(a.scene.as_deref(), &a.set)?;
+    let out = std::env::temp_dir().join(format!("swarf-bench-ensemble-{}", std::process::id()));
+    on_interrupt();
+    println!("scene {} ({}), overrides {:?}, {} s per width", scene.name, scene.origin, a.set, a.duration);
+    println!("{}", bench::ensemble::header());
+    for &w in &a.widths {
+        let t = bench::ensemble::throughput(any, &scene, w, a.duration, &out);
+        let _ = std::fs::remove_dir_all(&out);
+        println!("{}", bench::ensemble::row(&t?));
+    }
+    Ok(())
 }
 
 fn run_bench<B: Backend>(b: &B, a: &BenchArgs, sizes: &[usize]) -> Result<()> {
@@ -299,13 +340,14 @@ fn run_bench<B: Backend>(b: &B, a: &BenchArgs, sizes: &[usize]) -> Result<()> {
         return bench::step::scenes(b, &a.scenes, precs, a.step_count, a.options);
     }
     if a.workload == Workload::Rings {
+        let scene = a.scene.clone().unwrap_or_else(|| "cases/rings.toml".into());
         println!("{}", bench::rings_header());
         for &p in precs {
             for &k in &a.nbox {
                 let t = if p == Precision::F64 {
-                    bench::rings::<B, swarf::solver::Solver<B, f64, Dim2>>(b, &a.scene, k, a.steps, p)?
+                    bench::rings::<B, swarf::solver::Solver<B, f64, Dim2>>(b, &scene, k, a.steps, p)?
                 } else {
-                    bench::rings::<B, swarf::solver::Solver<B, f32, Dim2>>(b, &a.scene, k, a.steps, p)?
+                    bench::rings::<B, swarf::solver::Solver<B, f32, Dim2>>(b, &scene, k, a.steps, p)?
                 };
                 println!("{}", bench::rings_row(&t));
             }
@@ -413,6 +455,9 @@ fn run(cli: Cli) -> Result<()> {
             }
             let (any, line) = AnyBackend::select(cli.backend)?;
             eprintln!("{line}");
+            if a.workload == Workload::Ensemble {
+                return bench_ensemble(&any, &a);
+            }
             with_backend!(&any, b => run_bench(b, &a, &sizes))
         }
     }
@@ -648,6 +693,9 @@ struct SweepArgs {
     /// Output folder (default runs/sweep-<scene name>).
     #[arg(long)]
     out: Option<std::path::PathBuf>,
+    /// Runs at once, as one ensemble (default: 16 on a GPU, 1 on the CPU).
+    #[arg(long, value_parser = parse_width)]
+    batch: Option<usize>,
     /// Print nothing but errors.
     #[arg(long)]
     quiet: bool,
@@ -687,6 +735,7 @@ fn cmd_sweep(backend: BackendChoice, a: &SweepArgs) -> Result<()> {
         precision: a.precision.map(PrecisionChoice::precision),
         frames: a.frames,
         quiet: a.quiet,
+        width: a.batch,
     };
     let s = swarf::sweep::sweep(&any, &opts)?;
     for w in &s.warnings {

@@ -796,3 +796,33 @@ fn mixed_precision_equals_cpu() {
         );
     }
 }
+
+/// Ensemble members on the GPU (host/ensemble: a stream each, sharing the loaded kernels) equal their solo GPU runs
+/// and their CPU runs bit for bit: forces and energies at every sample of 7 coarse cuts that differ in material,
+/// friction, tool geometry, speed, feed and resolution (tests/ensemble.rs does the same on the CPU alone).
+#[test]
+fn ensemble_members_equal_solo_runs_and_cpu() {
+    use common::scenes::{ensemble_jobs, ensemble_members, run_record};
+    use swarf::backend::AnyBackend;
+    let Some(g) = gpu() else { return };
+    let gpu_any = AnyBackend::Cuda(Box::new(g));
+    let cpu_any = AnyBackend::Cpu(CpuBackend::new());
+    let root = std::env::temp_dir().join(format!("swarf-gpu-ensemble-{}", std::process::id()));
+    let run = |b: &AnyBackend, tag: &str, width: usize| {
+        let jobs = ensemble_jobs(ensemble_members(), &root.join(tag));
+        swarf::ensemble::run(b, &jobs, width, &mut |k, r| {
+            assert!(r.is_ok(), "{tag} member {k}: {:?}", r.as_ref().err());
+            Ok(())
+        })
+        .expect(tag);
+        jobs.iter().map(|j| run_record(&j.options.out_dir)).collect::<Vec<_>>()
+    };
+    let batch = run(&gpu_any, "batch", 7);
+    let solo = run(&gpu_any, "solo", 1);
+    let cpu = run(&cpu_any, "cpu", 1);
+    for k in 0..batch.len() {
+        assert!(batch[k] == solo[k], "member {k}: the batch differs from its solo GPU run");
+        assert!(batch[k] == cpu[k], "member {k}: the GPU batch differs from the CPU run");
+    }
+    let _ = std::fs::remove_dir_all(root);
+}

@@ -185,6 +185,7 @@ fn rings_sweep(dir: &Path, grids: &[&str]) -> SweepOptions {
         precision: None,
         frames: false,
         quiet: true,
+        width: None,
     }
 }
 

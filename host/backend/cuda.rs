@@ -85,10 +85,11 @@ fn hash_count<R: Real, D: Dim>() -> usize {
 
 pub struct CudaBackend {
     ctx: Arc<CudaContext>,
-    /// Loads each entry point as its own module on its first launch.
-    loader: Loader,
+    /// Loads each entry point as its own module on its first launch; shared with the backend's siblings, so that
+    /// an ensemble's members JIT-compile each entry once.
+    loader: Arc<Loader>,
     stream: Arc<CudaStream>,
-    k: Kernels,
+    k: Arc<Kernels>,
     info: DeviceInfo,
     /// Device copies of the field tables of `gather_fields`, by content (a solver alternates between two).
     gather_tables: Mutex<HashMap<Vec<GatherField>, CudaBuf<GatherField>>>,
@@ -221,7 +222,7 @@ impl CudaBackend {
         let cc = ctx.compute_capability().map_err(cuda("compute capability"))?;
         let tuning = crate::tuning::Tuning::current()?;
         let (target, loader, conditional, driver) = load_ptx(&ctx, cc, tuning)?;
-        let k = kernel_table(&loader)?;
+        let k = Arc::new(kernel_table(&loader)?);
         let info = DeviceInfo {
             backend: "gpu",
             name: ctx.name().map_err(cuda("device name"))?,
@@ -238,7 +239,7 @@ impl CudaBackend {
             conditional,
             use_conditional: AtomicBool::new(!no_conditional),
             in_body: AtomicBool::new(false),
-            loader,
+            loader: Arc::new(loader),
             ctx,
             stream,
             k,
@@ -250,6 +251,39 @@ impl CudaBackend {
             pair_reverse: tuning.pair_order.map_or(PAIR_REVERSE, |o| o == crate::tuning::Order::Reverse) as u32,
             plastic_reverse: tuning.plastic_order.map_or(PLASTIC_REVERSE, |o| o == crate::tuning::Order::Reverse)
                 as u32,
+        })
+    }
+}
+
+impl CudaBackend {
+    /// Another backend on the same device and context with a stream of its own (and an IF-body stream of its own
+    /// where conditional rebuilds are used), sharing the loaded kernels and the settings of this one: an ensemble's
+    /// members run on siblings, concurrently, one host thread each (host/ensemble). Its launches run the same
+    /// kernels with the same arguments, so a member's bits do not depend on its siblings.
+    pub fn sibling(&self) -> Result<CudaBackend> {
+        let stream = self.ctx.new_stream().map_err(cuda("cuStreamCreate"))?;
+        let conditional = match &self.conditional {
+            Ok(_) => {
+                let driver = self.info.driver_version.unwrap_or(0);
+                Conditional::new(&self.ctx, driver)
+            }
+            Err(why) => Err(why.clone()),
+        };
+        Ok(CudaBackend {
+            conditional,
+            use_conditional: AtomicBool::new(self.use_conditional.load(Ordering::Relaxed)),
+            in_body: AtomicBool::new(false),
+            loader: self.loader.clone(),
+            ctx: self.ctx.clone(),
+            stream,
+            k: self.k.clone(),
+            info: self.info.clone(),
+            gather_tables: Mutex::new(HashMap::new()),
+            capturing: AtomicBool::new(false),
+            pair_block: self.pair_block,
+            plastic_block: self.plastic_block,
+            pair_reverse: self.pair_reverse,
+            plastic_reverse: self.plastic_reverse,
         })
     }
 }

@@ -414,6 +414,16 @@ impl AnyBackend {
         }
     }
 
+    /// Another backend of the same kind on the same device, for one more member of an ensemble (host/ensemble):
+    /// on the GPU a stream of its own sharing the loaded kernels ([`CudaBackend::sibling`]); on the CPU a backend
+    /// on the same thread pool.
+    pub fn sibling(&self) -> Result<AnyBackend> {
+        Ok(match self {
+            AnyBackend::Cpu(_) => AnyBackend::Cpu(CpuBackend::new()),
+            AnyBackend::Cuda(b) => AnyBackend::Cuda(Box::new(b.sibling()?)),
+        })
+    }
+
     pub fn info(&self) -> &DeviceInfo {
         match self {
             AnyBackend::Cpu(b) => b.info(),

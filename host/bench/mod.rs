@@ -4,6 +4,7 @@
 //! permutation is near the identity as in a running simulation), plus one density pass over the neighbours with
 //! cell h (±2 stencil) and cell 2h (±1 stencil) to choose between the two layouts.
 
+pub mod ensemble;
 pub mod step;
 
 use crate::Result;

@@ -11,8 +11,8 @@
 //!   summary.json's `particles`, `steps`, `wall_time_s` and `dt_s`, the final total energy of energy.csv, and the
 //!   scene's observables (a cut's forces, chip thickness and segmentation; otherwise the final energies and body
 //!   extents). So the table is a function of the run folders, whoever ran them.
-//! - **Runs** go one after another through [`run_serial`]; a batch (ensemble) runner replaces that one function.
-//!   A failed run is recorded with its message and the sweep goes on; Ctrl-C stops it after writing the table of
+//! - **Runs** go through the ensemble runner ([`crate::ensemble::run`]): up to `--batch` at once (by default 16
+//!   on a GPU, one at a time on the CPU), each result recorded as it comes. A failed run is recorded with its message and the sweep goes on; Ctrl-C stops it after writing the table of
 //!   the runs so far. The table and plots are rewritten (atomically) after every run.
 
 pub mod plot;
@@ -21,7 +21,8 @@ pub mod table;
 use std::path::{Path, PathBuf};
 
 use crate::backend::AnyBackend;
-use crate::run::{RunOptions, RunReport};
+pub use crate::ensemble::Job;
+use crate::run::RunOptions;
 use crate::scene::observe::{self, Observable, Source};
 use crate::scene::{Precision, Scene};
 use crate::{Error, Result};
@@ -83,6 +84,8 @@ pub struct SweepOptions {
     /// Write each run's particle frames (off by default: a sweep is about its summary values).
     pub frames: bool,
     pub quiet: bool,
+    /// Runs at once (`--batch`; None: [`crate::ensemble::default_width`]).
+    pub width: Option<usize>,
 }
 
 /// What became of one run.
@@ -115,12 +118,6 @@ pub struct Sweep {
     pub warnings: Vec<String>,
 }
 
-/// One run for a runner: everything [`crate::run::run`] needs.
-pub struct Job {
-    pub scene: Scene,
-    pub options: RunOptions,
-}
-
 /// The summary values every run has, before the scene's observables.
 fn run_columns() -> Vec<Observable> {
     let summary = |key: &'static str, unit| Observable { name: key.to_string(), unit, source: Source::Summary(key) };
@@ -139,7 +136,8 @@ fn run_columns() -> Vec<Observable> {
 pub fn sweep(backend: &AnyBackend, opts: &SweepOptions) -> Result<Sweep> {
     let (mut sweep, jobs) = plan(opts)?;
     std::fs::create_dir_all(&opts.out_dir).map_err(|e| Error::Output(format!("{}: {e}", opts.out_dir.display())))?;
-    let result = run_serial(backend, &jobs, &mut |k, result| {
+    let width = opts.width.unwrap_or_else(|| crate::ensemble::default_width(backend));
+    let result = crate::ensemble::run(backend, &jobs, width, &mut |k, result| {
         let dx = jobs[k].scene.discretisation.dx;
         let outcome = match result {
             Ok(_) => match observe::measure(&sweep.points[k].dir, &sweep.columns, dx) {
@@ -156,23 +154,6 @@ pub fn sweep(backend: &AnyBackend, opts: &SweepOptions) -> Result<Sweep> {
     });
     write(&mut sweep, &opts.out_dir, true)?;
     result.map(|()| sweep)
-}
-
-/// Runs `jobs` one after another on `backend`, handing each result to `done` as it comes; stops at the first
-/// interruption (Ctrl-C), after `done` has recorded it, or when `done` fails. The ensemble runner replaces this.
-pub fn run_serial(
-    backend: &AnyBackend,
-    jobs: &[Job],
-    done: &mut dyn FnMut(usize, &Result<RunReport>) -> Result<()>,
-) -> Result<()> {
-    for (k, job) in jobs.iter().enumerate() {
-        let result = crate::run::run(backend, &job.scene, &job.options);
-        done(k, &result)?;
-        if let Err(e @ Error::Interrupted { .. }) = result {
-            return Err(e);
-        }
-    }
-    Ok(())
 }
 
 /// The points of the grid (every scene loaded, so a bad key or value is refused here) and their jobs.

@@ -1,4 +1,9 @@
-//! Scene texts shared by the CPU and GPU tests.
+//! Scene texts and scenes shared by the CPU and GPU tests.
+
+use std::path::Path;
+use swarf::ensemble::Job;
+use swarf::run::RunOptions;
+use swarf::scene::Scene;
 
 /// A Ti6Al4V block (elastic–plastic, 12 × 6 particles, Δx = 10 µm) dropped at `speed` onto the flat top face of a
 /// resting tool (rake 0°, clearance 7°, top at y = 0.2 mm).
@@ -49,4 +54,52 @@ pub fn plastic_drop_scene() -> String {
             "friction = 0.35\n",
             "friction = 0.35\nfriction_cap = \"current\"\nfriction_heating = 0.5\nusui = { psi = 1.0e-9, xi = 5000.0 }\n",
         )
+}
+
+/// V0060 coarsened to Δx = 20 µm (as tests/cutting.rs's CI cut), 4 µs of cut, with `extra` overrides.
+pub fn coarse_cut(extra: &[&str]) -> Scene {
+    let mut over: Vec<String> = [
+        "discretisation.dx=2.0e-5",
+        "body.0.max=[1.0e-3,2.8e-4]",
+        "boundary.1.max=[1.0e-9,1.4e-4]",
+        "boundary.2.min=[0.9999e-3,-1.0]",
+        "tool.position=[-3.6e-5]",
+        "tool.depth_of_cut=0.9e-4",
+        "time.end=4.0e-6",
+        "output.every=1.0e-6",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    over.extend(extra.iter().map(|s| s.to_string()));
+    Scene::load("cases/cutting/v0060.toml", &over).expect("scene")
+}
+
+/// The members: the model, and one change each of friction, material, tool geometry, speed, feed and resolution.
+pub fn ensemble_members() -> Vec<Scene> {
+    vec![
+        coarse_cut(&[]),
+        coarse_cut(&["tool.friction=0.2"]),
+        coarse_cut(&["material.youngs_modulus=1.0e11"]),
+        coarse_cut(&["tool.edge_radius=2.0e-5", "tool.rake_angle=5.0"]),
+        coarse_cut(&["tool.velocity=[4.0,0.0]"]),
+        coarse_cut(&["tool.depth_of_cut=0.7e-4"]),
+        coarse_cut(&["discretisation.dx=2.5e-5"]),
+    ]
+}
+
+pub fn ensemble_jobs(scenes: Vec<Scene>, root: &Path) -> Vec<Job> {
+    scenes
+        .into_iter()
+        .enumerate()
+        .map(|(k, scene)| Job { scene, options: RunOptions::quiet(root.join(format!("{k:02}"))) })
+        .collect()
+}
+
+/// What a run must repeat bit for bit: its force samples (forces.csv's text: Rust's shortest round-trip numbers)
+/// and its energies (energy.csv's text).
+pub fn run_record(run: &Path) -> (String, String) {
+    let read =
+        |f: &str| std::fs::read_to_string(run.join(f)).unwrap_or_else(|e| panic!("{}: {e}", run.join(f).display()));
+    (read("forces.csv"), read("energy.csv"))
 }

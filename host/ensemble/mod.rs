@@ -1,0 +1,131 @@
+//! Batched ensembles: many independent scenes run in one process, up to `width` at once, each on its own
+//! backend sibling ([`AnyBackend::sibling`]): on a GPU, a CUDA stream of its own in the one context, with its own
+//! captured graphs, sharing the loaded kernels; on the CPU, the one thread pool.
+//!
+//! Why streams and not one packed particle set: a member keeps everything a run has (its Δt, tool, forces,
+//! steady-state analysis, summary.json, its non-finite stop) because a member *is* a run ([`crate::run::run`]),
+//! unchanged. Its launches are those of a run alone, with the same arguments, in the same order on its own
+//! stream, so its results are the same bits alone or in a batch (tests/ensemble.rs on the CPU, tests/gpu.rs on a
+//! GPU). A 5 640-particle cut fills a small part of an H100/H200 (a few dozen blocks per launch against 132
+//! multiprocessors); concurrent streams fill the rest, where separate processes time-slice the device.
+//! docs/identification.md gives the measured throughput.
+//!
+//! Scheduling: `width` worker threads take the next unstarted member as they finish one (members of unequal length
+//! do not wait for each other); each result goes to the caller's `done` on the calling thread, in completion order.
+//! A member that fails (a non-finite stop, a bad scene) is reported and the others go on. A Ctrl-C
+//! ([`crate::run::INTERRUPTED`]) stops every running member at its next batch of steps with a checkpoint; no new
+//! member starts, and [`run`] returns [`Error::Interrupted`] after every running member has reported.
+
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::mpsc;
+
+use crate::backend::AnyBackend;
+use crate::run::{RunOptions, RunReport};
+use crate::scene::Scene;
+use crate::{Error, Result};
+
+/// One member of an ensemble: everything [`crate::run::run`] needs.
+pub struct Job {
+    pub scene: Scene,
+    pub options: RunOptions,
+}
+
+/// Members run at once by default on a GPU: measured on an H200 with the V0060 model (docs/identification.md,
+/// "Throughput").
+pub const GPU_WIDTH: usize = 16;
+
+/// The default width on `backend`: [`GPU_WIDTH`] on a GPU; 1 on the CPU, whose one run already uses every core.
+pub fn default_width(backend: &AnyBackend) -> usize {
+    match backend {
+        AnyBackend::Cuda(_) => GPU_WIDTH,
+        AnyBackend::Cpu(_) => 1,
+    }
+}
+
+/// Runs `jobs`, up to `width` (≥ 1) at once on siblings of `backend`, handing each member's index and result to
+/// `done` as it finishes. When `done` fails, no new member starts; the running ones finish and are handed over,
+/// and the first such error is returned. A member interrupted by Ctrl-C likewise stops new members, and
+/// [`Error::Interrupted`] is returned once the running ones have reported.
+pub fn run(
+    backend: &AnyBackend,
+    jobs: &[Job],
+    width: usize,
+    done: &mut dyn FnMut(usize, &Result<RunReport>) -> Result<()>,
+) -> Result<()> {
+    let width = width.max(1).min(jobs.len());
+    if width <= 1 {
+        return run_serial(backend, jobs, done);
+    }
+    // The siblings are made here, before any member starts, so that a device that cannot give them fails the
+    // ensemble at once. The first member runs on `backend` itself.
+    let mut backends = Vec::with_capacity(width - 1);
+    for _ in 1..width {
+        backends.push(backend.sibling()?);
+    }
+    let next = AtomicUsize::new(0);
+    let stop = AtomicBool::new(false);
+    let (tx, rx) = mpsc::channel::<(usize, Result<RunReport>)>();
+    std::thread::scope(|s| {
+        for b in std::iter::once(backend).chain(backends.iter()) {
+            let (tx, next, stop) = (tx.clone(), &next, &stop);
+            s.spawn(move || worker(b, jobs, next, stop, tx));
+        }
+        drop(tx);
+        collect(&rx, &stop, done)
+    })
+}
+
+/// A worker: takes members in order until none is left or the ensemble stops, and sends each result.
+fn worker(
+    b: &AnyBackend,
+    jobs: &[Job],
+    next: &AtomicUsize,
+    stop: &AtomicBool,
+    tx: mpsc::Sender<(usize, Result<RunReport>)>,
+) {
+    while !stop.load(Ordering::Relaxed) {
+        let k = next.fetch_add(1, Ordering::Relaxed);
+        let Some(job) = jobs.get(k) else { return };
+        let result = crate::run::run(b, &job.scene, &job.options);
+        if tx.send((k, result)).is_err() {
+            return;
+        }
+    }
+}
+
+/// Hands results to `done` as they arrive; sets `stop` on the first failure of `done` or interruption.
+fn collect(
+    rx: &mpsc::Receiver<(usize, Result<RunReport>)>,
+    stop: &AtomicBool,
+    done: &mut dyn FnMut(usize, &Result<RunReport>) -> Result<()>,
+) -> Result<()> {
+    let mut first_error = None;
+    for (k, result) in rx {
+        if let Err(e) = done(k, &result) {
+            stop.store(true, Ordering::Relaxed);
+            first_error.get_or_insert(e);
+        }
+        if let Err(e @ Error::Interrupted { .. }) = result {
+            stop.store(true, Ordering::Relaxed);
+            first_error.get_or_insert(e);
+        }
+    }
+    first_error.map_or(Ok(()), Err)
+}
+
+/// Runs `jobs` one after another on `backend`, handing each result to `done` as it comes; stops at the first
+/// interruption (Ctrl-C), after `done` has recorded it, or when `done` fails.
+pub fn run_serial(
+    backend: &AnyBackend,
+    jobs: &[Job],
+    done: &mut dyn FnMut(usize, &Result<RunReport>) -> Result<()>,
+) -> Result<()> {
+    for (k, job) in jobs.iter().enumerate() {
+        let result = crate::run::run(backend, &job.scene, &job.options);
+        done(k, &result)?;
+        if let Err(e @ Error::Interrupted { .. }) = result {
+            return Err(e);
+        }
+    }
+    Ok(())
+}
