@@ -120,7 +120,7 @@ for p in $parts; do
                           while pgrep -f "gpu-run.sh ensemble" > /dev/null && [ $t -lt "${SWARF_WAIT_LIMIT:-540}" ]; do
                               sleep 5; t=$((t + 5))
                           done
-                          cat /tmp/swarf-ens/bg.out; cat /tmp/swarf-ens/out/ensemble.log
+                          cat /tmp/swarf-ens/bg.out  # the table (its ensemble.log goes into /tmp/swarf-ens/out/logs.tgz)
                           ! pgrep -f "gpu-run.sh ensemble" > /dev/null
                       }
                       run waitensemble waitens ;;

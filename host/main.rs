@@ -693,7 +693,7 @@ struct SweepArgs {
     /// Output folder (default runs/sweep-<scene name>).
     #[arg(long)]
     out: Option<std::path::PathBuf>,
-    /// Runs at once, as one ensemble (default: 16 on a GPU, 1 on the CPU).
+    /// Runs at once, as one ensemble (default: 8 on a GPU, 1 on the CPU).
     #[arg(long, value_parser = parse_width)]
     batch: Option<usize>,
     /// Print nothing but errors.

@@ -30,9 +30,10 @@ pub struct Job {
     pub options: RunOptions,
 }
 
-/// Members run at once by default on a GPU: measured on an H200 with the V0060 model (docs/identification.md,
-/// "Throughput").
-pub const GPU_WIDTH: usize = 16;
+/// Members run at once by default on a GPU. Whole V0060 runs (5 640 particles, 110 619 steps) on an H200, 40 s per
+/// width side by side in one process: 1 at once 14 040 runs/day, 8 63 880, 16 58 407, 32 60 515; 8 for 608 s:
+/// 69 516 (docs/identification.md, "Batched ensembles"; docs/measurements/h200-issue23-ensemble-*.log).
+pub const GPU_WIDTH: usize = 8;
 
 /// The default width on `backend`: [`GPU_WIDTH`] on a GPU; 1 on the CPU, whose one run already uses every core.
 pub fn default_width(backend: &AnyBackend) -> usize {

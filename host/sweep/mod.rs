@@ -11,7 +11,7 @@
 //!   summary.json's `particles`, `steps`, `wall_time_s` and `dt_s`, the final total energy of energy.csv, and the
 //!   scene's observables (a cut's forces, chip thickness and segmentation; otherwise the final energies and body
 //!   extents). So the table is a function of the run folders, whoever ran them.
-//! - **Runs** go through the ensemble runner ([`crate::ensemble::run`]): up to `--batch` at once (by default 16
+//! - **Runs** go through the ensemble runner ([`crate::ensemble::run`]): up to `--batch` at once (by default 8
 //!   on a GPU, one at a time on the CPU), each result recorded as it comes. A failed run is recorded with its message and the sweep goes on; Ctrl-C stops it after writing the table of
 //!   the runs so far. The table and plots are rewritten (atomically) after every run.
 
