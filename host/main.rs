@@ -735,13 +735,23 @@ fn cmd_identify(backend: BackendChoice, a: &IdentifyArgs) -> Result<()> {
         eprintln!("{line}");
     }
     on_interrupt();
-    let opts = swarf::identify::IdentifyOptions { file: a.file.clone(), out_dir: out.clone(), batch: a.batch, resume: a.resume, quiet: a.quiet };
+    let opts = swarf::identify::IdentifyOptions {
+        file: a.file.clone(),
+        out_dir: out.clone(),
+        batch: a.batch,
+        resume: a.resume,
+        quiet: a.quiet,
+    };
     let done = swarf::identify::identify(&any, &opts)?;
     for w in &done.warnings {
         eprintln!("warning: {w}");
     }
     if !a.quiet {
-        eprintln!("identify: {} evaluations; history.csv, report.md and the plots written in {}", done.rows.len(), out.display());
+        eprintln!(
+            "identify: {} evaluations; history.csv, report.md and the plots written in {}",
+            done.rows.len(),
+            out.display()
+        );
         if let Some(m) = &done.material {
             eprintln!("identify: best material {}", m.display());
         }

@@ -180,12 +180,16 @@ fn bad_identification_files_are_refused_before_any_run() {
         ("unusable status", with_test("V0068"), "experiment.0.test"),
     ];
     let rows = std::fs::read_to_string(&data).unwrap();
-    assert!(rows.lines().any(|l| l.starts_with("V0068,") && !l.ends_with(",ok") && !l.ends_with(",short")), "V0068 is not ok/short");
+    assert!(
+        rows.lines().any(|l| l.starts_with("V0068,") && !l.ends_with(",ok") && !l.ends_with(",short")),
+        "V0068 is not ok/short"
+    );
     for (what, text, key) in cases {
         let file = dir.join("bad.toml");
         std::fs::write(&file, &text).unwrap();
         let out = dir.join("out-bad");
-        let opts = IdentifyOptions { file: file.clone(), out_dir: out.clone(), batch: None, resume: false, quiet: true };
+        let opts =
+            IdentifyOptions { file: file.clone(), out_dir: out.clone(), batch: None, resume: false, quiet: true };
         let e = identify(&cpu(), &opts).expect_err(what).to_string();
         assert!(e.contains(&file.display().to_string()) && e.contains(key) && e.contains("expected"), "{what}: {e}");
         assert!(!out.exists(), "{what}: a folder was written");

@@ -73,7 +73,11 @@ pub fn identify(backend: &AnyBackend, opts: &IdentifyOptions) -> Result<Identifi
         let batch = rows.last().map_or(0, |r| r.batch + 1);
         let evaluated = evaluate(backend, &spec, &opts.out_dir, &params, rows.len(), batch).inspect_err(|e| {
             if matches!(e, Error::Interrupted { .. }) {
-                eprintln!("identify: stopped; continue with `swarf identify {} --out {} --resume`", opts.file.display(), opts.out_dir.display());
+                eprintln!(
+                    "identify: stopped; continue with `swarf identify {} --out {} --resume`",
+                    opts.file.display(),
+                    opts.out_dir.display()
+                );
             }
         })?;
         runs += params.len() * spec.experiments.len();
@@ -120,7 +124,11 @@ pub fn scene_for(spec: &Spec, exp: &Experiment, x: &[f64]) -> std::result::Resul
 }
 
 /// [`scene_for`] with the parameters `pairs` (key, value) only.
-fn load_with(spec: &Spec, exp: &Experiment, pairs: &[(&str, f64)]) -> std::result::Result<(Scene, Vec<String>), String> {
+fn load_with(
+    spec: &Spec,
+    exp: &Experiment,
+    pairs: &[(&str, f64)],
+) -> std::result::Result<(Scene, Vec<String>), String> {
     let mut sets = exp.set.clone();
     sets.extend(spec.set.iter().cloned());
     let mut edits = Vec::new();
@@ -141,7 +149,10 @@ fn validate(spec: &Spec) -> Result<()> {
     let file = spec.file.display();
     for (i, exp) in spec.experiments.iter().enumerate() {
         load_with(spec, exp, &[]).map_err(|e| {
-            Error::Scene(format!("{file}: experiment.{i} ({}): expected a scene its set and the file's set accept: {e}", exp.name))
+            Error::Scene(format!(
+                "{file}: experiment.{i} ({}): expected a scene its set and the file's set accept: {e}",
+                exp.name
+            ))
         })?;
         for (k, p) in spec.parameters.iter().enumerate() {
             for bound in [p.lower, p.upper] {
@@ -194,7 +205,10 @@ fn open_folder(spec: &mut Spec, opts: &IdentifyOptions) -> Result<Vec<Row>> {
     let batch = serde_json::from_str::<serde_json::Value>(&text).ok().and_then(|v| v["batch"].as_u64());
     let batch = batch.ok_or_else(|| Error::Scene(format!("{}: expected {{\"batch\": N}}", state.display())))? as usize;
     if opts.batch.is_some_and(|b| b.max(1) != batch) {
-        return Err(Error::Scene(format!("--batch {}: expected the batch this folder was started with, {batch}", opts.batch.unwrap_or(0))));
+        return Err(Error::Scene(format!(
+            "--batch {}: expected the batch this folder was started with, {batch}",
+            opts.batch.unwrap_or(0)
+        )));
     }
     spec.optimizer.batch = batch;
     let path = dir.join(history::FILE);
@@ -237,7 +251,14 @@ fn observables() -> Vec<Observable> {
 
 /// Runs one batch: every parameter set of `params` (evaluations `first`, `first + 1`, ...) on every experiment;
 /// returns their history rows. An interruption is returned as the error (the batch is not recorded).
-fn evaluate(backend: &AnyBackend, spec: &Spec, out: &Path, params: &[Vec<f64>], first: usize, batch: usize) -> Result<Vec<Row>> {
+fn evaluate(
+    backend: &AnyBackend,
+    spec: &Spec,
+    out: &Path,
+    params: &[Vec<f64>],
+    first: usize,
+    batch: usize,
+) -> Result<Vec<Row>> {
     let ne = spec.experiments.len();
     let mut results: Vec<std::result::Result<Simulated, String>> = vec![Err("not run".into()); params.len() * ne];
     let (mut jobs, mut slots) = (Vec::new(), Vec::new());
@@ -273,12 +294,23 @@ fn evaluate(backend: &AnyBackend, spec: &Spec, out: &Path, params: &[Vec<f64>], 
                 .zip(&sims)
                 .map(|(exp, sim)| objective::experiment_term(&exp.measured, sim, &spec.objective))
                 .collect();
-            let failed = spec.experiments.iter().zip(mine).find_map(|(exp, r)| r.as_ref().err().map(|m| format!("{}: {m}", exp.name)));
+            let failed = spec
+                .experiments
+                .iter()
+                .zip(mine)
+                .find_map(|(exp, r)| r.as_ref().err().map(|m| format!("{}: {m}", exp.name)));
             let objective = match failed {
                 Some(_) => f64::NAN,
                 None => objective::combine(&terms, &spec.objective),
             };
-            Row { evaluation: first + s, batch, params: x.clone(), sims, objective, status: failed.unwrap_or_else(|| "ok".into()) }
+            Row {
+                evaluation: first + s,
+                batch,
+                params: x.clone(),
+                sims,
+                objective,
+                status: failed.unwrap_or_else(|| "ok".into()),
+            }
         })
         .collect())
 }
@@ -304,7 +336,8 @@ fn run_jobs(
 
 /// The progress line after a batch: evaluations, best objective, runs per hour, ETA to the budget.
 fn progress(spec: &Spec, rows: &[Row], runs: usize, seconds: f64) -> String {
-    let best = super::report::best(rows).map_or("none yet".into(), |r| format!("{:.4} (evaluation {})", r.objective, r.evaluation));
+    let best = super::report::best(rows)
+        .map_or("none yet".into(), |r| format!("{:.4} (evaluation {})", r.objective, r.evaluation));
     let rate = runs as f64 / seconds.max(1e-9) * 3600.0;
     let left = (spec.optimizer.budget - rows.len().min(spec.optimizer.budget)) * spec.experiments.len();
     let eta_h = left as f64 / rate.max(1e-9);

@@ -222,8 +222,13 @@ fn experiments(f: &Ctx, root: &toml::Table, data_file: Option<&Path>) -> Result<
     let mut out: Vec<Experiment> = Vec::new();
     for (i, t) in tables.into_iter().enumerate() {
         let at = format!("experiment.{i}");
-        f.keys(t, &at, &["name", "scene", "test", "set", "fc_n_per_mm", "ff_n_per_mm", "chip_thickness_um", "chip_weight"])?;
-        let scene_rel = f.string(t, &at, "scene")?.ok_or_else(|| f.missing(&join(&at, "scene"), "the model scene file"))?;
+        f.keys(
+            t,
+            &at,
+            &["name", "scene", "test", "set", "fc_n_per_mm", "ff_n_per_mm", "chip_thickness_um", "chip_weight"],
+        )?;
+        let scene_rel =
+            f.string(t, &at, "scene")?.ok_or_else(|| f.missing(&join(&at, "scene"), "the model scene file"))?;
         let scene = f.dir.join(scene_rel);
         let test = f.string(t, &at, "test")?;
         let e = "a positive force per mm of width in N/mm";
@@ -239,28 +244,40 @@ fn experiments(f: &Ctx, root: &toml::Table, data_file: Option<&Path>) -> Result<
                 return Err(f.bad(&k, "(given with test)", "no forces beside test: they come from the data file"));
             }
             let Some(rows) = &rows else {
-                return Err(f.missing("data", "the data file of the experiments' test ids (e.g. \"cutting-experiments.csv\")"));
+                return Err(
+                    f.missing("data", "the data file of the experiments' test ids (e.g. \"cutting-experiments.csv\")")
+                );
             };
             let row = data::usable(rows, id).map_err(|why| f.bad(&join(&at, "test"), format!("\"{id}\""), &why))?;
             (fc, ff) = (Some(row.fc), Some(row.ff));
             let model = Scene::load(&scene, &[]).map_err(|e| Error::Scene(format!("{}: {at}.scene: {e}", f.file)))?;
-            let cond = Condition { vc_m_per_min: row.vc_m_per_min, feed_mm: row.feed_mm, edge_radius_um: row.edge_radius_um };
+            let cond =
+                Condition { vc_m_per_min: row.vc_m_per_min, feed_mm: row.feed_mm, edge_radius_um: row.edge_radius_um };
             set = data::scale_overrides(&model, &cond)
                 .map_err(|why| f.bad(&join(&at, "scene"), scene.display(), &why))?;
         }
         set.extend(f.strings(t, &at, "set")?);
         if fc.is_none() && ff.is_none() {
-            return Err(f.missing(&join(&at, "fc_n_per_mm"), "a measured fc_n_per_mm or ff_n_per_mm (or a test of the data file)"));
+            return Err(f.missing(
+                &join(&at, "fc_n_per_mm"),
+                "a measured fc_n_per_mm or ff_n_per_mm (or a test of the data file)",
+            ));
         }
         if chip_weight > 0.0 && chip.is_none() {
-            return Err(f.missing(&join(&at, "chip_thickness_um"), "the measured chip thickness that chip_weight weighs"));
+            return Err(
+                f.missing(&join(&at, "chip_thickness_um"), "the measured chip thickness that chip_weight weighs")
+            );
         }
         let name = match f.string(t, &at, "name")?.or(test.clone()) {
             Some(n) => n,
             None => return Err(f.missing(&join(&at, "name"), "a name (letters, digits, '.', '_', '-')")),
         };
         if !plain(&name) || out.iter().any(|x| x.name == name) {
-            return Err(f.bad(&join(&at, "name"), format!("\"{name}\""), "a name of letters, digits, '.', '_', '-' that no other experiment has"));
+            return Err(f.bad(
+                &join(&at, "name"),
+                format!("\"{name}\""),
+                "a name of letters, digits, '.', '_', '-' that no other experiment has",
+            ));
         }
         out.push(Experiment { name, scene, set, measured: Measured { fc, ff, chip, chip_weight }, test });
     }
@@ -277,7 +294,8 @@ fn parameters(f: &Ctx, root: &toml::Table) -> Result<Vec<Parameter>> {
     for (i, t) in tables.into_iter().enumerate() {
         let at = format!("parameter.{i}");
         f.keys(t, &at, &["key", "lower", "upper"])?;
-        let key = f.string(t, &at, "key")?.ok_or_else(|| f.missing(&join(&at, "key"), "a scene key, e.g. tool.friction"))?;
+        let key =
+            f.string(t, &at, "key")?.ok_or_else(|| f.missing(&join(&at, "key"), "a scene key, e.g. tool.friction"))?;
         if out.iter().any(|p| p.key == key) {
             return Err(f.bad(&join(&at, "key"), format!("\"{key}\""), "a key no other parameter has"));
         }
@@ -285,7 +303,11 @@ fn parameters(f: &Ctx, root: &toml::Table) -> Result<Vec<Parameter>> {
         let lower = f.number(t, &at, "lower", e, finite)?.ok_or_else(|| f.missing(&join(&at, "lower"), e))?;
         let upper = f.number(t, &at, "upper", e, finite)?.ok_or_else(|| f.missing(&join(&at, "upper"), e))?;
         if lower >= upper {
-            return Err(f.bad(&join(&at, "upper"), upper, &format!("a bound above lower = {lower} (empty or inverted bounds)")));
+            return Err(f.bad(
+                &join(&at, "upper"),
+                upper,
+                &format!("a bound above lower = {lower} (empty or inverted bounds)"),
+            ));
         }
         out.push(Parameter { key, lower, upper });
     }
@@ -311,7 +333,9 @@ fn objective(f: &Ctx, root: &toml::Table) -> Result<Objective> {
 /// `[optimizer]`: `method`, `budget`, `batch`, `seed`, and the method's settings in `[optimizer.de]`,
 /// `[optimizer.nelder_mead]` or `[optimizer.bayes]`.
 fn optimizer(f: &Ctx, root: &toml::Table, params: &[Parameter]) -> Result<OptimizerSpec> {
-    let o = f.table(root, "", "optimizer")?.ok_or_else(|| f.missing("optimizer", "an [optimizer] table with method and budget"))?;
+    let o = f
+        .table(root, "", "optimizer")?
+        .ok_or_else(|| f.missing("optimizer", "an [optimizer] table with method and budget"))?;
     let at = "optimizer";
     f.keys(o, at, &["method", "budget", "batch", "seed", "de", "nelder_mead", "bayes"])?;
     let budget = f.count(o, at, "budget", "a budget of at least 1 evaluation", 1)?;
@@ -332,7 +356,11 @@ fn optimizer(f: &Ctx, root: &toml::Table, params: &[Parameter]) -> Result<Optimi
     };
     for (k, m) in [("de", "de"), ("nelder_mead", "nelder-mead"), ("bayes", "bayes")] {
         if o.contains_key(k) && method_name(&method) != m {
-            return Err(f.bad(&format!("optimizer.{k}"), "(a table)", &format!("settings of the chosen method only (method = \"{}\")", method_name(&method))));
+            return Err(f.bad(
+                &format!("optimizer.{k}"),
+                "(a table)",
+                &format!("settings of the chosen method only (method = \"{}\")", method_name(&method)),
+            ));
         }
     }
     Ok(OptimizerSpec { method, budget, batch, seed })
@@ -355,7 +383,10 @@ fn de_settings(f: &Ctx, o: &toml::Table, seed: u64) -> Result<DeSettings> {
     s.popsize = f.count(t, at, "popsize", "an integer ≥ 1", 1)?.unwrap_or(s.popsize);
     if let Some(v) = t.get("mutation") {
         let pair = v.as_array().and_then(|a| match a.as_slice() {
-            [lo, hi] => Some((lo.as_float().or(lo.as_integer().map(|i| i as f64))?, hi.as_float().or(hi.as_integer().map(|i| i as f64))?)),
+            [lo, hi] => Some((
+                lo.as_float().or(lo.as_integer().map(|i| i as f64))?,
+                hi.as_float().or(hi.as_integer().map(|i| i as f64))?,
+            )),
             _ => None,
         });
         s.mutation = pair
@@ -383,13 +414,17 @@ fn nelder_mead_settings(f: &Ctx, o: &toml::Table, params: &[Parameter]) -> Resul
     f.keys(t, at, &["start", "step", "xatol", "fatol"])?;
     if let Some(v) = t.get("start") {
         let e = format!("{} numbers within the parameters' bounds, in their order", params.len());
-        let a = v.as_array().filter(|a| a.len() == params.len()).ok_or_else(|| f.bad("optimizer.nelder_mead.start", v, &e))?;
+        let a = v
+            .as_array()
+            .filter(|a| a.len() == params.len())
+            .ok_or_else(|| f.bad("optimizer.nelder_mead.start", v, &e))?;
         s.start = a
             .iter()
             .zip(params)
             .map(|(x, p)| {
                 let x = x.as_float().or(x.as_integer().map(|i| i as f64)).filter(|x| (p.lower..=p.upper).contains(x));
-                x.map(|x| (x - p.lower) / (p.upper - p.lower)).ok_or_else(|| f.bad("optimizer.nelder_mead.start", v, &e))
+                x.map(|x| (x - p.lower) / (p.upper - p.lower))
+                    .ok_or_else(|| f.bad("optimizer.nelder_mead.start", v, &e))
             })
             .collect::<Result<_>>()?;
     }

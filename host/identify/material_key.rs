@@ -25,7 +25,11 @@ pub fn with_values(m: &Material, edits: &[(&str, f64)], rename: Option<(&str, &s
     for (k, v) in edits {
         if !flow.contains_key(*k) {
             let keys: Vec<&str> = flow.keys().map(String::as_str).filter(|k| *k != "model").collect();
-            return Err(format!("{PREFIX}<key> with a key of material {}'s [flow_stress]: {}", m.name, keys.join(", ")));
+            return Err(format!(
+                "{PREFIX}<key> with a key of material {}'s [flow_stress]: {}",
+                m.name,
+                keys.join(", ")
+            ));
         }
         flow.insert(k.to_string(), toml::Value::Float(*v));
     }

@@ -20,7 +20,7 @@ pub mod optimizer;
 pub mod report;
 
 pub use bayes::{Bayes, BayesSettings};
+pub use campaign::{Identification, IdentifyOptions, identify};
 pub use de::{DeSettings, DifferentialEvolution, Strategy};
 pub use nelder_mead::{NelderMead, NelderMeadSettings};
 pub use optimizer::{Bounds, Evaluation, Optimizer, minimise};
-pub use campaign::{Identification, IdentifyOptions, identify};

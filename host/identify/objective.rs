@@ -21,7 +21,9 @@ pub fn experiment_term(measured: &Measured, sim: &Simulated, w: &Objective) -> f
         (Some(e), true) => sim.filter(|s| s.is_finite()).map_or(f64::NAN, |s| weight * (s - e) * (s - e)),
         _ => 0.0,
     };
-    sq(w.fc_weight, measured.fc, sim.fc) + sq(w.ff_weight, measured.ff, sim.ff) + sq(measured.chip_weight, measured.chip, sim.chip)
+    sq(w.fc_weight, measured.fc, sim.fc)
+        + sq(w.ff_weight, measured.ff, sim.ff)
+        + sq(measured.chip_weight, measured.chip, sim.chip)
 }
 
 /// The objective over experiments: Eq. 9.17's sum, or the mean. NaN when any term is.

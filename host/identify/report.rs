@@ -85,7 +85,10 @@ pub fn markdown(spec: &Spec, rows: &[Row]) -> String {
     let Some(b) = best(rows) else {
         return s + "No finite objective yet.\n";
     };
-    s += &format!("Best: evaluation {} (batch {}), objective {:.6}.\n\n| parameter | lower | upper | best |\n|---|---|---|---|\n", b.evaluation, b.batch, b.objective);
+    s += &format!(
+        "Best: evaluation {} (batch {}), objective {:.6}.\n\n| parameter | lower | upper | best |\n|---|---|---|---|\n",
+        b.evaluation, b.batch, b.objective
+    );
     for (p, x) in spec.parameters.iter().zip(&b.params) {
         s += &format!("| `{}` | {} | {} | {x:.6e} |\n", p.key, p.lower, p.upper);
     }
@@ -136,7 +139,9 @@ fn forces(spec: &Spec, rows: &[Row], path: &Path) -> std::result::Result<(), Str
     let b = best(rows).ok_or("no finite objective yet")?;
     let x: Vec<f64> = (1..=spec.experiments.len()).map(|i| i as f64).collect();
     let nan = f64::NAN;
-    let col = |f: &dyn Fn(usize) -> Option<f64>| (0..spec.experiments.len()).map(|i| f(i).unwrap_or(nan)).collect::<Vec<f64>>();
+    let col = |f: &dyn Fn(usize) -> Option<f64>| {
+        (0..spec.experiments.len()).map(|i| f(i).unwrap_or(nan)).collect::<Vec<f64>>()
+    };
     let (fc_m, fc_p) = (col(&|i| spec.experiments[i].measured.fc), col(&|i| b.sims[i].fc));
     let (ff_m, ff_p) = (col(&|i| spec.experiments[i].measured.ff), col(&|i| b.sims[i].ff));
     let names: Vec<&str> = spec.experiments.iter().map(|e| e.name.as_str()).collect();
@@ -162,7 +167,8 @@ fn material(spec: &Spec, rows: &[Row], dir: &Path) -> std::result::Result<Option
         .chars()
         .map(|c| if c.is_ascii_alphanumeric() || matches!(c, '.' | '_' | '-') { c } else { '_' })
         .collect();
-    let values: Vec<String> = spec.parameters.iter().zip(&b.params).map(|(p, x)| format!("{} = {x:?}", p.key)).collect();
+    let values: Vec<String> =
+        spec.parameters.iter().zip(&b.params).map(|(p, x)| format!("{} = {x:?}", p.key)).collect();
     let description = format!(
         "{} identified by swarf identify {} (evaluation {}, objective {:.6}): {}",
         m.name,
