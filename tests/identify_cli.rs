@@ -196,3 +196,26 @@ fn bad_identification_files_are_refused_before_any_run() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The command line: a bad file exits with status 1, the message on stderr naming file, key and expected value,
+/// and no output folder.
+#[test]
+fn the_command_refuses_a_bad_file_with_status_1() {
+    let dir = tmp("cli");
+    let good = std::fs::read_to_string(tiny_file(&dir, "")).unwrap();
+    let file = dir.join("bad.toml");
+    std::fs::write(&file, good.replace("budget = 6", "budget = 0")).unwrap();
+    let out = dir.join("out");
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_swarf"))
+        .args(["--backend", "cpu", "identify"])
+        .arg(&file)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .expect("swarf runs");
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{err}");
+    assert!(err.contains("optimizer.budget") && err.contains("expected") && err.contains("bad.toml"), "{err}");
+    assert!(!out.exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
