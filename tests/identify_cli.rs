@@ -178,6 +178,7 @@ fn bad_identification_files_are_refused_before_any_run() {
         ("unknown optimiser", good.replace("\"de\"", "\"pso\""), "optimizer.method"),
         ("unknown test id", with_test("V9999"), "experiment.0.test"),
         ("unusable status", with_test("V0068"), "experiment.0.test"),
+        ("a Ck45 test on the Ti6Al4V model", with_test("V0069"), "experiment.0.scene"),
     ];
     let rows = std::fs::read_to_string(&data).unwrap();
     assert!(

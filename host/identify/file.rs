@@ -251,6 +251,12 @@ fn experiments(f: &Ctx, root: &toml::Table, data_file: Option<&Path>) -> Result<
             let row = data::usable(rows, id).map_err(|why| f.bad(&join(&at, "test"), format!("\"{id}\""), &why))?;
             (fc, ff) = (Some(row.fc), Some(row.ff));
             let model = Scene::load(&scene, &[]).map_err(|e| Error::Scene(format!("{}: {at}.scene: {e}", f.file)))?;
+            let material = model.material.library.as_ref().map_or("", |m| m.name.as_str());
+            if !material.to_lowercase().contains(&row.material.to_lowercase()) {
+                let why =
+                    format!("a model scene of the test's material {} (its material is \"{material}\")", row.material);
+                return Err(f.bad(&join(&at, "scene"), scene.display(), &why));
+            }
             let cond =
                 Condition { vc_m_per_min: row.vc_m_per_min, feed_mm: row.feed_mm, edge_radius_um: row.edge_radius_um };
             set = data::scale_overrides(&model, &cond)
