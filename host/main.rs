@@ -73,6 +73,9 @@ enum Cmd {
     /// Run a scene over the cross product of --grid values (one run folder each); a table (sweep.csv, sweep.md)
     /// and plots (sweep-<key>.png) of each run's summary values against every swept key.
     Sweep(SweepArgs),
+    /// Identify scene or material parameters against measured cutting forces (an identification file: experiments,
+    /// parameters with bounds, objective, optimiser); history.csv, report.md, plots and the best material file.
+    Identify(IdentifyArgs),
 }
 
 #[derive(clap::Args)]
@@ -421,6 +424,7 @@ fn run(cli: Cli) -> Result<()> {
         Cmd::Model(a) => cmd_model(&a),
         Cmd::Render(a) => cmd_render(&a),
         Cmd::Sweep(a) => cmd_sweep(cli.backend, &a),
+        Cmd::Identify(a) => cmd_identify(cli.backend, &a),
         Cmd::Check { scene, precision, set } => {
             let sc = load_scene(scene.as_deref(), &set)?;
             let (any, line) = AnyBackend::select(cli.backend)?;
@@ -749,6 +753,57 @@ fn cmd_sweep(backend: BackendChoice, a: &SweepArgs) -> Result<()> {
             swarf::sweep::MARKDOWN,
             out.display()
         );
+    }
+    Ok(())
+}
+
+#[derive(clap::Args)]
+struct IdentifyArgs {
+    /// The identification file (TOML), e.g. cases/identify/v0060-de.toml.
+    file: std::path::PathBuf,
+    /// Output folder (default runs/identify-<file name>).
+    #[arg(long)]
+    out: Option<std::path::PathBuf>,
+    /// Parameter sets per batch (overrides the file's optimizer.batch).
+    #[arg(long)]
+    batch: Option<usize>,
+    /// Continue the identification in the output folder from its history.csv.
+    #[arg(long)]
+    resume: bool,
+    /// Print nothing but errors.
+    #[arg(long)]
+    quiet: bool,
+}
+
+/// `swarf identify`: an identification file's optimisation, batch by batch.
+fn cmd_identify(backend: BackendChoice, a: &IdentifyArgs) -> Result<()> {
+    let stem = a.file.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "identify".into());
+    let out = a.out.clone().unwrap_or_else(|| std::path::PathBuf::from("runs").join(format!("identify-{stem}")));
+    let (any, line) = AnyBackend::select(backend)?;
+    if !a.quiet {
+        eprintln!("{line}");
+    }
+    on_interrupt();
+    let opts = swarf::identify::IdentifyOptions {
+        file: a.file.clone(),
+        out_dir: out.clone(),
+        batch: a.batch,
+        resume: a.resume,
+        quiet: a.quiet,
+    };
+    let done = swarf::identify::identify(&any, &opts)?;
+    for w in &done.warnings {
+        eprintln!("warning: {w}");
+    }
+    if !a.quiet {
+        eprintln!(
+            "identify: {} evaluations; history.csv, report.md and the plots written in {}",
+            done.rows.len(),
+            out.display()
+        );
+        if let Some(m) = &done.material {
+            eprintln!("identify: best material {}", m.display());
+        }
     }
     Ok(())
 }

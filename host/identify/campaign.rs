@@ -1,0 +1,351 @@
+//! `swarf identify <file.toml>`: the optimiser of the identification file asks a batch of parameter sets, every
+//! set runs every experiment (one run folder each, `runs/<evaluation>-<experiment>/`, frames off), the objective
+//! of each set comes from its runs' summary values, and the optimiser is told; until the budget is spent or the
+//! method converges. After every batch `history.csv`, `report.md`, the plots and the best set's material file are
+//! rewritten (atomically). Everything the file names is checked before any run or folder is made.
+//!
+//! Stop and resume: Ctrl-C stops the batch in flight (its runs are run again on resume); `--resume` rebuilds the
+//! optimiser from the file's settings and seed and tells it the recorded history batch by batch, checking that
+//! every asked point equals the recorded one bitwise, then goes on (docs/identification.md "Determinism and
+//! resume"). A folder whose identification file differs is refused.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use super::file::{self, Experiment, Method, Spec};
+use super::history::{self, Row};
+use super::material_key;
+use super::objective::{self, Simulated};
+use super::{Bayes, Bounds, DifferentialEvolution, NelderMead, Optimizer};
+use crate::backend::AnyBackend;
+use crate::run::{RunOptions, RunReport};
+use crate::scene::Scene;
+use crate::scene::observe::{self, Observable, Source};
+use crate::sweep::Job;
+use crate::{Error, Result};
+
+/// Files and folders of an identification folder.
+pub const COPY: &str = "identification.toml";
+pub const STATE: &str = "identify.json";
+pub const RUNS: &str = "runs";
+
+/// What to identify and where.
+#[derive(Clone, Debug)]
+pub struct IdentifyOptions {
+    pub file: PathBuf,
+    pub out_dir: PathBuf,
+    /// Overrides the file's `optimizer.batch`.
+    pub batch: Option<usize>,
+    pub resume: bool,
+    pub quiet: bool,
+}
+
+/// A finished (or budget-limited) identification.
+#[derive(Clone, Debug)]
+pub struct Identification {
+    pub spec: Spec,
+    pub rows: Vec<Row>,
+    /// The best set's material file, where the model has a library material.
+    pub material: Option<PathBuf>,
+    pub warnings: Vec<String>,
+}
+
+/// Runs the identification of `opts.file` into `opts.out_dir` on `backend`.
+pub fn identify(backend: &AnyBackend, opts: &IdentifyOptions) -> Result<Identification> {
+    let mut spec = file::read(&opts.file)?;
+    if let Some(b) = opts.batch {
+        spec.optimizer.batch = b.max(1);
+    }
+    validate(&spec)?;
+    let mut rows = open_folder(&mut spec, opts)?;
+    let bounds = bounds(&spec)?;
+    let mut opt = optimizer(&spec);
+    let header = header(&spec);
+    replay(opt.as_mut(), &bounds, &spec, &rows)?;
+    let (started, mut runs) = (Instant::now(), 0usize);
+    let mut out = Identification { spec: spec.clone(), rows: Vec::new(), material: None, warnings: Vec::new() };
+    while rows.len() < spec.optimizer.budget {
+        let asked = opt.ask(spec.optimizer.batch.min(spec.optimizer.budget - rows.len()));
+        if asked.is_empty() {
+            break;
+        }
+        let params: Vec<Vec<f64>> = asked.iter().map(|u| bounds.to_params(u)).collect();
+        let batch = rows.last().map_or(0, |r| r.batch + 1);
+        let evaluated = evaluate(backend, &spec, &opts.out_dir, &params, rows.len(), batch).inspect_err(|e| {
+            if matches!(e, Error::Interrupted { .. }) {
+                eprintln!(
+                    "identify: stopped; continue with `swarf identify {} --out {} --resume`",
+                    opts.file.display(),
+                    opts.out_dir.display()
+                );
+            }
+        })?;
+        runs += params.len() * spec.experiments.len();
+        opt.tell(&evaluated.iter().map(|r| r.objective).collect::<Vec<_>>());
+        rows.extend(evaluated);
+        (out.material, out.warnings) = super::report::write_all(&spec, &header, &rows, &opts.out_dir)?;
+        if !opts.quiet {
+            eprintln!("{}", progress(&spec, &rows, runs, started.elapsed().as_secs_f64()));
+        }
+    }
+    (out.material, out.warnings) = super::report::write_all(&spec, &header, &rows, &opts.out_dir)?;
+    out.rows = rows;
+    Ok(out)
+}
+
+/// The history header of `spec`.
+pub fn header(spec: &Spec) -> Vec<String> {
+    let keys: Vec<String> = spec.parameters.iter().map(|p| p.key.clone()).collect();
+    let names: Vec<String> = spec.experiments.iter().map(|e| e.name.clone()).collect();
+    history::header(&keys, &names)
+}
+
+fn bounds(spec: &Spec) -> Result<Bounds> {
+    let lo = spec.parameters.iter().map(|p| p.lower).collect();
+    let hi = spec.parameters.iter().map(|p| p.upper).collect();
+    Bounds::new(lo, hi).map_err(|e| Error::Scene(format!("{}: parameter: {e}", spec.file.display())))
+}
+
+/// The optimiser the file names, built afresh (so that its seed gives the same sequence).
+fn optimizer(spec: &Spec) -> Box<dyn Optimizer> {
+    let d = spec.parameters.len();
+    match &spec.optimizer.method {
+        Method::De(s) => Box::new(DifferentialEvolution::new(d, *s)),
+        Method::NelderMead(s) => Box::new(NelderMead::new(s.clone())),
+        Method::Bayes(s) => Box::new(Bayes::new(d, *s)),
+    }
+}
+
+/// The scene of experiment `exp` at parameter values `x`, and the overrides it was loaded with: the experiment's
+/// overrides, the file's global ones, then the scene parameters; material parameters edit its library material.
+pub fn scene_for(spec: &Spec, exp: &Experiment, x: &[f64]) -> std::result::Result<(Scene, Vec<String>), String> {
+    let pairs: Vec<(&str, f64)> = spec.parameters.iter().map(|p| p.key.as_str()).zip(x.iter().copied()).collect();
+    load_with(spec, exp, &pairs)
+}
+
+/// [`scene_for`] with the parameters `pairs` (key, value) only.
+fn load_with(
+    spec: &Spec,
+    exp: &Experiment,
+    pairs: &[(&str, f64)],
+) -> std::result::Result<(Scene, Vec<String>), String> {
+    let mut sets = exp.set.clone();
+    sets.extend(spec.set.iter().cloned());
+    let mut edits = Vec::new();
+    for &(key, v) in pairs {
+        match material_key::flow_key(key) {
+            Some(k) => edits.push((k, v)),
+            None => sets.push(format!("{key}={v:?}")),
+        }
+    }
+    let mut scene = Scene::load(&exp.scene, &sets).map_err(|e| e.to_string())?;
+    material_key::apply(&mut scene, &edits)?;
+    Ok((scene, sets))
+}
+
+/// Every experiment's scene, then with each parameter alone at its lower and upper bound: a bad override, an
+/// unknown parameter key or a bound the scene refuses is named here, before any run.
+fn validate(spec: &Spec) -> Result<()> {
+    let file = spec.file.display();
+    for (i, exp) in spec.experiments.iter().enumerate() {
+        load_with(spec, exp, &[]).map_err(|e| {
+            Error::Scene(format!(
+                "{file}: experiment.{i} ({}): expected a scene its set and the file's set accept: {e}",
+                exp.name
+            ))
+        })?;
+        for (k, p) in spec.parameters.iter().enumerate() {
+            for bound in [p.lower, p.upper] {
+                load_with(spec, exp, &[(&p.key, bound)]).map_err(|e| {
+                    Error::Scene(format!(
+                        "{file}: parameter.{k}.key = \"{}\": expected a key that scene {} accepts with values in [{}, {}] \
+                         (a scene key such as tool.friction, or {}<key>): {e}",
+                        p.key,
+                        exp.scene.display(),
+                        p.lower,
+                        p.upper,
+                        material_key::PREFIX
+                    ))
+                })?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Makes the identification folder, or opens it to resume: returns the recorded history. A new identification
+/// refuses a folder that holds one; a resumed one refuses a folder whose file differs, and takes its batch.
+fn open_folder(spec: &mut Spec, opts: &IdentifyOptions) -> Result<Vec<Row>> {
+    let dir = &opts.out_dir;
+    let io = |p: &Path, e: std::io::Error| Error::Output(format!("{}: {e}", p.display()));
+    let copy = dir.join(COPY);
+    let state = dir.join(STATE);
+    if !opts.resume {
+        if copy.exists() {
+            return Err(Error::Scene(format!(
+                "{}: holds an identification: resume it with --resume, or write to another folder with --out DIR",
+                dir.display()
+            )));
+        }
+        std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
+        crate::output::write_atomic(&copy, spec.text.as_bytes()).map_err(|e| io(&copy, e))?;
+        let json = serde_json::json!({ "batch": spec.optimizer.batch }).to_string();
+        crate::output::write_atomic(&state, json.as_bytes()).map_err(|e| io(&state, e))?;
+        return Ok(Vec::new());
+    }
+    let recorded = std::fs::read_to_string(&copy).map_err(|e| io(&copy, e))?;
+    if recorded != spec.text {
+        return Err(Error::Scene(format!(
+            "{}: differs from {} that this folder was started with: expected the same file to resume",
+            spec.file.display(),
+            copy.display()
+        )));
+    }
+    let text = std::fs::read_to_string(&state).map_err(|e| io(&state, e))?;
+    let batch = serde_json::from_str::<serde_json::Value>(&text).ok().and_then(|v| v["batch"].as_u64());
+    let batch = batch.ok_or_else(|| Error::Scene(format!("{}: expected {{\"batch\": N}}", state.display())))? as usize;
+    if opts.batch.is_some_and(|b| b.max(1) != batch) {
+        return Err(Error::Scene(format!(
+            "--batch {}: expected the batch this folder was started with, {batch}",
+            opts.batch.unwrap_or(0)
+        )));
+    }
+    spec.optimizer.batch = batch;
+    let path = dir.join(history::FILE);
+    if !path.exists() {
+        return Ok(Vec::new());
+    }
+    history::read(&path, &header(spec), spec.parameters.len())
+}
+
+/// Tells a fresh optimiser the recorded history in its batches, checking each asked point against the record.
+fn replay(opt: &mut dyn Optimizer, bounds: &Bounds, spec: &Spec, rows: &[Row]) -> Result<()> {
+    let mut i = 0;
+    while i < rows.len() {
+        let asked = opt.ask(spec.optimizer.batch.min(spec.optimizer.budget.saturating_sub(i)).max(1));
+        let same = !asked.is_empty()
+            && i + asked.len() <= rows.len()
+            && asked.iter().enumerate().all(|(k, u)| {
+                let r = &rows[i + k];
+                r.evaluation == i + k && r.batch == rows[i].batch && bounds.to_params(u) == r.params
+            });
+        if !same {
+            return Err(Error::Scene(format!(
+                "{}: evaluation {i} is not the one the file's optimiser asks: expected the history this file wrote",
+                history::FILE
+            )));
+        }
+        opt.tell(&rows[i..i + asked.len()].iter().map(|r| r.objective).collect::<Vec<_>>());
+        i += asked.len();
+    }
+    Ok(())
+}
+
+/// The summary values a cut writes.
+fn observables() -> Vec<Observable> {
+    observe::SUMMARY_OBSERVABLES[..3]
+        .iter()
+        .map(|&(key, unit)| Observable { name: key.to_string(), unit, source: Source::Summary(key) })
+        .collect()
+}
+
+/// Runs one batch: every parameter set of `params` (evaluations `first`, `first + 1`, ...) on every experiment;
+/// returns their history rows. An interruption is returned as the error (the batch is not recorded).
+fn evaluate(
+    backend: &AnyBackend,
+    spec: &Spec,
+    out: &Path,
+    params: &[Vec<f64>],
+    first: usize,
+    batch: usize,
+) -> Result<Vec<Row>> {
+    let ne = spec.experiments.len();
+    let mut results: Vec<std::result::Result<Simulated, String>> = vec![Err("not run".into()); params.len() * ne];
+    let (mut jobs, mut slots) = (Vec::new(), Vec::new());
+    for (s, x) in params.iter().enumerate() {
+        for (e, exp) in spec.experiments.iter().enumerate() {
+            let dir = out.join(RUNS).join(format!("{:05}-{}", first + s, exp.name));
+            if dir.exists() {
+                std::fs::remove_dir_all(&dir).map_err(|err| Error::Output(format!("{}: {err}", dir.display())))?;
+            }
+            match scene_for(spec, exp, x) {
+                Ok((scene, overrides)) => {
+                    jobs.push(Job { scene, options: RunOptions { overrides, ..RunOptions::quiet(dir) } });
+                    slots.push(s * ne + e);
+                }
+                Err(why) => results[s * ne + e] = Err(why),
+            }
+        }
+    }
+    let obs = observables();
+    run_jobs(backend, &jobs, spec.optimizer.batch * ne, &mut |k, r| {
+        results[slots[k]] = measured(r, &jobs[k], &obs);
+        Ok(())
+    })?;
+    Ok(params
+        .iter()
+        .enumerate()
+        .map(|(s, x)| {
+            let mine = &results[s * ne..(s + 1) * ne];
+            let sims: Vec<Simulated> = mine.iter().map(|r| r.clone().unwrap_or_default()).collect();
+            let terms: Vec<f64> = spec
+                .experiments
+                .iter()
+                .zip(&sims)
+                .map(|(exp, sim)| objective::experiment_term(&exp.measured, sim, &spec.objective))
+                .collect();
+            let failed = spec
+                .experiments
+                .iter()
+                .zip(mine)
+                .find_map(|(exp, r)| r.as_ref().err().map(|m| format!("{}: {m}", exp.name)));
+            let objective = match failed {
+                Some(_) => f64::NAN,
+                None => objective::combine(&terms, &spec.objective),
+            };
+            Row {
+                evaluation: first + s,
+                batch,
+                params: x.clone(),
+                sims,
+                objective,
+                status: failed.unwrap_or_else(|| "ok".into()),
+            }
+        })
+        .collect())
+}
+
+/// A run's F_c, F_f and chip thickness, or why there are none.
+fn measured(r: &Result<RunReport>, job: &Job, obs: &[Observable]) -> std::result::Result<Simulated, String> {
+    r.as_ref().map_err(|e| e.to_string())?;
+    let v = observe::measure(&job.options.out_dir, obs, job.scene.discretisation.dx).map_err(|e| e.to_string())?;
+    Ok(Simulated { fc: v[0], ff: v[1], chip: v[2] })
+}
+
+/// The one place an identification runs its jobs, `width` at most at once: the ensemble runner
+/// (`ensemble::run(backend, jobs, width, done)`) replaces this body.
+fn run_jobs(
+    backend: &AnyBackend,
+    jobs: &[Job],
+    width: usize,
+    done: &mut dyn FnMut(usize, &Result<RunReport>) -> Result<()>,
+) -> Result<()> {
+    let _ = width;
+    crate::sweep::run_serial(backend, jobs, done)
+}
+
+/// The progress line after a batch: evaluations, best objective, runs per hour, ETA to the budget.
+fn progress(spec: &Spec, rows: &[Row], runs: usize, seconds: f64) -> String {
+    let best = super::report::best(rows)
+        .map_or("none yet".into(), |r| format!("{:.4} (evaluation {})", r.objective, r.evaluation));
+    let rate = runs as f64 / seconds.max(1e-9) * 3600.0;
+    let left = (spec.optimizer.budget - rows.len().min(spec.optimizer.budget)) * spec.experiments.len();
+    let eta_h = left as f64 / rate.max(1e-9);
+    format!(
+        "identify: batch {}: {} of {} evaluations, best objective {best}, {rate:.0} runs/h, ETA {}",
+        rows.last().map_or(0, |r| r.batch),
+        rows.len(),
+        spec.optimizer.budget,
+        if eta_h < 1.0 { format!("{:.1} min", eta_h * 60.0) } else { format!("{eta_h:.2} h") }
+    )
+}

@@ -1,0 +1,222 @@
+//! `swarf identify` (issue 23 items 3 and 4): Klippel's objective against its hand value, the feed scaling of the
+//! identification model, a tiny identification on a coarse short V0060 cut (history, report, plots, the best
+//! material file), resume after a stop giving the same history bitwise, and bad identification files refused
+//! before any run with file, key and expected value. CPU only.
+
+use std::path::{Path, PathBuf};
+
+use swarf::backend::{AnyBackend, BackendChoice};
+use swarf::identify::data::{Condition, scale_overrides};
+use swarf::identify::file::{Measured, Objective};
+use swarf::identify::objective::{Simulated, combine, experiment_term};
+use swarf::identify::{IdentifyOptions, identify};
+use swarf::scene::Scene;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn v0060() -> PathBuf {
+    root().join("cases/cutting/v0060.toml")
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("swarf-identify-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("temp dir");
+    d
+}
+
+fn cpu() -> AnyBackend {
+    AnyBackend::select(BackendChoice::Cpu).expect("cpu").0
+}
+
+/// Eq. 9.14 with w_c = w_f = 1: Klippel's V0060 best set gave F_c 162.8 and F_f 120.8 N/mm against 157.5 and 115.5
+/// measured (klippel-constitutive.md §4.9, Tabs. 9.53–9.54): ΔF² = 5.3² + 5.3² = 56.18, his reported 56.2 N²
+/// (§6.5). The chip term adds w_h Δh², Eq. 9.17 sums over experiments, "mean" averages. Exact to 1e-12.
+#[test]
+fn objective_is_klippels_delta_f_squared() {
+    let w = Objective { fc_weight: 1.0, ff_weight: 1.0, mean: false };
+    let m = Measured { fc: Some(157.5), ff: Some(115.5), chip: Some(99.7), chip_weight: 0.0 };
+    let sim = Simulated { fc: Some(162.8), ff: Some(120.8), chip: Some(116.3) };
+    let t = experiment_term(&m, &sim, &w);
+    assert!((t - 56.18).abs() < 1e-9, "ΔF² = {t}, expected 56.18");
+    let with_chip = experiment_term(&Measured { chip_weight: 0.5, ..m }, &sim, &w);
+    let hand = 56.18 + 0.5 * (116.3f64 - 99.7).powi(2);
+    assert!((with_chip - hand).abs() < 1e-9, "with chip {with_chip}, expected {hand}");
+    let other = experiment_term(&Measured { fc: Some(100.0), ff: None, chip: None, chip_weight: 0.0 }, &sim, &w);
+    assert!((other - 62.8f64.powi(2)).abs() < 1e-9);
+    assert!((combine(&[t, other], &w) - (t + other)).abs() < 1e-12);
+    assert!((combine(&[t, other], &Objective { mean: true, ..w }) - 0.5 * (t + other)).abs() < 1e-12);
+    // A measured force without a simulated one (a failed run) makes the objective NaN.
+    assert!(experiment_term(&m, &Simulated { fc: None, ..sim }, &w).is_nan());
+}
+
+/// The feed scaling (klippel-constitutive.md §4.9: Δx = f/10, 188 × 30 particles): V0060 scaled to its own
+/// condition is the V0060 scene (lengths within 1e-12 relative); scaled to f = 0.2 mm, 150 m/min, r_n = 36 µm it
+/// has the same particle count, Δx = 20 µm, twice the model's cut length (10 f) and the edge's front 2 × 3 µm clear.
+#[test]
+fn the_model_scales_with_the_feed() {
+    let model = Scene::load(v0060(), &[]).expect("v0060");
+    let same = scale_overrides(&model, &Condition { vc_m_per_min: 381.3, feed_mm: 0.1, edge_radius_um: 33.0 }).unwrap();
+    let s1 = Scene::load(v0060(), &same).expect("scaled to itself");
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * b.abs().max(1e-300);
+    let (t0, t1) = (model.tool.as_ref().unwrap(), s1.tool.as_ref().unwrap());
+    assert!(close(s1.discretisation.dx, model.discretisation.dx));
+    assert!(close(t1.position[0], t0.position[0]) && close(t1.edge_radius, t0.edge_radius));
+    assert!(close(s1.time.end, model.time.end) && close(s1.output.every, model.output.every));
+    assert_eq!(s1.bodies, model.bodies);
+    let cond = Condition { vc_m_per_min: 150.0, feed_mm: 0.2, edge_radius_um: 36.0 };
+    let s2 = Scene::load(v0060(), &scale_overrides(&model, &cond).unwrap()).expect("scaled");
+    let t2 = s2.tool.as_ref().unwrap();
+    assert!(close(s2.discretisation.dx, 2e-5));
+    assert_eq!(s2.generate().unwrap().len(), model.generate().unwrap().len());
+    assert_eq!(model.generate().unwrap().len(), 5640);
+    let cut = |s: &Scene| s.time.end * s.tool.as_ref().unwrap().velocity[0];
+    assert!(close(cut(&s2), 2.0 * cut(&model)), "cut length {} against the model's {}", cut(&s2), cut(&model));
+    assert!(close(t2.velocity[0], 2.5) && close(t2.depth_of_cut.unwrap(), 2e-4) && close(t2.edge_radius, 36e-6));
+    assert!(close(t2.position[0] + t2.edge_radius, -6e-6), "front at {}", t2.position[0] + t2.edge_radius);
+}
+
+/// A coarse short V0060 cut (Δx = 55 µm, 210 particles, 20 µs: under a second a run) with two parameters, one of
+/// the scene (μ) and one of the material (A).
+fn tiny_file(dir: &Path, extra: &str) -> PathBuf {
+    let text = format!(
+        r#"name = "tiny"
+set = ["time.end=2e-5"]
+
+[[experiment]]
+name = "coarse-V0060"
+scene = "{scene}"
+set = ["discretisation.dx=5.5e-5"]
+fc_n_per_mm = 157.5
+ff_n_per_mm = 115.5
+
+[[parameter]]
+key = "tool.friction"
+lower = 0.2
+upper = 0.6
+
+[[parameter]]
+key = "material.flow_stress.A"
+lower = 6e8
+upper = 1.1e9
+
+[optimizer]
+method = "de"
+budget = 6
+batch = 3
+seed = 7
+de = {{ popsize = 2 }}
+{extra}"#,
+        scene = v0060().display()
+    );
+    let path = dir.join("tiny.toml");
+    std::fs::write(&path, text).expect("write file");
+    path
+}
+
+/// The identification writes history (6 evaluations, in 3 batches: 3 + the initial population's last 2 + 1),
+/// report, plots and the best set's material file; that file loads and holds the best A; a resume from the first
+/// batch (history truncated: a stop after it) writes the same history.csv byte for byte.
+#[test]
+fn a_tiny_identification_writes_everything_and_resumes_bitwise() {
+    let dir = tmp("tiny");
+    let file = tiny_file(&dir, "");
+    let out = dir.join("out");
+    let opts = IdentifyOptions { file: file.clone(), out_dir: out.clone(), batch: None, resume: false, quiet: true };
+    let done = identify(&cpu(), &opts).expect("identify");
+    assert_eq!(done.rows.len(), 6);
+    assert_eq!(done.rows.iter().map(|r| r.batch).collect::<Vec<_>>(), [0, 0, 0, 1, 1, 2]);
+    for f in ["history.csv", "report.md", "convergence.png", "forces.png", "identification.toml"] {
+        assert!(out.join(f).is_file(), "{f} missing");
+    }
+    assert!(out.join("runs/00005-coarse-V0060/summary.json").is_file());
+    let best = swarf::identify::report::best(&done.rows).expect("a finite objective");
+    assert!(best.objective.is_finite() && best.sims[0].fc.is_some());
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.contains("coarse-V0060") && report.contains("material.flow_stress.A"), "{report}");
+    // The material file: loadable by the library (swarf material --library <out>/materials), with the best A.
+    let path = done.material.expect("material file");
+    let m = swarf::material::Material::load(&path).expect("the best material loads");
+    let a = m.flow_stress.as_ref().and_then(|f| f.johnson_cook()).map(|jc| jc.a).expect("JC");
+    assert_eq!(a, best.params[1], "A in the material file");
+    let lib = swarf::material::search::Search::folder(&out.join("materials")).library().expect("library");
+    assert!(lib.get(&m.name).is_ok());
+    // Resume after a stop after the first batch.
+    let full = std::fs::read_to_string(out.join("history.csv")).unwrap();
+    let first: Vec<&str> = full.lines().take(4).collect();
+    std::fs::write(out.join("history.csv"), first.join("\n") + "\n").unwrap();
+    let resumed = identify(&cpu(), &IdentifyOptions { resume: true, ..opts.clone() }).expect("resume");
+    assert_eq!(resumed.rows.len(), 6);
+    assert_eq!(std::fs::read_to_string(out.join("history.csv")).unwrap(), full, "resumed history differs");
+    // A new identification into the same folder, or a resume with another file, is refused.
+    assert!(identify(&cpu(), &opts).unwrap_err().to_string().contains("--resume"));
+    let changed = tiny_file(&dir, "# changed\n");
+    let e = identify(&cpu(), &IdentifyOptions { file: changed, resume: true, ..opts }).unwrap_err().to_string();
+    assert!(e.contains("differs"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Each bad file is refused naming the file, the key and the value expected, and writes no folder.
+#[test]
+fn bad_identification_files_are_refused_before_any_run() {
+    let dir = tmp("bad");
+    let good = std::fs::read_to_string(tiny_file(&dir, "")).unwrap();
+    let data = root().join("cases/data/cutting-experiments.csv");
+    let with_test = |test: &str| {
+        good.replace("name = \"tiny\"", &format!("name = \"tiny\"\ndata = \"{}\"", data.display()))
+            .replace("fc_n_per_mm = 157.5\nff_n_per_mm = 115.5", &format!("test = \"{test}\""))
+    };
+    let cases: Vec<(&str, String, &str)> = vec![
+        ("unknown scene key", good.replace("tool.friction", "tool.frictoin"), "parameter.0.key"),
+        ("unknown material key", good.replace("flow_stress.A", "flow_stress.Q"), "parameter.1.key"),
+        ("inverted bounds", good.replace("lower = 0.2", "lower = 0.7"), "parameter.0.upper"),
+        ("empty bounds", good.replace("upper = 0.6", "upper = 0.2"), "parameter.0.upper"),
+        ("no measurement", good.replace("fc_n_per_mm = 157.5\nff_n_per_mm = 115.5", ""), "experiment.0.fc_n_per_mm"),
+        ("budget 0", good.replace("budget = 6", "budget = 0"), "optimizer.budget"),
+        ("unknown optimiser", good.replace("\"de\"", "\"pso\""), "optimizer.method"),
+        ("unknown test id", with_test("V9999"), "experiment.0.test"),
+        ("unusable status", with_test("V0068"), "experiment.0.test"),
+        ("a Ck45 test on the Ti6Al4V model", with_test("V0069"), "experiment.0.scene"),
+    ];
+    let rows = std::fs::read_to_string(&data).unwrap();
+    assert!(
+        rows.lines().any(|l| l.starts_with("V0068,") && !l.ends_with(",ok") && !l.ends_with(",short")),
+        "V0068 is not ok/short"
+    );
+    for (what, text, key) in cases {
+        let file = dir.join("bad.toml");
+        std::fs::write(&file, &text).unwrap();
+        let out = dir.join("out-bad");
+        let opts =
+            IdentifyOptions { file: file.clone(), out_dir: out.clone(), batch: None, resume: false, quiet: true };
+        let e = identify(&cpu(), &opts).expect_err(what).to_string();
+        assert!(e.contains(&file.display().to_string()) && e.contains(key) && e.contains("expected"), "{what}: {e}");
+        assert!(!out.exists(), "{what}: a folder was written");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The command line: a bad file exits with status 1, the message on stderr naming file, key and expected value,
+/// and no output folder.
+#[test]
+fn the_command_refuses_a_bad_file_with_status_1() {
+    let dir = tmp("cli");
+    let good = std::fs::read_to_string(tiny_file(&dir, "")).unwrap();
+    let file = dir.join("bad.toml");
+    std::fs::write(&file, good.replace("budget = 6", "budget = 0")).unwrap();
+    let out = dir.join("out");
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_swarf"))
+        .args(["--backend", "cpu", "identify"])
+        .arg(&file)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .expect("swarf runs");
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{err}");
+    assert!(err.contains("optimizer.budget") && err.contains("expected") && err.contains("bad.toml"), "{err}");
+    assert!(!out.exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
