@@ -283,9 +283,11 @@ fn parse_count(s: &str) -> std::result::Result<usize, String> {
 
 /// `--batch`: how many runs an ensemble runs at once, a whole number from 1 to 1024.
 fn parse_width(s: &str) -> std::result::Result<usize, String> {
-    s.trim().parse::<usize>().ok().filter(|v| (1..=1024).contains(v)).ok_or_else(|| {
-        format!("--batch: '{s}' is not a number of runs at once (expected a whole number from 1 to 1024)")
-    })
+    s.trim()
+        .parse::<usize>()
+        .ok()
+        .filter(|v| (1..=1024).contains(v))
+        .ok_or_else(|| format!("'{s}' is not a number of runs at once (expected a whole number from 1 to 1024)"))
 }
 
 /// `swarf bench ensemble`: runs per hour of `--scene` (default: the built-in V0060 cut) at each width.
@@ -767,6 +769,9 @@ struct IdentifyArgs {
     /// Parameter sets per batch (overrides the file's optimizer.batch).
     #[arg(long)]
     batch: Option<usize>,
+    /// Runs at once, as one ensemble (default: 8 on a GPU, 1 on the CPU); changes no result.
+    #[arg(long, value_parser = parse_width)]
+    width: Option<usize>,
     /// Continue the identification in the output folder from its history.csv.
     #[arg(long)]
     resume: bool,
@@ -788,10 +793,15 @@ fn cmd_identify(backend: BackendChoice, a: &IdentifyArgs) -> Result<()> {
         file: a.file.clone(),
         out_dir: out.clone(),
         batch: a.batch,
+        width: a.width,
         resume: a.resume,
         quiet: a.quiet,
     };
-    let done = swarf::identify::identify(&any, &opts)?;
+    let done = match swarf::identify::identify(&any, &opts) {
+        // `identify` has said how to resume it; the run's own "swarf run --resume" would mislead.
+        Err(swarf::Error::Interrupted { .. }) => std::process::exit(130),
+        r => r?,
+    };
     for w in &done.warnings {
         eprintln!("warning: {w}");
     }

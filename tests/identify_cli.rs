@@ -118,13 +118,21 @@ de = {{ popsize = 2 }}
 
 /// The identification writes history (6 evaluations, in 3 batches: 3 + the initial population's last 2 + 1),
 /// report, plots and the best set's material file; that file loads and holds the best A; a resume from the first
-/// batch (history truncated: a stop after it) writes the same history.csv byte for byte.
+/// batch (history truncated: a stop after it) writes the same history.csv byte for byte, with its runs one at a
+/// time where the first call ran 3 at once (an ensemble's width changes no bit).
 #[test]
 fn a_tiny_identification_writes_everything_and_resumes_bitwise() {
     let dir = tmp("tiny");
     let file = tiny_file(&dir, "");
     let out = dir.join("out");
-    let opts = IdentifyOptions { file: file.clone(), out_dir: out.clone(), batch: None, resume: false, quiet: true };
+    let opts = IdentifyOptions {
+        file: file.clone(),
+        out_dir: out.clone(),
+        batch: None,
+        width: Some(3),
+        resume: false,
+        quiet: true,
+    };
     let done = identify(&cpu(), &opts).expect("identify");
     assert_eq!(done.rows.len(), 6);
     assert_eq!(done.rows.iter().map(|r| r.batch).collect::<Vec<_>>(), [0, 0, 0, 1, 1, 2]);
@@ -147,7 +155,7 @@ fn a_tiny_identification_writes_everything_and_resumes_bitwise() {
     let full = std::fs::read_to_string(out.join("history.csv")).unwrap();
     let first: Vec<&str> = full.lines().take(4).collect();
     std::fs::write(out.join("history.csv"), first.join("\n") + "\n").unwrap();
-    let resumed = identify(&cpu(), &IdentifyOptions { resume: true, ..opts.clone() }).expect("resume");
+    let resumed = identify(&cpu(), &IdentifyOptions { resume: true, width: Some(1), ..opts.clone() }).expect("resume");
     assert_eq!(resumed.rows.len(), 6);
     assert_eq!(std::fs::read_to_string(out.join("history.csv")).unwrap(), full, "resumed history differs");
     // A new identification into the same folder, or a resume with another file, is refused.
@@ -189,8 +197,14 @@ fn bad_identification_files_are_refused_before_any_run() {
         let file = dir.join("bad.toml");
         std::fs::write(&file, &text).unwrap();
         let out = dir.join("out-bad");
-        let opts =
-            IdentifyOptions { file: file.clone(), out_dir: out.clone(), batch: None, resume: false, quiet: true };
+        let opts = IdentifyOptions {
+            file: file.clone(),
+            out_dir: out.clone(),
+            batch: None,
+            width: Some(3),
+            resume: false,
+            quiet: true,
+        };
         let e = identify(&cpu(), &opts).expect_err(what).to_string();
         assert!(e.contains(&file.display().to_string()) && e.contains(key) && e.contains("expected"), "{what}: {e}");
         assert!(!out.exists(), "{what}: a folder was written");

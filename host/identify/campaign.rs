@@ -36,6 +36,9 @@ pub struct IdentifyOptions {
     pub out_dir: PathBuf,
     /// Overrides the file's `optimizer.batch`.
     pub batch: Option<usize>,
+    /// Runs at once (the ensemble's width, `--width`; None: [`crate::ensemble::default_width`]). It changes no
+    /// result: a run's bits do not depend on the runs beside it (host/ensemble).
+    pub width: Option<usize>,
     pub resume: bool,
     pub quiet: bool,
 }
@@ -71,15 +74,17 @@ pub fn identify(backend: &AnyBackend, opts: &IdentifyOptions) -> Result<Identifi
         }
         let params: Vec<Vec<f64>> = asked.iter().map(|u| bounds.to_params(u)).collect();
         let batch = rows.last().map_or(0, |r| r.batch + 1);
-        let evaluated = evaluate(backend, &spec, &opts.out_dir, &params, rows.len(), batch).inspect_err(|e| {
-            if matches!(e, Error::Interrupted { .. }) {
-                eprintln!(
-                    "identify: stopped; continue with `swarf identify {} --out {} --resume`",
-                    opts.file.display(),
-                    opts.out_dir.display()
-                );
-            }
-        })?;
+        let width = opts.width.unwrap_or_else(|| crate::ensemble::default_width(backend));
+        let evaluated =
+            evaluate(backend, &spec, (&opts.out_dir, width), &params, rows.len(), batch).inspect_err(|e| {
+                if matches!(e, Error::Interrupted { .. }) {
+                    eprintln!(
+                        "identify: stopped; continue with `swarf identify {} --out {} --resume`",
+                        opts.file.display(),
+                        opts.out_dir.display()
+                    );
+                }
+            })?;
         runs += params.len() * spec.experiments.len();
         opt.tell(&evaluated.iter().map(|r| r.objective).collect::<Vec<_>>());
         rows.extend(evaluated);
@@ -254,7 +259,7 @@ fn observables() -> Vec<Observable> {
 fn evaluate(
     backend: &AnyBackend,
     spec: &Spec,
-    out: &Path,
+    (out, width): (&Path, usize),
     params: &[Vec<f64>],
     first: usize,
     batch: usize,
@@ -278,7 +283,7 @@ fn evaluate(
         }
     }
     let obs = observables();
-    run_jobs(backend, &jobs, spec.optimizer.batch * ne, &mut |k, r| {
+    crate::ensemble::run(backend, &jobs, width, &mut |k, r| {
         results[slots[k]] = measured(r, &jobs[k], &obs);
         Ok(())
     })?;
@@ -320,18 +325,6 @@ fn measured(r: &Result<RunReport>, job: &Job, obs: &[Observable]) -> std::result
     r.as_ref().map_err(|e| e.to_string())?;
     let v = observe::measure(&job.options.out_dir, obs, job.scene.discretisation.dx).map_err(|e| e.to_string())?;
     Ok(Simulated { fc: v[0], ff: v[1], chip: v[2] })
-}
-
-/// The one place an identification runs its jobs, `width` at most at once: the ensemble runner
-/// (`ensemble::run(backend, jobs, width, done)`) replaces this body.
-fn run_jobs(
-    backend: &AnyBackend,
-    jobs: &[Job],
-    width: usize,
-    done: &mut dyn FnMut(usize, &Result<RunReport>) -> Result<()>,
-) -> Result<()> {
-    let _ = width;
-    crate::sweep::run_serial(backend, jobs, done)
 }
 
 /// The progress line after a batch: evaluations, best objective, runs per hour, ETA to the budget.
