@@ -775,6 +775,9 @@ struct IdentifyArgs {
     /// Continue the identification in the output folder from its history.csv.
     #[arg(long)]
     resume: bool,
+    /// Run only the [[holdout]] tests: the folder's best set (with --resume) and the compare materials.
+    #[arg(long)]
+    holdout_only: bool,
     /// Print nothing but errors.
     #[arg(long)]
     quiet: bool,
@@ -795,6 +798,7 @@ fn cmd_identify(backend: BackendChoice, a: &IdentifyArgs) -> Result<()> {
         batch: a.batch,
         width: a.width,
         resume: a.resume,
+        holdout_only: a.holdout_only,
         quiet: a.quiet,
     };
     let done = match swarf::identify::identify(&any, &opts) {

@@ -131,6 +131,7 @@ fn a_tiny_identification_writes_everything_and_resumes_bitwise() {
         batch: None,
         width: Some(3),
         resume: false,
+        holdout_only: false,
         quiet: true,
     };
     let done = identify(&cpu(), &opts).expect("identify");
@@ -203,6 +204,7 @@ fn bad_identification_files_are_refused_before_any_run() {
             batch: None,
             width: Some(3),
             resume: false,
+            holdout_only: false,
             quiet: true,
         };
         let e = identify(&cpu(), &opts).expect_err(what).to_string();
@@ -233,4 +235,85 @@ fn the_command_refuses_a_bad_file_with_status_1() {
     assert!(err.contains("optimizer.budget") && err.contains("expected") && err.contains("bad.toml"), "{err}");
     assert!(!out.exists());
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Held-out tests (host/identify/holdout.rs): with `[[holdout]]` and `compare`, the end of an identification runs
+/// the best set and the compare material on the tests not fitted. Facts: holdout.csv has one row per set and test;
+/// the compare material (here the model's own, Ti6Al4V-V0060-DE-mu035) gives exactly the forces of a plain run of
+/// the same scene (no parameter edited: the same bits); each error is (simulated − measured)/measured of its own
+/// row; `--holdout-only` in a new folder runs the compare material alone; mean |e| and the worst e (sign kept) of
+/// [0.1, −0.3, 0.2] are 0.2 (to 1e-15) and −0.3; a compare name the library lacks is refused naming `compare`.
+#[test]
+fn holdout_tests_run_the_best_set_and_the_compare_materials() {
+    use swarf::identify::holdout;
+    let dir = tmp("holdout");
+    let holdout = HOLDOUT.replace("__SCENE__", &v0060().display().to_string());
+    let base = std::fs::read_to_string(tiny_file(&dir, &holdout)).unwrap();
+    let text = base.replacen("name = \"tiny\"\n", "name = \"tiny\"\ncompare = [\"Ti6Al4V-V0060-DE-mu035\"]\n", 1);
+    let file = dir.join("holdout.toml");
+    std::fs::write(&file, &text).unwrap();
+    let out = dir.join("out");
+    let opts = IdentifyOptions {
+        file: file.clone(),
+        out_dir: out.clone(),
+        batch: None,
+        width: Some(3),
+        resume: false,
+        holdout_only: false,
+        quiet: true,
+    };
+    identify(&cpu(), &opts).expect("identify with holdout");
+    let (head, rows) = read_holdout(&out);
+    assert_eq!(head[..4], ["set", "test", "fc_measured", "fc_simulated"]);
+    let sets: Vec<&str> = rows.iter().map(|r| r[0].as_str()).collect();
+    assert_eq!(sets, ["best", "Ti6Al4V-V0060-DE-mu035"]);
+    for r in &rows {
+        let (m, s, e): (f64, f64, f64) = (r[2].parse().unwrap(), r[3].parse().unwrap(), r[4].parse().unwrap());
+        assert_eq!(e, (s - m) / m, "{r:?}");
+        assert_eq!(r[8], "ok");
+    }
+    // The compare material's run against a plain run of the same scene.
+    let scene = swarf::scene::Scene::load(
+        v0060(),
+        &["discretisation.dx=5.5e-5".into(), "tool.velocity=[4.0,0.0]".into(), "time.end=2e-5".into()],
+    )
+    .expect("scene");
+    let plain = swarf::run::RunOptions::quiet(dir.join("plain"));
+    swarf::run::run(&cpu(), &scene, &plain).expect("plain run");
+    let forces = |d: &Path| std::fs::read_to_string(d.join("forces.csv")).unwrap();
+    let compare_dir = out.join("holdout/runs/Ti6Al4V-V0060-DE-mu035-slow");
+    assert!(forces(&compare_dir) == forces(&plain.out_dir), "the compare material's run differs from a plain run");
+    assert!(std::fs::read_to_string(out.join(holdout::MARKDOWN)).unwrap().contains("| best | 1 | 0 |"));
+    // Only the holdout, in a new folder: the compare material alone.
+    let only = IdentifyOptions { out_dir: dir.join("only"), holdout_only: true, ..opts.clone() };
+    let done = identify(&cpu(), &only).expect("holdout only");
+    assert!(done.rows.is_empty());
+    let (_, rows) = read_holdout(&dir.join("only"));
+    assert_eq!(rows.iter().map(|r| r[0].as_str()).collect::<Vec<_>>(), ["Ti6Al4V-V0060-DE-mu035"]);
+    let (mean, worst) = holdout::mean_and_worst(&[0.1, -0.3, 0.2]).expect("three errors");
+    assert!((mean - 0.2).abs() < 1e-15 && worst == -0.3, "{mean} {worst}");
+    let bad = dir.join("bad.toml");
+    std::fs::write(&bad, text.replace("Ti6Al4V-V0060-DE-mu035", "No-Such-Set")).unwrap();
+    let e = identify(&cpu(), &IdentifyOptions { file: bad.clone(), out_dir: dir.join("bad"), ..opts })
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("compare") && e.contains("No-Such-Set") && e.contains("expected"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A holdout test for [`tiny_file`]: the coarse cut at 4 m/s instead of 6.355 (a made-up measurement).
+const HOLDOUT: &str = r#"
+[[holdout]]
+name = "slow"
+scene = "__SCENE__"
+set = ["discretisation.dx=5.5e-5", "tool.velocity=[4.0,0.0]"]
+fc_n_per_mm = 150.0
+ff_n_per_mm = 110.0
+"#;
+
+fn read_holdout(out: &Path) -> (Vec<String>, Vec<Vec<String>>) {
+    let text = std::fs::read_to_string(out.join(swarf::identify::holdout::CSV)).expect("holdout.csv");
+    let mut lines = text.lines().map(|l| l.split(',').map(str::to_string).collect::<Vec<_>>());
+    let head = lines.next().expect("header");
+    (head, lines.collect())
 }

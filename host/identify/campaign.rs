@@ -12,22 +12,22 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use super::file::{self, Experiment, Method, Spec};
+use super::file::{self, Method, Spec};
 use super::history::{self, Row};
+use super::holdout;
 use super::material_key;
 use super::objective::{self, Simulated};
+use super::scenes::{load_with, measured, observables, scene_for, scene_with_material};
 use super::{Bayes, Bounds, DifferentialEvolution, NelderMead, Optimizer};
 use crate::backend::AnyBackend;
-use crate::run::{RunOptions, RunReport};
-use crate::scene::Scene;
-use crate::scene::observe::{self, Observable, Source};
-use crate::sweep::Job;
+use crate::ensemble::Job;
+use crate::run::RunOptions;
 use crate::{Error, Result};
 
 /// Files and folders of an identification folder.
 pub const COPY: &str = "identification.toml";
 pub const STATE: &str = "identify.json";
-pub const RUNS: &str = "runs";
+pub use super::scenes::RUNS;
 
 /// What to identify and where.
 #[derive(Clone, Debug)]
@@ -40,6 +40,9 @@ pub struct IdentifyOptions {
     /// result: a run's bits do not depend on the runs beside it (host/ensemble).
     pub width: Option<usize>,
     pub resume: bool,
+    /// Run only the holdout (`--holdout-only`): the folder's best set so far (none in a new folder) and the
+    /// `compare` materials on the `[[holdout]]` experiments; the optimisation does not go on.
+    pub holdout_only: bool,
     pub quiet: bool,
 }
 
@@ -67,14 +70,14 @@ pub fn identify(backend: &AnyBackend, opts: &IdentifyOptions) -> Result<Identifi
     replay(opt.as_mut(), &bounds, &spec, &rows)?;
     let (started, mut runs) = (Instant::now(), 0usize);
     let mut out = Identification { spec: spec.clone(), rows: Vec::new(), material: None, warnings: Vec::new() };
-    while rows.len() < spec.optimizer.budget {
+    let width = opts.width.unwrap_or_else(|| crate::ensemble::default_width(backend));
+    while rows.len() < spec.optimizer.budget && !opts.holdout_only {
         let asked = opt.ask(spec.optimizer.batch.min(spec.optimizer.budget - rows.len()));
         if asked.is_empty() {
             break;
         }
         let params: Vec<Vec<f64>> = asked.iter().map(|u| bounds.to_params(u)).collect();
         let batch = rows.last().map_or(0, |r| r.batch + 1);
-        let width = opts.width.unwrap_or_else(|| crate::ensemble::default_width(backend));
         let evaluated =
             evaluate(backend, &spec, (&opts.out_dir, width), &params, rows.len(), batch).inspect_err(|e| {
                 if matches!(e, Error::Interrupted { .. }) {
@@ -94,6 +97,18 @@ pub fn identify(backend: &AnyBackend, opts: &IdentifyOptions) -> Result<Identifi
         }
     }
     (out.material, out.warnings) = super::report::write_all(&spec, &header, &rows, &opts.out_dir)?;
+    if !spec.holdout.is_empty() {
+        let sets = holdout::sets(&spec, super::report::best(&rows));
+        if !opts.quiet {
+            eprintln!(
+                "identify: holdout: {} sets × {} tests not fitted, into {}",
+                sets.len(),
+                spec.holdout.len(),
+                opts.out_dir.join(holdout::MARKDOWN).display()
+            );
+        }
+        holdout::run(backend, &spec, &sets, &opts.out_dir, width)?;
+    }
     out.rows = rows;
     Ok(out)
 }
@@ -121,37 +136,26 @@ fn optimizer(spec: &Spec) -> Box<dyn Optimizer> {
     }
 }
 
-/// The scene of experiment `exp` at parameter values `x`, and the overrides it was loaded with: the experiment's
-/// overrides, the file's global ones, then the scene parameters; material parameters edit its library material.
-pub fn scene_for(spec: &Spec, exp: &Experiment, x: &[f64]) -> std::result::Result<(Scene, Vec<String>), String> {
-    let pairs: Vec<(&str, f64)> = spec.parameters.iter().map(|p| p.key.as_str()).zip(x.iter().copied()).collect();
-    load_with(spec, exp, &pairs)
-}
-
-/// [`scene_for`] with the parameters `pairs` (key, value) only.
-fn load_with(
-    spec: &Spec,
-    exp: &Experiment,
-    pairs: &[(&str, f64)],
-) -> std::result::Result<(Scene, Vec<String>), String> {
-    let mut sets = exp.set.clone();
-    sets.extend(spec.set.iter().cloned());
-    let mut edits = Vec::new();
-    for &(key, v) in pairs {
-        match material_key::flow_key(key) {
-            Some(k) => edits.push((k, v)),
-            None => sets.push(format!("{key}={v:?}")),
-        }
-    }
-    let mut scene = Scene::load(&exp.scene, &sets).map_err(|e| e.to_string())?;
-    material_key::apply(&mut scene, &edits)?;
-    Ok((scene, sets))
-}
-
 /// Every experiment's scene, then with each parameter alone at its lower and upper bound: a bad override, an
 /// unknown parameter key or a bound the scene refuses is named here, before any run.
 fn validate(spec: &Spec) -> Result<()> {
     let file = spec.file.display();
+    for (i, exp) in spec.holdout.iter().enumerate() {
+        load_with(spec, exp, &[]).map_err(|e| {
+            Error::Scene(format!(
+                "{file}: holdout.{i} ({}): expected a scene its set and the file's set accept: {e}",
+                exp.name
+            ))
+        })?;
+        for name in &spec.compare {
+            scene_with_material(spec, exp, name).map_err(|e| {
+                Error::Scene(format!(
+                    "{file}: compare = \"{name}\": expected a library material scene {} accepts: {e}",
+                    exp.scene.display()
+                ))
+            })?;
+        }
+    }
     for (i, exp) in spec.experiments.iter().enumerate() {
         load_with(spec, exp, &[]).map_err(|e| {
             Error::Scene(format!(
@@ -246,14 +250,6 @@ fn replay(opt: &mut dyn Optimizer, bounds: &Bounds, spec: &Spec, rows: &[Row]) -
     Ok(())
 }
 
-/// The summary values a cut writes.
-fn observables() -> Vec<Observable> {
-    observe::SUMMARY_OBSERVABLES[..3]
-        .iter()
-        .map(|&(key, unit)| Observable { name: key.to_string(), unit, source: Source::Summary(key) })
-        .collect()
-}
-
 /// Runs one batch: every parameter set of `params` (evaluations `first`, `first + 1`, ...) on every experiment;
 /// returns their history rows. An interruption is returned as the error (the batch is not recorded).
 fn evaluate(
@@ -318,13 +314,6 @@ fn evaluate(
             }
         })
         .collect())
-}
-
-/// A run's F_c, F_f and chip thickness, or why there are none.
-fn measured(r: &Result<RunReport>, job: &Job, obs: &[Observable]) -> std::result::Result<Simulated, String> {
-    r.as_ref().map_err(|e| e.to_string())?;
-    let v = observe::measure(&job.options.out_dir, obs, job.scene.discretisation.dx).map_err(|e| e.to_string())?;
-    Ok(Simulated { fc: v[0], ff: v[1], chip: v[2] })
 }
 
 /// The progress line after a batch: evaluations, best objective, runs per hour, ETA to the budget.

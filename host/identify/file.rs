@@ -82,6 +82,12 @@ pub struct Spec {
     pub optimizer: OptimizerSpec,
     /// Scene overrides applied to every run (after the experiment's): e.g. an early stop.
     pub set: Vec<String>,
+    /// `[[holdout]]`: experiments that are not fitted, run at the best set when the optimisation ends to measure
+    /// the prediction error (host/identify/holdout.rs); same keys as `[[experiment]]`.
+    pub holdout: Vec<Experiment>,
+    /// `compare`: library material names run on the holdout experiments beside the best set (e.g. Klippel's
+    /// identified sets), so that their errors stand beside the identification's, all run in swarf.
+    pub compare: Vec<String>,
 }
 
 /// Reads and checks the identification file `path` (the data file's rows and the model scenes are read too).
@@ -90,16 +96,43 @@ pub fn read(path: &Path) -> Result<Spec> {
     let root: toml::Table =
         toml::from_str(&text).map_err(|e| Error::Scene(format!("{}: {}", path.display(), e.message().trim())))?;
     let f = Ctx { file: path.display().to_string(), dir: path.parent().unwrap_or(Path::new("")).to_path_buf() };
-    f.keys(&root, "", &["name", "data", "set", "experiment", "parameter", "objective", "optimizer"])?;
+    f.keys(
+        &root,
+        "",
+        &["name", "data", "set", "experiment", "parameter", "objective", "optimizer", "holdout", "compare"],
+    )?;
     let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
     let name = f.string(&root, "", "name")?.unwrap_or(stem);
     let data = f.string(&root, "", "data")?.map(|p| f.dir.join(p));
     let set = f.strings(&root, "", "set")?;
-    let experiments = experiments(&f, &root, data.as_deref())?;
+    let holdout = experiments(&f, &root, data.as_deref(), "holdout")?;
+    let experiments = experiments(&f, &root, data.as_deref(), "experiment")?;
+    if let Some(h) = holdout.iter().find(|h| experiments.iter().any(|e| e.name == h.name)) {
+        return Err(f.bad(
+            "holdout",
+            format!("\"{}\"", h.name),
+            "experiments that are not also fitted ([[experiment]])",
+        ));
+    }
+    let compare = f.strings_plain(&root, "compare")?;
+    if !compare.is_empty() && holdout.is_empty() {
+        return Err(f.missing("holdout", "[[holdout]] experiments for the compare materials to run on"));
+    }
     let parameters = parameters(&f, &root)?;
     let objective = objective(&f, &root)?;
     let optimizer = optimizer(&f, &root, &parameters)?;
-    Ok(Spec { file: path.to_path_buf(), text, name, experiments, parameters, objective, optimizer, set })
+    Ok(Spec {
+        file: path.to_path_buf(),
+        text,
+        name,
+        experiments,
+        parameters,
+        objective,
+        optimizer,
+        set,
+        holdout,
+        compare,
+    })
 }
 
 /// The file and its folder, for messages and relative paths.
@@ -149,6 +182,25 @@ impl Ctx {
                 .collect(),
             Some(v) => Err(self.bad(&join(at, k), v, e)),
         }
+    }
+
+    /// An array of plain names (letters, digits, '.', '_', '-'), each given once.
+    fn strings_plain(&self, t: &toml::Table, k: &str) -> Result<Vec<String>> {
+        let e = "an array of library material names, each once";
+        let mut out: Vec<String> = Vec::new();
+        match t.get(k) {
+            None => {}
+            Some(toml::Value::Array(a)) => {
+                for v in a {
+                    match v {
+                        toml::Value::String(s) if plain(s) && !out.contains(s) => out.push(s.clone()),
+                        _ => return Err(self.bad(k, v, e)),
+                    }
+                }
+            }
+            Some(v) => return Err(self.bad(k, v, e)),
+        }
+        Ok(out)
     }
 
     fn number(&self, t: &toml::Table, at: &str, k: &str, expected: &str, ok: fn(f64) -> bool) -> Result<Option<f64>> {
@@ -207,12 +259,13 @@ fn plain(s: &str) -> bool {
     !s.is_empty() && s.chars().all(|c| c.is_ascii_alphanumeric() || matches!(c, '.' | '_' | '-'))
 }
 
-/// `[[experiment]]`: `name`, `scene`, `set`, and the measured `fc_n_per_mm`, `ff_n_per_mm`, `chip_thickness_um`,
-/// `chip_weight`; or `test`, a row of the data file, whose forces are the measured ones and whose condition scales
-/// the model scene ([`data::scale_overrides`]).
-fn experiments(f: &Ctx, root: &toml::Table, data_file: Option<&Path>) -> Result<Vec<Experiment>> {
-    let tables = f.tables(root, "experiment")?;
-    if tables.is_empty() {
+/// `[[experiment]]` (or `[[holdout]]`, `kind`): `name`, `scene`, `set`, and the measured `fc_n_per_mm`,
+/// `ff_n_per_mm`, `chip_thickness_um`, `chip_weight`; or `test`, a row of the data file, whose forces are the
+/// measured ones and whose condition scales the model scene ([`data::scale_overrides`]). At least one experiment;
+/// holdouts are optional.
+fn experiments(f: &Ctx, root: &toml::Table, data_file: Option<&Path>, kind: &str) -> Result<Vec<Experiment>> {
+    let tables = f.tables(root, kind)?;
+    if tables.is_empty() && kind == "experiment" {
         return Err(f.missing("experiment", "at least one [[experiment]] with a scene and measured forces"));
     }
     let rows = match data_file {
@@ -221,7 +274,7 @@ fn experiments(f: &Ctx, root: &toml::Table, data_file: Option<&Path>) -> Result<
     };
     let mut out: Vec<Experiment> = Vec::new();
     for (i, t) in tables.into_iter().enumerate() {
-        let at = format!("experiment.{i}");
+        let at = format!("{kind}.{i}");
         f.keys(
             t,
             &at,

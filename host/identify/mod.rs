@@ -13,11 +13,13 @@ pub mod file;
 pub mod flow_curve;
 pub mod gp;
 pub mod history;
+pub mod holdout;
 pub mod material_key;
 pub mod nelder_mead;
 pub mod objective;
 pub mod optimizer;
 pub mod report;
+pub mod scenes;
 
 pub use bayes::{Bayes, BayesSettings};
 pub use campaign::{Identification, IdentifyOptions, identify};

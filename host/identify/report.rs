@@ -7,10 +7,10 @@
 
 use std::path::{Path, PathBuf};
 
-use super::campaign;
 use super::file::Spec;
 use super::history::{self, Row};
 use super::material_key;
+use super::scenes;
 use crate::plot::{Chart, Series, draw, draw_panels};
 use crate::{Error, Result};
 
@@ -161,7 +161,7 @@ fn forces(spec: &Spec, rows: &[Row], path: &Path) -> std::result::Result<(), Str
 /// material.
 fn material(spec: &Spec, rows: &[Row], dir: &Path) -> std::result::Result<Option<PathBuf>, String> {
     let Some(b) = best(rows) else { return Ok(None) };
-    let (scene, _) = campaign::scene_for(spec, &spec.experiments[0], &b.params)?;
+    let (scene, _) = scenes::scene_for(spec, &spec.experiments[0], &b.params)?;
     let Some(m) = scene.material.library.as_ref() else { return Ok(None) };
     let name: String = format!("{}-{}", m.name, spec.name)
         .chars()

@@ -1,0 +1,71 @@
+//! The runs of an identification: the scene of an experiment at a parameter set (scene keys as overrides,
+//! `material.flow_stress.*` as edits of a copy of the library material), or with another library material, and
+//! what a finished run gave (F_c, F_f, chip thickness from its summary values).
+
+use super::file::{Experiment, Spec};
+use super::material_key;
+use super::objective::Simulated;
+use crate::Result;
+use crate::ensemble::Job;
+use crate::run::RunReport;
+use crate::scene::Scene;
+use crate::scene::observe::{self, Observable, Source};
+
+/// The folder of an identification's run folders.
+pub const RUNS: &str = "runs";
+
+/// The scene of experiment `exp` at parameter values `x`, and the overrides it was loaded with: the experiment's
+/// overrides, the file's global ones, then the scene parameters; material parameters edit its library material.
+pub fn scene_for(spec: &Spec, exp: &Experiment, x: &[f64]) -> std::result::Result<(Scene, Vec<String>), String> {
+    let pairs: Vec<(&str, f64)> = spec.parameters.iter().map(|p| p.key.as_str()).zip(x.iter().copied()).collect();
+    load_with(spec, exp, &pairs)
+}
+
+/// [`scene_for`] with the parameters `pairs` (key, value) only.
+pub(super) fn load_with(
+    spec: &Spec,
+    exp: &Experiment,
+    pairs: &[(&str, f64)],
+) -> std::result::Result<(Scene, Vec<String>), String> {
+    let mut sets = exp.set.clone();
+    sets.extend(spec.set.iter().cloned());
+    let mut edits = Vec::new();
+    for &(key, v) in pairs {
+        match material_key::flow_key(key) {
+            Some(k) => edits.push((k, v)),
+            None => sets.push(format!("{key}={v:?}")),
+        }
+    }
+    let mut scene = Scene::load(&exp.scene, &sets).map_err(|e| e.to_string())?;
+    material_key::apply(&mut scene, &edits)?;
+    Ok((scene, sets))
+}
+
+/// The scene of experiment `exp` with the library material `name` in place of the model's (`material.name`),
+/// after the experiment's and the file's overrides.
+pub fn scene_with_material(
+    spec: &Spec,
+    exp: &Experiment,
+    name: &str,
+) -> std::result::Result<(Scene, Vec<String>), String> {
+    let mut sets = exp.set.clone();
+    sets.extend(spec.set.iter().cloned());
+    sets.push(format!("material.name=\"{name}\""));
+    let scene = Scene::load(&exp.scene, &sets).map_err(|e| e.to_string())?;
+    Ok((scene, sets))
+}
+
+/// The summary values a cut writes.
+pub fn observables() -> Vec<Observable> {
+    observe::SUMMARY_OBSERVABLES[..3]
+        .iter()
+        .map(|&(key, unit)| Observable { name: key.to_string(), unit, source: Source::Summary(key) })
+        .collect()
+}
+
+/// A run's F_c, F_f and chip thickness, or why there are none.
+pub fn measured(r: &Result<RunReport>, job: &Job, obs: &[Observable]) -> std::result::Result<Simulated, String> {
+    r.as_ref().map_err(|e| e.to_string())?;
+    let v = observe::measure(&job.options.out_dir, obs, job.scene.discretisation.dx).map_err(|e| e.to_string())?;
+    Ok(Simulated { fc: v[0], ff: v[1], chip: v[2] })
+}
