@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# ensemble bgensemble waitensemble whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abregs abblock abenv ncusrc refvar
+# ensemble bgensemble waitensemble earlystop holdout identify whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -124,6 +124,43 @@ for p in $parts; do
                           ! pgrep -f "gpu-run.sh ensemble" > /dev/null
                       }
                       run waitensemble waitens ;;
+        earlystop) # issue 23: the default cut (V0060) whole and with the early stop at two tolerances: wall time, steps,
+                   # forces (SWARF_EARLY_TOLS, default "0.02 0.05")
+                   earlystop() {
+                       local tol t0 t1
+                       for tol in none ${SWARF_EARLY_TOLS:-0.02 0.05}; do
+                           rm -rf /tmp/swarf-es/$tol
+                           t0=$(date +%s%N)
+                           if [ $tol = none ]; then
+                               "$here/swarf" --backend gpu run --quiet --out /tmp/swarf-es/$tol || return 1
+                           else
+                               "$here/swarf" --backend gpu run --quiet --out /tmp/swarf-es/$tol \
+                                   --set "analysis.early_stop={tolerance=$tol}" || return 1
+                           fi
+                           t1=$(date +%s%N)
+                           echo "== early stop $tol: $(( (t1 - t0) / 1000000 )) ms wall"
+                           python3 -c 'import json,sys; s=json.load(open(sys.argv[1])); print({k: s.get(k) for k in ["steps","wall_time_s","fc_n_per_mm","ff_n_per_mm","chip_thickness_um","early_stop"]})' /tmp/swarf-es/$tol/summary.json
+                       done
+                   }
+                   run earlystop earlystop ;;
+        holdout) # issue 23: Klippel's three V0060 sets (μ = 0.35) on the 24 held-out Ti6Al4V tests of
+                 # cases/identify/ti6al4v-multi.toml, full-length runs as one ensemble; holdout.md and .csv
+                 holdout() {
+                     rm -rf /tmp/swarf-holdout
+                     "$here/swarf" --backend gpu identify cases/identify/ti6al4v-multi.toml --holdout-only \
+                         --out /tmp/swarf-holdout ${SWARF_HOLDOUT_ARGS:-} || return 1
+                     cat /tmp/swarf-holdout/holdout.md; cp /tmp/swarf-holdout/holdout.csv "$out/holdout.csv"
+                 }
+                 run holdout holdout ;;
+        identify) # issue 23: Klippel's DE on V0060 (cases/identify/v0060-de.toml) for SWARF_IDENTIFY_S seconds (default
+                  # 150), then Ctrl-C (SIGINT): the completed batches are kept; history.csv and report.md come back
+                  identify() {
+                      rm -rf /tmp/swarf-de
+                      timeout -s INT "${SWARF_IDENTIFY_S:-150}" "$here/swarf" --backend gpu identify \
+                          cases/identify/v0060-de.toml --out /tmp/swarf-de ${SWARF_IDENTIFY_ARGS:-}
+                      cat /tmp/swarf-de/report.md; cp /tmp/swarf-de/history.csv "$out/de-history.csv"
+                  }
+                  run identify identify ;;
         tests) run test-gpu "$here/test-gpu" --test-threads=1 --nocapture
                run test-ptx "$here/test-ptx" ;;
         regs) # issue 7: the register cap of the neighbour kernels (SWARF_MAXNREG) against the compiler's choice
