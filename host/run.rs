@@ -1046,9 +1046,11 @@ fn cutting_line(a: &crate::cutting::record::CutAnalysis) -> String {
         },
         f(a.chip.map(|c| c.h_avg * 1e6)),
         a.chip.map_or("n/a".to_string(), |c| format!("{:.2}", c.segmentation))
-    ) + &a.early_stop.as_ref().and_then(|e| e.at).map_or(String::new(), |(t, s)| {
-        format!("; stopped early at t = {t:.3e} s, step {s} (analysis.early_stop)")
-    })
+    ) + &a
+        .early_stop
+        .as_ref()
+        .and_then(|e| e.at)
+        .map_or(String::new(), |(t, s)| format!("; stopped early at t = {t:.3e} s, step {s} (analysis.early_stop)"))
 }
 
 /// Each body's initial centre (the axis for the footprint radius).

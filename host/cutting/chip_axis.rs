@@ -33,10 +33,7 @@ pub fn chip_thickness_normal(s: &Station, pos: impl IntoIterator<Item = [f64; 2]
     let h0 = last - first + s.spacing;
     let (sin, cos) = s.rake_angle.sin_cos();
     let w_mid = 0.5 * (first + last);
-    let c = [
-        s.rake_point[0] - s.station * sin + w_mid * cos,
-        s.rake_point[1] + s.station * cos + w_mid * sin,
-    ];
+    let c = [s.rake_point[0] - s.station * sin + w_mid * cos, s.rake_point[1] + s.station * cos + w_mid * sin];
     let radius = AXIS_WINDOW * h0;
     let local: Vec<[f64; 2]> = chip.iter().copied().filter(|p| dist2(*p, c) <= radius * radius).collect();
     let piece = connected_piece(&local, c, 2.0 * s.spacing);

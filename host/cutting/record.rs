@@ -10,7 +10,7 @@
 
 use super::chip::{ChipGeometry, Station, chip_geometry};
 use super::chip_axis::chip_thickness_normal;
-use super::early_stop::EarlyStop;
+use super::early_stop::{EarlyStop, MIN_WINDOW_UNCUT};
 use super::segments::{Segments, crests_valleys};
 use super::steady::{Steady, mean_from};
 use super::window::{MIN_TRANSIENT_UNCUT, Window, find, time_to_travel};
@@ -90,7 +90,10 @@ impl CutRecorder {
             uncut,
             speed,
             min_time: time_to_travel(MIN_TRANSIENT_UNCUT * uncut, speed, t.ramp),
-            early_stop: scene.analysis.early_stop.map(|e| EarlyStop::new(e.tolerance)),
+            early_stop: scene
+                .analysis
+                .early_stop
+                .map(|e| EarlyStop::new(e.tolerance, time_to_travel(MIN_WINDOW_UNCUT * uncut, speed, 0.0))),
             time: Vec::new(),
             fc: Vec::new(),
             ff: Vec::new(),
@@ -184,9 +187,8 @@ impl CutRecorder {
         let chip_w = find(&ht, &hv, self.min_time, MAX_DRIFT);
         let chip_part = chip_w.map_or(&[][..], |w| &hv[w.start..]);
         let chip = chip_geometry(&chip_part.iter().map(|&h| Some(h)).collect::<Vec<_>>());
-        let segments = chip_w.and_then(|w| {
-            crests_valleys(&ht[w.start..], &hv[w.start..], SEGMENT_PROMINENCE_DX * self.station.spacing)
-        });
+        let segments = chip_w
+            .and_then(|w| crests_valleys(&ht[w.start..], &hv[w.start..], SEGMENT_PROMINENCE_DX * self.station.spacing));
         CutAnalysis {
             steady: fc_w.map(|w| Steady {
                 start: w.start,
@@ -267,7 +269,7 @@ impl CutAnalysis {
                     "pitch_um": num(self.pitch.map(|p| p * 1e6)),
                 })),
                 "method": "each observable (F_c, F_f, chip thickness) is averaged over its own steady window: MSER \
-                           on batch means of 2 integrated autocorrelation times (at least 5 samples), after the \
+                           on batch means of one integrated autocorrelation time (at least 5 samples), after the \
                            tool has travelled 3 uncut chip thicknesses (the second half where no window is found); \
                            chip: thickness normal to the chip's local axis at tool.chip_station up the rake face, \
                            h_min/h_max 10th/90th percentiles, segments from crests and valleys \

@@ -22,11 +22,13 @@
 use super::autocorr::integrated_time;
 use super::steady::{BATCH, MIN_STEADY_SAMPLES, batch_means, mean_std, mser_minimum, relative_drift};
 
-/// Batch length in units of τ_int. For an exponentially correlated signal, batches of 2 τ_int (4 decay times) have
-/// neighbouring batch means correlated by about 0.16 (Ornstein–Uhlenbeck batch means: covariance
-/// (τ/b)²(1 − e^{−b/τ})² against variance 2(τ/b)²(b/τ − 1 + e^{−b/τ})), so their spread gives the standard error
-/// of the mean within about 15 %; batches of one τ_int would leave 0.33 and underestimate it by about 30 %.
-pub const BATCHES_PER_TAU: f64 = 2.0;
+/// Batch length in units of τ_int. For an exponentially correlated signal (decay time τ_e, τ_int ≈ 2 τ_e), batches
+/// of one τ_int leave neighbouring batch means correlated by about 0.33 (Ornstein–Uhlenbeck batch means: covariance
+/// (τ_e/b)²(1 − e^{−b/τ_e})² against variance 2(τ_e/b)²(b/τ_e − 1 + e^{−b/τ_e})), so their spread underestimates the
+/// standard error of the mean by about 1/√(1 + 2·0.33) ≈ 0.78; batches of 2 τ_int would leave 0.16 (≈ 0.88) but
+/// halve the batches MSER sees. The cuts this serves are only a few correlation times long after their transient
+/// (V0060: τ_int ≈ 10 µs against 110 µs), so the resolution of the truncation point is preferred.
+pub const BATCHES_PER_TAU: f64 = 1.0;
 
 /// The minimum transient, in uncut chip thicknesses t1 of tool travel. Derivation: the chip forms once the
 /// primary shear zone spans the uncut layer, i.e. once the tool has pushed material across a shear plane of length

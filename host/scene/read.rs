@@ -298,11 +298,7 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
         None => Vec::new(),
     };
 
-    // [analysis]
-    let analysis = match root.table("analysis", "analysis", "a table [analysis] with early_stop")? {
-        Some(t) => analysis(&t, tool.is_some())?,
-        None => Analysis::default(),
-    };
+    let analysis = analysis(&root, tool.is_some())?;
 
     Ok(Scene {
         origin: doc.file.clone(),
@@ -323,8 +319,11 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
     })
 }
 
-/// `[analysis]`: `early_stop = { tolerance = ε }`, ε in (0, 1], only with a `[tool]`.
-fn analysis(t: &Tab<'_>, has_tool: bool) -> Result<Analysis> {
+/// `[analysis]` (optional): `early_stop = { tolerance = ε }`, ε in (0, 1], only with a `[tool]`.
+fn analysis(root: &Tab<'_>, has_tool: bool) -> Result<Analysis> {
+    let Some(t) = root.table("analysis", "analysis", "a table [analysis] with early_stop")? else {
+        return Ok(Analysis::default());
+    };
     t.check_keys(&["early_stop"], &[], "")?;
     let e = "a table { tolerance = ε }, ε in (0, 1] (relative)";
     let Some(es) = t.table("early_stop", "analysis.early_stop", e)? else { return Ok(Analysis::default()) };
