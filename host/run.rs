@@ -486,6 +486,7 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
         if let Some((id, field)) = out.diagnostics.non_finite {
             return Err(Error::NonFinite { id, field, time, step: steps });
         }
+        let mut stop_early = false;
         if let Some(c) = self.cut.as_mut() {
             if c.due(time)
                 && let Some(sample) = self.method.tool_sample(b)?
@@ -493,10 +494,12 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
                 c.sample(&sample)?;
             }
             c.write()?;
+            // `[analysis] early_stop`: F_c and F_f steady to its tolerance ends the run here, as its end would.
+            stop_early = c.early_stop_due(time, steps);
         }
         // Written now where anything reads them before the next output (an observer, a checkpoint, the end, the
         // HDF5 file), else by a thread while the next steps run.
-        let last = self.reached(self.scene.time.end);
+        let last = self.reached(self.scene.time.end) || stop_early;
         let ckpt_due = self.reached(self.next_ckpt) && !last;
         let background = observer.is_none() && self.h5.is_none() && !ckpt_due && !last;
         let mut job = OutputJob {
@@ -529,7 +532,7 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
         self.progress(&d)?;
         // After the CFL re-check: its Δt sets the tolerance, as for the steps that follow.
         let end = self.scene.time.end;
-        if self.reached(self.next_ckpt) && !self.reached(end) {
+        if self.reached(self.next_ckpt) && !self.reached(end) && !stop_early {
             while self.next_ckpt <= time + 1e-9 * self.dt {
                 self.next_ckpt += opts.checkpoint_every.unwrap_or(f64::INFINITY);
             }
@@ -544,7 +547,7 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
         if let Some(j) = kept.as_ref() {
             self.history.push(j.d.clone());
         }
-        if (!keep_going || self.reached(end))
+        if (!keep_going || stop_early || self.reached(end))
             && let Some(j) = kept
         {
             self.finish(j)?;
@@ -1043,7 +1046,11 @@ fn cutting_line(a: &crate::cutting::record::CutAnalysis) -> String {
         },
         f(a.chip.map(|c| c.h_avg * 1e6)),
         a.chip.map_or("n/a".to_string(), |c| format!("{:.2}", c.segmentation))
-    )
+    ) + &a
+        .early_stop
+        .as_ref()
+        .and_then(|e| e.at)
+        .map_or(String::new(), |(t, s)| format!("; stopped early at t = {t:.3e} s, step {s} (analysis.early_stop)"))
 }
 
 /// Each body's initial centre (the axis for the footprint radius).

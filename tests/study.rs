@@ -217,7 +217,7 @@ fn lattice_warnings_name_a_box_that_the_level_does_not_fit() {
 /// Every observable of a cutting scene is a key the cutting recorder writes to summary.json.
 #[test]
 fn cutting_observables_are_the_summary_keys() {
-    let json = swarf::cutting::record::CutAnalysis { steady: None, fc: None, ff: None, chip: None, samples: 0 }.json();
+    let json = swarf::cutting::record::CutAnalysis::default().json();
     let scene = Scene::load("cases/cutting/v0060.toml", &[]).expect("scene");
     let catalogue = swarf::study::observe::catalogue(2, true, &scene.bodies);
     assert_eq!(catalogue.len(), swarf::cutting::record::SUMMARY_OBSERVABLES.len());

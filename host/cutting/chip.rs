@@ -53,6 +53,13 @@ pub struct Station {
 /// None when fewer than 2 particles lie in the slice, or the station has a non-finite field, a spacing ≤ 0 or a
 /// negative half width. Particles with non-finite positions fall outside the slice.
 pub fn chip_thickness(s: &Station, pos: impl IntoIterator<Item = [f64; 2]>) -> Option<f64> {
+    rake_slice(s, pos).map(|(first, last)| last - first + s.spacing)
+}
+
+/// Steps 1–3 of the module doc: the face-normal coordinates w of the first and the last particle centre of the
+/// connected cross-section in the slice (the thickness is their difference plus one spacing). None as for
+/// [`chip_thickness`].
+pub(crate) fn rake_slice(s: &Station, pos: impl IntoIterator<Item = [f64; 2]>) -> Option<(f64, f64)> {
     let fields = [s.rake_point[0], s.rake_point[1], s.rake_angle, s.surface_y, s.station, s.half_width, s.spacing];
     if !fields.iter().all(|v| v.is_finite()) || s.spacing <= 0.0 || s.half_width < 0.0 {
         return None;
@@ -73,8 +80,7 @@ pub fn chip_thickness(s: &Station, pos: impl IntoIterator<Item = [f64; 2]>) -> O
         return None;
     }
     w.sort_by(f64::total_cmp);
-    let last = connected_end(&w, 2.0 * s.spacing);
-    Some(last - w[0] + s.spacing)
+    Some((w[0], connected_end(&w, 2.0 * s.spacing)))
 }
 
 /// The last value of the run starting at `w[0]` whose consecutive gaps are ≤ `max_gap` (`w` ascending, non-empty).

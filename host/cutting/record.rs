@@ -8,8 +8,12 @@
 //! +90° from it (out of the workpiece for a tool cutting in +x), the cutting force is F_c = F·u and the feed
 //! (thrust) force F_f = −F·e; both are positive in a normal cut.
 
-use super::chip::{ChipGeometry, Station, chip_geometry, chip_thickness};
-use super::steady::{Steady, detect, mean_from};
+use super::chip::{ChipGeometry, Station, chip_geometry};
+use super::chip_axis::chip_thickness_normal;
+use super::early_stop::{EarlyStop, MIN_WINDOW_UNCUT};
+use super::segments::{Segments, crests_valleys};
+use super::steady::{Steady, mean_from};
+use super::window::{MIN_TRANSIENT_UNCUT, Window, find, time_to_travel};
 use crate::kernels::contact::Tool2d;
 use crate::output::TimeSeries;
 use crate::scene::Scene;
@@ -24,8 +28,12 @@ pub const FORCE_COLUMNS: &[&str] =
 /// `swarf study` compares and `[experiment]` may give measured values for; declared with the scene's observables.
 pub use crate::scene::observe::SUMMARY_OBSERVABLES;
 
-/// Largest relative drift of F_c over the steady part for the run to count as steady.
+/// Largest relative drift of an observable over its steady window for it to count as steady.
 pub const MAX_DRIFT: f64 = 0.1;
+
+/// Hysteresis of the crest and valley detection of the chip thickness, in particle spacings: the thickness moves
+/// in steps of one spacing, and a crest must stand out of that quantisation noise (host/cutting/segments.rs).
+pub const SEGMENT_PROMINENCE_DX: f64 = 2.0;
 
 /// Samples per output interval.
 pub const SAMPLES_PER_OUTPUT: f64 = 10.0;
@@ -40,6 +48,13 @@ pub struct CutRecorder {
     dir: [f64; 2],
     up: [f64; 2],
     station: Station,
+    /// Uncut chip thickness t1 [m] and cutting speed v_c [m/s].
+    uncut: f64,
+    speed: f64,
+    /// End of the minimum transient: when the tool has travelled [`MIN_TRANSIENT_UNCUT`]·t1 [s].
+    pub min_time: f64,
+    /// The scene's early stop, if any.
+    pub early_stop: Option<EarlyStop>,
     /// Samples kept for the analysis.
     pub time: Vec<f64>,
     pub fc: Vec<f64>,
@@ -72,6 +87,13 @@ impl CutRecorder {
                 half_width: dx,
                 spacing: dx,
             },
+            uncut,
+            speed,
+            min_time: time_to_travel(MIN_TRANSIENT_UNCUT * uncut, speed, t.ramp),
+            early_stop: scene
+                .analysis
+                .early_stop
+                .map(|e| EarlyStop::new(e.tolerance, time_to_travel(MIN_WINDOW_UNCUT * uncut, speed, 0.0))),
             time: Vec::new(),
             fc: Vec::new(),
             ff: Vec::new(),
@@ -94,7 +116,7 @@ impl CutRecorder {
         let offset = c.offset;
         let mut st = self.station;
         st.rake_point = [st.rake_point[0] + offset[0], st.rake_point[1] + offset[1]];
-        let h = chip_thickness(&st, c.workpiece.iter().copied());
+        let h = chip_thickness_normal(&st, c.workpiece.iter().copied());
         let fc = 1e-3 * (c.force[0] * self.dir[0] + c.force[1] * self.dir[1]);
         let ff = 0.0 - 1e-3 * (c.force[0] * self.up[0] + c.force[1] * self.up[1]);
         self.push(&[
@@ -137,49 +159,91 @@ impl CutRecorder {
         self.series.write().map_err(|e| Error::Output(format!("{}: {e}", self.series.path().display())))
     }
 
-    /// The end-of-run analysis: steady state of F_c (MSER-5, host/cutting/steady.rs), the mean forces over the
-    /// steady part, the chip geometry over the part of it where the thickness itself is steady (MSER-5 again), and the keys `fc_n_per_mm`, `ff_n_per_mm`, `chip_thickness_um` and
-    /// `segmentation` of summary.json (null where there is nothing to report).
+    /// The early stop's check at an output step (`time`, `step`): true when the scene has an early stop and F_c
+    /// and F_f are steady to its tolerance (host/cutting/early_stop.rs). Never before the minimum transient:
+    /// the windows hold no earlier sample.
+    pub fn early_stop_due(&mut self, time: f64, step: u64) -> bool {
+        let Some(tol) = self.early_stop.as_ref().map(|e| e.tolerance) else { return false };
+        if time < self.min_time {
+            return false;
+        }
+        let fc = find(&self.time, &self.fc, self.min_time, tol);
+        let ff = find(&self.time, &self.ff, self.min_time, tol);
+        self.early_stop.as_mut().is_some_and(|e| e.check(fc.as_ref(), ff.as_ref(), time, step))
+    }
+
+    /// The end-of-run analysis (host/cutting/window.rs): each of F_c, F_f and the chip thickness gets its own
+    /// steady window after the minimum transient, with batches matched to its correlation time, a drift test and a
+    /// verdict; the means over those windows are the keys `fc_n_per_mm`, `ff_n_per_mm`, `chip_thickness_um` of
+    /// summary.json (a force without a window: the mean of its second half), the chip geometry and the crests and
+    /// valleys are taken over the thickness' window (null where there is nothing to report).
     pub fn analysis(&self) -> CutAnalysis {
-        let steady = detect(&self.time, &self.fc, MAX_DRIFT);
-        let start = steady.map_or(self.time.len() / 2, |s| s.start);
-        // The chip reaches the measuring station later than the force settles: its own transient (the chip's
-        // head passing the station) is cut off by MSER-5 on the thickness samples themselves.
+        let fc_w = find(&self.time, &self.fc, self.min_time, MAX_DRIFT);
+        let ff_w = find(&self.time, &self.ff, self.min_time, MAX_DRIFT);
+        let half = self.time.len() / 2;
         let measured: Vec<(f64, f64)> =
-            self.time.iter().zip(&self.thickness).skip(start).filter_map(|(t, h)| h.map(|h| (*t, h))).collect();
+            self.time.iter().zip(&self.thickness).filter_map(|(t, h)| h.map(|h| (*t, h))).collect();
         let (ht, hv): (Vec<f64>, Vec<f64>) = measured.iter().copied().unzip();
-        let chip_start = detect(&ht, &hv, f64::INFINITY).map_or(0, |s| s.start);
-        let chip = chip_geometry(&hv[chip_start.min(hv.len())..].iter().map(|&h| Some(h)).collect::<Vec<_>>());
+        let chip_w = find(&ht, &hv, self.min_time, MAX_DRIFT);
+        let chip_part = chip_w.map_or(&[][..], |w| &hv[w.start..]);
+        let chip = chip_geometry(&chip_part.iter().map(|&h| Some(h)).collect::<Vec<_>>());
+        let segments = chip_w
+            .and_then(|w| crests_valleys(&ht[w.start..], &hv[w.start..], SEGMENT_PROMINENCE_DX * self.station.spacing));
         CutAnalysis {
-            steady,
-            fc: mean_from(&self.fc, start),
-            ff: mean_from(&self.ff, start),
+            steady: fc_w.map(|w| Steady {
+                start: w.start,
+                start_time: w.start_time,
+                mean: w.mean,
+                std: w.std,
+                drift: w.drift,
+                steady: w.steady,
+            }),
+            fc: fc_w.map_or_else(|| mean_from(&self.fc, half), |w| Some(w.mean)),
+            ff: ff_w.map_or_else(|| mean_from(&self.ff, half), |w| Some(w.mean)),
             chip,
             samples: self.time.len(),
+            windows: [fc_w, ff_w, chip_w],
+            segments,
+            pitch: segments.zip(chip).map(|(s, c)| s.pitch(self.speed, self.uncut, c.h_avg)),
+            min_time: self.min_time,
+            early_stop: self.early_stop.clone(),
         }
     }
 }
 
 /// What a cutting run reports at its end.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct CutAnalysis {
+    /// F_c's steady window as the MSER-5-era summary (start, mean, std, drift, verdict).
     pub steady: Option<Steady>,
-    /// Mean forces over the steady part (the second half if none was found) [N/mm].
+    /// Mean forces over their own steady windows (the second half where none was found) [N/mm].
     pub fc: Option<f64>,
     pub ff: Option<f64>,
     pub chip: Option<ChipGeometry>,
     pub samples: usize,
+    /// The steady windows of F_c, F_f [N/mm] and the chip thickness [m], in that order.
+    pub windows: [Option<Window>; 3],
+    /// Crests and valleys of the thickness over its window [m], and the pitch l_seg [m].
+    pub segments: Option<Segments>,
+    pub pitch: Option<f64>,
+    /// End of the minimum transient [s].
+    pub min_time: f64,
+    /// The early stop's report (None: the scene has none).
+    pub early_stop: Option<EarlyStop>,
 }
 
 impl CutAnalysis {
     /// The summary.json entries.
     pub fn json(&self) -> serde_json::Value {
         let num = |x: Option<f64>| x.filter(|v| v.is_finite());
+        let [fc_w, ff_w, chip_w] = &self.windows;
+        let seg = self.segments;
         serde_json::json!({
             "fc_n_per_mm": num(self.fc),
             "ff_n_per_mm": num(self.ff),
             "chip_thickness_um": num(self.chip.map(|c| c.h_avg * 1e6)),
             "segmentation": num(self.chip.map(|c| c.segmentation)),
+            "early_stop": EarlyStop::json(self.early_stop.as_ref()),
             "cutting": {
                 "steady": self.steady.is_some_and(|s| s.steady),
                 "steady_from_s": self.steady.map(|s| s.start_time),
@@ -189,10 +253,48 @@ impl CutAnalysis {
                 "chip_h_max_um": num(self.chip.map(|c| c.h_max * 1e6)),
                 "chip_samples": self.chip.map(|c| c.samples),
                 "force_samples": self.samples,
-                "method": "forces: mean over the steady part found by MSER-5 on F_c (second half if none); chip: \
-                           thickness across a slice at tool.chip_station up the rake face, h_avg mean, h_min/h_max \
-                           10th/90th percentiles over the steady part (docs/validation.md)",
+                "min_transient_s": num(Some(self.min_time)),
+                "observables": {
+                    "fc_n_per_mm": window_json(fc_w.as_ref(), 1.0),
+                    "ff_n_per_mm": window_json(ff_w.as_ref(), 1.0),
+                    "chip_thickness_um": window_json(chip_w.as_ref(), 1e6),
+                },
+                "segments": seg.map(|s| serde_json::json!({
+                    "crests": s.crests,
+                    "valleys": s.valleys,
+                    "h_crest_um": num(Some(s.h_crest * 1e6)),
+                    "h_valley_um": num(Some(s.h_valley * 1e6)),
+                    "degree": num(Some(s.degree)),
+                    "period_s": num(Some(s.period)),
+                    "pitch_um": num(self.pitch.map(|p| p * 1e6)),
+                })),
+                "method": "each observable (F_c, F_f, chip thickness) is averaged over its own steady window: MSER \
+                           on batch means of one integrated autocorrelation time (at least 5 samples), after the \
+                           tool has travelled 3 uncut chip thicknesses (the second half where no window is found); \
+                           chip: thickness normal to the chip's local axis at tool.chip_station up the rake face, \
+                           h_min/h_max 10th/90th percentiles, segments from crests and valleys \
+                           (docs/validation.md)",
             }
         })
+    }
+}
+
+/// One observable's window in summary.json, its values × `scale` (1e6: m → µm).
+fn window_json(w: Option<&Window>, scale: f64) -> serde_json::Value {
+    let num = |x: f64| Some(x).filter(|v| v.is_finite());
+    match w {
+        None => serde_json::Value::Null,
+        Some(w) => serde_json::json!({
+            "steady": w.steady,
+            "window_from_s": w.start_time,
+            "mean": num(w.mean * scale),
+            "std": num(w.std * scale),
+            "drift": num(w.drift),
+            "standard_error": num(w.sem * scale),
+            "correlation_time_s": num(w.tau_s),
+            "correlation_time_samples": num(w.tau_samples),
+            "batch_samples": w.batch,
+            "batches": w.batches,
+        }),
     }
 }

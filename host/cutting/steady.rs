@@ -15,9 +15,9 @@
 //! part starts at sample 5·d* and runs to the end of the series (the samples of the dropped batch included).
 
 /// Batch size of MSER-5.
-const BATCH: usize = 5;
+pub(crate) const BATCH: usize = 5;
 /// Fewest samples the steady part must hold for its mean to be reported as steady.
-const MIN_STEADY_SAMPLES: usize = 20;
+pub(crate) const MIN_STEADY_SAMPLES: usize = 20;
 
 /// Result of the steady-state analysis of one series.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -46,7 +46,7 @@ pub fn detect(t: &[f64], x: &[f64], max_drift: f64) -> Option<Steady> {
     if t.len() != x.len() || !t.iter().chain(x).all(|v| v.is_finite()) {
         return None;
     }
-    let means = batch_means(x);
+    let means = batch_means(x, BATCH);
     if means.len() < 4 {
         return None;
     }
@@ -93,13 +93,13 @@ pub(crate) fn quantile_sorted(v: &[f64], q: f64) -> Option<f64> {
     Some(v[lo] + frac * (v[hi] - v[lo]))
 }
 
-/// Means of consecutive batches of `BATCH` samples; the incomplete last batch is dropped.
-fn batch_means(x: &[f64]) -> Vec<f64> {
-    x.chunks_exact(BATCH).map(|c| c.iter().sum::<f64>() / BATCH as f64).collect()
+/// Means of consecutive batches of `b` samples (b ≥ 1); the incomplete last batch is dropped.
+pub(crate) fn batch_means(x: &[f64], b: usize) -> Vec<f64> {
+    x.chunks_exact(b.max(1)).map(|c| c.iter().sum::<f64>() / c.len() as f64).collect()
 }
 
 /// The first minimiser d* of MSER(d) over d = 0 ..= ⌊nb/2⌋, and that upper end ⌊nb/2⌋.
-fn mser_minimum(y: &[f64]) -> (usize, usize) {
+pub(crate) fn mser_minimum(y: &[f64]) -> (usize, usize) {
     let nb = y.len();
     let upper = nb / 2;
     // Welford's update run backwards from the last batch gives Σ(Y − Ȳ_d)² for every d in one pass, without the
@@ -124,7 +124,7 @@ fn mser_minimum(y: &[f64]) -> (usize, usize) {
 }
 
 /// Mean and population standard deviation; None if empty.
-fn mean_std(x: &[f64]) -> Option<(f64, f64)> {
+pub(crate) fn mean_std(x: &[f64]) -> Option<(f64, f64)> {
     if x.is_empty() {
         return None;
     }
@@ -136,7 +136,7 @@ fn mean_std(x: &[f64]) -> Option<(f64, f64)> {
 
 /// Slope of the least-squares line x(t) × (t_last − t_first) / |mean|: the change of the fitted trend over the
 /// window relative to the level.
-fn relative_drift(t: &[f64], x: &[f64], mean: f64) -> f64 {
+pub(crate) fn relative_drift(t: &[f64], x: &[f64], mean: f64) -> f64 {
     let n = t.len() as f64;
     let t_mean = t.iter().sum::<f64>() / n;
     // Centred sums: times of a long run are large against their spread.

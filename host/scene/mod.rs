@@ -85,6 +85,23 @@ pub struct Scene {
     /// `[experiment]` (optional): measured values of the scene's observables ([`observe`]), the
     /// reference `swarf study` reports its error against; in the order of the scene's observables.
     pub experiment: Vec<Measurement>,
+    /// `[analysis]` (optional): options of the end-of-run analysis of a cutting run.
+    pub analysis: Analysis,
+}
+
+/// `[analysis]`: `early_stop = { tolerance = ε }` (optional, needs a `[tool]`): the run ends once F_c and F_f are
+/// both steady to ε (host/cutting/early_stop.rs).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct Analysis {
+    pub early_stop: Option<EarlyStopRule>,
+}
+
+/// `analysis.early_stop`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct EarlyStopRule {
+    /// `tolerance` (required), in (0, 1]: the relative drift and the relative standard error of the means
+    /// F_c and F_f must both be within it.
+    pub tolerance: f64,
 }
 
 /// One entry of `[experiment]`: `<observable> = { value = v, uncertainty = u }` (or `<observable> = v`).

@@ -24,6 +24,7 @@ const ROOT_KEYS: &[&str] = &[
     "physics",
     "tool",
     "experiment",
+    "analysis",
 ];
 const BODY_KEYS: &[&str] = &["name", "shape", "velocity", "angular_velocity", "lattice", "material", "temperature"];
 const SHAPES: &[(&str, &[&str])] = &[
@@ -297,6 +298,8 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
         None => Vec::new(),
     };
 
+    let analysis = analysis(&root, tool.is_some())?;
+
     Ok(Scene {
         origin: doc.file.clone(),
         name: name.to_string(),
@@ -312,7 +315,25 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
         physics,
         tool,
         experiment,
+        analysis,
     })
+}
+
+/// `[analysis]` (optional): `early_stop = { tolerance = ε }`, ε in (0, 1], only with a `[tool]`.
+fn analysis(root: &Tab<'_>, has_tool: bool) -> Result<Analysis> {
+    let Some(t) = root.table("analysis", "analysis", "a table [analysis] with early_stop")? else {
+        return Ok(Analysis::default());
+    };
+    t.check_keys(&["early_stop"], &[], "")?;
+    let e = "a table { tolerance = ε }, ε in (0, 1] (relative)";
+    let Some(es) = t.table("early_stop", "analysis.early_stop", e)? else { return Ok(Analysis::default()) };
+    if !has_tool {
+        return Err(t.invalid("early_stop", t.get("early_stop"), "no early_stop: it needs a [tool] (a cutting run)"));
+    }
+    es.check_keys(&["tolerance"], &[], "")?;
+    let te = "a relative tolerance in (0, 1], e.g. 0.02";
+    let tolerance = es.required("tolerance", te, es.number("tolerance", te, |x| x > 0.0 && x <= 1.0)?)?;
+    Ok(Analysis { early_stop: Some(EarlyStopRule { tolerance }) })
 }
 
 /// `[material]`: a library material and/or the elastic constants (the library's where not given).
