@@ -4,7 +4,7 @@
 
 use std::f64::consts::PI;
 use std::path::PathBuf;
-use swarf::kernels::contact::{MeshTool, SurfacePoint, ToolGeometry};
+use swarf::kernels::contact::{SurfacePoint, ToolGeometry};
 use swarf::mesh::{self, GridOptions, MeshError, MeshGridData, Placement, TriMesh};
 use swarf::rng::SplitMix64;
 
@@ -30,7 +30,8 @@ fn cuboid(e: [f64; 3]) -> TriMesh {
 
 /// |x| + |y| + |z| = 1.
 fn octahedron() -> TriMesh {
-    let v = vec![[1.0, 0.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 1.0], [0.0, 0.0, -1.0]];
+    let v =
+        vec![[1.0, 0.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 1.0], [0.0, 0.0, -1.0]];
     let mut t = Vec::new();
     for s in 0..8u32 {
         let (x, y, z) = (s & 1, 2 + (s >> 1 & 1), 4 + (s >> 2 & 1));
@@ -110,14 +111,19 @@ fn check_shape(m: &TriMesh, exact: impl Fn([f64; 3]) -> f64, tol: f64) -> f64 {
     assert!(!report.flipped_all, "{}: built outward", m.source);
     let (lo, hi) = m.bounds();
     let size = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
-    let (all, near, safe) = (grid(&m, size, 4.0 * size, false), grid(&m, size, 0.1 * size, false), grid(&m, size, 4.0 * size, true));
+    let (all, near, safe) =
+        (grid(&m, size, 4.0 * size, false), grid(&m, size, 0.1 * size, false), grid(&m, size, 4.0 * size, true));
     let (all, near, safe) = (all.tool(), near.tool(), safe.tool());
     let mut worst: f64 = 0.0;
     let mut far = 0;
     for p in points(&m, 10_000, 7) {
         let brute = all.query_brute(p);
         let q = all.query(p);
-        assert!((q.distance - brute.distance).abs() <= ROUND * size, "{} {p:?}: grid {q:?} vs brute {brute:?}", m.source);
+        assert!(
+            (q.distance - brute.distance).abs() <= ROUND * size,
+            "{} {p:?}: grid {q:?} vs brute {brute:?}",
+            m.source
+        );
         check_normal(&q, p);
         let e = exact(p);
         worst = worst.max((q.distance - e).abs());
@@ -218,4 +224,253 @@ fn plane_distance(m: &TriMesh, t: &[u32; 3]) -> f64 {
     let n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
     let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
     (n[0] * a[0] + n[1] * a[1] + n[2] * a[2]).abs() / l
+}
+
+/// The unit corner tetrahedron's four outward faces.
+const TET: [[[f64; 3]; 3]; 4] = [
+    [[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]],
+    [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]],
+    [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]],
+    [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+];
+
+/// Reads, welds and checks a file; returns the mesh and its report.
+fn read_checked(p: &std::path::Path) -> (TriMesh, mesh::CheckReport) {
+    mesh::prepare(&mesh::read(p).unwrap(), 0.0).unwrap()
+}
+
+#[test]
+fn stl_ascii_and_binary_read_the_same_tetrahedron() {
+    let mut ascii = String::from("solid tet\n");
+    let mut bin = vec![0u8; 80];
+    bin.extend(4u32.to_le_bytes());
+    for f in TET {
+        ascii += "  facet normal 0 0 0\n    outer loop\n";
+        bin.extend([0u8; 12]);
+        for v in f {
+            ascii += &format!("      vertex {} {} {}\n", v[0], v[1], v[2]);
+            v.iter().for_each(|x| bin.extend((*x as f32).to_le_bytes()));
+        }
+        ascii += "    endloop\n  endfacet\n";
+        bin.extend([0u8; 2]);
+    }
+    ascii += "endsolid tet\n";
+    let (a, ra) = read_checked(&write("tet-ascii.stl", ascii.as_bytes()));
+    let (b, rb) = read_checked(&write("tet-binary.stl", &bin));
+    assert_eq!((a.vertices.clone(), a.triangles.clone()), (b.vertices, b.triangles), "ASCII and binary agree");
+    // 12 corners welded into 4 vertices; volume 1/6 (exact in binary: every coordinate is 0 or 1).
+    assert_eq!((ra.vertices, ra.triangles, ra.welded), (4, 4, 8));
+    assert!((ra.volume - 1.0 / 6.0).abs() < 1e-15 && (rb.volume - ra.volume).abs() == 0.0, "{ra:?}");
+    // A broken facet names the file and line.
+    let bad = write("bad.stl", b"solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0\n");
+    let e = mesh::read(&bad).unwrap_err().to_string();
+    assert!(e.contains("bad.stl") && e.contains("line 4") && e.contains("vertex coordinate z"), "{e}");
+}
+
+#[test]
+fn obj_reads_polygons_negative_indices_and_slash_forms() {
+    // The cube [−1, 1]³: faces as quads in the forms i, i/t, i//n, i/t/n and negative (relative) indices.
+    let mut s = String::from("# cube\no cube\n");
+    let c = cuboid([1.0; 3]);
+    for v in &c.vertices {
+        s += &format!("v {} {} {}\n", v[0], v[1], v[2]);
+    }
+    s += "vt 0 0\nvn 0 0 1\n";
+    s += "f 1 5 7 3\nf 2/1 4/1 8/1 6/1\nf 1//1 2//1 6//1 5//1\nf 3/1/1 7/1/1 8/1/1 4/1/1\nf -8 -6 -5 -7\nf 5 6 8 7\n";
+    let (m, r) = read_checked(&write("cube.obj", s.as_bytes()));
+    assert_eq!((m.triangles.len(), r.vertices), (12, 8));
+    assert!((r.volume - 8.0).abs() < 1e-14, "{r:?}");
+    let e = mesh::read(&write("bad.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1 2 9\n")).unwrap_err().to_string();
+    assert!(e.contains("bad.obj") && e.contains("line 5") && e.contains("vertex index in 1..=3"), "{e}");
+}
+
+/// The cube [0, 1]³'s vertices as `*NODE` lines, ids 101–108 (bit 0 x, 1 y, 2 z of id − 101).
+fn dyna_nodes() -> String {
+    let mut s = String::from("*KEYWORD\n$ a comment\n*NODE\n");
+    for i in 0..8 {
+        s += &format!("{:>8}{:>16}{:>16}{:>16}\n", 101 + i, i & 1, i >> 1 & 1, i >> 2 & 1);
+    }
+    s
+}
+
+#[test]
+fn dyna_shells_quads_and_triangles() {
+    // The cube as shells: five quads and one face as two triangles (n4 = n3, and 3 nodes only), comma-separated.
+    let mut s = dyna_nodes();
+    s += "*ELEMENT_SHELL\n1,1,101,105,107,103\n2 1 102 104 108 106\n3 1 101 102 106 105\n4 1 103 107 108 104\n";
+    s += "5 1 101 103 104 104\n6 1 101 104 102\n7 1 105 106 108 107\n*END\n";
+    let (m, r) = read_checked(&write("cube-shell.k", s.as_bytes()));
+    assert_eq!(m.triangles.len(), 12);
+    assert!((r.volume - 1.0).abs() < 1e-15, "{r:?}");
+}
+
+#[test]
+fn dyna_solid_tetrahedra_and_hexahedron_give_their_outward_boundary() {
+    // The unit cube as five tetrahedra: the even-parity corners 0, 3, 5, 6 form the inner one, each odd corner
+    // a corner one; some in 8-node form with repeated nodes, some of negative orientation, one in 4-node form.
+    let mut s = dyna_nodes();
+    s += "*ELEMENT_SOLID\n$#   eid     pid      n1      n2      n3      n4      n5      n6      n7      n8\n";
+    s += "       1       1     101     104     106     107     107     107     107     107\n";
+    s += "       2       1     102     101     104     106     106     106     106     106\n";
+    s += "3 1 103 101 107 104 104 104 104 104\n";
+    s += "4 1 105 101 106 107\n";
+    s += "5 1 108 104 107 106 106 106 106 106\n*END\n";
+    let (m, r) = read_checked(&write("cube-tet.k", s.as_bytes()));
+    // The boundary: 6 faces × 2 triangles, the inner faces dropped; volume 1 = 1/3 + 4 · 1/6.
+    assert_eq!((m.triangles.len(), r.flipped_all), (12, false));
+    assert!((r.volume - 1.0).abs() < 1e-15, "{r:?}");
+    // One hexahedron of the same cube, nodes in LS-DYNA order (bottom counter-clockwise, then top).
+    let hex = dyna_nodes() + "*ELEMENT_SOLID\n1 1 101 102 104 103 105 106 108 107\n";
+    let (h, rh) = read_checked(&write("cube-hex.k", hex.as_bytes()));
+    assert_eq!(h.triangles.len(), 12);
+    assert!((rh.volume - 1.0).abs() < 1e-15, "{rh:?}");
+    // An element naming an undefined node: file, line and what was expected.
+    let bad = dyna_nodes() + "*ELEMENT_SOLID\n1 1 101 102 104 999 999 999 999 999\n";
+    let e = mesh::read(&write("bad.k", bad.as_bytes())).unwrap_err().to_string();
+    assert!(
+        e.contains("bad.k") && e.contains("line 13") && e.contains("node id defined in *NODE") && e.contains("999"),
+        "{e}"
+    );
+}
+
+fn refused(m: &TriMesh) -> String {
+    match mesh::prepare(m, 0.0) {
+        Err(e @ MeshError::Broken { .. }) => e.to_string(),
+        other => panic!("{}: expected a refusal, got {other:?}", m.source),
+    }
+}
+
+#[test]
+fn checks_refuse_a_hole_a_non_manifold_edge_a_flipped_face_and_a_degenerate_triangle() {
+    let mut hole = cuboid([1.0; 3]);
+    hole.triangles.remove(11);
+    let e = refused(&hole);
+    // Triangle 11 was (4, 7, 6): its three edges are left with one triangle each.
+    assert!(e.contains("not closed") && e.contains("3 boundary edges"), "{e}");
+    assert!(e.contains("edge 4–7 at (0.000000e0, 0.000000e0, 1.000000e0) (triangles 10)"), "{e}");
+
+    // Two tetrahedra sharing the edge 0–1: four triangles at it.
+    let mut nm = mesh(
+        vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0], [0.0, 0.0, -1.0]],
+        vec![],
+        "two-tets",
+    );
+    nm.triangles = vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3], [0, 4, 1], [0, 1, 5], [0, 5, 4], [1, 4, 5]];
+    let e = refused(&nm);
+    assert!(e.contains("non-manifold") && e.contains("edge 0–1") && e.contains("triangles 0, 1, 4, 5"), "{e}");
+
+    let mut flipped = cuboid([1.0; 3]);
+    flipped.triangles[5].swap(1, 2);
+    let e = refused(&flipped);
+    assert!(
+        e.contains("inconsistent orientation") && e.contains("1 flipped faces") && e.contains("triangle 5 at"),
+        "{e}"
+    );
+
+    let mut degenerate = cuboid([1.0; 3]);
+    degenerate.triangles.push([0, 0, 1]);
+    let e = refused(&degenerate);
+    assert!(e.contains("degenerate") && e.contains("triangle 12"), "{e}");
+}
+
+#[test]
+fn inward_mesh_is_flipped_and_near_vertices_weld_within_tolerance() {
+    let mut inward = cuboid([1.0; 3]);
+    inward.triangles.iter_mut().for_each(|t| t.swap(1, 2));
+    let (m, r) = mesh::prepare(&inward, 0.0).unwrap();
+    assert!(r.flipped_all && (r.volume - 8.0).abs() < 1e-14 && m.signed_volume() > 0.0, "{r:?}");
+
+    // A soup of the octahedron's faces, each corner moved by up to 1e-12: exact welding leaves holes, a tolerance
+    // of 1e-9 of the diagonal closes it.
+    let o = octahedron();
+    let mut rng = SplitMix64::new(3);
+    let mut soup = mesh(vec![], vec![], "soup");
+    for t in &o.triangles {
+        for &i in t {
+            soup.vertices.push(o.vertices[i as usize].map(|x| x + 1e-12 * (rng.uniform() - 0.5)));
+        }
+        let b = soup.vertices.len() as u32 - 3;
+        soup.triangles.push([b, b + 1, b + 2]);
+    }
+    assert!(refused(&soup).contains("not closed"));
+    let (w, r) = mesh::prepare(&soup, 1e-9).unwrap();
+    assert_eq!((w.vertices.len(), r.welded), (6, 18));
+    assert!((r.volume - 4.0 / 3.0).abs() < 1e-10, "{r:?}");
+}
+
+#[test]
+fn placement_scales_rotates_and_translates() {
+    // 120° about (1, 1, 1) cycles the axes x → y → z.
+    let p = Placement::from_axis_angle(2.0, [3.0, 3.0, 3.0], 2.0 * PI / 3.0, [10.0, 0.0, -1.0]).unwrap();
+    let q = p.point([1.0, 0.0, 0.0]);
+    for (k, want) in [10.0, 2.0, -1.0].iter().enumerate() {
+        assert!((q[k] - want).abs() < 1e-14, "{q:?}");
+    }
+    let placed = p.apply(&cuboid([1.0; 3]));
+    let (_, r) = mesh::prepare(&placed, 0.0).unwrap();
+    // Volume × s³, orientation kept.
+    assert!(!r.flipped_all && (r.volume - 64.0).abs() < 1e-12, "{r:?}");
+    assert_eq!(Placement::IDENTITY.point([1.0, 2.0, 3.0]), [1.0, 2.0, 3.0]);
+    let mirror = [[-1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    for bad in [
+        Placement::new(1.0, mirror, [0.0; 3]),
+        Placement::new(0.0, Placement::IDENTITY.rotation, [0.0; 3]),
+        Placement::new(1.0, [[1.0, 0.1, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]], [0.0; 3]),
+        Placement::from_axis_angle(1.0, [0.0; 3], 1.0, [0.0; 3]),
+        Placement::from_axis_angle(1.0, [0.0, 0.0, 1.0], f64::NAN, [0.0; 3]),
+    ] {
+        assert!(matches!(bad, Err(MeshError::Placement(_))), "{bad:?}");
+    }
+}
+
+/// The simplified diamond grain of iwf_mfree_gpu_3d (cases/3d/tools/README.md): 96 nodes, 290 tetrahedra, µm.
+#[test]
+fn diamond_grain_is_closed_and_outward() {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("cases/3d/tools/diamond-grain.k");
+    let raw = mesh::read(&path).unwrap();
+    let (m, r) = mesh::prepare(&raw, 0.0).unwrap();
+    // The independent volume: Σ |tetrahedron volumes| from the file's lines (the elements fill the grain).
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut nodes = std::collections::HashMap::new();
+    let mut tets = Vec::new();
+    let mut block = "";
+    for line in text.lines() {
+        if line.starts_with('*') {
+            block = line.trim();
+            continue;
+        }
+        let f: Vec<f64> = line.split_whitespace().filter_map(|t| t.parse().ok()).collect();
+        match (block, f.len()) {
+            ("*NODE", 6) => drop(nodes.insert(f[0] as i64, [f[1], f[2], f[3]])),
+            ("*ELEMENT_SOLID", 10) => tets.push([f[2], f[3], f[4], f[5]].map(|x| x as i64)),
+            _ => {}
+        }
+    }
+    assert_eq!((nodes.len(), tets.len()), (96, 290));
+    let vol: f64 = tets
+        .iter()
+        .map(|t| {
+            let [a, b, c, d] = t.map(|i| nodes[&i]);
+            let (u, v, w) =
+                ([0, 1, 2].map(|k| b[k] - a[k]), [0, 1, 2].map(|k| c[k] - a[k]), [0, 1, 2].map(|k| d[k] - a[k]));
+            (u[0] * (v[1] * w[2] - v[2] * w[1])
+                + u[1] * (v[2] * w[0] - v[0] * w[2])
+                + u[2] * (v[0] * w[1] - v[1] * w[0]))
+                .abs()
+                / 6.0
+        })
+        .sum();
+    let (lo, hi) = r.bounds;
+    eprintln!(
+        "diamond grain: {} boundary triangles, {} vertices, volume {:.6e} µm³ (Σ tets {vol:.6e}), box {lo:?} – {hi:?} µm, edges {:.3} – mean {:.3} µm, flipped {}",
+        r.triangles, r.vertices, r.volume, r.min_edge, r.mean_edge, r.flipped_all
+    );
+    assert!((r.volume - vol).abs() <= 1e-9 * vol, "surface volume {} vs Σ tets {vol}", r.volume);
+    // The file's header: the grain's underside at z = 670 µm; its top face at z = 1079.80005.
+    assert_eq!((lo[2], hi[2]), (670.0, 1079.80005));
+    // A point above the middle of the flat top face: its distance is the height above it, exactly to rounding.
+    let g = MeshGridData::build(&m, &GridOptions::new(2000.0)).unwrap();
+    let q = g.tool().query([186.3, 0.0, 1500.0]);
+    assert!((q.distance - (1500.0 - 1079.80005)).abs() < 1e-9, "{q:?}");
+    assert!(g.tool().query([186.3, 0.0, 900.0]).distance < 0.0, "the grain's middle is inside");
 }

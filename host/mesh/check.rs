@@ -31,7 +31,8 @@ pub struct CheckReport {
 pub const DEGENERATE_REL: f64 = 1e-18;
 
 /// Joins vertices closer than `rel_tol` × the bounding-box diagonal (0: exactly equal coordinates) and drops the
-/// vertices no triangle uses. Returns the welded mesh and the number of vertices joined.
+/// vertices no triangle uses, keeping the order of the rest. Returns the welded mesh and the number of vertices
+/// joined. The triangles must name vertices that exist.
 pub fn weld(m: &TriMesh, rel_tol: f64) -> (TriMesh, usize) {
     let (lo, hi) = m.bounds();
     let tol = rel_tol * dist(lo, hi);
@@ -74,15 +75,19 @@ pub fn weld(m: &TriMesh, rel_tol: f64) -> (TriMesh, usize) {
         map[i as usize] = Some(j);
         j
     };
-    for t in &m.triangles {
-        let t = t.map(|i| remap(i, &mut out));
-        out.triangles.push(t);
+    // In vertex order, so that a mesh with no near duplicates and no unused vertices keeps its numbering.
+    let mut used = vec![false; m.vertices.len()];
+    m.triangles.iter().flatten().for_each(|&i| used[i as usize] = true);
+    for i in (0..m.vertices.len()).filter(|&i| used[i]) {
+        remap(i as u32, &mut out);
     }
+    out.triangles = m.triangles.iter().map(|t| t.map(|i| map[i as usize].unwrap_or(0))).collect();
     (out, joined)
 }
 
 /// Welds (`rel_tol`, as [`weld`]), checks and orients a mesh: the mesh a grid is built from, and its report.
 pub fn prepare(m: &TriMesh, rel_tol: f64) -> Result<(TriMesh, CheckReport), MeshError> {
+    in_range(m)?;
     let (mut w, joined) = weld(m, rel_tol);
     let mut report = check(&w)?;
     if report.volume < 0.0 {
@@ -100,17 +105,19 @@ pub fn check(m: &TriMesh) -> Result<CheckReport, MeshError> {
     if m.triangles.is_empty() {
         return Err(broken("no triangles".into()));
     }
-    if let Some(t) = m.triangles.iter().position(|t| t.iter().any(|&i| i as usize >= m.vertices.len())) {
-        return Err(broken(format!("triangle {t} names a vertex beyond the {} read", m.vertices.len())));
-    }
+    in_range(m)?;
     degenerate(m).map_err(broken)?;
     let edges = edge_uses(m);
     closed_manifold(m, &edges).map_err(broken)?;
     consistent(m, &edges).map_err(broken)?;
-    let (sum, min) = m.triangles.iter().flat_map(|t| {
-        let c = m.corners(t);
-        [dist(c[0], c[1]), dist(c[1], c[2]), dist(c[2], c[0])]
-    }).fold((0.0, f64::INFINITY), |(s, lo), e| (s + e, lo.min(e)));
+    let (sum, min) = m
+        .triangles
+        .iter()
+        .flat_map(|t| {
+            let c = m.corners(t);
+            [dist(c[0], c[1]), dist(c[1], c[2]), dist(c[2], c[0])]
+        })
+        .fold((0.0, f64::INFINITY), |(s, lo), e| (s + e, lo.min(e)));
     Ok(CheckReport {
         vertices: m.vertices.len(),
         triangles: m.triangles.len(),
@@ -121,6 +128,17 @@ pub fn check(m: &TriMesh) -> Result<CheckReport, MeshError> {
         min_edge: min,
         mean_edge: sum / (3 * m.triangles.len()) as f64,
     })
+}
+
+/// Refuses a triangle naming a vertex that does not exist.
+fn in_range(m: &TriMesh) -> Result<(), MeshError> {
+    match m.triangles.iter().position(|t| t.iter().any(|&i| i as usize >= m.vertices.len())) {
+        Some(t) => Err(MeshError::Broken {
+            file: m.source.clone(),
+            what: format!("triangle {t} names a vertex beyond the {} read", m.vertices.len()),
+        }),
+        None => Ok(()),
+    }
 }
 
 /// Each undirected edge (lower vertex, higher vertex) and its uses: (triangle, whether it runs low → high).
@@ -166,7 +184,11 @@ fn closed_manifold(m: &TriMesh, edges: &Edges) -> Result<(), String> {
     };
     let holes: Vec<String> = sorted.iter().filter(|(_, u)| u.len() == 1).map(|(k, u)| describe(**k, u)).collect();
     if !holes.is_empty() {
-        return Err(format!("not closed: {} boundary edges (holes), each of one triangle: {}", holes.len(), list(&holes)));
+        return Err(format!(
+            "not closed: {} boundary edges (holes), each of one triangle: {}",
+            holes.len(),
+            list(&holes)
+        ));
     }
     let nm: Vec<String> = sorted.iter().filter(|(_, u)| u.len() > 2).map(|(k, u)| describe(**k, u)).collect();
     if !nm.is_empty() {
@@ -207,7 +229,10 @@ fn consistent(m: &TriMesh, edges: &Edges) -> Result<(), String> {
                         queue.push_back(u);
                     }
                     Some(f) if f != want => {
-                        return Err(format!("not orientable: triangles {t} and {u} at {} cannot agree", at(m.centroid(u))));
+                        return Err(format!(
+                            "not orientable: triangles {t} and {u} at {} cannot agree",
+                            at(m.centroid(u))
+                        ));
                     }
                     _ => {}
                 }
@@ -222,7 +247,11 @@ fn consistent(m: &TriMesh, edges: &Edges) -> Result<(), String> {
     }
     flipped.sort_unstable();
     let items: Vec<String> = flipped.iter().map(|&t| format!("triangle {t} at {}", at(m.centroid(t)))).collect();
-    Err(format!("inconsistent orientation: {} flipped faces (each traverses a shared edge in the same direction as its neighbour): {}", flipped.len(), list(&items)))
+    Err(format!(
+        "inconsistent orientation: {} flipped faces (each traverses a shared edge in the same direction as its neighbour): {}",
+        flipped.len(),
+        list(&items)
+    ))
 }
 
 pub(crate) fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {

@@ -47,7 +47,12 @@ pub fn parse(file: &str, s: &str) -> Result<TriMesh, MeshError> {
                 let nid = int(file, line, f.first(), "a node id")?;
                 let mut v = [0.0; 3];
                 for (c, x) in v.iter_mut().enumerate() {
-                    *x = super::read::number(file, line, f.get(c + 1).map(|s| s.as_str()), &format!("node {nid} coordinate {}", ["x", "y", "z"][c]))?;
+                    *x = super::read::number(
+                        file,
+                        line,
+                        f.get(c + 1).map(|s| s.as_str()),
+                        &format!("node {nid} coordinate {}", ["x", "y", "z"][c]),
+                    )?;
                 }
                 if ids.insert(nid, m.vertices.len() as u32).is_some() {
                     return Err(parse_error(file, line, "a node id not defined before", &nid.to_string()));
@@ -69,7 +74,9 @@ pub fn parse(file: &str, s: &str) -> Result<TriMesh, MeshError> {
             Block::Other => {}
         }
     }
-    let node = |id: i64, line: usize| ids.get(&id).copied().ok_or_else(|| parse_error(file, line, "a node id defined in *NODE", &id.to_string()));
+    let node = |id: i64, line: usize| {
+        ids.get(&id).copied().ok_or_else(|| parse_error(file, line, "a node id defined in *NODE", &id.to_string()))
+    };
     for (n, line) in &shells {
         let n = n.iter().map(|&id| node(id, *line)).collect::<Result<Vec<_>, _>>()?;
         if n.len() == 3 || n[3] == n[2] {
@@ -112,7 +119,12 @@ fn element_faces(file: &str, line: usize, v: &[[f64; 3]], n: &[u32]) -> Result<V
         vec![q([0, 3, 2, 1]), q([4, 5, 6, 7]), q([0, 1, 5, 4]), q([1, 2, 6, 5]), q([2, 3, 7, 6]), q([3, 0, 4, 7])]
     } else {
         let found = n.iter().map(|x| x.to_string()).collect::<Vec<_>>().join(" ");
-        return Err(parse_error(file, line, "a tetrahedron (4 nodes, or 8 with n4 = n5 = … = n8) or a hexahedron of 8 distinct nodes", &format!("node indices {found}")));
+        return Err(parse_error(
+            file,
+            line,
+            "a tetrahedron (4 nodes, or 8 with n4 = n5 = … = n8) or a hexahedron of 8 distinct nodes",
+            &format!("node indices {found}"),
+        ));
     };
     if tet && !distinct(&n[..4]) {
         return Err(parse_error(file, line, "4 distinct tetrahedron nodes", "a repeated node"));

@@ -51,8 +51,17 @@ impl MeshGridData {
         let err = |what: String| MeshError::Grid { file: m.source.clone(), what };
         let report = super::check(m)?;
         let cell = o.cell.unwrap_or(report.mean_edge);
-        if !(cell > 0.0 && cell.is_finite() && o.margin >= 0.0 && o.margin.is_finite() && o.cutoff > 0.0 && o.cutoff.is_finite()) {
-            return Err(err(format!("cell = {cell}, margin = {}, cutoff = {}: expected cell > 0, margin ≥ 0, cutoff > 0, all finite", o.margin, o.cutoff)));
+        if !(cell > 0.0
+            && cell.is_finite()
+            && o.margin >= 0.0
+            && o.margin.is_finite()
+            && o.cutoff > 0.0
+            && o.cutoff.is_finite())
+        {
+            return Err(err(format!(
+                "cell = {cell}, margin = {}, cutoff = {}: expected cell > 0, margin ≥ 0, cutoff > 0, all finite",
+                o.margin, o.cutoff
+            )));
         }
         let (lo, hi) = report.bounds;
         let origin = lo.map(|x| x - o.margin);
@@ -108,10 +117,14 @@ fn unit(v: [f64; 3]) -> [f64; 3] {
 /// Face normals and the edge and vertex pseudo-normals, per triangle slot (each edge's and vertex's computed once,
 /// so every triangle sharing it stores the same bits).
 fn pseudo_normals(m: &TriMesh) -> (Vec<[f64; 3]>, Vec<[f64; 3]>, Vec<[f64; 3]>) {
-    let face: Vec<[f64; 3]> = m.triangles.iter().map(|t| {
-        let [a, b, c] = m.corners(t);
-        unit(cross(sub(b, a), sub(c, a)))
-    }).collect();
+    let face: Vec<[f64; 3]> = m
+        .triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = m.corners(t);
+            unit(cross(sub(b, a), sub(c, a)))
+        })
+        .collect();
     let mut edge: HashMap<(u32, u32), [f64; 3]> = HashMap::new();
     let mut vert = vec![[0.0; 3]; m.vertices.len()];
     for (t, tri) in m.triangles.iter().enumerate() {

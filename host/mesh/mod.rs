@@ -43,10 +43,16 @@ impl TriMesh {
     /// The enclosed volume, Σ a·(b × c)/6 over the triangles (divergence theorem): positive for an outward
     /// oriented closed mesh.
     pub fn signed_volume(&self) -> f64 {
-        self.triangles.iter().map(|t| {
-            let [a, b, c] = self.corners(t);
-            a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2]) + a[2] * (b[0] * c[1] - b[1] * c[0])
-        }).sum::<f64>() / 6.0
+        self.triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = self.corners(t);
+                a[0] * (b[1] * c[2] - b[2] * c[1])
+                    + a[1] * (b[2] * c[0] - b[0] * c[2])
+                    + a[2] * (b[0] * c[1] - b[1] * c[0])
+            })
+            .sum::<f64>()
+            / 6.0
     }
 
     /// A triangle's three vertex positions.

@@ -43,7 +43,9 @@ impl Placement {
             }
         }
         if dot(rotation[0], cross(rotation[1], rotation[2])) < 0.0 {
-            return Err(MeshError::Placement(format!("rotation {rotation:?} has det < 0 (a reflection): expected det = +1")));
+            return Err(MeshError::Placement(format!(
+                "rotation {rotation:?} has det < 0 (a reflection): expected det = +1"
+            )));
         }
         Ok(Placement { scale, rotation, translation })
     }
@@ -78,6 +80,10 @@ impl Placement {
 
     /// The placed mesh (the same triangles; a proper rotation keeps their orientation).
     pub fn apply(&self, m: &TriMesh) -> TriMesh {
-        TriMesh { source: m.source.clone(), vertices: m.vertices.iter().map(|&p| self.point(p)).collect(), triangles: m.triangles.clone() }
+        TriMesh {
+            source: m.source.clone(),
+            vertices: m.vertices.iter().map(|&p| self.point(p)).collect(),
+            triangles: m.triangles.clone(),
+        }
     }
 }

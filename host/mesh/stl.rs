@@ -48,7 +48,9 @@ fn ascii(file: &str, s: &str) -> Result<TriMesh, MeshError> {
         let Some(key) = tok.next() else { continue };
         match key.to_ascii_lowercase().as_str() {
             "solid" if !started => started = true,
-            _ if !started => return Err(parse_error(file, line, "`solid` (an ASCII STL) or a binary STL of 84 + 50·n bytes", raw)),
+            _ if !started => {
+                return Err(parse_error(file, line, "`solid` (an ASCII STL) or a binary STL of 84 + 50·n bytes", raw));
+            }
             "vertex" => {
                 let mut v = [0.0; 3];
                 for (c, x) in v.iter_mut().enumerate() {

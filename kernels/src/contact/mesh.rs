@@ -160,7 +160,11 @@ impl<'a> MeshTool<'a> {
     #[inline(always)]
     pub fn triangle(&self, t: u32) -> [[f64; 3]; 3] {
         let i = 3 * t;
-        [read3(self.verts, 3 * self.n_tri, i), read3(self.verts, 3 * self.n_tri, i + 1), read3(self.verts, 3 * self.n_tri, i + 2)]
+        [
+            read3(self.verts, 3 * self.n_tri, i),
+            read3(self.verts, 3 * self.n_tri, i + 1),
+            read3(self.verts, 3 * self.n_tri, i + 2),
+        ]
     }
 
     /// The pseudo-normal of triangle t's feature.
@@ -200,7 +204,8 @@ impl<'a> MeshTool<'a> {
                     }
                     let cell = (cz * g.dims[1] + cy) * g.dims[0] + cx;
                     let cells = g.dims[0] * g.dims[1] * g.dims[2];
-                    let (Some(s), Some(e)) = (read(self.cell_start, cells + 1, cell), read(self.cell_start, cells + 1, cell + 1))
+                    let (Some(s), Some(e)) =
+                        (read(self.cell_start, cells + 1, cell), read(self.cell_start, cells + 1, cell + 1))
                     else {
                         continue;
                     };
@@ -270,7 +275,11 @@ impl<'a> MeshTool<'a> {
     pub fn answer(&self, p: [f64; 3], n: Nearest) -> SurfacePoint {
         let d = sub(p, n.point);
         let len = n.d2.sqrt();
-        let inside = if self.grid.safe != 0 { self.inside_by_parity(p) } else { dot(d, self.pseudo_normal(n.triangle, n.feature)) < 0.0 };
+        let inside = if self.grid.safe != 0 {
+            self.inside_by_parity(p)
+        } else {
+            dot(d, self.pseudo_normal(n.triangle, n.feature)) < 0.0
+        };
         let normal = if len > 0.0 {
             let s = if inside { -1.0 / len } else { 1.0 / len };
             [d[0] * s, d[1] * s, d[2] * s]
