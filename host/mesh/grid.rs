@@ -4,11 +4,15 @@
 //! cross products of the box axes with the triangle's edges), in CSR form (cell starts + triangle indices). With
 //! it, flat arrays of the triangles' vertices, unit face normals and angle-weighted pseudo-normals per edge and per
 //! vertex (Bærentzen & Aanæs 2005: an edge's is the sum of its two face normals, a vertex's the sum of its faces'
-//! normals weighted by the angle each face makes at it, normalised). `swarf_kernels::contact::MeshTool` reads them.
+//! normals weighted by the angle each face makes at it, normalised), and each cell's side: overlapped by triangles,
+//! or wholly inside or outside the mesh by the ray parity of its centre (so that a query far from the surface
+//! needs no ray). `swarf_kernels::contact::MeshTool` reads them.
 
 use super::check::{cross, dist, dot, sub};
 use super::{MeshError, TriMesh};
-use crate::kernels::contact::mesh::{MeshArrays, MeshGrid, MeshTool, RAY_DIR};
+use crate::kernels::contact::mesh::{
+    CELL_IN, CELL_MIXED, CELL_OUT, MeshArrays, MeshGrid, MeshTool, RAY_DIR, ray_hits_triangle,
+};
 use std::collections::HashMap;
 
 /// How to build the grid.
@@ -43,6 +47,7 @@ pub struct MeshGridData {
     pub vert_n: Vec<[f64; 3]>,
     pub cell_start: Vec<u32>,
     pub cell_tri: Vec<u32>,
+    pub cell_side: Vec<u32>,
 }
 
 impl MeshGridData {
@@ -85,7 +90,8 @@ impl MeshGridData {
         if cell_tri.len() >= u32::MAX as usize {
             return Err(err(format!("{} cell entries: expected fewer than 2³²; use larger cells", cell_tri.len())));
         }
-        Ok(MeshGridData { params, verts, face_n, edge_n, vert_n, cell_start, cell_tri })
+        let cell_side = sides(m, &params, &cell_start);
+        Ok(MeshGridData { params, verts, face_n, edge_n, vert_n, cell_start, cell_tri, cell_side })
     }
 
     /// The arrays as slices.
@@ -97,6 +103,7 @@ impl MeshGridData {
             vert_n: &self.vert_n,
             cell_start: &self.cell_start,
             cell_tri: &self.cell_tri,
+            cell_side: &self.cell_side,
         }
     }
 
@@ -185,6 +192,24 @@ fn bin(m: &TriMesh, g: &MeshGrid) -> (Vec<u32>, Vec<u32>) {
         start[i + 1] += start[i];
     }
     (start, pairs.into_iter().map(|p| p.1).collect())
+}
+
+/// Each cell's side: [`CELL_MIXED`] where triangles overlap it, else the ray parity of its centre (a cell no
+/// triangle touches is wholly on one side). O(empty cells × triangles), once per tool.
+fn sides(m: &TriMesh, g: &MeshGrid, start: &[u32]) -> Vec<u32> {
+    let tris: Vec<[[f64; 3]; 3]> = m.triangles.iter().map(|t| m.corners(t)).collect();
+    let [nx, ny, _] = g.dims.map(|d| d as usize);
+    (0..start.len() - 1)
+        .map(|c| {
+            if start[c + 1] > start[c] {
+                return CELL_MIXED;
+            }
+            let i = [c % nx, c / nx % ny, c / (nx * ny)];
+            let p = [0, 1, 2].map(|k| g.origin[k] + (i[k] as f64 + 0.5) * g.cell);
+            let hits = tris.iter().filter(|t| ray_hits_triangle(p, g.ray, t[0], t[1], t[2])).count();
+            if hits % 2 == 1 { CELL_IN } else { CELL_OUT }
+        })
+        .collect()
 }
 
 /// Akenine-Möller's box–triangle overlap by separating axes (the module doc): a cube of centre `c` and half-width `h`.

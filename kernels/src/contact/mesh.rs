@@ -13,7 +13,10 @@
 //! The contact only needs points within the cut-off distance `cutoff`, so the search reads only the cells that
 //! the cube of half-width `cutoff` about p overlaps: every triangle within `cutoff` of p is found and the answer is
 //! exact there. A point farther from every triangle is "far": it reports |distance| = `cutoff` (its true distance
-//! is ≥ `cutoff`), the sign from ray parity over all triangles, a zero normal and `point` = p.
+//! is ≥ `cutoff`), a zero normal and `point` = p, and its sign from, in order: outside the grid, outside; in a cell
+//! no triangle overlaps, that cell's side (precomputed on the host by ray parity at its centre); in a cell with
+//! triangles, the pseudo-normal of the closest triangle within one cell width, when there is one; else (or in safe
+//! mode) ray parity over all triangles, O(triangles).
 
 use super::geometry::{SurfacePoint, ToolGeometry};
 use crate::real::Real;
@@ -42,6 +45,11 @@ pub struct MeshGrid {
     /// 1: the sign of every query comes from ray parity (safe mode); 0: from the pseudo-normal.
     pub safe: u32,
 }
+
+/// A cell's side (`MeshTool` cell flags): wholly outside, wholly inside, or overlapped by triangles.
+pub const CELL_OUT: u32 = 0;
+pub const CELL_IN: u32 = 1;
+pub const CELL_MIXED: u32 = 2;
 
 /// The closest feature of a triangle: a vertex, an edge (k from vertex k to vertex k+1 mod 3) or the face.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -79,12 +87,15 @@ pub struct MeshTool<'a> {
     /// Start of cell c's triangle list in `cell_tri` (cells + 1 entries).
     cell_start: *const u32,
     cell_tri: *const u32,
+    /// Per cell: [`CELL_OUT`], [`CELL_IN`] or [`CELL_MIXED`].
+    cell_side: *const u32,
     n_tri: u32,
     n_cell_tri: u32,
     _arrays: PhantomData<&'a [f64]>,
 }
 
-/// The flat arrays of a [`MeshTool`] (lengths: verts, edge_n, vert_n 3·n; face_n n; cell_start cells + 1).
+/// The flat arrays of a [`MeshTool`] (lengths: verts, edge_n, vert_n 3·n; face_n n; cell_start cells + 1;
+/// cell_side cells).
 #[derive(Clone, Copy)]
 pub struct MeshArrays<'a> {
     pub verts: &'a [[f64; 3]],
@@ -93,6 +104,7 @@ pub struct MeshArrays<'a> {
     pub vert_n: &'a [[f64; 3]],
     pub cell_start: &'a [u32],
     pub cell_tri: &'a [u32],
+    pub cell_side: &'a [u32],
 }
 
 /// Why arrays cannot make a [`MeshTool`].
@@ -108,6 +120,7 @@ impl<'a> MeshTool<'a> {
             && a.edge_n.len() == 3 * n
             && a.vert_n.len() == 3 * n
             && a.cell_start.len() == cells + 1
+            && a.cell_side.len() == cells
             && a.cell_start.last().is_some_and(|&e| e as usize <= a.cell_tri.len())
             && n <= u32::MAX as usize / 3
             && a.cell_tri.len() <= u32::MAX as usize;
@@ -124,6 +137,7 @@ impl<'a> MeshTool<'a> {
                 a.vert_n.as_ptr(),
                 a.cell_start.as_ptr(),
                 a.cell_tri.as_ptr(),
+                a.cell_side.as_ptr(),
                 n as u32,
                 a.cell_tri.len() as u32,
             )
@@ -134,7 +148,8 @@ impl<'a> MeshTool<'a> {
     ///
     /// # Safety
     /// While the tool is used, `verts`, `edge_n` and `vert_n` hold 3·`n_tri` entries, `face_n` `n_tri`,
-    /// `cell_start` dims[0]·dims[1]·dims[2] + 1 and `cell_tri` `n_cell_tri`, in memory the querying thread can read.
+    /// `cell_start` dims[0]·dims[1]·dims[2] + 1, `cell_side` dims[0]·dims[1]·dims[2] and `cell_tri` `n_cell_tri`,
+    /// in memory the querying thread can read.
     #[allow(clippy::too_many_arguments)]
     pub unsafe fn from_raw(
         grid: MeshGrid,
@@ -144,10 +159,23 @@ impl<'a> MeshTool<'a> {
         vert_n: *const [f64; 3],
         cell_start: *const u32,
         cell_tri: *const u32,
+        cell_side: *const u32,
         n_tri: u32,
         n_cell_tri: u32,
     ) -> Self {
-        MeshTool { grid, verts, face_n, edge_n, vert_n, cell_start, cell_tri, n_tri, n_cell_tri, _arrays: PhantomData }
+        MeshTool {
+            grid,
+            verts,
+            face_n,
+            edge_n,
+            vert_n,
+            cell_start,
+            cell_tri,
+            cell_side,
+            n_tri,
+            n_cell_tri,
+            _arrays: PhantomData,
+        }
     }
 
     /// Number of triangles.
@@ -177,15 +205,16 @@ impl<'a> MeshTool<'a> {
         }
     }
 
-    /// The closest point over the triangles of the cells within `cutoff` of p (None: no triangle there).
+    /// The closest point over the triangles of the cells within `radius` of p (None: no triangle there); exact
+    /// when its distance is at most `radius`.
     #[inline(always)]
-    pub fn nearest_in_grid(&self, p: [f64; 3]) -> Option<Nearest> {
+    pub fn nearest_in_grid(&self, p: [f64; 3], radius: f64) -> Option<Nearest> {
         let g = &self.grid;
         let mut lo = [0u32; 3];
         let mut hi = [0u32; 3];
         for k in 0..3 {
-            let a = ((p[k] - g.cutoff - g.origin[k]) * g.inv_cell).floor();
-            let b = ((p[k] + g.cutoff - g.origin[k]) * g.inv_cell).floor();
+            let a = ((p[k] - radius - g.origin[k]) * g.inv_cell).floor();
+            let b = ((p[k] + radius - g.origin[k]) * g.inv_cell).floor();
             let top = g.dims[k] as f64 - 1.0;
             // NaN fails both comparisons and leaves the range empty.
             if !(b >= 0.0 && a <= top) {
@@ -289,11 +318,41 @@ impl<'a> MeshTool<'a> {
         SurfacePoint { distance: if inside { -len } else { len }, normal, point: n.point }
     }
 
-    /// The "far" answer (module doc): |distance| = cutoff, the sign from parity.
+    /// The "far" answer (module doc): |distance| = cutoff, the sign from the grid's cell sides where they decide it.
     #[inline(always)]
     fn far(&self, p: [f64; 3]) -> SurfacePoint {
-        let c = self.grid.cutoff;
-        SurfacePoint { distance: if self.inside_by_parity(p) { -c } else { c }, normal: [0.0; 3], point: p }
+        let g = &self.grid;
+        let inside = if g.safe != 0 {
+            self.inside_by_parity(p)
+        } else {
+            match self.cell_of(p) {
+                None => false,
+                Some(c) => match read(self.cell_side, g.dims[0] * g.dims[1] * g.dims[2], c) {
+                    Some(CELL_OUT) => false,
+                    Some(CELL_IN) => true,
+                    _ => match self.nearest_in_grid(p, g.cell) {
+                        Some(n) if n.d2 <= g.cell * g.cell => self.answer(p, n).distance < 0.0,
+                        _ => self.inside_by_parity(p),
+                    },
+                },
+            }
+        };
+        SurfacePoint { distance: if inside { -g.cutoff } else { g.cutoff }, normal: [0.0; 3], point: p }
+    }
+
+    /// The index of the cell holding p (None: outside the grid).
+    #[inline(always)]
+    fn cell_of(&self, p: [f64; 3]) -> Option<u32> {
+        let g = &self.grid;
+        let mut c = [0u32; 3];
+        for k in 0..3 {
+            let i = ((p[k] - g.origin[k]) * g.inv_cell).floor();
+            if !(i >= 0.0 && i < g.dims[k] as f64) {
+                return None;
+            }
+            c[k] = i as u32;
+        }
+        Some((c[2] * g.dims[1] + c[1]) * g.dims[0] + c[0])
     }
 
     /// The exact answer over every triangle, with no cut-off (brute force; tests).
@@ -310,7 +369,7 @@ impl ToolGeometry for MeshTool<'_> {
     #[inline(always)]
     fn query(&self, p: [f64; 3]) -> SurfacePoint {
         let c = self.grid.cutoff;
-        match self.nearest_in_grid(p) {
+        match self.nearest_in_grid(p, c) {
             Some(n) if n.d2 <= c * c => self.answer(p, n),
             _ => self.far(p),
         }
