@@ -180,10 +180,10 @@ fn octahedron_distance_is_exact() {
         let mut u = q;
         u.sort_by(|a, b| b.total_cmp(a));
         let (mut cum, mut tau) = (0.0, 0.0);
-        for j in 0..3 {
-            cum += u[j];
+        for (j, &uj) in u.iter().enumerate() {
+            cum += uj;
             let t = (cum - 1.0) / (j + 1) as f64;
-            if u[j] - t > 0.0 {
+            if uj - t > 0.0 {
                 tau = t;
             }
         }
@@ -265,6 +265,9 @@ fn stl_ascii_and_binary_read_the_same_tetrahedron() {
     let bad = write("bad.stl", b"solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0\n");
     let e = mesh::read(&bad).unwrap_err().to_string();
     assert!(e.contains("bad.stl") && e.contains("line 4") && e.contains("vertex coordinate z"), "{e}");
+    // A truncated binary file: its size and count disagree.
+    let e = mesh::read(&write("short.stl", &bin[..bin.len() - 1])).unwrap_err().to_string();
+    assert!(e.contains("short.stl") && e.contains("283 bytes") && e.contains("Some(4)"), "{e}");
 }
 
 #[test]

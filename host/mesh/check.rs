@@ -168,7 +168,8 @@ fn degenerate(m: &TriMesh) -> Result<(), String> {
         .filter(|&t| {
             let [a, b, c] = m.corners(&m.triangles[t]);
             let n = cross(sub(b, a), sub(c, a));
-            !(dot(n, n).sqrt() > limit)
+            let twice_area = dot(n, n).sqrt();
+            twice_area.is_nan() || twice_area <= limit
         })
         .map(|t| format!("triangle {t} at {}", at(m.centroid(t))))
         .collect();

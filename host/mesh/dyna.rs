@@ -167,10 +167,10 @@ fn fields(raw: &str, widths: &[usize], min: usize) -> Vec<String> {
     let mut at = 0;
     for &w in widths {
         let end = (at + w).min(raw.len());
-        if let Some(s) = raw.get(at..end) {
-            if !s.trim().is_empty() {
-                out.push(s.trim().to_string());
-            }
+        if let Some(s) = raw.get(at..end)
+            && !s.trim().is_empty()
+        {
+            out.push(s.trim().to_string());
         }
         at = end;
     }

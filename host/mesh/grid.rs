@@ -121,9 +121,12 @@ fn unit(v: [f64; 3]) -> [f64; 3] {
     v.map(|x| x / l)
 }
 
+/// Face, edge and vertex normals, flat.
+type Normals = (Vec<[f64; 3]>, Vec<[f64; 3]>, Vec<[f64; 3]>);
+
 /// Face normals and the edge and vertex pseudo-normals, per triangle slot (each edge's and vertex's computed once,
 /// so every triangle sharing it stores the same bits).
-fn pseudo_normals(m: &TriMesh) -> (Vec<[f64; 3]>, Vec<[f64; 3]>, Vec<[f64; 3]>) {
+fn pseudo_normals(m: &TriMesh) -> Normals {
     let face: Vec<[f64; 3]> = m
         .triangles
         .iter()

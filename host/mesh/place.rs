@@ -35,7 +35,7 @@ impl Placement {
             for j in 0..3 {
                 let rtr: f64 = (0..3).map(|k| rotation[k][i] * rotation[k][j]).sum();
                 let want = if i == j { 1.0 } else { 0.0 };
-                if !((rtr - want).abs() <= ROTATION_TOL) {
+                if rtr.is_nan() || (rtr - want).abs() > ROTATION_TOL {
                     return Err(MeshError::Placement(format!(
                         "rotation {rotation:?} is not orthonormal ((RᵀR)_{i}{j} = {rtr}): expected a rotation matrix"
                     )));

@@ -11,8 +11,8 @@ pub fn read(path: &Path) -> Result<TriMesh, MeshError> {
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
     match ext.as_str() {
         "stl" => stl::parse(&file, &bytes),
-        "obj" => obj::parse(&file, &text(&file, &bytes)?),
-        "k" | "key" | "dyn" => dyna::parse(&file, &text(&file, &bytes)?),
+        "obj" => obj::parse(&file, text(&file, &bytes)?),
+        "k" | "key" | "dyn" => dyna::parse(&file, text(&file, &bytes)?),
         _ => Err(MeshError::Format {
             file,
             what: format!("unknown mesh extension `.{ext}`: expected .stl, .obj, .k, .key or .dyn"),

@@ -15,6 +15,16 @@ pub fn parse(file: &str, bytes: &[u8]) -> Result<TriMesh, MeshError> {
             return binary(file, &bytes[84..], n);
         }
     }
+    if std::str::from_utf8(bytes).is_err() {
+        let count = bytes.get(80..84).map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]));
+        return Err(MeshError::Format {
+            file: file.into(),
+            what: format!(
+                "neither ASCII nor binary STL: {} bytes, header count {count:?}: expected 84 + 50·count bytes",
+                bytes.len()
+            ),
+        });
+    }
     ascii(file, text(file, bytes)?)
 }
 

@@ -213,8 +213,8 @@ impl<'a> MeshTool<'a> {
         let mut lo = [0u32; 3];
         let mut hi = [0u32; 3];
         for k in 0..3 {
-            let a = ((p[k] - radius - g.origin[k]) * g.inv_cell).floor();
-            let b = ((p[k] + radius - g.origin[k]) * g.inv_cell).floor();
+            let a = floor((p[k] - radius - g.origin[k]) * g.inv_cell);
+            let b = floor((p[k] + radius - g.origin[k]) * g.inv_cell);
             let top = g.dims[k] as f64 - 1.0;
             // NaN fails both comparisons and leaves the range empty.
             if !(b >= 0.0 && a <= top) {
@@ -303,7 +303,7 @@ impl<'a> MeshTool<'a> {
     #[inline(always)]
     pub fn answer(&self, p: [f64; 3], n: Nearest) -> SurfacePoint {
         let d = sub(p, n.point);
-        let len = n.d2.sqrt();
+        let len = <f64 as Real>::sqrt(n.d2);
         let inside = if self.grid.safe != 0 {
             self.inside_by_parity(p)
         } else {
@@ -346,7 +346,7 @@ impl<'a> MeshTool<'a> {
         let g = &self.grid;
         let mut c = [0u32; 3];
         for k in 0..3 {
-            let i = ((p[k] - g.origin[k]) * g.inv_cell).floor();
+            let i = floor((p[k] - g.origin[k]) * g.inv_cell);
             if !(i >= 0.0 && i < g.dims[k] as f64) {
                 return None;
             }
@@ -453,6 +453,12 @@ pub fn ray_hits_triangle(o: [f64; 3], d: [f64; 3], a: [f64; 3], b: [f64; 3], c: 
         return false;
     }
     f * dot(e2, q) > 0.0
+}
+
+/// Explicit, so that the host build with std (tests) and the no_std builds call the same function.
+#[inline(always)]
+fn floor(x: f64) -> f64 {
+    <f64 as Real>::floor(x)
 }
 
 #[inline(always)]
