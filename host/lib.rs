@@ -17,6 +17,7 @@ pub mod hash;
 pub mod identify;
 pub mod info;
 pub mod material;
+pub mod mesh;
 pub mod method;
 pub mod neighbour;
 pub mod output;
