@@ -241,7 +241,7 @@ fn the_command_refuses_a_bad_file_with_status_1() {
 /// the best set and the compare material on the tests not fitted. Facts: holdout.csv has one row per set and test;
 /// the compare material (here the model's own, Ti6Al4V-V0060-DE-mu035) gives exactly the forces of a plain run of
 /// the same scene (no parameter edited: the same bits); each error is (simulated − measured)/measured of its own
-/// row; `--holdout-only` in a new folder runs the compare material alone; mean |e| and the worst e (sign kept) of
+/// row; `--holdout-only` in a new folder runs the compare material alone (and writes no empty history); mean |e| and the worst e (sign kept) of
 /// [0.1, −0.3, 0.2] are 0.2 (to 1e-15) and −0.3; a compare name the library lacks is refused naming `compare`.
 #[test]
 fn holdout_tests_run_the_best_set_and_the_compare_materials() {
@@ -289,6 +289,7 @@ fn holdout_tests_run_the_best_set_and_the_compare_materials() {
     let done = identify(&cpu(), &only).expect("holdout only");
     assert!(done.rows.is_empty());
     let (_, rows) = read_holdout(&dir.join("only"));
+    assert!(!dir.join("only/history.csv").exists(), "a holdout alone wrote an empty history");
     assert_eq!(rows.iter().map(|r| r[0].as_str()).collect::<Vec<_>>(), ["Ti6Al4V-V0060-DE-mu035"]);
     let (mean, worst) = holdout::mean_and_worst(&[0.1, -0.3, 0.2]).expect("three errors");
     assert!((mean - 0.2).abs() < 1e-15 && worst == -0.3, "{mean} {worst}");

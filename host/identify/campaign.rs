@@ -96,7 +96,10 @@ pub fn identify(backend: &AnyBackend, opts: &IdentifyOptions) -> Result<Identifi
             eprintln!("{}", progress(&spec, &rows, runs, started.elapsed().as_secs_f64()));
         }
     }
-    (out.material, out.warnings) = super::report::write_all(&spec, &header, &rows, &opts.out_dir)?;
+    // A holdout alone in a new folder has no evaluation to report (and no plot to draw).
+    if !(opts.holdout_only && rows.is_empty()) {
+        (out.material, out.warnings) = super::report::write_all(&spec, &header, &rows, &opts.out_dir)?;
+    }
     if !spec.holdout.is_empty() {
         let sets = holdout::sets(&spec, super::report::best(&rows));
         if !opts.quiet {
