@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# ensemble bgensemble waitensemble earlystop holdout identify whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abregs abblock abenv ncusrc refvar
+# ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -161,6 +161,19 @@ for p in $parts; do
                       cat /tmp/swarf-de/report.md; cp /tmp/swarf-de/history.csv "$out/de-history.csv"
                   }
                   run identify identify ;;
+        ck45) # issue 22 item 5: the failing Ck45 cut (cases/hard/ck45-slow-fine-cut.toml) whole on the GPU, with
+              # checkpoints every 2e-5 s; its logs, force trace and last checkpoint come back as ck45.tgz (resume on
+              # the CPU to step through a failure: CPU = GPU bit for bit)
+            run ck45 "$here/swarf" --backend gpu run cases/hard/ck45-slow-fine-cut.toml --quiet --out /tmp/ck45 \
+                --checkpoint-every 2e-5
+            tail -n 5 /tmp/ck45/run.log; tar czf "$out/ck45.tgz" --exclude='*.vtu' -C /tmp ck45 ;;
+        contactlaws) # issue 22 item 3: V0060 (1 mm) over the contact laws × damping × CFL × κ as one batched sweep;
+              # the table and every run's force trace (friction_ratio) come back as contactlaws.tgz
+            run contactlaws "$here/swarf" --backend gpu sweep cases/cutting/v0060.toml \
+                --grid 'tool.contact_law="step","bulk"' --grid tool.contact_damping=${SWARF_DAMPINGS:-0,1} \
+                --grid time.cfl=0.5,0.25 --grid tool.contact_stiffness=0.1,0.2 --batch 8 --out /tmp/contactlaws --quiet
+            cat /tmp/contactlaws/sweep.md
+            tar czf "$out/contactlaws.tgz" --exclude='*.vtu' --exclude='*.png' -C /tmp contactlaws ;;
         tests) run test-gpu "$here/test-gpu" --test-threads=1 --nocapture
                run test-ptx "$here/test-ptx" ;;
         regs) # issue 7: the register cap of the neighbour kernels (SWARF_MAXNREG) against the compiler's choice

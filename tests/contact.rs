@@ -9,7 +9,7 @@
 use std::f64::consts::FRAC_PI_2;
 
 use swarf::kernels::contact::ToolState;
-use swarf::kernels::contact::penalty::{ContactParams, ContactResult, cap, contact_force, friction_update};
+use swarf::kernels::contact::penalty::{ContactParams, ContactResult, cap, contact_force, friction_update, law};
 use swarf::kernels::contact::tool2d::{ARC, BACK, FLANK, RAKE, ShapeError, TOP, Tool2d, ToolShape};
 use swarf::rng::SplitMix64;
 
@@ -1088,4 +1088,106 @@ fn friction_heating_and_usui_wear() {
     assert_eq!((r_off.heating, r_off.wear), (0.0, 0.0));
     assert!(r_on.heating > 0.0 && r_on.wear > 0.0);
     assert_eq!((r_off.normal, r_off.friction), (r_on.normal, r_on.friction));
+}
+
+// The BULK penalty law and the damped spring (issue 22 item 3; kernels/src/contact/penalty.rs)
+
+/// Ti6Al4V's bulk modulus K = E/(3(1 − 2ν)) with E = 110 GPa, ν = 0.35 (roethlin §5.7) [Pa].
+const BULK: f64 = 110e9 / (3.0 * (1.0 - 2.0 * 0.35));
+
+fn bulk_params(damping: f64) -> ContactParams {
+    ContactParams { law: law::BULK, bulk: BULK, damping, ..params() }
+}
+
+/// LS-DYNA's penalty (5.117) in 2D per unit depth: f_c = κ K A²/V d = κ K d, the same for every time step (the
+/// STEP law's force grows as 1/Δt²); 1e-14 relative against the tool's exact depth.
+#[test]
+fn bulk_penalty_is_kappa_k_d_at_every_time_step() {
+    let (tool, o) = reference_tool();
+    let c = bulk_params(0.0);
+    for (prim, t) in [(RAKE as u32, 0.5), (FLANK as u32, 0.5), (ARC, 0.4)] {
+        let (p, n, _) = face(&o, prim, t);
+        for d in [1e-8, 1e-7, 1e-6] {
+            let x = sub(p, scale(d, n));
+            let g = tool.closest(x);
+            let want = scale(KAPPA * BULK * -g.distance, g.normal);
+            for dt in [DT, 0.5 * DT, 4.7e-10] {
+                let r = contact_force(&c, &tool, &at_rest(dt), x, [0.0; 2], [0.0; 2], MASS, RHO, 300.0, 560.0, 0.0);
+                assert_vec_rel(r.normal, want, 1e-14, &format!("primitive {prim}, d = {d:e}, Δt = {dt:e}"));
+            }
+        }
+    }
+}
+
+/// The dashpot: f_c = max(0, k d − 2ξ√(k m) v_n) with v_n = (v − v_tool)·n; approaching particles are pushed harder,
+/// receding ones less, never pulled in (1e-13 relative; exactly zero when clamped). ξ = 0 is the undamped spring.
+#[test]
+fn damped_penalty_adds_the_dashpot_and_never_pulls() {
+    let (tool, o) = reference_tool();
+    let (p, n, _) = face(&o, RAKE as u32, 0.5);
+    let d = 1e-7;
+    let x = sub(p, scale(d, n));
+    let depth = -tool.closest(x).distance;
+    for (c, k) in
+        [(bulk_params(0.7), KAPPA * BULK), (ContactParams { damping: 0.7, ..params() }, KAPPA * MASS / (DT * DT))]
+    {
+        let cd = 2.0 * 0.7 * (k * MASS).sqrt();
+        for vn in [-3.0, -0.1, 0.0, 0.2] {
+            // A tangential velocity does not enter the normal force.
+            let v = add(scale(vn, n), [0.0, 1.5]);
+            let v = sub(v, scale(dot([0.0, 1.5], n), n));
+            let r = contact_force(&c, &tool, &at_rest(DT), x, v, [0.0; 2], MASS, RHO, 300.0, 560.0, 0.0);
+            let want = (k * depth - cd * dot(v, n)).max(0.0);
+            assert_rel(dot(r.normal, n), want, 1e-13, &format!("law {}, v_n = {vn}", c.law));
+        }
+        // Receding fast: the dashpot would pull; the force is zero instead.
+        let v = scale(10.0 * k * depth / cd, n);
+        let r = contact_force(&c, &tool, &at_rest(DT), x, v, [0.0; 2], MASS, RHO, 300.0, 560.0, 0.0);
+        assert_eq!(r.normal, [0.0, 0.0], "law {}: receding particle", c.law);
+    }
+    // ξ = 0: the spring alone, bit for bit.
+    let r0 = contact_force(
+        &bulk_params(0.0),
+        &tool,
+        &at_rest(DT),
+        x,
+        scale(-3.0, n),
+        [0.0; 2],
+        MASS,
+        RHO,
+        300.0,
+        560.0,
+        0.0,
+    );
+    assert_eq!(dot(r0.normal, n), KAPPA * BULK * depth);
+}
+
+/// BULK friction: the stick stiffness is κ_t K per unit slip, so a particle sliding at |v_t| gains κ_t K |v_t| Δt
+/// per step of length Δt and saturates at μ f_c after the slip distance μ f_c/(κ_t K) = μ d, the same distance
+/// whatever the step (1e-12 relative; the STEP law's slip to saturation scales with Δt²).
+#[test]
+fn bulk_friction_saturates_after_a_slip_of_mu_times_the_penetration() {
+    let (tool, o) = reference_tool();
+    let c = bulk_params(0.0);
+    let (p, n, t) = face(&o, RAKE as u32, 0.5);
+    let d = 2e-7;
+    let x = sub(p, scale(d, n));
+    let depth = -tool.closest(x).distance;
+    let v_t = 4.0;
+    for dt in [DT, 0.25 * DT] {
+        let mut f = [0.0, 0.0];
+        let mut steps_to_saturate = None;
+        for i in 1..=2000 {
+            let r = contact_force(&c, &tool, &at_rest(dt), x, scale(v_t, t), f, MASS, RHO, 300.0, 560.0, 0.0);
+            let along = -dot(r.friction, t);
+            let want = (i as f64 * KAPPA * BULK * v_t * dt).min(MU * KAPPA * BULK * depth);
+            assert_rel(along, want, 1e-12, &format!("Δt = {dt:e}, step {i}"));
+            if steps_to_saturate.is_none() && along >= MU * KAPPA * BULK * depth * (1.0 - 1e-12) {
+                steps_to_saturate = Some(i);
+            }
+            f = r.friction;
+        }
+        let slip = steps_to_saturate.expect("saturates") as f64 * v_t * dt;
+        assert!((slip - MU * depth).abs() <= v_t * dt, "Δt = {dt:e}: slip to saturation {slip:e} m against μ d");
+    }
 }

@@ -21,8 +21,17 @@ use crate::{Error, Result};
 use std::path::Path;
 
 /// Columns of `forces.csv`.
-pub const FORCE_COLUMNS: &[&str] =
-    &["time", "step", "fc_n_per_mm", "ff_n_per_mm", "contacts", "chip_thickness_um", "wear_rate_m_per_s", "tool_x"];
+pub const FORCE_COLUMNS: &[&str] = &[
+    "time",
+    "step",
+    "fc_n_per_mm",
+    "ff_n_per_mm",
+    "contacts",
+    "chip_thickness_um",
+    "wear_rate_m_per_s",
+    "tool_x",
+    "friction_ratio",
+];
 
 /// The scalar results a cutting run adds to summary.json (the keys of [`CutAnalysis::json`]): the observables
 /// `swarf study` compares and `[experiment]` may give measured values for; declared with the scene's observables.
@@ -128,6 +137,7 @@ impl CutRecorder {
             h.map_or(f64::NAN, |h| h * 1e6),
             c.wear_rate,
             offset[0],
+            c.friction_ratio,
         ])?;
         Ok(())
     }

@@ -451,6 +451,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Method<B> for Solver<B, R, D> {
             force: c.force,
             contacts: c.contacts,
             wear_rate: c.wear_rate,
+            friction_ratio: c.friction_ratio,
             offset: self.tool_offset().unwrap_or([0.0; 3]),
             workpiece,
         }))

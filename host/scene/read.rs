@@ -660,7 +660,9 @@ const TOOL_KEYS: &[&str] = &[
     "velocity",
     "ramp",
     "rotation",
+    "contact_law",
     "contact_stiffness",
+    "contact_damping",
     "friction_stiffness",
     "friction",
     "friction_cap",
@@ -721,7 +723,9 @@ fn tool(t: &Tab<'_>, doc: &Doc, dim: usize, dx: f64, physics: &Physics, bodies: 
         velocity: [velocity[0], velocity[1]],
         ramp,
         rotation,
+        contact_law: law.contact_law,
         contact_stiffness: law.contact_stiffness,
+        contact_damping: law.contact_damping,
         friction_stiffness: law.friction_stiffness,
         friction: law.friction,
         friction_cap: law.friction_cap,
@@ -806,7 +810,9 @@ fn tool_rotation(t: &Tab<'_>) -> Result<Option<ToolRotation>> {
 
 /// The contact law's keys of `[tool]`.
 struct ContactLaw {
+    contact_law: ContactLawKind,
     contact_stiffness: f64,
+    contact_damping: f64,
     friction_stiffness: Option<f64>,
     friction: f64,
     friction_cap: FrictionCap,
@@ -816,8 +822,15 @@ struct ContactLaw {
 }
 
 fn tool_contact(t: &Tab<'_>, physics: &Physics) -> Result<ContactLaw> {
+    let contact_law = match t.string("contact_law", "\"step\" or \"bulk\"", |s| matches!(s, "step" | "bulk"))? {
+        Some("bulk") => ContactLawKind::Bulk,
+        _ => ContactLawKind::Step,
+    };
     let contact_stiffness =
         t.number("contact_stiffness", "a fraction in (0, 1]", |x| x > 0.0 && x <= 1.0)?.unwrap_or(0.1);
+    let contact_damping = t
+        .number("contact_damping", "a fraction of critical damping in [0, 1]", |x| (0.0..=1.0).contains(&x))?
+        .unwrap_or(0.0);
     let friction_stiffness = t.number("friction_stiffness", "a fraction in (0, 1]", |x| x > 0.0 && x <= 1.0)?;
     let friction = t.number("friction", "a non-negative coefficient", non_negative)?.unwrap_or(0.0);
     let e = "\"none\", \"static\" or \"current\"";
@@ -843,7 +856,9 @@ fn tool_contact(t: &Tab<'_>, physics: &Physics) -> Result<ContactLaw> {
         None => None,
     };
     Ok(ContactLaw {
+        contact_law,
         contact_stiffness,
+        contact_damping,
         friction_stiffness,
         friction,
         friction_cap,

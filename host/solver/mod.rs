@@ -161,6 +161,9 @@ pub struct ContactSample {
     pub contacts: usize,
     /// Mean Usui wear rate over the contacting particles [m/s] (NaN when wear is off or nothing touches).
     pub wear_rate: f64,
+    /// Σ|f_t| / Σ|f_c| over the contacting particles: the friction the contact carries against its normal force,
+    /// μ where every contact slides (NaN when nothing touches).
+    pub friction_ratio: f64,
 }
 
 /// Start-of-step copies y0 (reordered with the state each step).
@@ -938,6 +941,8 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         };
         let mut s = ContactSample::default();
         let mut wear_sum = 0.0;
+        let (mut normal_sum, mut friction_sum) = (0.0, 0.0);
+        let norm = |v: &D::Vec<R>| (0..D::D).map(|k| v.get(k).to_f64().powi(2)).sum::<f64>().sqrt();
         for i in 0..self.n {
             // Components past the dimension read as zero (`Vector::get`).
             let f: [f64; 3] = std::array::from_fn(|k| fc[i].get(k).to_f64() + ft[i].get(k).to_f64());
@@ -946,12 +951,15 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             }
             if (0..D::D).any(|k| fc[i].get(k) != R::ZERO) {
                 s.contacts += 1;
+                normal_sum += norm(&fc[i]);
+                friction_sum += norm(&ft[i]);
                 if let Some(w) = &wear {
                     wear_sum += w[i];
                 }
             }
         }
         s.wear_rate = if wear.is_some() && s.contacts > 0 { wear_sum / s.contacts as f64 } else { f64::NAN };
+        s.friction_ratio = if normal_sum > 0.0 { friction_sum / normal_sum } else { f64::NAN };
         Ok(Some(s))
     }
 

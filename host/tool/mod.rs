@@ -19,6 +19,8 @@ pub struct ToolSample {
     pub contacts: usize,
     /// Mean Usui wear rate over the contacting particles [m/s] (NaN when wear is off or nothing touches).
     pub wear_rate: f64,
+    /// Σ|f_t| / Σ|f_c| over the contacting particles (NaN when nothing touches).
+    pub friction_ratio: f64,
     /// The tool's translation (z = 0 in 2D).
     pub offset: [f64; 3],
     /// The mechanical (not thermal-only) particles' positions.

@@ -1,11 +1,11 @@
 //! From a scene's `[tool]` to the solver's contact set-up: the built tool, its contact constants, its motion and
 //! the thermal-only tool particles (roethlin-solver.md §5.4, §5.6).
 
-use crate::kernels::contact::penalty::cap;
+use crate::kernels::contact::penalty::{cap, law};
 use crate::kernels::contact::tool2d::{BACK, TOP};
 use crate::kernels::contact::{ContactParams, Tool2d, ToolGeometry, ToolShape};
 use crate::material::FlowModel;
-use crate::scene::{FrictionCap, Scene, Tool};
+use crate::scene::{ContactLawKind, FrictionCap, Scene, Tool};
 use crate::{Error, Result};
 
 use super::motion::{Rotation, ToolMotion};
@@ -54,8 +54,13 @@ pub fn contact_params(scene: &Scene, t: &Tool, model: Option<&FlowModel>) -> Con
         usui_psi: t.usui.map_or(0.0, |u| u[0]),
         usui_xi: t.usui.map_or(0.0, |u| u[1]),
         melt: model.map_or(f64::INFINITY, |m| m.melt_temperature()),
+        damping: t.contact_damping,
+        bulk: scene.material.bulk_modulus(),
         cap_mode,
-        _pad: 0,
+        law: match t.contact_law {
+            ContactLawKind::Step => law::STEP,
+            ContactLawKind::Bulk => law::BULK,
+        },
     }
 }
 

@@ -4,9 +4,17 @@
 //! plastic update (roethlin §5.2 steps 12, 15). The forces act on the workpiece in the next step's momentum
 //! balance as v̇ += (f_c + f_t)/m.
 //!
-//! For a particle of mass m at penetration depth d = −g_N > 0 with outward tool normal n:
-//!   normal force    f_c = κ m d n / Δt²                      (removes the fraction κ of the penetration per step)
-//!   trial friction  f*  = P_t f_t,old − κ_t m v_t / Δt,        v_t = (v − v_tool) − ((v − v_tool)·n) n
+//! For a particle of mass m at penetration depth d = −g_N > 0 with outward tool normal n, the penalty spring k_n
+//! and the friction's stick stiffness k_v (per unit slip velocity) come from one of two laws (`law`):
+//!   STEP  k_n = κ m/Δt²,        k_v = κ_t m/Δt       (Nianfei (5.116): removes the fraction κ of the penetration
+//!                                                    per step; the theses' codes, Δt the nominal step)
+//!   BULK  k_n = κ K A²/V,       k_v = κ_t K A²/V Δt  (LS-DYNA (5.117): a spring of the workpiece's bulk modulus K,
+//!                                                    A²/V = 1 per unit depth in 2D, V^(1/3) in 3D; independent
+//!                                                    of Δt, and k_v Δt is the stick stiffness per unit slip)
+//! and then
+//!   normal force    f_c = max(0, k_n d − c v_n) n,  c = 2ξ √(k_n m),  v_n = (v − v_tool)·n   (ξ: the fraction
+//!                                                    of critical damping of the penalty spring; 0: undamped)
+//!   trial friction  f*  = P_t f_t,old − k_v v_t,      v_t = (v − v_tool) − ((v − v_tool)·n) n
 //!   friction        f_t = f* if |f*| ≤ F_max, else F_max f*/|f*|,  F_max = min(μ |f_c|, τ_max A)
 //! with P_t the projection onto the current tangent (the normal turns along the edge arc), τ_max = κ_fric σ_y/√3
 //! (the optional shear-stress cap; σ_y static A or current), A the particle's face per unit depth, √(m/ρ) in 2D ((m/ρ)^(2/3) in 3D), and
@@ -34,6 +42,14 @@ pub mod cap {
     pub const CURRENT: u32 = 2;
 }
 
+/// How the penalty and friction stiffnesses are set (module docs).
+pub mod law {
+    /// κ m/Δt² and κ_t m/Δt (the theses' codes).
+    pub const STEP: u32 = 0;
+    /// κ K A²/V and κ_t K A²/V Δt (LS-DYNA's penalty, independent of the time step).
+    pub const BULK: u32 = 1;
+}
+
 /// Constants of the contact law (uploaded once; the tool's shape is its own parameter, a [`ToolGeometry`], and its
 /// position and velocity are the step's [`ToolState`]).
 #[repr(C)]
@@ -55,9 +71,14 @@ pub struct ContactParams {
     pub usui_xi: f64,
     /// Temperature cap of friction heating (the workpiece's melt temperature; infinity without one) [K].
     pub melt: f64,
+    /// Fraction ξ of critical damping of the normal penalty spring, c = 2ξ√(k_n m) (0: undamped).
+    pub damping: f64,
+    /// The workpiece's bulk modulus K [Pa] (`law::BULK`).
+    pub bulk: f64,
     /// `cap::NONE`, `cap::STATIC` or `cap::CURRENT`.
     pub cap_mode: u32,
-    pub _pad: u32,
+    /// `law::STEP` or `law::BULK`.
+    pub law: u32,
 }
 
 /// a·b over the first D components, summed in index order (a₀b₀ + a₁b₁ in 2D).
@@ -169,16 +190,35 @@ pub fn contact_force<const D: usize, G: ToolGeometry>(
     let v_tool: [f64; D] = narrow(s.velocity_at(xw));
     let dt = s.dt;
     let depth = -q.distance;
-    let fc = c.kappa * m * depth / (dt * dt);
-    let mut normal = [0.0; D];
     let mut vr = [0.0; D];
     let mut k = 0;
     while k < D {
-        normal[k] = fc * n[k];
         vr[k] = v[k] - v_tool[k];
         k += 1;
     }
     let vn = dot(&vr, &n);
+    // The spring k_n, the penalty force k_n d and the friction's k_v (STEP keeps the theses' expressions as they
+    // were written, bit for bit).
+    let (k_n, mut fc, k_v) = if c.law == law::BULK {
+        let geo = if D == 2 { 1.0 } else { libm::cbrt(m / rho) };
+        let k_n = c.kappa * c.bulk * geo;
+        (k_n, k_n * depth, c.friction_kappa * c.bulk * geo * s.step)
+    } else {
+        (c.kappa * m / (dt * dt), c.kappa * m * depth / (dt * dt), c.friction_kappa * m / dt)
+    };
+    if c.damping > 0.0 {
+        // A dashpot in parallel with the spring; it may push out harder but never pull the particle in.
+        fc -= 2.0 * c.damping * <f64 as Real>::sqrt(k_n * m) * vn;
+        if fc.partial_cmp(&0.0) != Some(core::cmp::Ordering::Greater) {
+            fc = 0.0;
+        }
+    }
+    let mut normal = [0.0; D];
+    let mut k = 0;
+    while k < D {
+        normal[k] = fc * n[k];
+        k += 1;
+    }
     let on = dot(&f_old, &n);
     let mut vt = [0.0; D];
     let mut f_prev = [0.0; D];
@@ -203,7 +243,7 @@ pub fn contact_force<const D: usize, G: ToolGeometry>(
             f_max = lim;
         }
     }
-    let friction = friction_update(f_prev, vt, c.friction_kappa * m / dt, f_max);
+    let friction = friction_update(f_prev, vt, k_v, f_max);
     let ft = <f64 as Real>::sqrt(dot(&friction, &friction));
     let slip = <f64 as Real>::sqrt(dot(&vt, &vt));
     let heating = if c.heat_fraction > 0.0 && cp > 0.0 { c.heat_fraction * s.step * ft * slip / (m * cp) } else { 0.0 };
