@@ -32,6 +32,7 @@ pub mod run_folder;
 pub mod scene;
 pub mod solver;
 pub mod state;
+pub mod state_table;
 pub mod study;
 pub mod sweep;
 pub mod tool;

@@ -127,6 +127,11 @@ struct RunArgs {
     /// Also write a checkpoint every this many minutes of wall time, between frames too (0: never).
     #[arg(long, value_name = "MINUTES", default_value_t = 30.0)]
     checkpoint_minutes: f64,
+    /// Write the per-particle state (SI, keyed by initial position) after these step counts to
+    /// states/state_NNNNNN.csv in the run folder, e.g. 0,1,10,100: for comparisons with other codes
+    /// (ci/original/compare.py states).
+    #[arg(long, value_name = "STEPS")]
+    state_at: Option<String>,
     /// Floating-point precision of the particle state (default: the scene's, else f64).
     #[arg(long, value_enum)]
     precision: Option<PrecisionChoice>,
@@ -503,6 +508,14 @@ fn cmd_run(backend: BackendChoice, a: &RunArgs) -> Result<()> {
         eprintln!("error: --checkpoint-minutes {}: expected minutes >= 0 (0: never)", a.checkpoint_minutes);
         std::process::exit(2);
     }
+    let state_at = match a.state_at.as_deref().map(swarf::state_table::parse_steps) {
+        Some(Ok(steps)) => steps,
+        Some(Err(e)) => {
+            eprintln!("error: {e}");
+            std::process::exit(2);
+        }
+        None => Vec::new(),
+    };
     let (any, line) = AnyBackend::select(backend)?;
     if !a.quiet {
         eprintln!("{line}");
@@ -527,6 +540,7 @@ fn cmd_run(backend: BackendChoice, a: &RunArgs) -> Result<()> {
         checkpoint_every: a.checkpoint_every,
         resume: a.resume.is_some(),
         checkpoint_wall: (a.checkpoint_minutes > 0.0).then_some(a.checkpoint_minutes * 60.0),
+        state_at,
     };
     let r = swarf::run::run(&any, &scene, &opts)?;
     if !a.quiet {

@@ -7,7 +7,7 @@ use crate::kernels::sph::params::flags;
 use crate::kernels::sph::{SphParams, TensorOps};
 use crate::kernels::{Real, Vector};
 use crate::method::{Method, MethodFn, Plan};
-use crate::output::{Array, Collection, Frame, TimeSeries, Values, vtu};
+use crate::output::{Array, Collection, Frame, TimeSeries, Values, io_err, vtu};
 use crate::scene::{Precision, Scene};
 use crate::solver::diagnostics::Diagnostics;
 use crate::solver::fields::FrameField;
@@ -42,6 +42,9 @@ pub struct RunOptions {
     pub resume: bool,
     /// Also write `checkpoint.bin` every this many seconds of wall time, between output steps too (None: never).
     pub checkpoint_wall: Option<f64>,
+    /// Step counts, sorted, after which the per-particle state table `states/state_NNNNNN.csv` is written
+    /// (`--state-at`; [`crate::state_table`]): the batches end exactly there.
+    pub state_at: Vec<u64>,
 }
 
 impl RunOptions {
@@ -59,6 +62,7 @@ impl RunOptions {
             checkpoint_every: None,
             resume: false,
             checkpoint_wall: None,
+            state_at: Vec::new(),
         }
     }
 }
@@ -261,6 +265,8 @@ struct Run<'a, B: Backend, M: Method<B>> {
     last_ckpt: Instant,
     /// Most steps of the next batch: adapted so that a batch takes about [`BATCH_WALL_S`].
     batch: usize,
+    /// The next entry of `opts.state_at` to write.
+    next_state: usize,
     /// The progress line's state (a terminal or a log).
     progress_out: crate::output::progress::Progress,
 }
@@ -278,6 +284,7 @@ fn run_typed<B: Backend, M: Method<B>>(
     run.start = (run.method.steps(), run.method.time());
     run.header()?;
     loop {
+        run.write_states()?;
         if run.output_due() && run.output_step(&mut observer)? {
             break;
         }
@@ -359,6 +366,7 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
             rebuilds0: 0,
             last_ckpt: Instant::now(),
             batch: GRAPH_BATCH,
+            next_state: 0,
             progress_out: crate::output::progress::Progress::new(std::io::IsTerminal::is_terminal(&std::io::stderr())),
         })
     }
@@ -691,7 +699,12 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
         let (b, dt, end) = (self.b, self.dt, self.scene.time.end);
         let t = self.method.time();
         let clock = Instant::now();
-        let full = full_steps(t, dt, self.next_out, end, self.cut.as_ref().map(|c| c.next()), self.batch);
+        // A state table's step ends the batch (`write_states` wrote the ones at the current step).
+        let max = match self.opts.state_at.get(self.next_state) {
+            Some(&at) => self.batch.min(at.saturating_sub(self.method.steps()).max(1) as usize),
+            None => self.batch,
+        };
+        let full = full_steps(t, dt, self.next_out, end, self.cut.as_ref().map(|c| c.next()), max);
         if full > 0 {
             self.method.advance(b, dt, full)?;
         } else {
@@ -713,6 +726,24 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
             && let Some(sample) = self.method.tool_sample(b)?
         {
             c.sample(&sample)?;
+        }
+        Ok(())
+    }
+
+    /// Writes the state tables due at the current step (`RunOptions::state_at`; those of steps already passed, e.g.
+    /// before a resumed run's checkpoint, are skipped).
+    fn write_states(&mut self) -> Result<()> {
+        let steps = self.method.steps();
+        while let Some(&at) = self.opts.state_at.get(self.next_state) {
+            if at > steps {
+                break;
+            }
+            if at == steps {
+                let out = self.method.output(self.b)?;
+                let path = crate::state_table::path(&self.opts.out_dir, steps);
+                crate::state_table::write(&path, &out.host, &out.positions, &self.initial, &out.fields)?;
+            }
+            self.next_state += 1;
         }
         Ok(())
     }
@@ -763,12 +794,6 @@ pub fn full_steps(t: f64, dt: f64, next_out: f64, end: f64, sample: Option<f64>,
         }
     }
     k
-}
-
-/// An output error naming `path` once (the atomic writes' errors already start with it).
-pub(crate) fn io_err(path: &Path, e: std::io::Error) -> Error {
-    let (p, text) = (path.display().to_string(), e.to_string());
-    Error::Output(if text.starts_with(&p) { text } else { format!("{p}: {text}") })
 }
 
 /// `run.log` of the run folder: the header and one line per output step, rewritten atomically each time.

@@ -19,6 +19,7 @@ fn opts(out: &Path, overrides: &[String], every: Option<f64>, resume: bool) -> R
         checkpoint_every: every,
         resume,
         checkpoint_wall: None,
+        state_at: Vec::new(),
     }
 }
 
