@@ -809,7 +809,7 @@ fn cmd_identify(backend: BackendChoice, a: &IdentifyArgs) -> Result<()> {
     for w in &done.warnings {
         eprintln!("warning: {w}");
     }
-    if !a.quiet && !(a.holdout_only && done.rows.is_empty()) {
+    if !(a.quiet || a.holdout_only && done.rows.is_empty()) {
         eprintln!(
             "identify: {} evaluations; history.csv, report.md and the plots written in {}",
             done.rows.len(),
