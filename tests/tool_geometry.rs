@@ -180,7 +180,7 @@ fn generic_contact_law_in_2d_equals_the_previous_law_bit_for_bit() {
                 usui_xi: 1500.0,
                 melt: 1900.0,
                 cap_mode: [cap::NONE, cap::STATIC, cap::CURRENT][k % 3],
-                _pad: 0,
+                slip_mode: 0,
             };
             let offset = [u(&mut rng, -1e-3, 1e-3), u(&mut rng, -1e-3, 1e-3)];
             let velocity = [u(&mut rng, -5.0, 5.0), u(&mut rng, -5.0, 5.0)];

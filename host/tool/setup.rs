@@ -1,7 +1,7 @@
 //! From a scene's `[tool]` to the solver's contact set-up: the built tool, its contact constants, its motion and
 //! the thermal-only tool particles (roethlin-solver.md §5.4, §5.6).
 
-use crate::kernels::contact::penalty::cap;
+use crate::kernels::contact::penalty::{cap, slip};
 use crate::kernels::contact::tool2d::{BACK, TOP};
 use crate::kernels::contact::{ContactParams, Tool2d, ToolGeometry, ToolShape};
 use crate::material::FlowModel;
@@ -55,7 +55,7 @@ pub fn contact_params(scene: &Scene, t: &Tool, model: Option<&FlowModel>) -> Con
         usui_xi: t.usui.map_or(0.0, |u| u[1]),
         melt: model.map_or(f64::INFINITY, |m| m.melt_temperature()),
         cap_mode,
-        _pad: 0,
+        slip_mode: slip::PROJECTED,
     }
 }
 
