@@ -5,7 +5,7 @@ use crate::kernels::contact::penalty::{cap, slip};
 use crate::kernels::contact::tool2d::{BACK, TOP};
 use crate::kernels::contact::{ContactParams, Tool2d, ToolGeometry, ToolShape};
 use crate::material::FlowModel;
-use crate::scene::{FrictionCap, Scene, Tool};
+use crate::scene::{FrictionCap, Scene, Switch, Tool};
 use crate::{Error, Result};
 
 use super::motion::{Rotation, ToolMotion};
@@ -55,7 +55,8 @@ pub fn contact_params(scene: &Scene, t: &Tool, model: Option<&FlowModel>) -> Con
         usui_xi: t.usui.map_or(0.0, |u| u[1]),
         melt: model.map_or(f64::INFINITY, |m| m.melt_temperature()),
         cap_mode,
-        slip_mode: slip::PROJECTED,
+        // The original code's sliding velocity and unprojected history (erratum 25) under `model = "mfree_iwf"`.
+        slip_mode: if scene.model.switches().has(Switch::GlmSlip) { slip::C2D } else { slip::PROJECTED },
     }
 }
 
