@@ -27,12 +27,12 @@ pub mod vtp;
 pub mod vtu;
 
 pub use atomic::{write_atomic, write_atomic_with};
+pub use csv::TimeSeries;
+pub use pvd::Collection;
+pub use vtu::{Array, Frame, OwnedValues, ReadFrame, Values};
 
 /// An output error naming `path` once (the atomic writes' errors already start with it).
 pub fn io_err(path: &std::path::Path, e: std::io::Error) -> crate::Error {
     let (p, text) = (path.display().to_string(), e.to_string());
     crate::Error::Output(if text.starts_with(&p) { text } else { format!("{p}: {text}") })
 }
-pub use csv::TimeSeries;
-pub use pvd::Collection;
-pub use vtu::{Array, Frame, OwnedValues, ReadFrame, Values};

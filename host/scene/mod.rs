@@ -161,7 +161,8 @@ pub struct Tool {
     /// damping 2√(k m) of a dashpot beside the penalty spring (it never pulls a particle in).
     pub contact_damping: f64,
     /// `friction_stiffness` (optional, default `contact_stiffness`, as in Röthlin's code), in (0, 1]: κ_t of the
-    /// LS-DYNA friction update f* = f_old − κ_t m v_t/Δt (Klippel's (4.47) and Röthlin's (5.129) write m/Δt: 1).
+    /// LS-DYNA friction update, with `"step"` f* = f_old − κ_t m v_t/Δt (Klippel's (4.47) and Röthlin's (5.129)
+    /// write m/Δt: 1), with `"bulk"` a stick stiffness of κ_t K A²/V per unit slip.
     pub friction_stiffness: Option<f64>,
     /// `friction` (optional, default 0), ≥ 0: the Coulomb coefficient μ.
     pub friction: f64,

@@ -10,7 +10,8 @@
 //!                                                    per step; the theses' codes, Δt the nominal step)
 //!   BULK  k_n = κ K A²/V,       k_v = κ_t K A²/V Δt  (LS-DYNA (5.117): a spring of the workpiece's bulk modulus K,
 //!                                                    A²/V = 1 per unit depth in 2D, V^(1/3) in 3D; independent
-//!                                                    of Δt, and k_v Δt is the stick stiffness per unit slip)
+//!                                                    of Δt: k_v/Δt = κ_t K A²/V is the stick stiffness per unit
+//!                                                    slip, Δt this step's length)
 //! and then
 //!   normal force    f_c = max(0, k_n d − c v_n) n,  c = 2ξ √(k_n m),  v_n = (v − v_tool)·n   (ξ: the fraction
 //!                                                    of critical damping of the penalty spring; 0: undamped)
@@ -57,7 +58,8 @@ pub mod law {
 pub struct ContactParams {
     /// Penalty fraction κ (0 < κ ≤ 1).
     pub kappa: f64,
-    /// Stiffness fraction κ_t of the friction update f* = f_old − κ_t m v_t/Δt: Röthlin's code uses κ_t = κ,
+    /// Stiffness fraction κ_t of the friction update (`law::STEP`: f* = f_old − κ_t m v_t/Δt; `law::BULK`: the
+    /// fraction of K A²/V per unit slip): Röthlin's code uses κ_t = κ,
     /// Klippel's (4.47) and Röthlin's thesis (5.129) write m/Δt, i.e. κ_t = 1.
     pub friction_kappa: f64,
     /// Coulomb coefficient μ.
