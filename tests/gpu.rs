@@ -333,7 +333,7 @@ fn plastic_pass_equals_cpu_within_one_ulp() {
             let mut tb = b.upload(t, "t").unwrap();
             let rho = b.upload(&vec![rho; n], "rho").unwrap();
             let fl = b.upload(&vec![0u32; n], "flags").unwrap();
-            let c = PlasticConsts { shear, dt: 1e-8, taylor_quinney: 0.0, _pad: 0.0 };
+            let c = PlasticConsts { shear, dt: 1e-8, taylor_quinney: 0.0, flags: 0, _pad: 0 };
             b.plastic_step::<f64, Dim3>(
                 n,
                 model,

@@ -180,7 +180,7 @@ fn generic_contact_law_in_2d_equals_the_previous_law_bit_for_bit() {
                 usui_xi: 1500.0,
                 melt: 1900.0,
                 cap_mode: [cap::NONE, cap::STATIC, cap::CURRENT][k % 3],
-                // The theses' law, undamped (the defaults), which the previous law was.
+                // The theses' law, undamped, projected slip (the defaults), which the previous law was.
                 ..Default::default()
             };
             let offset = [u(&mut rng, -1e-3, 1e-3), u(&mut rng, -1e-3, 1e-3)];

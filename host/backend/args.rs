@@ -215,6 +215,8 @@ pub fn finish_plastic_args<B: Backend, R: Real, D: Dim, M>(
         model,
         shear: p.shear,
         taylor_quinney: p.taylor_quinney,
+        return_flags: p.return_flags,
+        _pad: 0,
         step: step_ptrs(b, n, f)?,
         eps: output(b, "eps", n, p.eps)?,
         rate: output(b, "rate", n, p.rate)?,

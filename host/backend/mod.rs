@@ -287,6 +287,8 @@ pub struct PlasticPass<'a, B: Backend> {
     pub model: &'a crate::material::FlowModel,
     pub shear: f64,
     pub taylor_quinney: f64,
+    /// `PlasticConsts::flags`: the original code's return (`model = "mfree_iwf"`); 0: swarf's.
+    pub return_flags: u32,
     pub eps: &'a mut B::Buf<f64>,
     pub rate: &'a mut B::Buf<f64>,
     pub flags: &'a B::Buf<u32>,

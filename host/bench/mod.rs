@@ -293,7 +293,7 @@ pub fn plasticity<B: Backend>(
         let mut rb = b.upload(&rate, "rate")?;
         let mut tb = b.upload(&temp, "temp")?;
         let fl = b.upload(&vec![0u32; n], "flags")?;
-        let c = PlasticConsts { shear, dt: 1e-8, taylor_quinney: 0.0, _pad: 0.0 };
+        let c = PlasticConsts { shear, dt: 1e-8, taylor_quinney: 0.0, flags: 0, _pad: 0 };
         let mut times = Vec::new();
         for _ in 0..repeats.max(1) {
             b.write(&mut sb, &s)?;

@@ -176,9 +176,11 @@ pub fn setup_with<R: Real, D: TensorOps<R>>(scene: &Scene, tuning: &Tuning) -> R
     let thermal = thermal(scene, h, tool_thermal);
     let ph = &scene.physics;
     let plastic = match (ph.plasticity, scene.material.library.as_ref().and_then(|l| l.flow_stress)) {
-        (true, Some(model)) => {
-            Some(PlasticSetup { model, taylor_quinney: if ph.plastic_heating { ph.taylor_quinney } else { 0.0 } })
-        }
+        (true, Some(model)) => Some(PlasticSetup {
+            model,
+            taylor_quinney: if ph.plastic_heating { ph.taylor_quinney } else { 0.0 },
+            return_flags: 0,
+        }),
         _ => None,
     };
     let expands = ph.thermal_expansion > 0.0;

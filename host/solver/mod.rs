@@ -57,6 +57,8 @@ pub struct PlasticSetup {
     pub model: FlowModel,
     /// Taylor–Quinney coefficient (0: no plastic heating).
     pub taylor_quinney: f64,
+    /// `PlasticConsts::flags` (the scene's `model`; 0: swarf's return).
+    pub return_flags: u32,
 }
 
 /// The rigid tool of a cutting run (2D).
@@ -129,6 +131,7 @@ struct PlasticState<B: Backend> {
     work: Field<B, f64>,
     model: FlowModel,
     taylor_quinney: f64,
+    return_flags: u32,
 }
 
 struct ContactState<B: Backend, R: Real, D: Dim> {
@@ -395,6 +398,7 @@ fn plastic_state<B: Backend, R: Real, D: TensorOps<R>>(
         work: Field::upload(b, &zeros_f, "plastic work")?,
         model: p.model,
         taylor_quinney: p.taylor_quinney,
+        return_flags: p.return_flags,
     }))
 }
 
@@ -850,6 +854,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             model: &pl.model,
             shear,
             taylor_quinney: pl.taylor_quinney,
+            return_flags: pl.return_flags,
             eps: &mut pl.eps.cur,
             rate: &mut pl.rate.cur,
             flags: &p.flags.cur,

@@ -45,7 +45,7 @@ pub fn sph_params<R: Real>(m: &Elastic, dx: f64, h: f64, dim: usize, s: &Stabili
         expansion: R::ZERO,
         expansion_t0: R::ZERO,
         as_exponent: exponent,
-        _pad: 0,
+        model_flags: 0,
     }
 }
 

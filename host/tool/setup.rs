@@ -1,7 +1,7 @@
 //! From a scene's `[tool]` to the solver's contact set-up: the built tool, its contact constants, its motion and
 //! the thermal-only tool particles (roethlin-solver.md §5.4, §5.6).
 
-use crate::kernels::contact::penalty::{cap, law};
+use crate::kernels::contact::penalty::{cap, law, slip};
 use crate::kernels::contact::tool2d::{BACK, TOP};
 use crate::kernels::contact::{ContactParams, Tool2d, ToolGeometry, ToolShape};
 use crate::material::FlowModel;
@@ -61,6 +61,8 @@ pub fn contact_params(scene: &Scene, t: &Tool, model: Option<&FlowModel>) -> Con
             ContactLawKind::Step => law::STEP,
             ContactLawKind::Bulk => law::BULK,
         },
+        slip_mode: slip::PROJECTED,
+        _pad: 0,
     }
 }
 

@@ -81,6 +81,22 @@ pub struct ContactParams {
     pub cap_mode: u32,
     /// `law::STEP` or `law::BULK`.
     pub law: u32,
+    /// `slip::PROJECTED` (swarf's) or `slip::C2D` (the original code's, `model = "mfree_iwf"`).
+    pub slip_mode: u32,
+    /// Keeps the struct a multiple of 8 bytes (Pod: no implicit padding).
+    pub _pad: u32,
+}
+
+/// How the sliding velocity and the friction history are taken (`ContactParams::slip_mode`).
+pub mod slip {
+    /// v_t = v_r − (v_r·n) n, the history projected on the current tangent (the module doc).
+    pub const PROJECTED: u32 = 0;
+    /// Röthlin's 2D code [C2D] (`tool_gpu.cu`, `actions_gpu.cu`), reproduced for `model = "mfree_iwf"`: the friction's
+    /// v_t = v_r − v_r∘n with GLM's componentwise product, (v_x(1 − n_x), v_y(1 − n_y)) (**a bug**, roethlin-solver.md
+    /// §11 erratum 25: right only on faces normal to an axis), the history f_old not projected, and the friction
+    /// heat's sliding speed |(v_x − v_r·n, v_y − v_r·n)| (**another bug** of the same code: the scalar v_r·n
+    /// subtracted from each component).
+    pub const C2D: u32 = 1;
 }
 
 /// a·b over the first D components, summed in index order (a₀b₀ + a₁b₁ in 2D).
@@ -142,6 +158,19 @@ pub fn friction_update<const D: usize>(f_old: [f64; D], v_t: [f64; D], k: f64, f
         }
         out
     }
+}
+
+/// The friction heat's sliding speed in [C2D] (`slip::C2D`): |v_r − (v_r·n)(1, …, 1)|, the scalar subtracted from
+/// every component.
+#[inline(always)]
+fn c2d_heat_slip<const D: usize>(vr: &[f64; D], vn: f64) -> f64 {
+    let mut v = [0.0; D];
+    let mut k = 0;
+    while k < D {
+        v[k] = vr[k] - vn;
+        k += 1;
+    }
+    <f64 as Real>::sqrt(dot(&v, &v))
 }
 
 /// Contact forces and their by-products for one particle (D components: 2 or 3).
@@ -224,10 +253,11 @@ pub fn contact_force<const D: usize, G: ToolGeometry>(
     let on = dot(&f_old, &n);
     let mut vt = [0.0; D];
     let mut f_prev = [0.0; D];
+    let c2d = c.slip_mode == slip::C2D;
     let mut k = 0;
     while k < D {
-        vt[k] = vr[k] - vn * n[k];
-        f_prev[k] = f_old[k] - on * n[k];
+        vt[k] = if c2d { vr[k] - vr[k] * n[k] } else { vr[k] - vn * n[k] };
+        f_prev[k] = if c2d { f_old[k] } else { f_old[k] - on * n[k] };
         k += 1;
     }
     // The particle's face: √V per unit depth in 2D, V^(2/3) in 3D.
@@ -248,7 +278,9 @@ pub fn contact_force<const D: usize, G: ToolGeometry>(
     let friction = friction_update(f_prev, vt, k_v, f_max);
     let ft = <f64 as Real>::sqrt(dot(&friction, &friction));
     let slip = <f64 as Real>::sqrt(dot(&vt, &vt));
-    let heating = if c.heat_fraction > 0.0 && cp > 0.0 { c.heat_fraction * s.step * ft * slip / (m * cp) } else { 0.0 };
+    let heat_slip = if c2d { c2d_heat_slip(&vr, vn) } else { slip };
+    let heating =
+        if c.heat_fraction > 0.0 && cp > 0.0 { c.heat_fraction * s.step * ft * heat_slip / (m * cp) } else { 0.0 };
     let wear = if c.usui_psi > 0.0 && temp > 0.0 {
         c.usui_psi * libm::exp(-c.usui_xi / temp) * (fc / area) * slip
     } else {

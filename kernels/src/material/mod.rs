@@ -21,12 +21,14 @@
 //! * σ_y is clamped at 0 from below (NaN propagates); where the clamp is active the derivatives are 0.
 
 pub mod bilinear;
+pub mod c2d_return;
 pub mod johnson_cook;
 pub mod return_map;
 pub mod scgl;
 pub mod tanh;
 
 pub use bilinear::Bilinear;
+pub use c2d_return::c2d_return;
 pub use johnson_cook::{JohnsonCook, RATE_FORM_CLAMP, RATE_FORM_UINTAH};
 pub use return_map::{
     ReturnOptions, ReturnResult, ReturnStatus, Solver, deviatoric_norm, heated_temperature, plastic_heating,

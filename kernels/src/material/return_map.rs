@@ -5,7 +5,8 @@
 //! g(Δλ) = ‖S_trial‖ − 2GΔλ − √(2/3)·σ_y(ε̄ + √(2/3)Δλ, √(2/3)Δλ/Δt, T) = 0,
 //! S = S_trial(1 − 2GΔλ/‖S_trial‖), Δε̄ = √(2/3)Δλ, ε̄̇ = Δε̄/Δt. (Klippel's Δλ is Δε̄ itself.)
 //! ‖S‖ is the Frobenius norm with the factor 2 on the off-diagonal products (erratum 8: [C2D]'s missing factor is a
-//! bug and is not copied).
+//! bug and is not copied; `ReturnOptions::c2d_norm` reproduces it for `model = "mfree_iwf"`, and
+//! `super::c2d_return` the whole of [C2D]'s return).
 //!
 //! Elastic check: √(3/2)‖S_trial‖ ≤ σ_y(ε̄_old, 0, T), i.e. with the rate factor 1 (klippel §2.2, the VUMAT's
 //! elastic check, and §8 H5: "the elastic check uses rate term = 1"). Röthlin's [C2D] uses ε̄̇_old instead. With
@@ -76,12 +77,22 @@ pub struct ReturnOptions {
     /// step's increment, as [C2D]) when ε̄̇_old > 0, else the perfectly plastic estimate
     /// (‖S_trial‖ − √(2/3)σ_y)/(2G) (klippel Eq. 3.154). A guess outside [0, Δλ_max] is replaced by Δλ_max/2.
     pub initial_guess: f64,
+    /// Scale by [C2D]'s trial norm, without the factor 2 on the off-diagonal products (**a bug**, roethlin-solver.md
+    /// §11 erratum 25a; `model = "mfree_iwf"`): g and S = S_trial(1 − 2GΔλ/n) use n, the elastic check still the
+    /// true von Mises stress. Where g(0) ≤ 0 with it (a shear-dominated state just past the check) the return is
+    /// Δλ = 0. False by default.
+    pub c2d_norm: bool,
 }
 
 impl ReturnOptions {
     /// Newton, rel_tol 1e-12, 100 iterations, automatic initial guess.
-    pub const DEFAULT: ReturnOptions =
-        ReturnOptions { solver: Solver::Newton, rel_tol: REL_TOL, max_iterations: MAX_ITERATIONS, initial_guess: 0.0 };
+    pub const DEFAULT: ReturnOptions = ReturnOptions {
+        solver: Solver::Newton,
+        rel_tol: REL_TOL,
+        max_iterations: MAX_ITERATIONS,
+        initial_guess: 0.0,
+        c2d_norm: false,
+    };
     /// Secant B, otherwise as [`ReturnOptions::DEFAULT`].
     pub const SECANT_B: ReturnOptions = ReturnOptions { solver: Solver::SecantB, ..ReturnOptions::DEFAULT };
 
@@ -196,13 +207,15 @@ pub fn radial_return<M: FlowStress + ?Sized>(
     dt: f64,
     opts: &ReturnOptions,
 ) -> ReturnResult {
-    let norm = deviatoric_norm(s_trial);
+    let true_norm = deviatoric_norm(s_trial);
+    // The norm of the scaling: the true one, or [C2D]'s (`c2d_norm`, the bug of erratum 25a).
+    let norm = if opts.c2d_norm { sqrt(super::c2d_return::c2d_norm_squared(s_trial, true)) } else { true_norm };
     // The temperature is frozen during the return: its part of σ_y (Johnson–Cook's 1 − θᵐ) is evaluated once, for
     // the elastic check, every iteration and the flow stress of the result.
     let thermal = model.thermal_part(temp);
     let strength0 = model.strength_part(eps, 0.0);
     let sy0 = model.sigma_y_parts(eps, 0.0, temp, strength0, thermal);
-    if !(SQRT_3_2 * norm > sy0) {
+    if !(SQRT_3_2 * true_norm > sy0) {
         return ReturnResult {
             stress: *s_trial,
             eps,

@@ -104,6 +104,9 @@ pub struct FinishPlasticArgs<R: Real, D: Dim, M> {
     pub model: M,
     pub shear: f64,
     pub taylor_quinney: f64,
+    /// `PlasticConsts::flags` (the original code's return under `model = "mfree_iwf"`; 0: swarf's).
+    pub return_flags: u32,
+    pub _pad: u32,
     pub step: StepPtrs<R, D>,
     pub eps: *mut f64,
     pub rate: *mut f64,
@@ -142,7 +145,13 @@ impl<R: Real, D: TensorOps<R>, M: FlowStress> FinishPlasticArgs<R, D, M> {
         unsafe {
             let dt = (*self.scalars).dt;
             correct_particle(&self.step.arrays(), dt, i);
-            let c = PlasticConsts { shear: self.shear, dt, taylor_quinney: self.taylor_quinney, _pad: 0.0 };
+            let c = PlasticConsts {
+                shear: self.shear,
+                dt,
+                taylor_quinney: self.taylor_quinney,
+                flags: self.return_flags,
+                _pad: 0,
+            };
             let p = PlasticArrays::<R, D::Sym<R>> {
                 stress: self.step.stress,
                 rho: self.step.rho,

@@ -81,7 +81,7 @@ macro_rules! rates_entry {
                     let o = finish_rates::<$r, $d, $xs>(&params, &a, i, &mech);
                     args.store(i as usize, &o);
                     if $heat {
-                        *args.temp_t.add(i as usize) = heat_finish(&h, i, heat);
+                        *args.temp_t.add(i as usize) = heat_finish(&hp, &h, i, heat);
                     }
                 }
             }
@@ -195,7 +195,7 @@ macro_rules! heat_entry {
                 };
                 sum = butterfly(sum, lanes);
                 if live && lane == 0 {
-                    *args.temp_t.add(i as usize) = heat_finish(&a, i, sum);
+                    *args.temp_t.add(i as usize) = heat_finish(&args.hp, &a, i, sum);
                 }
             }
         }

@@ -41,13 +41,36 @@ pub struct HeatParams {
     pub pse_cut2: f64,
     /// Pairs closer than this (squared) are skipped (as in the momentum pass).
     pub min_r2: f64,
+    /// The workpiece's reference density ρ0, by which [`heat_flags::C2D`] divides instead of the particle's ρ.
+    pub rho0: f64,
+    /// [`heat_flags`] (0: swarf's conduction), set from the scene's `model` only.
+    pub flags: u32,
+    pub _pad: u32,
+}
+
+/// The bits of [`HeatParams::flags`].
+pub mod heat_flags {
+    /// Röthlin's 2D code's conduction [C2D] (`interactions_gpu.cu`), reproduced for `model = "mfree_iwf"`:
+    /// Ṫ_i = k_i/(ρ0_i c_i) Σ_j V_j L_ij with the receiving particle's own conductivity (no harmonic mean: between
+    /// the workpiece and the tool heat is not conserved) and its reference density ρ0 (the workpiece's; the tool's
+    /// density does not change). (Its V_j = m_workpiece/ρ_j for tool neighbours too comes from the host, which
+    /// gives the tool particles the workpiece's particle mass.)
+    pub const C2D: u32 = 1;
 }
 
 impl HeatParams {
     pub fn new(h: f64, dim: usize) -> Self {
         let pi = core::f64::consts::PI;
         let norm = if dim == 3 { 4.0 / (pi * libm::sqrt(pi) * h * h * h * h * h) } else { 4.0 / (pi * h * h * h * h) };
-        HeatParams { pse_norm: norm, inv_h2: 1.0 / (h * h), pse_cut2: 9.0 * h * h, min_r2: (1e-6 * h) * (1e-6 * h) }
+        HeatParams {
+            pse_norm: norm,
+            inv_h2: 1.0 / (h * h),
+            pse_cut2: 9.0 * h * h,
+            min_r2: (1e-6 * h) * (1e-6 * h),
+            rho0: 0.0,
+            flags: 0,
+            _pad: 0,
+        }
     }
 }
 
@@ -99,6 +122,8 @@ pub struct HeatOwn<V> {
     material: ThermalMaterial,
     /// The body index of the flags (its material's index).
     body: u32,
+    /// A thermal-only (tool) particle.
+    tool: bool,
 }
 
 #[inline(always)]
@@ -111,7 +136,13 @@ pub(crate) unsafe fn heat_own<R: Real, V: Vector<R>>(a: &HeatArrays<R, V>, i: u3
             return None;
         }
         let body = fl >> flags::BODY_SHIFT;
-        Some(HeatOwn { x: *a.pos.add(iu), t: *a.temp.add(iu), material: *a.materials.add(body as usize), body })
+        Some(HeatOwn {
+            x: *a.pos.add(iu),
+            t: *a.temp.add(iu),
+            material: *a.materials.add(body as usize),
+            body,
+            tool: fl & flags::THERMAL_ONLY != 0,
+        })
     }
 }
 
@@ -158,13 +189,13 @@ pub(crate) unsafe fn heat_pair<R: Real, V: Vector<R>, const PSE: bool>(
         return 0.0;
     }
     if PSE {
-        let (kij, vj, tj) = unsafe { conductance(a, o, &q) };
+        let (kij, vj, tj) = unsafe { conductance(hp, a, o, &q) };
         let r2f = r2.to_f64();
         vj * kij * (tj - o.t) * hp.pse_norm * libm::exp(-r2f * hp.inv_h2)
     } else {
         let r = r2.sqrt();
         // The same W'(r)/r as the fused pass's geometry (`interact::geometry`), so both agree bit for bit.
-        brookshaw_term(a, o, &q, k.dw_dr_over_r(r).to_f64())
+        brookshaw_term(hp, a, o, &q, k.dw_dr_over_r(r).to_f64())
     }
 }
 
@@ -172,13 +203,14 @@ pub(crate) unsafe fn heat_pair<R: Real, V: Vector<R>, const PSE: bool>(
 /// `dw` = W'(r)/r (shared with the momentum term in the fused pass).
 #[inline(always)]
 pub(crate) fn brookshaw_term<R: Real, V: Vector<R>>(
+    hp: &HeatParams,
     a: &HeatArrays<R, V>,
     o: &HeatOwn<V>,
     q: &HeatPartner,
     dw: f64,
 ) -> f64 {
     // SAFETY: the body index of a particle's flags has a material (`heat_sum`'s contract).
-    let (kij, vj, tj) = unsafe { conductance(a, o, q) };
+    let (kij, vj, tj) = unsafe { conductance(hp, a, o, q) };
     vj * kij * 2.0 * (o.t - tj) * dw
 }
 
@@ -187,10 +219,16 @@ pub(crate) fn brookshaw_term<R: Real, V: Vector<R>>(
 /// # Safety
 /// `materials` covers j's body index.
 #[inline(always)]
-unsafe fn conductance<R: Real, V: Vector<R>>(a: &HeatArrays<R, V>, o: &HeatOwn<V>, q: &HeatPartner) -> (f64, f64, f64) {
+unsafe fn conductance<R: Real, V: Vector<R>>(
+    hp: &HeatParams,
+    a: &HeatArrays<R, V>,
+    o: &HeatOwn<V>,
+    q: &HeatPartner,
+) -> (f64, f64, f64) {
     let mi = o.material;
-    // One material: k_ij = k exactly (the harmonic mean would round it), without the second table load.
-    let kij = if q.body == o.body {
+    // One material: k_ij = k exactly (the harmonic mean would round it), without the second table load. [C2D]: the
+    // receiver's k always.
+    let kij = if q.body == o.body || hp.flags & heat_flags::C2D != 0 {
         mi.conductivity
     } else {
         let mj = unsafe { *a.materials.add(q.body as usize) };
@@ -199,14 +237,22 @@ unsafe fn conductance<R: Real, V: Vector<R>>(a: &HeatArrays<R, V>, o: &HeatOwn<V
     (kij, q.vol, q.t)
 }
 
-/// Ṫ_i from the combined conduction sum: Σ / (ρ_i c_i); 0 for a particle with a fixed temperature.
+/// Ṫ_i from the combined conduction sum: Σ / (ρ_i c_i) ([`heat_flags::C2D`]: ρ0 for a workpiece particle); 0 for
+/// a particle with a fixed temperature.
 ///
 /// # Safety
 /// As [`heat_sum`].
 #[inline(always)]
-pub unsafe fn heat_finish<R: Real, V: Vector<R>>(a: &HeatArrays<R, V>, i: u32, sum: f64) -> f64 {
+pub unsafe fn heat_finish<R: Real, V: Vector<R>>(hp: &HeatParams, a: &HeatArrays<R, V>, i: u32, sum: f64) -> f64 {
     match unsafe { heat_own(a, i) } {
-        Some(o) => sum / (unsafe { *a.rho.add(i as usize) }.to_f64() * o.material.specific_heat),
+        Some(o) => {
+            let rho = if hp.flags & heat_flags::C2D != 0 && !o.tool {
+                hp.rho0
+            } else {
+                unsafe { *a.rho.add(i as usize) }.to_f64()
+            };
+            sum / (rho * o.material.specific_heat)
+        }
         None => 0.0,
     }
 }
@@ -232,6 +278,6 @@ pub unsafe fn heat_rate<R: Real, V: Vector<R>, const PSE: bool>(
             }
             None => 0.0,
         };
-        heat_finish(a, i, sum)
+        heat_finish(hp, a, i, sum)
     }
 }

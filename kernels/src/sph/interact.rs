@@ -1,7 +1,9 @@
 //! The per-particle pre-pass and the pair interaction of "Algorithm 1" (roethlin-solver.md §4.1, §5.2 steps
 //! 4–10; klippel-constitutive.md §1.2), with the errata of §11 applied: continuity −ρ tr L (1), m_j (2), the
 //! viscosity acting as a pressure −Π_ij I (3), μ_ij with r² + η²h² (4), XSPH with m_j/ρ̄_ij (5), the EOS
-//! p = c0²(ρ − ρ0) (7), the correct cubic spline (24) and a cutoff relative to h (31).
+//! p = c0²(ρ − ρ0) (7), the correct cubic spline (24) and a cutoff relative to h (31). `model = "mfree_iwf"`
+//! reproduces two of the old code's: W = 0.25 (2 − q)⁶ for XSPH and f_ij (24, `SphParams::model_flags`) and the
+//! absolute cutoff r < 1 µm (31, through `SphParams::min_r2`).
 //!
 //! For sorted particle i, over neighbours j (j ≠ i, r < 2h), with V_j = m_j/ρ_j and ∇W_ij = W'(r) x_ij/r:
 //!   L_i   = Σ_j V_j (v_j − v_i) ⊗ ∇W_ij
@@ -296,6 +298,8 @@ fn pair_params<R: Real, const AV: bool, const AS: bool>(p: &SphParams<R>) -> Sph
         av_eta2h2: if AV { p.av_eta2h2 } else { R::ZERO },
         av_alpha: if AV { p.av_alpha } else { R::ZERO },
         av_beta: if AV { p.av_beta } else { R::ZERO },
+        // Read only where W itself is (XSPH, artificial stress).
+        model_flags: p.model_flags,
         ..Default::default()
     }
 }
@@ -373,7 +377,15 @@ fn pair_term<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSP
         let dv = sub(&vj, &vi);
         // V_j of the pre-pass: m_j/ρ_j with the full mass, which equals the mechanical m_j here (m_j ≠ 0).
         D::outer_add(&mut sums.l, q.vol, &dv, &gw);
-        let w = if AS || XSPH { k.w(r) } else { R::ZERO };
+        // W for XSPH and f_ij; `model = "mfree_iwf"` takes the old 2D code's (2 − q)⁶ (erratum 24; a uniform branch
+        // on a kernel constant).
+        let w = if !(AS || XSPH) {
+            R::ZERO
+        } else if p.model_flags & super::params::model::C2D_KERNEL_W != 0 {
+            k.w_c2d(r)
+        } else {
+            k.w(r)
+        };
         let fan = if AS { power(w * p.as_inv_w_dx, p.as_exponent) } else { R::ZERO };
         let artj = q.art;
         let rho_bar = half * (rhoi + rhoj);
@@ -531,7 +543,7 @@ unsafe fn heat_and_pair<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool
     if let Some(ho) = ho
         && g.r2 >= R::from_f64(heat_min_r2)
     {
-        s.heat += brookshaw_term(h, ho, &hq, g.dw.to_f64());
+        s.heat += brookshaw_term(hp, h, ho, &hq, g.dw.to_f64());
     }
     if o.mech {
         pair_term::<R, D, AV, AS, XSPH>(&p, o, &q, &g, &mut s.mech);
@@ -564,7 +576,7 @@ pub unsafe fn rates_heat<R: Real, D: TensorOps<R>, const AV: bool, const AS: boo
                 heat_and_pair::<R, D, AV, AS, XSPH>(p, hp, a, h, &o, ho.as_ref(), i, j, s)
             })
         };
-        (finish_rates::<R, D, XSPH>(p, a, i, &sums.mech), heat_finish(h, i, sums.heat))
+        (finish_rates::<R, D, XSPH>(p, a, i, &sums.mech), heat_finish(hp, h, i, sums.heat))
     }
 }
 

@@ -5,7 +5,8 @@
 //! W'(r)/r = (n_c/h²)(−3 + 2.25q) for q < 1 (no division),  (n_c/h)(−0.75 (2 − q)²)/r for 1 ≤ q < 2.
 //!
 //! n_c = 10/(7π h²) in 2D, 1/(π h³) in 3D ([C2D]/[C3D]). The old 2D code computed 0.25(2 − q)⁶ for q > 1
-//! (erratum 24); this is the correct cube.
+//! (erratum 24); [`CubicSpline::w`] is the correct cube, [`CubicSpline::w_c2d`] the old code's value, kept only to
+//! reproduce it (`model = "mfree_iwf"`, docs/validation.md).
 
 use crate::real::Real;
 use bytemuck::{Pod, Zeroable};
@@ -49,6 +50,28 @@ impl<R: Real> CubicSpline<R> {
         } else if q < two {
             let t = two - q;
             self.norm * R::from_f64(0.25) * t * t * t
+        } else {
+            R::ZERO
+        }
+    }
+
+    /// W(r) as Röthlin's 2D code [C2D] computes it (`kernels.cuh`, `cubic_spline`): n_c (1 − 1.5 q² + 0.75 q³) for
+    /// q ≤ 1, n_c · 0.25 (2 − q)⁶ for 1 < q < 2 (**a bug**, roethlin-solver.md §11 erratum 24: the sixth power where
+    /// the spline has the cube), 0 beyond. The two branches agree at q = 1 (both 0.25 n_c), so the bug only lowers
+    /// W on 1 < q < 2, by the factor (2 − q)³. The code uses this value only where it needs W itself, XSPH and the
+    /// artificial stress's f_ij = W/W(Δx) (with W(Δx) on q < 1, unaffected); its gradient is the correct cube's.
+    /// Reproduced under `model = "mfree_iwf"` ([`super::params::model::C2D_KERNEL_W`]), never by default.
+    #[inline(always)]
+    pub fn w_c2d(&self, r: R) -> R {
+        let q = r * self.inv_h;
+        let one = R::ONE;
+        let two = R::from_f64(2.0);
+        if q < one {
+            self.norm * (one - R::from_f64(1.5) * q * q + R::from_f64(0.75) * q * q * q)
+        } else if q < two {
+            let t = two - q;
+            let t3 = t * t * t;
+            self.norm * R::from_f64(0.25) * t3 * t3
         } else {
             R::ZERO
         }

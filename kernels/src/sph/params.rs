@@ -35,7 +35,16 @@ pub struct SphParams<R: Real> {
     pub expansion: R,
     pub expansion_t0: R,
     pub as_exponent: u32,
-    pub _pad: u32,
+    /// Switches of the original code's model ([`model`]; 0: swarf's), set from the scene's `model` only.
+    pub model_flags: u32,
+}
+
+/// The bits of [`SphParams::model_flags`]: parts of Röthlin's 2D code [C2D] reproduced under the scene's
+/// `model = "mfree_iwf"` (docs/validation.md, "The original model"); each is a documented bug or quirk of that code.
+pub mod model {
+    /// W for XSPH and the artificial stress's f_ij from [`super::CubicSpline::w_c2d`], 0.25 (2 − q)⁶ on 1 < q < 2
+    /// (roethlin-solver.md §11 erratum 24), instead of the spline's cube.
+    pub const C2D_KERNEL_W: u32 = 1;
 }
 
 // SAFETY: repr(C), fields of one float type followed by two u32; R is 4 or 8 bytes, so with 17 floats and two

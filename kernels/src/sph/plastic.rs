@@ -1,12 +1,14 @@
 //! The plastic update of one particle after the corrector (roethlin-solver.md §5.2 step 13; klippel §2.2): the
 //! radial return of the trial deviatoric stress (always f64, `material::return_map`), the equivalent plastic
-//! strain and its rate, and the plastic heating ΔT = t_q σ_y Δε̄/(ρ c_p) capped at the melt temperature.
+//! strain and its rate, and the plastic heating ΔT = t_q σ_y Δε̄/(ρ c_p) capped at the melt temperature. Under
+//! `model = "mfree_iwf"` ([`PlasticConsts::flags`]) the return is Röthlin's 2D code's (`material::c2d_return`).
 
 use super::heat::ThermalMaterial;
 use super::params::flags;
 use super::tensor::TensorOps;
 use crate::material::{
-    FlowStress, ReturnOptions, ReturnResult, ReturnStatus, heated_temperature, plastic_heating, radial_return,
+    FlowStress, ReturnOptions, ReturnResult, ReturnStatus, c2d_return, heated_temperature, plastic_heating,
+    radial_return,
 };
 use crate::real::Real;
 use crate::vector::SymTensor;
@@ -21,7 +23,20 @@ pub struct PlasticConsts {
     pub dt: f64,
     /// Taylor–Quinney coefficient t_q; 0 switches plastic heating off.
     pub taylor_quinney: f64,
-    pub _pad: f64,
+    /// Parts of the original code's return ([`return_flags`]; 0: swarf's), set from the scene's `model` only.
+    pub flags: u32,
+    pub _pad: u32,
+}
+
+/// The bits of [`PlasticConsts::flags`]: Röthlin's 2D code's radial return, reproduced under `model = "mfree_iwf"`
+/// (docs/validation.md, "The original model").
+pub mod return_flags {
+    /// [C2D]'s procedure (`material::c2d_return`): the elastic check at the previous step's ε̄̇, its secant
+    /// iteration with an absolute tolerance, its f32 roundings.
+    pub const C2D_RETURN: u32 = 1;
+    /// The trial norm without the factor 2 on S_xy² (**a bug**, roethlin-solver.md §11 erratum 25a), in
+    /// whichever procedure runs.
+    pub const C2D_NORM: u32 = 2;
 }
 
 /// Converts the stored deviatoric stress (2D: xx, xy, yy, zz; 3D: xx, xy, xz, yy, yz, zz) to the 3D layout of the
@@ -78,7 +93,24 @@ pub fn plastic_update<R: Real, D: TensorOps<R>, M: FlowStress>(
     fl: u32,
     cp: f64,
 ) -> ReturnResult {
-    let r = radial_return(model, &to6::<R, _>(s), *eps, *rate, *temp, c.shear, c.dt, &ReturnOptions::DEFAULT);
+    let trial = to6::<R, _>(s);
+    let c2d_norm = c.flags & return_flags::C2D_NORM != 0;
+    let r = if c.flags & return_flags::C2D_RETURN != 0 {
+        c2d_return(model, &trial, *eps, *rate, *temp, c.shear, c.dt, c2d_norm)
+    } else if c2d_norm {
+        radial_return(
+            model,
+            &trial,
+            *eps,
+            *rate,
+            *temp,
+            c.shear,
+            c.dt,
+            &ReturnOptions { c2d_norm, ..ReturnOptions::DEFAULT },
+        )
+    } else {
+        radial_return(model, &trial, *eps, *rate, *temp, c.shear, c.dt, &ReturnOptions::DEFAULT)
+    };
     let d_eps = r.eps - *eps;
     if r.status != ReturnStatus::Elastic {
         from6::<R, _>(&r.stress, s);
