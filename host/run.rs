@@ -462,6 +462,18 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
         }
         self.log.line(&format!("swarf {VERSION}"))?;
         self.log.line(&head)?;
+        if !scene.model.is_swarf() {
+            // Not swarf's model: say so wherever the run's results go (docs/validation.md, "The original model").
+            let list: Vec<&str> = scene.model.switches().list().into_iter().map(|s| s.name()).collect();
+            let line = format!(
+                "model: the original 2D code's (MFREE_IWF), bugs included, in: {} (docs/validation.md)",
+                list.join(", ")
+            );
+            if !self.opts.quiet {
+                eprintln!("{line}");
+            }
+            self.log.line(&line)?;
+        }
         for w in &p.warnings {
             if !self.opts.quiet {
                 eprintln!("warning: {w}");
@@ -1155,6 +1167,12 @@ impl Summary<'_> {
         });
         if let (Some(serde_json::Value::Object(extra)), Some(obj)) = (cutting, v.as_object_mut()) {
             obj.extend(extra);
+        }
+        // The model only where it is not swarf's, so the default's summary is what it was.
+        if !scene.model.is_swarf()
+            && let Some(obj) = v.as_object_mut()
+        {
+            obj.insert("model".into(), serde_json::to_value(&scene.model).unwrap_or_default());
         }
         let text = serde_json::to_string_pretty(&v).map_err(|e| Error::Output(e.to_string()))?;
         let path = self.dir.join("summary.json");

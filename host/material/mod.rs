@@ -210,6 +210,25 @@ impl FlowModel {
             FlowModel::Scgl(_) | FlowModel::Bilinear(_) => None,
         }
     }
+
+    /// This model with the Johnson–Cook block's low-rate form set to Uintah's (1 + ε̇*)^C, the only form of the
+    /// original 2D code (`model = "mfree_iwf"`, roethlin-solver.md §11 erratum 9); SCGL and bilinear unchanged.
+    pub fn with_uintah_rate(mut self) -> FlowModel {
+        let jc = match &mut self {
+            FlowModel::JohnsonCook(m) => Some(m),
+            FlowModel::Calamaz2008(m) => Some(&mut m.jc),
+            FlowModel::Calamaz2010(m) => Some(&mut m.jc),
+            FlowModel::Calamaz2011(m) => Some(&mut m.jc),
+            FlowModel::SimaOzel1(m) => Some(&mut m.jc),
+            FlowModel::SimaOzel2(m) => Some(&mut m.jc),
+            FlowModel::SimaOzel3(m) => Some(&mut m.jc),
+            FlowModel::Scgl(_) | FlowModel::Bilinear(_) => None,
+        };
+        if let Some(jc) = jc {
+            jc.rate_form = RATE_FORM_UINTAH;
+        }
+        self
+    }
 }
 
 /// One named parameter set.

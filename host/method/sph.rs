@@ -9,7 +9,8 @@ use crate::kernels::sph::TensorOps;
 use crate::kernels::sph::heat::{HeatParams, ThermalMaterial};
 use crate::kernels::sph::params::flags;
 use crate::kernels::{Real, Vector};
-use crate::scene::{Bc, Conduction, ParticleSet, Precision, Scene};
+use crate::material::FlowModel;
+use crate::scene::{Bc, Conduction, ParticleSet, Precision, Scene, Switch};
 use crate::solver::diagnostics::compute;
 use crate::solver::params::{StabiliserSettings, cfl_time_step, sph_params};
 use crate::solver::{ContactSetup, PlasticSetup, Solver, ThermalSetup};
@@ -54,13 +55,16 @@ impl Initial {
         let n = set.len();
         let mut table: Vec<[f64; 3]> = Vec::new();
         let mut fl = Vec::with_capacity(n);
+        // The original code holds every mechanically fixed particle at its initial temperature.
+        let hold_fixed = scene.model.switches().has(Switch::FixedTemperature);
         for i in 0..n {
             let (kind, idx) = match set.bc[i] {
                 Bc::Free => (flags::FREE, 0),
                 Bc::Fixed => (flags::FIXED, 0),
                 Bc::Velocity(v) => (flags::VELOCITY, velocity_index(&mut table, v, scene)? as u32),
             };
-            let thermal_fix = if set.fixed_temperature[i] { flags::FIXED_TEMPERATURE } else { 0 };
+            let held = set.fixed_temperature[i] || (hold_fixed && kind == flags::FIXED);
+            let thermal_fix = if held { flags::FIXED_TEMPERATURE } else { 0 };
             fl.push(kind | thermal_fix | idx << flags::VEL_INDEX_SHIFT | set.body[i] << flags::BODY_SHIFT);
         }
         Ok(Initial {
@@ -82,7 +86,7 @@ impl Initial {
         let tool = crate::tool::setup::build_tool(t)?;
         let motion = crate::tool::setup::motion(t);
         crate::tool::setup::check_engagement(scene, &tool, &motion, &set.pos, &set.vel)?;
-        let model = scene.material.library.as_ref().and_then(|l| l.flow_stress);
+        let model = flow_model(scene);
         let mut tool_velocity_index = None;
         let mut tool_thermal = None;
         if let Some(th) = &t.thermal
@@ -96,6 +100,10 @@ impl Initial {
             tool_velocity_index = (t.ramp > 0.0).then_some(k);
             let body = scene.bodies.len() as u32;
             let rho_t = mat.density.unwrap_or(m.density);
+            // The original code's conduction takes every neighbour's volume as the workpiece's particle mass over
+            // its density (roethlin-solver.md §5.6): the tool particles' mass is the workpiece's then.
+            let c2d = scene.model.switches().has(Switch::C2dConduction);
+            let tool_mass = if c2d { m.density * set.volume } else { rho_t * set.volume };
             for (p, held) in tp.pos.iter().zip(&tp.held) {
                 let hold = if *held { flags::FIXED_TEMPERATURE } else { 0 };
                 self.flags.push(
@@ -107,7 +115,7 @@ impl Initial {
                 );
                 self.pos.push([p[0], p[1], 0.0]);
                 self.vel.push([v0[0], v0[1], 0.0]);
-                self.mass.push(rho_t * set.volume);
+                self.mass.push(tool_mass);
                 self.density.push(rho_t);
                 self.temperature.push(th.temperature);
             }
@@ -125,6 +133,13 @@ impl Initial {
         };
         Ok((Some(contact), tool_thermal))
     }
+}
+
+/// The scene material's flow-stress model as the run uses it: with the Uintah low-rate form under the original
+/// model's `uintah_rate` switch.
+fn flow_model(scene: &Scene) -> Option<FlowModel> {
+    let model = scene.material.library.as_ref().and_then(|l| l.flow_stress)?;
+    Some(if scene.model.switches().has(Switch::UintahRate) { model.with_uintah_rate() } else { model })
 }
 
 /// Builds the particles, parameters, grid and time step of `scene`, with the process's tuning switches
@@ -170,17 +185,29 @@ pub fn setup_with<R: Real, D: TensorOps<R>>(scene: &Scene, tuning: &Tuning) -> R
     let mut params = sph_params::<R>(&elastic, dx, h, scene.dim, &stabilisers);
     params.expansion = R::from_f64(3.0 * scene.physics.thermal_expansion);
     params.expansion_t0 = R::from_f64(scene.physics.expansion_reference);
+    let switches = scene.model.switches();
+    if switches.has(Switch::KernelW6) {
+        params.model_flags |= crate::kernels::sph::params::model::C2D_KERNEL_W;
+    }
+    if switches.has(Switch::AbsCutoff) {
+        params.min_r2 = R::from_f64(code_units(scene).cutoff_squared());
+    }
     let grid = grid(scene, &pos, contact.as_ref(), h)?;
     let c0 = elastic.sound_speed();
     let dt = time_step(scene, h, c0, &vel)?;
     let thermal = thermal(scene, h, tool_thermal);
     let ph = &scene.physics;
-    let plastic = match (ph.plasticity, scene.material.library.as_ref().and_then(|l| l.flow_stress)) {
-        (true, Some(model)) => Some(PlasticSetup {
-            model,
-            taylor_quinney: if ph.plastic_heating { ph.taylor_quinney } else { 0.0 },
-            return_flags: 0,
-        }),
+    let plastic = match (ph.plasticity, flow_model(scene)) {
+        (true, Some(model)) => {
+            use crate::kernels::sph::plastic::return_flags::{C2D_NORM, C2D_RETURN};
+            let return_flags = if switches.has(Switch::C2dReturn) { C2D_RETURN } else { 0 }
+                | if switches.has(Switch::C2dNorm) { C2D_NORM } else { 0 };
+            Some(PlasticSetup {
+                model,
+                taylor_quinney: if ph.plastic_heating { ph.taylor_quinney } else { 0.0 },
+                return_flags,
+            })
+        }
         _ => None,
     };
     let expands = ph.thermal_expansion > 0.0;
@@ -241,13 +268,28 @@ fn grid(
     Ok(grid)
 }
 
+/// The original code's units for the scene (`scene::model::CodeUnits`: its cut's cm and µs with a tool).
+fn code_units(scene: &Scene) -> crate::scene::model::CodeUnits {
+    crate::scene::model::CodeUnits::of(scene.tool.is_some())
+}
+
 /// The run's Δt: the scene's `time.dt` if it is stable, else the stability limit: the CFL step, and with
 /// conduction 0.1 h² ρ c / k (Cleary & Monaghan's bound for the Brookshaw form; PSE is no less restrictive) over
 /// the largest diffusivity of the scene's bodies and the tool.
+///
+/// The CFL step is CFL h/(c0 + |v|max) over the initial velocities (roethlin-solver.md (7.1)); under the original
+/// model's `sqrt_v_dt` switch it is the original code's CFL h/(c0 + √v) (**a bug**, erratum 13: the root of a
+/// speed), v the tool's speed (with a tool; else |v|max, as its rings and impact set-ups), its root taken in the
+/// code's units (cm/µs for the cut: √v [cm/µs] = 100 √v [m/s] in m/s; SI otherwise).
 fn time_step(scene: &Scene, h: f64, c0: f64, vel: &[[f64; 3]]) -> Result<f64> {
     let m = &scene.material;
     let vmax0 = vel.iter().map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()).fold(0.0, f64::max);
-    let mut limit = cfl_time_step(scene.time.cfl, h, c0, vmax0);
+    let mut limit = if scene.model.switches().has(Switch::SqrtVDt) {
+        let v = scene.tool.as_ref().map_or(vmax0, |t| t.velocity[0].hypot(t.velocity[1]));
+        scene.time.cfl * h / (c0 + code_units(scene).sqrt_speed(v))
+    } else {
+        cfl_time_step(scene.time.cfl, h, c0, vmax0)
+    };
     if scene.physics.conduction != Conduction::Off {
         let lib_th = m.library.as_ref().and_then(|l| l.thermal);
         for bd in &scene.bodies {
@@ -296,6 +338,15 @@ fn thermal(scene: &Scene, h: f64, tool_thermal: Option<ThermalMaterial>) -> Opti
         })
         .collect();
     materials.extend(tool_thermal);
+    let mut heat = HeatParams::new(h, scene.dim);
+    let switches = scene.model.switches();
+    if switches.has(Switch::AbsCutoff) {
+        heat.min_r2 = code_units(scene).cutoff_squared();
+    }
+    if switches.has(Switch::C2dConduction) {
+        heat.flags |= crate::kernels::sph::heat::heat_flags::C2D;
+        heat.rho0 = scene.material.density;
+    }
     Some(ThermalSetup {
         materials,
         conduction: match ph.conduction {
@@ -303,7 +354,7 @@ fn thermal(scene: &Scene, h: f64, tool_thermal: Option<ThermalMaterial>) -> Opti
             Conduction::Brookshaw => Some(false),
             Conduction::Pse => Some(true),
         },
-        heat: HeatParams::new(h, scene.dim),
+        heat,
     })
 }
 

@@ -36,6 +36,7 @@
 mod doc;
 mod error;
 mod generate;
+pub mod model;
 pub mod observe;
 mod read;
 mod units;
@@ -46,6 +47,7 @@ use std::path::Path;
 use serde::Serialize;
 
 pub use error::{Location, SceneError};
+pub use model::{Model, ModelSwitches, Switch};
 
 /// The default of `time.max_steps`: the most steps a run takes unless its scene allows more.
 pub const DEFAULT_MAX_STEPS: f64 = 1e9;
@@ -87,6 +89,11 @@ pub struct Scene {
     pub experiment: Vec<Measurement>,
     /// `[analysis]` (optional): options of the end-of-run analysis of a cutting run.
     pub analysis: Analysis,
+    /// `model` (optional, default `"swarf"`): `"swarf"`, `"mfree_iwf"` (the original 2D code, MFREE_IWF, with its
+    /// bugs: docs/validation.md, "The original model") or a list of that model's switches ([`Switch`]); 2D only.
+    /// Absent from `summary.json` when `"swarf"`, so those scenes record what they recorded before.
+    #[serde(skip_serializing_if = "Model::is_swarf")]
+    pub model: Model,
 }
 
 /// `[analysis]`: `early_stop = { tolerance = ε }` (optional, needs a `[tool]`): the run ends once F_c and F_f are
@@ -133,7 +140,8 @@ pub struct Tool {
     pub height: f64,
     /// `position` (required; unit m) `[x, y]`: where the edge's lowest point is at t = 0. With `depth_of_cut` the
     /// file gives `[x]` only and y is resolved when the scene is read: y = y_top + dx/2 − depth_of_cut, y_top the
-    /// highest particle row of the workpiece body (`body`, default the first `[[body]]`). Always resolved here.
+    /// highest particle row of the workpiece body (`body`, default the first `[[body]]`); under `model =
+    /// "mfree_iwf"` y = y_top − depth_of_cut (the original code's datum). Always resolved here.
     pub position: [f64; 2],
     /// `depth_of_cut` (optional; unit m), > 0: the edge's lowest point lies this far below the workpiece's uncut
     /// surface (top particle row + dx/2). Keeps the cut's geometry when dx changes (`--set discretisation.dx`);

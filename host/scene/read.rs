@@ -25,6 +25,7 @@ const ROOT_KEYS: &[&str] = &[
     "tool",
     "experiment",
     "analysis",
+    "model",
 ];
 const BODY_KEYS: &[&str] = &["name", "shape", "velocity", "angular_velocity", "lattice", "material", "temperature"];
 const SHAPES: &[(&str, &[&str])] = &[
@@ -233,6 +234,9 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
         .and_then(Precision::from_name)
         .unwrap_or(Precision::F64);
 
+    let model = model(&root, dim)?;
+    let switches = model.switches();
+
     // [discretisation]
     let disc_expected = "a table [discretisation] with dx (and h_over_dx, skin_over_h, verlet_list)";
     let disc =
@@ -288,7 +292,7 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
 
     // [tool]
     let tool = match root.table("tool", "tool", "a table [tool]")? {
-        Some(t) => Some(tool(&t, doc, dim, dx, &physics, &bodies)?),
+        Some(t) => Some(tool(&t, doc, dim, dx, &physics, &bodies, switches)?),
         None => None,
     };
 
@@ -316,7 +320,41 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
         tool,
         experiment,
         analysis,
+        model,
     })
+}
+
+/// `model` (optional, default `"swarf"`): `"swarf"`, `"mfree_iwf"` or a list of the original code's switches
+/// (`super::model`); in 3D only `"swarf"` (the original code reproduced is the 2D one).
+fn model(root: &Tab<'_>, dim: usize) -> Result<Model> {
+    use super::model::{MODEL_NAMES, ModelSwitches, Switch};
+    let Some(node) = root.get("model") else { return Ok(Model::Swarf) };
+    let names = MODEL_NAMES.iter().map(|n| format!("\"{n}\"")).collect::<Vec<_>>().join(" or ");
+    let switches = Switch::ALL.iter().map(|s| format!("\"{}\"", s.name())).collect::<Vec<_>>().join(", ");
+    let expected = format!("{names}, or a list of the original code's switches ({switches})");
+    let bad = || root.invalid("model", Some(node), expected.clone());
+    let model = match &node.val {
+        Val::Leaf(toml::Value::String(s)) => Model::from_name(s).ok_or_else(bad)?,
+        Val::Array(items) => {
+            let mut list = Vec::with_capacity(items.len());
+            for item in items {
+                match &item.val {
+                    Val::Leaf(toml::Value::String(s)) => list.push(Switch::from_name(s).ok_or_else(bad)?),
+                    _ => return Err(bad()),
+                }
+            }
+            Model::Switches(ModelSwitches::of(&list))
+        }
+        _ => return Err(bad()),
+    };
+    if dim != 2 && !model.is_swarf() {
+        return Err(root.invalid(
+            "model",
+            Some(node),
+            "\"swarf\" in 3D (the original code reproduced, mfree_iwf, is Röthlin's 2D code)",
+        ));
+    }
+    Ok(model)
 }
 
 /// `[analysis]` (optional): `early_stop = { tolerance = ε }`, ε in (0, 1], only with a `[tool]`.
@@ -675,7 +713,15 @@ const TOOL_KEYS: &[&str] = &[
 
 /// `[tool]`, read in steps: the outline, where and how the tool moves, the contact law, the thermal tool, then the
 /// checks that need several of them.
-fn tool(t: &Tab<'_>, doc: &Doc, dim: usize, dx: f64, physics: &Physics, bodies: &[Body]) -> Result<Tool> {
+fn tool(
+    t: &Tab<'_>,
+    doc: &Doc,
+    dim: usize,
+    dx: f64,
+    physics: &Physics,
+    bodies: &[Body],
+    switches: super::model::ModelSwitches,
+) -> Result<Tool> {
     t.check_keys(TOOL_KEYS, &[], "")?;
     if dim != 2 {
         // About the table, not one of its keys (it said `tool.rake_angle: missing` with the key present).
@@ -687,7 +733,8 @@ fn tool(t: &Tab<'_>, doc: &Doc, dim: usize, dx: f64, physics: &Physics, bodies: 
         });
     }
     let outline = tool_outline(t)?;
-    let (position, depth_of_cut, body) = tool_position(t, dx, bodies)?;
+    let row_datum = switches.has(super::model::Switch::RowDatum);
+    let (position, depth_of_cut, body) = tool_position(t, dx, bodies, row_datum)?;
     let e = "the cutting velocity [vx, vy] in m/s";
     let velocity = t.required("velocity", e, t.vector("velocity", 2, e)?)?;
     let ramp = t.number("ramp", "a non-negative time in s", non_negative)?.unwrap_or(0.0);
@@ -900,7 +947,15 @@ fn tool_thermal(t: &Tab<'_>, doc: &Doc, dx: f64, physics: &Physics) -> Result<Op
     }))
 }
 
-fn tool_position(t: &Tab<'_>, dx: f64, bodies: &[Body]) -> Result<([f64; 2], Option<f64>, Option<usize>)> {
+/// `position` and `depth_of_cut`: the edge's lowest point at t = 0, y = top + dx/2 − depth (the uncut surface half a
+/// spacing above the top row's centres), or with `row_datum` (`model = "mfree_iwf"`) y = top − depth, the original
+/// code's datum (`setup_ref_cut`: the feed measured from the top row's centres).
+fn tool_position(
+    t: &Tab<'_>,
+    dx: f64,
+    bodies: &[Body],
+    row_datum: bool,
+) -> Result<([f64; 2], Option<f64>, Option<usize>)> {
     let depth = t.number("depth_of_cut", "a positive depth in m below the workpiece's uncut surface", positive)?;
     let names = bodies.iter().map(|b| format!("'{}'", b.name)).collect::<Vec<_>>().join(", ");
     let body_expected = format!("the name of the workpiece body depth_of_cut is measured from (one of: {names})");
@@ -945,7 +1000,8 @@ fn tool_position(t: &Tab<'_>, dx: f64, bodies: &[Body]) -> Result<([f64; 2], Opt
     })?;
     // top + (dx/2 − depth), in this order: it rounds V0060's 2.9e-4 + (5e-6 − 1e-4) to exactly the 1.95e-4 the
     // scene gave before depth_of_cut existed, so its runs are unchanged bit for bit.
-    Ok(([x, top + (0.5 * dx - depth)], Some(depth), body))
+    let y = if row_datum { top - depth } else { top + (0.5 * dx - depth) };
+    Ok(([x, y], Some(depth), body))
 }
 
 /// Number of lattice points on an axis of length `extent`.

@@ -5,7 +5,7 @@ use crate::kernels::contact::penalty::{cap, law, slip};
 use crate::kernels::contact::tool2d::{BACK, TOP};
 use crate::kernels::contact::{ContactParams, Tool2d, ToolGeometry, ToolShape};
 use crate::material::FlowModel;
-use crate::scene::{ContactLawKind, FrictionCap, Scene, Tool};
+use crate::scene::{ContactLawKind, FrictionCap, Scene, Switch, Tool};
 use crate::{Error, Result};
 
 use super::motion::{Rotation, ToolMotion};
@@ -61,7 +61,8 @@ pub fn contact_params(scene: &Scene, t: &Tool, model: Option<&FlowModel>) -> Con
             ContactLawKind::Step => law::STEP,
             ContactLawKind::Bulk => law::BULK,
         },
-        slip_mode: slip::PROJECTED,
+        // The original code's sliding velocity and unprojected history (erratum 25) under `model = "mfree_iwf"`.
+        slip_mode: if scene.model.switches().has(Switch::GlmSlip) { slip::C2D } else { slip::PROJECTED },
         _pad: 0,
     }
 }
