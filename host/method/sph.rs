@@ -55,8 +55,10 @@ impl Initial {
         let n = set.len();
         let mut table: Vec<[f64; 3]> = Vec::new();
         let mut fl = Vec::with_capacity(n);
-        // The original code holds every mechanically fixed particle at its initial temperature.
-        let hold_fixed = scene.model.switches().has(Switch::FixedTemperature);
+        // The original code holds every mechanically fixed particle at its initial temperature where it has thermal
+        // tool constants (`perform_boundary_conditions_thermal` runs only then): with a thermal tool.
+        let thermal_tool = scene.tool.as_ref().is_some_and(|t| t.thermal.is_some());
+        let hold_fixed = thermal_tool && scene.model.switches().has(Switch::FixedTemperature);
         for i in 0..n {
             let (kind, idx) = match set.bc[i] {
                 Bc::Free => (flags::FREE, 0),

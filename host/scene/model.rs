@@ -27,7 +27,8 @@ pub enum Switch {
     SqrtVDt,
     /// Pairs closer than 1e-4 code length units (1 µm in the cut's cm; erratum 31) skipped, not 1e-6 h.
     AbsCutoff,
-    /// Every mechanically fixed particle held at its initial temperature (the code's thermal boundary).
+    /// Every mechanically fixed particle held at its initial temperature (the code's thermal boundary, which it
+    /// applies where the tool has thermal constants: here with `[tool.thermal]`).
     FixedTemperature,
     /// The code's conduction: the receiving particle's own conductivity (no harmonic mean), its reference density,
     /// and the tool particles' volume from the workpiece's particle mass (roethlin-solver.md §5.6).

@@ -10,7 +10,7 @@
 //!    f32 (p cancels in J2 and is left out here); swarf checks at ε̄̇ = 0 (klippel §8 H5). Elastic: ε̄̇ = 0;
 //! 3. Δλ from g(Δλ) = n − 2GΔλ − √(2/3) σ_y(ε̄ + √(2/3) max(Δλ, 0), √(2/3) max(Δλ, 0)/Δt, T) = 0 by the code's
 //!    secant iteration: from Δλ₀ = max(ε̄̇_old Δt √(2/3), 1e-8), slope (g(Δλ) − g(1.01 Δλ))/(Δλ − 1.01 Δλ), a negative
-//!    iterate replaced by −0.1 × itself, stopped when |Δλ_{k+1} − Δλ_k| < 1e-6 (absolute) or after 101 updates
+//!    iterate replaced by −0.1 × itself, stopped when |Δλ_{k+1} − Δλ_k| < 1e-6 (absolute) or after 102 updates
 //!    (the updated iterate is returned either way). No bracket: where g(0) ≤ 0 (possible with the norm bug on a
 //!    shear-dominated state that passed the von Mises check) the iteration settles on a small positive Δλ, as the
 //!    code's does;
@@ -29,7 +29,8 @@ use crate::real::Real;
 
 /// The code's absolute stopping tolerance on the Δλ step.
 pub const C2D_TOLERANCE: f64 = 1e-6;
-/// The code's iteration limit (`max_iter`): it returns after the update in which the counter exceeds it.
+/// The code's iteration limit (`max_iter`): it returns after the update in which the counter, 0 at the first, exceeds
+/// it (the 102nd).
 pub const C2D_MAX_ITER: u32 = 100;
 /// The code's secant support ratio.
 pub const C2D_SECANT_RATIO: f64 = 1.01;
