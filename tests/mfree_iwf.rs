@@ -396,6 +396,9 @@ fn measure_each_switch_on_the_coarse_cut() {
         rows.push((s.name().to_string(), format!("model=[\"{}\"]", s.name())));
     }
     rows.push(("c2d_return + c2d_norm".into(), "model=[\"c2d_return\",\"c2d_norm\"]".into()));
+    let but_datum: Vec<String> =
+        Switch::ALL.iter().filter(|s| **s != Switch::RowDatum).map(|s| format!("\"{}\"", s.name())).collect();
+    rows.push(("all but row_datum".into(), format!("model=[{}]", but_datum.join(","))));
     let (_, fc0, ff0) = forces(&coarse_cut(&[]), "m-ref");
     println!("| model | F_c [N/mm] | F_f [N/mm] | ΔF_c | ΔF_f |\n|---|---|---|---|---|");
     for (name, set) in rows {
