@@ -148,6 +148,14 @@ pub fn format(scene: &Scene, r: &CheckReport) -> String {
     let _ = writeln!(s, "particles:          {}", r.particles);
     let _ = writeln!(s, "h:                  {:.4e} m (h/dx = {})", r.h, scene.discretisation.h_over_dx);
     let _ = writeln!(s, "c0:                 {:.1} m/s", r.c0);
+    if !scene.model.is_swarf() {
+        let list: Vec<&str> = scene.model.switches().list().into_iter().map(|w| w.name()).collect();
+        let _ = writeln!(
+            s,
+            "model:              the original 2D code's (MFREE_IWF), bugs included, in: {}",
+            list.join(", ")
+        );
+    }
     let _ = writeln!(s, "dt:                 {:.4e} s", r.dt);
     let _ = writeln!(s, "steps:              {} (to t = {:e} s)", r.steps, scene.time.end);
     let _ = writeln!(s, "memory:             {:.1} MiB", r.memory_bytes as f64 / (1u64 << 20) as f64);
