@@ -95,21 +95,12 @@ pub fn plastic_update<R: Real, D: TensorOps<R>, M: FlowStress>(
 ) -> ReturnResult {
     let trial = to6::<R, _>(s);
     let c2d_norm = c.flags & return_flags::C2D_NORM != 0;
+    // One inlined copy of each solver (both are `inline(always)`): swarf's takes the norm flag at run time.
     let r = if c.flags & return_flags::C2D_RETURN != 0 {
         c2d_return(model, &trial, *eps, *rate, *temp, c.shear, c.dt, c2d_norm)
-    } else if c2d_norm {
-        radial_return(
-            model,
-            &trial,
-            *eps,
-            *rate,
-            *temp,
-            c.shear,
-            c.dt,
-            &ReturnOptions { c2d_norm, ..ReturnOptions::DEFAULT },
-        )
     } else {
-        radial_return(model, &trial, *eps, *rate, *temp, c.shear, c.dt, &ReturnOptions::DEFAULT)
+        let opts = ReturnOptions { c2d_norm, ..ReturnOptions::DEFAULT };
+        radial_return(model, &trial, *eps, *rate, *temp, c.shear, c.dt, &opts)
     };
     let d_eps = r.eps - *eps;
     if r.status != ReturnStatus::Elastic {
