@@ -431,7 +431,7 @@ fn flow_stress_from_the_return_equals_sigma_y_bitwise() {
     use swarf_kernels::sph::plastic::{PlasticArrays, PlasticConsts, plastic_particle};
     use swarf_kernels::vector::{Dim2, S2f64};
 
-    fn check<M: FlowStress>(name: &str, m: &M, g: f64, rho: f64, seed: u64) -> (u32, u32) {
+    fn check<M: FlowStress + Copy>(name: &str, m: &M, g: f64, rho: f64, seed: u64) -> (u32, u32) {
         let mut rng = SplitMix64::new(seed);
         let melt = m.melt_temperature();
         let (mut elastic, mut heated) = (0, 0);

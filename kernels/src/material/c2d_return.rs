@@ -70,6 +70,11 @@ pub fn c2d_von_mises(s: &[f64; 6]) -> f64 {
 /// `s_trial` (xx, xy, xz, yy, yz, zz) [Pa], `eps`, `rate` of the previous step, `temp` [K], `shear` G [Pa], `dt`
 /// [s]; `c2d_norm` selects the norm without the factor 2 (the bug). The result's `flow_stress` (and `strength`,
 /// `thermal`) is σ_y at (ε̄_new, ε̄̇_new, T), as swarf's; an elastic step's at (ε̄, 0, T).
+///
+/// Inlined into `sph::plastic`'s particle update for the original model, which is itself a function of its own
+/// (`c2d_particle`, never inlined): inlined into the default's corrector it nearly doubled
+/// `swarf_step_finish_jc_2d_f64` (3901 to 7335 PTX lines); called from it, the model, the trial stress and the
+/// result went through local memory on every particle.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub fn c2d_return<M: FlowStress + ?Sized>(

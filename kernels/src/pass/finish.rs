@@ -133,7 +133,7 @@ pub struct FinishPlasticArgs<R: Real, D: Dim, M> {
     pub wear: *mut f64,
 }
 
-impl<R: Real, D: TensorOps<R>, M: FlowStress> FinishPlasticArgs<R, D, M> {
+impl<R: Real, D: TensorOps<R>, M: FlowStress + Copy> FinishPlasticArgs<R, D, M> {
     /// Particle i's corrector, plastic update and contact pass, with `model` (the entry's local copy of
     /// `self.model`, so that the GPU passes the model alone, not the whole block, to the flow-stress functions).
     ///

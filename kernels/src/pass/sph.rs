@@ -210,7 +210,7 @@ pub struct PlasticArgs<R: Real, D: Dim, M> {
     pub work: *mut f64,
 }
 
-impl<R: Real, D: TensorOps<R>, M: FlowStress> PlasticArgs<R, D, M> {
+impl<R: Real, D: TensorOps<R>, M: FlowStress + Copy> PlasticArgs<R, D, M> {
     /// Particle i's plastic update with `model` (the struct's, or a local copy of it).
     ///
     /// # Safety

@@ -93,10 +93,30 @@ pub fn plastic_update<R: Real, D: TensorOps<R>, M: FlowStress>(
     fl: u32,
     cp: f64,
 ) -> ReturnResult {
+    if c.flags & return_flags::C2D_RETURN != 0 {
+        update_with::<R, D, M, true>(model, c, s, eps, rate, temp, rho, fl, cp)
+    } else {
+        update_with::<R, D, M, false>(model, c, s, eps, rate, temp, rho, fl, cp)
+    }
+}
+
+/// [`plastic_update`] with swarf's return (`C2D` false; the norm flag read at run time) or [C2D]'s (true).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn update_with<R: Real, D: TensorOps<R>, M: FlowStress, const C2D: bool>(
+    model: &M,
+    c: &PlasticConsts,
+    s: &mut D::Sym<R>,
+    eps: &mut f64,
+    rate: &mut f64,
+    temp: &mut f64,
+    rho: R,
+    fl: u32,
+    cp: f64,
+) -> ReturnResult {
     let trial = to6::<R, _>(s);
     let c2d_norm = c.flags & return_flags::C2D_NORM != 0;
-    // One inlined copy of each solver (both are `inline(always)`): swarf's takes the norm flag at run time.
-    let r = if c.flags & return_flags::C2D_RETURN != 0 {
+    let r = if C2D {
         c2d_return(model, &trial, *eps, *rate, *temp, c.shear, c.dt, c2d_norm)
     } else {
         let opts = ReturnOptions { c2d_norm, ..ReturnOptions::DEFAULT };
@@ -141,7 +161,41 @@ pub struct PlasticArrays<R: Real, S> {
 /// # Safety
 /// All arrays hold at least i + 1 particles; `materials` covers every body index when t_q > 0.
 #[inline(always)]
-pub unsafe fn plastic_particle<R: Real, D: TensorOps<R>, M: FlowStress>(
+pub unsafe fn plastic_particle<R: Real, D: TensorOps<R>, M: FlowStress + Copy>(
+    model: &M,
+    c: &PlasticConsts,
+    a: &PlasticArrays<R, D::Sym<R>>,
+    i: usize,
+) {
+    if c.flags & return_flags::C2D_RETURN != 0 {
+        // [C2D]'s return: a function of its own, called with copies, so that the default's corrector neither grows
+        // by a second solver nor keeps the model, the trial stress and the result in local memory for the call.
+        unsafe { c2d_particle::<R, D, M>(*model, *c, *a, i) }
+    } else {
+        unsafe { particle_with::<R, D, M, false>(model, c, a, i) }
+    }
+}
+
+/// [`plastic_particle`] with [C2D]'s return (`model = "mfree_iwf"`), never inlined.
+///
+/// # Safety
+/// As [`plastic_particle`].
+#[inline(never)]
+unsafe fn c2d_particle<R: Real, D: TensorOps<R>, M: FlowStress>(
+    model: M,
+    c: PlasticConsts,
+    a: PlasticArrays<R, D::Sym<R>>,
+    i: usize,
+) {
+    unsafe { particle_with::<R, D, M, true>(&model, &c, &a, i) }
+}
+
+/// [`plastic_particle`]'s body with swarf's return (`C2D` false) or [C2D]'s (true).
+///
+/// # Safety
+/// As [`plastic_particle`].
+#[inline(always)]
+unsafe fn particle_with<R: Real, D: TensorOps<R>, M: FlowStress, const C2D: bool>(
     model: &M,
     c: &PlasticConsts,
     a: &PlasticArrays<R, D::Sym<R>>,
@@ -157,7 +211,7 @@ pub unsafe fn plastic_particle<R: Real, D: TensorOps<R>, M: FlowStress>(
         let (e0, t0) = (*a.eps.add(i), *a.temp.add(i));
         let (mut e, mut r, mut t) = (e0, *a.rate.add(i), t0);
         let rho = *a.rho.add(i);
-        let ret = plastic_update::<R, D, M>(model, c, &mut *a.stress.add(i), &mut e, &mut r, &mut t, rho, fl, cp);
+        let ret = update_with::<R, D, M, C2D>(model, c, &mut *a.stress.add(i), &mut e, &mut r, &mut t, rho, fl, cp);
         if !a.work.is_null() && e > e0 {
             // The dissipation of the step, σ_y Δε̄ per unit volume, at the flow stress the plastic heating uses
             // (σ_y(ε̄_new, ε̄̇_new, T_old), the return's).
