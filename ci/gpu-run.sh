@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abregs abblock abenv ncusrc refvar
+# ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -164,9 +164,12 @@ for p in $parts; do
         ck45) # issue 22 item 5: the failing Ck45 cut (cases/hard/ck45-slow-fine-cut.toml) whole on the GPU, with
               # checkpoints every 2e-5 s; its logs, force trace and last checkpoint come back as ck45.tgz (resume on
               # the CPU to step through a failure: CPU = GPU bit for bit)
-            run ck45 "$here/swarf" --backend gpu run cases/hard/ck45-slow-fine-cut.toml --quiet --out /tmp/ck45 \
-                --checkpoint-every 2e-5
-            tail -n 5 /tmp/ck45/run.log; tar czf "$out/ck45.tgz" --exclude='*.vtu' -C /tmp ck45 ;;
+              # SWARF_CK45_S (default 400) bounds it, so that what it has written comes back within the call;
+              # SWARF_CK45_ARGS adds arguments (e.g. --resume, overrides)
+            run ck45 timeout "${SWARF_CK45_S:-400}" "$here/swarf" --backend gpu run cases/hard/ck45-slow-fine-cut.toml \
+                --quiet --out /tmp/ck45 --checkpoint-every 2e-5 ${SWARF_CK45_ARGS:-}
+            tail -n 5 /tmp/ck45/run.log; tar czf "$out/ck45.tgz" --exclude='*.vtu' -C /tmp ck45
+            last=$(ls /tmp/ck45/frames/*.vtu 2>/dev/null | tail -n 1); [ -n "$last" ] && gzip -c "$last" > "$out/ck45-last.vtu.gz" ;;
         contactlaws) # issue 22 item 3: V0060 (1 mm) over the contact laws × damping × CFL × κ as one batched sweep;
               # the table and every run's force trace (friction_ratio) come back as contactlaws.tgz
             run contactlaws "$here/swarf" --backend gpu sweep cases/cutting/v0060.toml \
@@ -174,6 +177,35 @@ for p in $parts; do
                 --grid time.cfl=0.5,0.25 --grid tool.contact_stiffness=0.1,0.2 --batch 8 --out /tmp/contactlaws --quiet
             cat /tmp/contactlaws/sweep.md
             tar czf "$out/contactlaws.tgz" --exclude='*.vtu' --exclude='*.png' -C /tmp contactlaws ;;
+        table22) # issue 22's validation table: V0060 and V0300 (1 mm) with swarf's defaults and model = "mfree_iwf",
+                 # one batched sweep per case; tables and force traces come back as table22.tgz
+            for c in v0060 v0300; do
+                run "table22-$c" "$here/swarf" --backend gpu sweep cases/cutting/$c.toml \
+                    --grid 'model="swarf","mfree_iwf"' --batch 2 --out /tmp/table22/$c --quiet
+                cat /tmp/table22/$c/sweep.md
+            done
+            tar czf "$out/table22.tgz" --exclude='*.vtu' --exclude='*.png' -C /tmp table22 ;;
+        switches22) # issue 22 item 1: the reference cut (1 mm, the original's tool placement) with each of the original
+                    # code's switches alone, swarf's defaults and all of them (model = "mfree_iwf"); switches22.tgz
+            sw='"swarf","mfree_iwf"'
+            for k in c2d_norm c2d_return uintah_rate kernel_w6 glm_slip row_datum sqrt_v_dt abs_cutoff fixed_temperature \
+                c2d_conduction; do sw="$sw,[\"$k\"]"; done
+            run switches22 "$here/swarf" --backend gpu sweep cases/cutting/reference-cut.toml \
+                --set 'tool.position=[-2.44763e-5, 2.0e-4]' --grid "model=$sw" --batch ${SWARF_BATCH:-12} \
+                --out /tmp/switches22 --quiet
+            cat /tmp/switches22/sweep.md
+            tar czf "$out/switches22.tgz" --exclude='*.vtu' --exclude='*.png' -C /tmp switches22 ;;
+        contactlong) # issue 22 item 3: V0060 over a 2 mm cut (workpiece 2.87 mm, 8 640 particles), law × ξ × CFL × κ,
+                     # twice (the tool 1 nm apart: a replica), so that F_f's window settles; contactlong.tgz
+            run contactlong "$here/swarf" --backend gpu sweep cases/cutting/v0060.toml \
+                --set 'body.0.max=[2.87e-3,2.9e-4]' --set 'boundary.2.min=[2.8699e-3,-1.0]' --set time.end=3.1472e-4 \
+                --set output.every=6.2944e-6 \
+                --grid "tool.contact_law=${SWARF_LAWS:-\"step\",\"bulk\"}" --grid tool.contact_damping=${SWARF_DAMPINGS:-0,1} \
+                --grid time.cfl=0.5,0.25 --grid tool.contact_stiffness=0.1,0.2 \
+                --grid "tool.position=${SWARF_POSITIONS:-[-3.6e-5],[-3.6001e-5]}" --batch ${SWARF_BATCH:-16} \
+                --out /tmp/contactlong --quiet
+            cat /tmp/contactlong/sweep.md
+            tar czf "$out/contactlong.tgz" --exclude='*.vtu' --exclude='*.png' -C /tmp contactlong ;;
         tests) run test-gpu "$here/test-gpu" --test-threads=1 --nocapture
                run test-ptx "$here/test-ptx" ;;
         regs) # issue 7: the register cap of the neighbour kernels (SWARF_MAXNREG) against the compiler's choice

@@ -557,7 +557,7 @@ fn cutting_force_trace_equals_cpu() {
     use swarf::backend::{AnyBackend, BackendChoice};
     use swarf::run::RunOptions;
     use swarf::scene::Scene;
-    let cases: [(&str, Vec<&str>); 2] = [
+    let cases: [(&str, Vec<&str>); 3] = [
         (
             "cases/cutting/v0060.toml",
             vec![
@@ -575,6 +575,9 @@ fn cutting_force_trace_equals_cpu() {
             "cases/cutting/reference-cut.toml",
             vec!["time.end=1.0e-5", "output.every=1.0e-6", "tool.friction_cap=\"current\"", "tool.usui={}"],
         ),
+        // The original code's formulas (issue 22, `model = "mfree_iwf"`): its return, rate form, kernel value,
+        // componentwise slip, datum, Δt, cutoff and thermal boundary, each a run-time flag of the same kernels.
+        ("cases/cutting/reference-cut.toml", vec!["time.end=1.0e-5", "output.every=1.0e-6", "model=\"mfree_iwf\""]),
     ];
     for (file, ov) in cases {
         let ov: Vec<String> = ov.iter().map(|s| s.to_string()).collect();

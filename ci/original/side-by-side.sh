@@ -1,0 +1,125 @@
+#!/usr/bin/env bash
+# Issue 22 item 1, on the GPU machine from the repository root, carrying gpu-pack/ (ci/gpu-pack.sh) and original/
+# (python3 ci/original/port.py): the original 2D code and swarf on the same GPU in the same call.
+#   forces  the whole 1 mm reference cut, concurrently: the original (run-original.sh build dumps cut), swarf with
+#           model = "mfree_iwf" with the original's tool placement, swarf's defaults; and swarf's state after the
+#           original's dump steps (same placement and Δt) for `compare.py states`. Force means: compare.py forces.
+#   speed   the per-step time, one code at a time on an otherwise idle GPU: the original and swarf (mfree_iwf, same
+#           Δt and steps) at 6k (30 rows, SPEED_STEPS_6K steps) and 150k (150 rows, SPEED_STEPS_150K steps).
+# Everything goes to $OUT: side-by-side.log, the original's archives, swarf-*.tgz (forces.csv, summary.json,
+# run.log, states/), speed.tsv.
+set -uo pipefail
+root=$(cd "$(dirname "$0")/../.." && pwd)
+cd "$root"
+out=${OUT:-$root/side-by-side-out}
+mkdir -p "$out"
+exec > >(tee -a "$out/side-by-side.log") 2>&1
+parts=${*:-forces speed}
+swarf=$root/gpu-pack/swarf
+[ -x "$swarf" ] || { gunzip -f "$swarf.gz" && chmod +x "$swarf"; }
+export SWARF_REQUIRE_GPU=1
+work=/tmp/side-by-side
+mkdir -p "$work"
+status=0
+# The original's reference cut in swarf's frame (docs/original-code.md, "tool placement"): the edge's lowest point
+# at (-24.4763 um, 200 um) with the first column at x = 0 and the top row at y = 0.3 mm; its dt is 1.447342 ns.
+place=(--set 'tool.position=[-2.44763e-5, 2.0e-4]')
+dt=1.447342e-9
+ref=cases/cutting/reference-cut.toml
+ref150=cases/cutting/reference-cut-150k.toml
+
+swarf_run() { # name, scene, args...: a swarf GPU run into $work/name, archived into $out/swarf-name.tgz
+    local name=$1 scene=$2; shift 2
+    local t0=$(date +%s.%N)
+    "$swarf" --backend gpu run "$scene" --quiet --out "$work/$name" "$@" > "$work/$name.stdout" 2>&1
+    local rc=$?
+    local t1=$(date +%s.%N)
+    echo "== swarf $name: rc $rc, wall $(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.2f", b - a }') s"
+    tail -n 3 "$work/$name/run.log" 2>/dev/null; cat "$work/$name.stdout"
+    [ -f "$work/$name/summary.json" ] && python3 -c 'import json,sys
+s = json.load(open(sys.argv[1]))
+print({k: s[k] for k in ("particles", "steps", "dt_s", "wall_time_s") if k in s})' "$work/$name/summary.json" 2>/dev/null
+    tar czf "$out/swarf-$name.tgz" --exclude='*.vtu' --exclude='*.h5' --exclude='checkpoint*' -C "$work" "$name" 2>/dev/null
+    return $rc
+}
+
+forces() {
+    OUT=$out bash ci/original/run-original.sh build dumps cut > "$work/original.stdout" 2>&1 &
+    local orig=$!
+    swarf_run mfree-cut "$ref" --set 'model="mfree_iwf"' "${place[@]}" &
+    local a=$!
+    swarf_run default-cut "$ref" &
+    local b=$!
+    swarf_run mfree-states "$ref" --set 'model="mfree_iwf"' "${place[@]}" --set time.dt=$dt \
+        --set time.end=$(python3 -c "print(10000 * $dt)") --state-at 0,1,10,100,3000,4000,6000,10000 &
+    local c=$!
+    swarf_run default-states "$ref" "${place[@]}" --set time.dt=$dt \
+        --set time.end=$(python3 -c "print(10000 * $dt)") --state-at 0,1,10,100,3000,4000,6000,10000 &
+    local d=$!
+    wait $a $b $c $d || status=1
+    wait $orig || status=1
+    tail -n 40 "$work/original.stdout"
+    if [ -d /tmp/swarf-original/cut ]; then
+        for m in mfree-cut default-cut; do
+            echo "== compare.py forces: original against swarf $m"
+            python3 ci/original/compare.py forces --orig /tmp/swarf-original/cut --swarf "$work/$m" \
+                --json "$out/forces-$m.json" || status=1
+        done
+    fi
+    if [ -d /tmp/swarf-original/dumps ]; then
+        for m in mfree-states default-states; do
+            echo "== compare.py states: original against swarf $m"
+            python3 ci/original/compare.py states --orig /tmp/swarf-original/dumps --swarf "$work/$m/states" \
+                --json "$out/states-$m.json" || status=1
+        done
+    fi
+}
+
+speed() { # one code at a time: per-step wall time and the original's own step-loop time (timing.json)
+    local n6=${SPEED_STEPS_6K:-60000} n150=${SPEED_STEPS_150K:-3000}
+    echo -e "size\tcode\tparticles\tsteps\twall_s\tloop_s\tus_per_step" > "$out/speed.tsv"
+    local rows steps scene tag
+    for cfg in "30 $n6 $ref 6k" "150 $n150 $ref150 150k"; do
+        read -r rows steps scene tag <<< "$cfg"
+        local od=$work/orig-$tag/cut
+        OUT=$work/orig-speed-$tag ORIG_ARGS="-n $rows" CUT_STEPS=$steps FORCE_EVERY=1000 WORK=$work/orig-$tag \
+            BUILD_DIR=/tmp/swarf-original/build bash ci/original/run-original.sh cut > "$work/orig-speed-$tag.stdout" 2>&1
+        tail -n 12 "$work/orig-speed-$tag.stdout"
+        cp "$od/timing.json" "$out/orig-timing-$tag.json" 2>/dev/null
+        cp "$od/meta.json" "$out/orig-meta-$tag.json" 2>/dev/null
+        python3 - "$od" "$tag" "$steps" >> "$out/speed.tsv" <<'PY' || status=1
+import json, sys
+d, tag, steps = sys.argv[1], sys.argv[2], int(sys.argv[3])
+t = json.load(open(d + "/timing.json"))
+wall = open(d + "/wall.txt").read().split()[-1]
+print(f"{tag}\toriginal\t{t['particles']}\t{t['steps']}\t{wall}\t{t['gpu_seconds']}\t{t['us_per_step']}")
+PY
+        # swarf with the original's formulas, Δt and step count (its dt in meta.json is in µs)
+        local dts
+        dts=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["dt"] * 1e-6)' "$od/meta.json") || { status=1; continue; }
+        local t0=$(date +%s.%N)
+        "$swarf" --backend gpu run "$scene" --quiet --out "$work/speed-$tag" --set 'model="mfree_iwf"' \
+            --set time.dt="$dts" --set time.end="$(python3 -c "print(($steps + 0.5) * $dts)")" --set output.every=1.0 \
+            > "$work/speed-$tag.stdout" 2>&1 || status=1
+        local t1=$(date +%s.%N)
+        python3 - "$work/speed-$tag/summary.json" "$tag" "$t0" "$t1" >> "$out/speed.tsv" <<'PY' || status=1
+import json, sys
+s = json.load(open(sys.argv[1]))
+wall = float(sys.argv[4]) - float(sys.argv[3])
+n, loop = s["steps"], s["wall_time_s"]
+print(f"{sys.argv[2]}\tswarf-mfree_iwf\t{s.get('particles', '')}\t{n}\t{wall:.2f}\t{loop}\t{1e6 * loop / n:.4f}")
+PY
+        tail -n 3 "$work/speed-$tag/run.log" 2>/dev/null; cat "$work/speed-$tag.stdout"
+    done
+    cat "$out/speed.tsv"
+}
+
+for p in $parts; do
+    case $p in
+    forces) forces ;;
+    speed) speed ;;
+    *) echo "unknown part $p (forces speed)"; status=1 ;;
+    esac
+done
+echo "== side-by-side done, status $status"
+exit $status
