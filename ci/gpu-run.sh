@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abregs abblock abenv ncusrc refvar
+# ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 mu22 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -177,14 +177,21 @@ for p in $parts; do
                 --grid time.cfl=0.5,0.25 --grid tool.contact_stiffness=0.1,0.2 --batch 8 --out /tmp/contactlaws --quiet
             cat /tmp/contactlaws/sweep.md
             tar czf "$out/contactlaws.tgz" --exclude='*.vtu' --exclude='*.png' -C /tmp contactlaws ;;
-        table22) # issue 22's validation table: V0060 and V0300 (1 mm) with swarf's defaults and model = "mfree_iwf",
+        table22) # issue 22's validation table: V0060, V0300, the reference cut (1 mm) with swarf's defaults and "mfree_iwf",
                  # one batched sweep per case; tables and force traces come back as table22.tgz
-            for c in v0060 v0300; do
+            # (twice each: CFL 0.5 and 0.4995, a replica of the chaotic cut)
+            for c in v0060 v0300 reference-cut; do
                 run "table22-$c" "$here/swarf" --backend gpu sweep cases/cutting/$c.toml \
-                    --grid 'model="swarf","mfree_iwf"' --batch 2 --out /tmp/table22/$c --quiet
+                    --grid 'model="swarf","mfree_iwf"' --grid time.cfl=0.5,0.4995 --batch 4 --out /tmp/table22/$c --quiet
                 cat /tmp/table22/$c/sweep.md
             done
             tar czf "$out/table22.tgz" --exclude='*.vtu' --exclude='*.png' -C /tmp table22 ;;
+        mu22) # issue 22: V0060 (1 mm) with the defaults over μ, twice each (CFL 0.5, 0.4995): can friction alone bring
+              # F_f to the measured 115.5 N/mm with F_c within 10 % of 157.5? mu22.tgz
+            run mu22 "$here/swarf" --backend gpu sweep cases/cutting/v0060.toml --grid tool.friction=0.35,0.5,0.7,1.0 \
+                --grid time.cfl=0.5,0.4995 --batch 8 --out /tmp/mu22 --quiet
+            cat /tmp/mu22/sweep.md
+            tar czf "$out/mu22.tgz" --exclude='*.vtu' --exclude='*.png' --exclude='*.vtp' -C /tmp mu22 ;;
         switches22) # issue 22 item 1: the reference cut (1 mm, the original's tool placement) with each of the original
                     # code's switches alone, swarf's defaults and all of them (model = "mfree_iwf"); switches22.tgz
             sw='"swarf","mfree_iwf"'
@@ -197,7 +204,8 @@ for p in $parts; do
             tar czf "$out/switches22.tgz" --exclude='*.vtu' --exclude='*.png' -C /tmp switches22 ;;
         contactlong) # issue 22 item 3: V0060 over a 2 mm cut (workpiece 2.87 mm, 8 640 particles), law × ξ × CFL × κ,
                      # twice (the tool 1 nm apart: a replica), so that F_f's window settles; contactlong.tgz
-            run contactlong "$here/swarf" --backend gpu sweep cases/cutting/v0060.toml \
+            # SWARF_SWEEP_S bounds it (Ctrl-C: running members stop with a checkpoint; their traces come back)
+            run contactlong timeout -s INT "${SWARF_SWEEP_S:-100000}" "$here/swarf" --backend gpu sweep cases/cutting/v0060.toml \
                 --set 'body.0.max=[2.87e-3,2.9e-4]' --set 'boundary.2.min=[2.8699e-3,-1.0]' --set time.end=3.1472e-4 \
                 --set output.every=6.2944e-6 \
                 --grid "tool.contact_law=${SWARF_LAWS:-\"step\",\"bulk\"}" --grid tool.contact_damping=${SWARF_DAMPINGS:-0,1} \

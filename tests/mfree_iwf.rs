@@ -354,12 +354,20 @@ fn forces_and_model(scene: &Scene, tag: &str) -> (String, f64, f64, serde_json::
 /// "mfree_iwf"` (the default's has no `model`).
 #[test]
 fn the_default_is_unchanged_and_the_original_model_cuts() {
+    // c50d6ee's default contact was the theses' undamped step law; since then the default is the bulk law with
+    // ξ = 1, and the step law, set explicitly or by the `step_contact` switch, is that record bit for bit.
     let reference = std::fs::read_to_string("tests/data/coarse-cut-forces-c50d6ee.csv").expect("reference");
-    let (own, fc, ff, model) = forces_and_model(&coarse_cut(&[]), "default");
-    assert!(own == reference, "the default model's force record differs from c50d6ee's");
+    let step = ["tool.contact_law=\"step\"", "tool.contact_damping=0.0"];
+    let (own, fc, ff, model) = forces_and_model(&coarse_cut(&step), "default");
+    assert!(own == reference, "swarf's model with the step law: the force record differs from c50d6ee's");
     assert!(model.is_null(), "summary.json names no model for swarf's (it is what it was)");
-    let (named, _, _) = forces(&coarse_cut(&["model=\"swarf\""]), "named");
+    let (named, _, _) = forces(&coarse_cut(&["model=\"swarf\"", step[0], step[1]]), "named");
     assert!(named == reference, "model = \"swarf\" differs from the default");
+    let (switched, _, _) = forces(&coarse_cut(&["model=[\"step_contact\"]"]), "step-contact");
+    assert!(switched == reference, "model = [\"step_contact\"] is not the step law undamped");
+    let (bulk, fc_b, ff_b) = forces(&coarse_cut(&[]), "bulk");
+    assert!(bulk != reference, "the default contact is no longer the step law");
+    assert!(fc_b > 0.8 * fc && fc_b < 1.25 * fc && ff_b > 0.0, "bulk law: F_c = {fc_b}, F_f = {ff_b} N/mm");
     let (orig, fc_o, ff_o, model) = forces_and_model(&coarse_cut(&["model=\"mfree_iwf\""]), "mfree");
     assert_eq!(model, serde_json::json!("mfree_iwf"), "summary.json names the original model");
     eprintln!("coarse cut: swarf F_c = {fc:.2}, F_f = {ff:.2} N/mm; mfree_iwf F_c = {fc_o:.2}, F_f = {ff_o:.2} N/mm");

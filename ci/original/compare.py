@@ -26,7 +26,7 @@ subtracting each side's smallest workpiece x0 and y0 (the original's workpiece s
 reference-cut at (0, 0)), or by --offset DX,DY [m] (swarf = original + offset), then matched to within a quarter
 of the particle spacing. Both runs must use the same time step: the original's is in meta.json (dt, µs; 1.44734 ns
 for the reference cut, from its own formula 0.5 h/(c0 + √v_tool)); run swarf with --set time.dt=<that in s>.
-The tool first touches the workpiece near step 2760: before that both codes hold the workpiece at rest, and the
+The tool first touches the workpiece at step 7737: before that both codes hold the workpiece at rest, and the
 state comparison is only meaningful with swarf's tool placed as the original's (docs/original-code.md).
 """
 

@@ -2,9 +2,9 @@
 # Runs on the GPU machine, from the repository root, with the ported original code carried in original/ (made on
 # a machine with the mirror by `python3 ci/original/port.py`): builds it with nvcc, then
 #   dumps  the state dumps: ORIG_STEPS=$DUMP_STEPS steps of the reference cut, the whole particle state after the
-#          steps in $DUMPS, the tool force every step (seconds). The tool first touches the workpiece near
-#          step 2760 (its rounded edge starts 4.7 µm clear of the nearest particle), so steps 1, 10, 100 only
-#          check the set-up at rest; the later dumps catch the first contact;
+#          steps in $DUMPS, the tool force every step (seconds). The tool first touches the workpiece at
+#          step 7737 (its rake face starts 12.4 µm clear and moves 1.689 nm a step), so steps 1, 10, 100 only
+#          check the set-up at rest; the later dumps catch the first contact and 1, 10, 100 steps after it;
 #   cut    the reference cut over $CUT_MM mm (default 1 mm, about 592 000 steps, about 200 s on an H200) or
 #          $CUT_STEPS steps, the tool force every $FORCE_EVERY steps, timed.
 # Everything goes to $OUT (default ./original-out): run-original.log, build.log, original-dumps.tar.gz,
@@ -13,7 +13,7 @@
 #   bash ci/original/run-original.sh                       # build dumps cut
 #   CUT_MM=0.2 bash ci/original/run-original.sh dumps cut  # a short cut
 # Settings (environment): ARCH (sm_90), NVCC (nvcc), JOBS (nproc), CUT_MM (1), CUT_STEPS, FORCE_EVERY (100),
-# DUMP_STEPS (10000), DUMPS (0,1,10,100,3000,4000,6000,10000), VTK (0: no frames; 1: the original's 135 ASCII VTK frames, not packed),
+# DUMP_STEPS (20000), DUMPS (0,1,10,100,7736,7737,7738,7747,7837,8737,10000,12000,15000,20000), VTK (0: no frames; 1: the original's 135 ASCII VTK frames, not packed),
 # ORIG_ARGS (extra arguments to the original's getopt: -r rake -c clearance -f fillet[cm] -v speed[cm/us]
 # -n rows -q feed[cm]).
 set -euo pipefail
@@ -75,9 +75,9 @@ for part in $parts; do
     case $part in
     build) build ;;
     dumps)
-        dumps=${DUMPS:-0,1,10,100,3000,4000,6000,10000}
-        echo "== dumps: ${DUMP_STEPS:-10000} steps, state after steps $dumps"
-        run_part "$work/dumps" ORIG_STEPS="${DUMP_STEPS:-10000}" ORIG_DUMPS="$dumps" ORIG_FORCE_EVERY=1 ORIG_VTK=0 \
+        dumps=${DUMPS:-0,1,10,100,7736,7737,7738,7747,7837,8737,10000,12000,15000,20000}
+        echo "== dumps: ${DUMP_STEPS:-20000} steps, state after steps $dumps"
+        run_part "$work/dumps" ORIG_STEPS="${DUMP_STEPS:-20000}" ORIG_DUMPS="$dumps" ORIG_FORCE_EVERY=1 ORIG_VTK=0 \
             ORIG_FRAME_EVERY=100
         head -n 3 "$work/dumps/forces.csv" || true; tail -n 2 "$work/dumps/forces.csv" || true
         pack original-dumps.tar.gz "$work/dumps"

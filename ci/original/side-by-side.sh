@@ -4,6 +4,9 @@
 #   forces  the whole 1 mm reference cut, concurrently: the original (run-original.sh build dumps cut), swarf with
 #           model = "mfree_iwf" with the original's tool placement, swarf's defaults; and swarf's state after the
 #           original's dump steps (same placement and Δt) for `compare.py states`. Force means: compare.py forces.
+#   replicas  whole 1 mm cuts of each code with the tool's speed × (1 + k·1e-7) (the cut is chaotic: this measures
+#           the spread of a window's mean): the originals one after another (ORIG_REPS), swarf's mfree_iwf and
+#           defaults (MFREE_REPS, DEFAULT_REPS) as separate processes beside them; orig-rep-k.tgz, swarf-rep-*.tgz
 #   speed   the per-step time, one code at a time on an otherwise idle GPU: the original and swarf (mfree_iwf, same
 #           Δt and steps) at 6k (30 rows, SPEED_STEPS_6K steps) and 150k (150 rows, SPEED_STEPS_150K steps).
 # Everything goes to $OUT: side-by-side.log, the original's archives, swarf-*.tgz (forces.csv, summary.json,
@@ -14,7 +17,7 @@ cd "$root"
 out=${OUT:-$root/side-by-side-out}
 mkdir -p "$out"
 exec > >(tee -a "$out/side-by-side.log") 2>&1
-parts=${*:-forces speed}
+parts=${*:-forces replicas speed}
 swarf=$root/gpu-pack/swarf
 [ -x "$swarf" ] || { gunzip -f "$swarf.gz" && chmod +x "$swarf"; }
 export SWARF_REQUIRE_GPU=1
@@ -22,9 +25,11 @@ work=/tmp/side-by-side
 mkdir -p "$work"
 status=0
 # The original's reference cut in swarf's frame (docs/original-code.md, "tool placement"): the edge's lowest point
-# at (-24.4763 um, 200 um) with the first column at x = 0 and the top row at y = 0.3 mm; its dt is 1.447342 ns.
-place=(--set 'tool.position=[-2.44763e-5, 2.0e-4]')
-dt=1.447342e-9
+# at (-32.873050250150927 um, 200 um) with the first column at x = 0 and the top row at y = 0.3 mm (its fillet's
+# centre (17.126949749849073, 520) um against its first column at 50 um and top row at 600 um, read from its
+# tool_000000.csv dump); its dt is 1.4473417988558209 ns (meta.json).
+place=(--set 'tool.position=[-3.2873050250150927e-5, 2.0e-4]')
+dt=1.4473417988558209e-9
 ref=cases/cutting/reference-cut.toml
 ref150=cases/cutting/reference-cut-150k.toml
 
@@ -44,19 +49,15 @@ print({k: s[k] for k in ("particles", "steps", "dt_s", "wall_time_s") if k in s}
 }
 
 forces() {
-    OUT=$out bash ci/original/run-original.sh build dumps cut > "$work/original.stdout" 2>&1 &
+    (states_original; OUT=$out bash ci/original/run-original.sh cut > "$work/original.stdout" 2>&1) &
     local orig=$!
     swarf_run mfree-cut "$ref" --set 'model="mfree_iwf"' "${place[@]}" &
     local a=$!
     swarf_run default-cut "$ref" &
     local b=$!
-    swarf_run mfree-states "$ref" --set 'model="mfree_iwf"' "${place[@]}" --set time.dt=$dt \
-        --set time.end=$(python3 -c "print(10000 * $dt)") --state-at 0,1,10,100,3000,4000,6000,10000 &
+    states_runs &
     local c=$!
-    swarf_run default-states "$ref" "${place[@]}" --set time.dt=$dt \
-        --set time.end=$(python3 -c "print(10000 * $dt)") --state-at 0,1,10,100,3000,4000,6000,10000 &
-    local d=$!
-    wait $a $b $c $d || status=1
+    wait $a $b $c || status=1
     wait $orig || status=1
     tail -n 40 "$work/original.stdout"
     if [ -d /tmp/swarf-original/cut ]; then
@@ -66,13 +67,64 @@ forces() {
                 --json "$out/forces-$m.json" || status=1
         done
     fi
-    if [ -d /tmp/swarf-original/dumps ]; then
-        for m in mfree-states default-states; do
-            echo "== compare.py states: original against swarf $m"
-            python3 ci/original/compare.py states --orig /tmp/swarf-original/dumps --swarf "$work/$m/states" \
-                --json "$out/states-$m.json" || status=1
+    states_compare
+}
+
+# The steps whose state both codes write: the set-up at rest, then around the first contact (the original's at step
+# 7737: its rake face starts 12.4 um clear and moves 1.689 nm a step), 1, 10 and 100 steps after it, and later.
+steps=${STATE_STEPS:-0,1,10,100,7736,7737,7738,7747,7837,8737,10000,12000,15000,20000}
+last_step=${steps##*,}
+
+states_runs() { # swarf's state after the original's dump steps, the original's placement and Δt, both models
+    local end
+    end=$(python3 -c "print(($last_step + 0.5) * $dt)")
+    swarf_run mfree-states "$ref" --set 'model="mfree_iwf"' "${place[@]}" --set time.dt=$dt --set time.end=$end \
+        --state-at "$steps" &
+    local c=$!
+    swarf_run default-states "$ref" "${place[@]}" --set time.dt=$dt --set time.end=$end --state-at "$steps"
+    wait $c
+}
+
+states_original() { # the original's dumps at the same steps
+    OUT=$out DUMP_STEPS=$last_step DUMPS=$steps bash ci/original/run-original.sh build dumps > "$work/dumps.stdout" 2>&1
+    tail -n 8 "$work/dumps.stdout"
+}
+
+states_compare() {
+    [ -d /tmp/swarf-original/dumps ] || return 0
+    for m in mfree-states default-states; do
+        echo "== compare.py states: original against swarf $m"
+        python3 ci/original/compare.py states --orig /tmp/swarf-original/dumps --swarf "$work/$m/states" \
+            --json "$out/states-$m.json" || status=1
+    done
+}
+
+replicas() { # replicas k: the tool's speed × (1 + k·1e-7); ORIG_REPS, MFREE_REPS, DEFAULT_REPS list the k of each code
+    # (default 0 1 2 3 each). The originals run one after another: side by side on one GPU they slow each other
+    # about 18-fold (4 at once, H100); swarf's runs are separate processes, concurrent with them.
+    local k
+    vel() { python3 -c "print(repr(1.166666592e-4 * (1 + $1 * 1e-7)))"; } # cm/µs
+    [ -x /tmp/swarf-original/build/mfree_gpu ] || OUT=$out bash ci/original/run-original.sh build > /dev/null 2>&1
+    (
+        for k in ${ORIG_REPS-0 1 2 3}; do
+            OUT=$work/rep-$k ORIG_ARGS="-v $(vel $k)" FORCE_EVERY=100 WORK=$work/orig-rep-$k \
+                BUILD_DIR=/tmp/swarf-original/build bash ci/original/run-original.sh cut > "$work/orig-rep-$k.stdout" 2>&1
+            tar czf "$out/orig-rep-$k.tgz" -C "$work/orig-rep-$k/cut" forces.csv meta.json timing.json wall.txt stdout.log
         done
-    fi
+    ) &
+    local orig=$! pids=()
+    for k in ${MFREE_REPS-0 1 2 3}; do
+        swarf_run "rep-mfree-$k" "$ref" --set 'model="mfree_iwf"' "${place[@]}" \
+            --set "tool.velocity=[$(python3 -c "print(repr($(vel $k) * 1e4))"), 0.0]" > /dev/null &
+        pids+=($!)
+    done
+    for k in ${DEFAULT_REPS-0 1 2 3}; do
+        swarf_run "rep-default-$k" "$ref" --set "tool.velocity=[$(python3 -c "print(repr($(vel $k) * 1e4))"), 0.0]" \
+            > /dev/null &
+        pids+=($!)
+    done
+    [ ${#pids[@]} -gt 0 ] && { wait "${pids[@]}" || status=1; }
+    wait $orig || status=1
 }
 
 speed() { # one code at a time: per-step wall time and the original's own step-loop time (timing.json)
@@ -117,8 +169,11 @@ PY
 for p in $parts; do
     case $p in
     forces) forces ;;
+    # (never a bare `wait`: it would also wait for this script's own tee, the process substitution above)
+    states) states_original & o=$!; states_runs; wait $o; states_compare ;;
+    replicas) replicas ;;
     speed) speed ;;
-    *) echo "unknown part $p (forces speed)"; status=1 ;;
+    *) echo "unknown part $p (forces states replicas speed)"; status=1 ;;
     esac
 done
 echo "== side-by-side done, status $status"

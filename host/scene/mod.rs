@@ -158,15 +158,16 @@ pub struct Tool {
     /// Absent from `summary.json` when absent here, so scenes without it record what they recorded before.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub rotation: Option<ToolRotation>,
-    /// `contact_law` (optional, default `"step"`): how the penalty spring is set: `"step"`, k = κ m/Δt² (the
-    /// theses' codes, (5.116)), or `"bulk"`, k = κ K A²/V with the workpiece's bulk modulus K (LS-DYNA, (5.117)),
-    /// which does not change with the time step.
+    /// `contact_law` (optional, default `"bulk"`; `"step"` under the original model's `step_contact`): how the
+    /// penalty spring is set: `"step"`, k = κ m/Δt² (the theses' codes, (5.116)), or `"bulk"`, k = κ K A²/V with
+    /// the workpiece's bulk modulus K (LS-DYNA, (5.117)), which does not change with the time step.
     pub contact_law: ContactLawKind,
     /// `contact_stiffness` (optional, default 0.1, the theses' codes), in (0, 1]: κ, with `"step"` the fraction of a
     /// penetration the penalty force removes per step, with `"bulk"` the fraction of K A²/V.
     pub contact_stiffness: f64,
-    /// `contact_damping` (optional, default 0: undamped, the theses), in [0, 1]: ξ, the fraction of critical
-    /// damping 2√(k m) of a dashpot beside the penalty spring (it never pulls a particle in).
+    /// `contact_damping` (optional, default 1: critical; 0, undamped, under the original model's `step_contact`), in
+    /// [0, 1]: ξ, the fraction of critical damping 2√(k m) of a dashpot beside the penalty spring (it never pulls a
+    /// particle in).
     pub contact_damping: f64,
     /// `friction_stiffness` (optional, default `contact_stiffness`, as in Röthlin's code), in (0, 1]: κ_t of the
     /// LS-DYNA friction update, with `"step"` f* = f_old − κ_t m v_t/Δt (Klippel's (4.47) and Röthlin's (5.129)

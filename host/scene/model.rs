@@ -33,11 +33,15 @@ pub enum Switch {
     /// The code's conduction: the receiving particle's own conductivity (no harmonic mean), its reference density,
     /// and the tool particles' volume from the workpiece's particle mass (roethlin-solver.md §5.6).
     C2dConduction,
+    /// The theses' undamped contact, `tool.contact_law = "step"` with `contact_damping = 0`, as the defaults of
+    /// those keys (swarf's: `"bulk"` with ξ = 1, whose forces converge in Δt and κ: docs/validation.md,
+    /// "Contact law against Δt and κ"); a scene that sets either key keeps its own.
+    StepContact,
 }
 
 impl Switch {
     /// Every switch, in the order `model = "mfree_iwf"` lists them.
-    pub const ALL: [Switch; 10] = [
+    pub const ALL: [Switch; 11] = [
         Switch::C2dReturn,
         Switch::C2dNorm,
         Switch::UintahRate,
@@ -48,6 +52,7 @@ impl Switch {
         Switch::AbsCutoff,
         Switch::FixedTemperature,
         Switch::C2dConduction,
+        Switch::StepContact,
     ];
 
     /// The switch's name in a scene's `model = [...]` list.
@@ -63,6 +68,7 @@ impl Switch {
             Switch::AbsCutoff => "abs_cutoff",
             Switch::FixedTemperature => "fixed_temperature",
             Switch::C2dConduction => "c2d_conduction",
+            Switch::StepContact => "step_contact",
         }
     }
 

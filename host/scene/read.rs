@@ -739,7 +739,7 @@ fn tool(
     let velocity = t.required("velocity", e, t.vector("velocity", 2, e)?)?;
     let ramp = t.number("ramp", "a non-negative time in s", non_negative)?.unwrap_or(0.0);
     let rotation = tool_rotation(t)?;
-    let law = tool_contact(t, physics)?;
+    let law = tool_contact(t, physics, switches)?;
     let chip_station = t.number("chip_station", "a positive distance in m", positive)?;
     let thermal = tool_thermal(t, doc, dx, physics)?;
     if law.friction_heating > 0.0 && !(physics.plastic_heating || physics.conduction != Conduction::Off) {
@@ -868,16 +868,21 @@ struct ContactLaw {
     usui: Option<[f64; 2]>,
 }
 
-fn tool_contact(t: &Tab<'_>, physics: &Physics) -> Result<ContactLaw> {
+/// The contact law's defaults: `"bulk"` with ξ = 1 (converged in Δt and κ, docs/validation.md), or the theses'
+/// undamped `"step"` under the original model's `step_contact` switch.
+fn tool_contact(t: &Tab<'_>, physics: &Physics, switches: super::model::ModelSwitches) -> Result<ContactLaw> {
+    let theses = switches.has(super::model::Switch::StepContact);
     let contact_law = match t.string("contact_law", "\"step\" or \"bulk\"", |s| matches!(s, "step" | "bulk"))? {
         Some("bulk") => ContactLawKind::Bulk,
-        _ => ContactLawKind::Step,
+        Some(_) => ContactLawKind::Step,
+        None if theses => ContactLawKind::Step,
+        None => ContactLawKind::Bulk,
     };
     let contact_stiffness =
         t.number("contact_stiffness", "a fraction in (0, 1]", |x| x > 0.0 && x <= 1.0)?.unwrap_or(0.1);
     let contact_damping = t
         .number("contact_damping", "a fraction of critical damping in [0, 1]", |x| (0.0..=1.0).contains(&x))?
-        .unwrap_or(0.0);
+        .unwrap_or(if theses { 0.0 } else { 1.0 });
     let friction_stiffness = t.number("friction_stiffness", "a fraction in (0, 1]", |x| x > 0.0 && x <= 1.0)?;
     let friction = t.number("friction", "a non-negative coefficient", non_negative)?.unwrap_or(0.0);
     let e = "\"none\", \"static\" or \"current\"";

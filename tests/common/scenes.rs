@@ -46,15 +46,23 @@ every = 2.0e-9
 }
 
 /// [`drop_scene`] at 50 m/s with a sliding component, plastic with heating, the CURRENT friction cap, friction
-/// heating and the Usui wear output: every input of the contact pass that the plastic corrector produces.
+/// heating and the Usui wear output: every input of the contact pass that the plastic corrector produces. The
+/// contact is the theses' undamped step law ([`STEP_CONTACT`]), under which this impact yields within 400 steps;
+/// the default damped bulk law absorbs it elastically.
 pub fn plastic_drop_scene() -> String {
     drop_scene(50.0, 0.1, 0.35, 10.0)
         .replace("plastic_heating = false", "plasticity = true\nplastic_heating = true")
         .replace(
             "friction = 0.35\n",
-            "friction = 0.35\nfriction_cap = \"current\"\nfriction_heating = 0.5\nusui = { psi = 1.0e-9, xi = 5000.0 }\n",
+            &format!(
+                "friction = 0.35\nfriction_cap = \"current\"\nfriction_heating = 0.5\n\
+                 usui = {{ psi = 1.0e-9, xi = 5000.0 }}\n{STEP_CONTACT}"
+            ),
         )
 }
+
+/// The `[tool]` lines of the theses' undamped step-law contact (the default before issue 22).
+pub const STEP_CONTACT: &str = "contact_law = \"step\"\ncontact_damping = 0.0\n";
 
 /// V0060 coarsened to Δx = 20 µm (as tests/cutting.rs's CI cut), 4 µs of cut, with `extra` overrides.
 pub fn coarse_cut(extra: &[&str]) -> Scene {
