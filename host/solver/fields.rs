@@ -331,14 +331,15 @@ registry! {
     "eps": f64 = field [.plastic?.eps] if Plastic, save, frame "plastic_strain";
     "eps_rate": f64 = field [.plastic?.rate] if Plastic, save, frame "plastic_strain_rate";
     "plastic_work": f64 = field [.plastic?.work] if Plastic, save;
-    /// Damage initiation ω and evolution D (`kernels::damage`), and the interaction mask of the last pre-pass.
-    "damage_omega": f64 = field [.damage?.omega] if Damage, save, frame "damage_initiation";
-    "damage": f64 = field [.damage?.damage] if Damage, save, frame "damage";
-    "damage_mask": f64 = buf [.damage?.mask] if Damage, scratch, frame "damage_mask";
     "contact_normal": D::Vec<R> = field [.contact?.normal] if Contact, save, frame "contact_normal_force" vector;
     "contact_friction": D::Vec<R> = field [.contact?.friction] if Contact, save, frame "contact_friction_force" vector;
     "mech_mass": R = field [.mech_mass?] if ThermalOnly, save;
     "viscous_dissipation": f64 = field [.dissipation?.0] if Viscosity, save;
+    /// Damage initiation ω and evolution D (`kernels::damage`), and the interaction mask of the last pre-pass (after
+    /// the fields of the checkpoints written before them, tests/fields.rs).
+    "damage_omega": f64 = field [.damage?.omega] if Damage, save, frame "damage_initiation";
+    "damage": f64 = field [.damage?.damage] if Damage, save, frame "damage";
+    "damage_mask": f64 = buf [.damage?.mask] if Damage, scratch, frame "damage_mask";
     /// The pre-pass outputs: σ/ρ², artificial stress, sound speed, volume.
     "sig": D::Sym<R> = buf [.sig] if Always, scratch;
     "art": D::Sym<R> = buf [.art?] if ArtificialStress, scratch;

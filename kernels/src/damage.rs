@@ -149,7 +149,8 @@ pub fn fracture_strain(p: &DamageParams, triax: f64, rate: f64, temp: f64) -> f6
 /// The characteristic length of a particle of volume V (Eq. 7.24): √V in 2D (V per unit depth, an area), ∛V in 3D.
 #[inline(always)]
 pub fn char_length(vol: f64, dim: f64) -> f64 {
-    if dim > 2.5 { libm::cbrt(vol) } else { libm::sqrt(vol) }
+    // `Real::sqrt`: correctly rounded on both sides (libm's generic sqrt reads a table the PTX cannot link).
+    if dim > 2.5 { libm::cbrt(vol) } else { Real::sqrt(vol) }
 }
 
 /// The state of one particle's damage: ω (initiation, Eq. 3.166) and D (evolution, Eq. 7.25).
