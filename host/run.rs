@@ -93,6 +93,8 @@ pub const ENERGY_COLUMNS: &[&str] = &[
     "min_contact_z",
     "min_contact_id_a",
     "min_contact_id_b",
+    "damaged_volume",
+    "initiated_volume",
 ];
 
 /// The built-in default scene, `swarf run` without a scene: the V0060 orthogonal cut (cases/cutting/v0060.toml),
@@ -913,6 +915,8 @@ impl<R: Real, D: TensorOps<R>> OutputJob<R, D> {
             d.min_contact_midpoint[2],
             d.min_contact_ids.map_or(f64::NAN, |p| f64::from(p[0])),
             d.min_contact_ids.map_or(f64::NAN, |p| f64::from(p[1])),
+            d.damaged_volume,
+            d.initiated_volume,
         ])
         .map_err(|e| io_err(csv.path(), e))?;
         csv.write().map_err(|e| io_err(csv.path(), e))?;

@@ -61,6 +61,14 @@ fn memory_estimate_equals_the_bytes_allocated_for_every_scene() {
     }
     let cap_wear = vec!["tool.friction_cap=\"current\"".to_string(), "tool.usui={}".to_string()];
     scenes.push(("cases/cutting/v0060.toml".into(), cap_wear));
+    // Damage (issue 25): ω, D and the mask.
+    let damage: Vec<String> =
+        ["damage.model=\"jc\"", "damage.D1=0.1", "damage.D2=0.2", "damage.D3=0.5", "damage.D4=0.0"]
+            .iter()
+            .map(|s| s.to_string())
+            .chain(["damage.D5=0.0".to_string(), "damage.mask=true".to_string()])
+            .collect();
+    scenes.push(("cases/cutting/v0060.toml".into(), damage));
     let mut covered = BTreeSet::new();
     let mut runs = 0;
     for (path, overrides) in &scenes {
@@ -124,13 +132,25 @@ fn checkpoint_names_are_unchanged() {
         "contact_friction",
         "mech_mass",
         "viscous_dissipation",
+        // Issue 25: the damage's ω and D (present only with [damage]).
+        "damage_omega",
+        "damage",
     ];
     assert_eq!(names, before);
     let frames: Vec<&str> = FIELDS.iter().filter_map(|f| f.frame).collect();
     // The contact forces joined the frames in issue 27 (item 4), as vectors.
     assert_eq!(
         frames,
-        ["temperature", "plastic_strain", "plastic_strain_rate", "contact_normal_force", "contact_friction_force"]
+        [
+            "temperature",
+            "plastic_strain",
+            "plastic_strain_rate",
+            "contact_normal_force",
+            "contact_friction_force",
+            "damage_initiation",
+            "damage",
+            "damage_mask"
+        ]
     );
 }
 

@@ -348,6 +348,7 @@ fn plastic_pass_equals_cpu_within_one_ulp() {
                     materials: None,
                     yield_stress: None,
                     work: None,
+                    damage: None,
                 },
             )
             .unwrap();

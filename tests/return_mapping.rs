@@ -468,6 +468,10 @@ fn flow_stress_from_the_return_equals_sigma_y_bitwise() {
                 materials: &mat,
                 yield_stress: &mut ys,
                 work: &mut work,
+                damage_params: std::ptr::null(),
+                omega: std::ptr::null_mut(),
+                damage: std::ptr::null_mut(),
+                mass: std::ptr::null(),
             };
             let c = PlasticConsts { shear: g, dt, taylor_quinney: tq, flags: 0, _pad: 0 };
             unsafe { plastic_particle::<f64, Dim2, M>(m, &c, &a, 0) };

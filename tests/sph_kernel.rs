@@ -140,6 +140,7 @@ mod pre_pass {
                 &mut vol,
                 None,
                 None,
+                None,
             )
             .expect("pre-pass");
             for i in 0..n {

@@ -4,17 +4,18 @@
 //! materials), which the GPU's memory does not allow.
 
 use super::{
-    Backend, Buffer, ContactInputs, Element, FieldsMut, FusedContact, FusedHeat, FusedPrepare, HeatInputs,
-    PlasticInputs, PlasticPass, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields,
+    Backend, Buffer, ContactInputs, DamageBufs, Element, FieldsMut, FusedContact, FusedHeat, FusedPrepare, HeatInputs,
+    PlasticInputs, PlasticPass, PrepassDamageBufs, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields,
 };
 use crate::kernels::contact::{ContactParams, Tool2d};
+use crate::kernels::damage::DamageParams;
 use crate::kernels::neighbour::GridParams;
 use crate::kernels::pass::{
     ContactArgs, DensityArgs, FinishArgs, FinishPlasticArgs, HashArgs, HeatArgs, NeighbourListArgs, PlasticArgs,
     PredictArgs, PrepareArgs, RatesArgs, StepPtrs, VerletArgs,
 };
 use crate::kernels::sph::heat::HeatParams;
-use crate::kernels::sph::interact::Arrays;
+use crate::kernels::sph::interact::{Arrays, PrepassDamage};
 use crate::kernels::sph::plastic::PlasticConsts;
 use crate::kernels::sph::step::StepScalars;
 use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers};
@@ -114,6 +115,7 @@ pub fn rates_args<B: Backend, R: Real, D: Dim>(
             bc_vel: b.address(i.bc_vel) as *const _,
             normal: input_opt(b, "contact normal", n, i.contact.map(|c| c.0))?,
             friction: input_opt(b, "contact friction", n, i.contact.map(|c| c.1))?,
+            mask: input_opt(b, "damage mask", n, i.mask)?,
         },
         pos_t: output(b, "pos_t", n, out.pos)?,
         vel_t: output(b, "vel_t", n, out.vel)?,
@@ -197,7 +199,7 @@ pub fn finish_plastic_args<B: Backend, R: Real, D: Dim, M>(
     n: usize,
     s: &ScalarsAt<'_, B>,
     f: StepFields<'_, B, R, D>,
-    p: PlasticPass<'_, B>,
+    p: PlasticPass<'_, B, R>,
     model: M,
     contact: Option<FusedContact<'_, B, R, D>>,
 ) -> Result<FinishPlasticArgs<R, D, M>> {
@@ -224,6 +226,10 @@ pub fn finish_plastic_args<B: Backend, R: Real, D: Dim, M>(
         materials: p.materials.map_or(null(), |m| b.address(m) as *const _),
         yield_stress,
         work: output_opt(b, "plastic work", n, p.work)?,
+        damage_params: null(),
+        omega: std::ptr::null_mut(),
+        damage: std::ptr::null_mut(),
+        damage_mass: null(),
         contact: null(),
         contact_tool: null(),
         mass: null(),
@@ -233,6 +239,9 @@ pub fn finish_plastic_args<B: Backend, R: Real, D: Dim, M>(
         contact_yield: null(),
         wear: std::ptr::null_mut(),
     };
+    if let Some(d) = p.damage {
+        (a.damage_params, a.omega, a.damage, a.damage_mass) = damage_ptrs(b, n, d)?;
+    }
     if let Some(c) = contact {
         if c.yield_stress && yield_stress.is_null() {
             return Err(Error::Length { op: "step_finish (the friction cap's yield stresses)", expected: 1, got: 0 });
@@ -247,6 +256,29 @@ pub fn finish_plastic_args<B: Backend, R: Real, D: Dim, M>(
         a.wear = output_opt(b, "wear", n, c.wear)?;
     }
     Ok(a)
+}
+
+/// The damage's addresses in the plastic pass (constants, ω, D, masses), each checked.
+type DamagePtrs<R> = (*const DamageParams, *mut f64, *mut f64, *const R);
+
+fn damage_ptrs<B: Backend, R: Real>(b: &B, n: usize, d: DamageBufs<'_, B, R>) -> Result<DamagePtrs<R>> {
+    Ok((
+        input(b, "damage parameters", 1, d.params)?,
+        output(b, "damage omega", n, d.omega)?,
+        output(b, "damage", n, d.damage)?,
+        input(b, "damage mass", n, d.mass)?,
+    ))
+}
+
+/// The pre-pass's damage view (null: off).
+fn prepass_damage<B: Backend>(b: &B, n: usize, d: Option<PrepassDamageBufs<'_, B>>) -> Result<PrepassDamage> {
+    let Some(d) = d else { return Ok(PrepassDamage::OFF) };
+    Ok(PrepassDamage {
+        damage: input(b, "damage", n, d.damage)?,
+        mask: output(b, "damage mask", n, d.mask)?,
+        flags: d.flags,
+        _pad: 0,
+    })
 }
 
 /// A particle count as the kernels take it.
@@ -300,6 +332,7 @@ pub struct PrepareBufs<'a, B: Backend, R: Real, D: Dim> {
     pub sound: Option<&'a mut B::Buf<R>>,
     pub vol: &'a mut B::Buf<R>,
     pub temp: Option<&'a B::Buf<f64>>,
+    pub damage: Option<PrepassDamageBufs<'a, B>>,
 }
 
 /// The pre-pass's arguments; the stabilisers' buffers must be given where they are on (null where off).
@@ -323,6 +356,7 @@ pub fn prepare_args<B: Backend, R: Real, D: Dim>(
         sound,
         vol: output(b, "sph_prepare vol", n, q.vol)?,
         temp: input_opt(b, "sph_prepare temp", n, q.temp)?,
+        damage: prepass_damage(b, n, q.damage)?,
     })
 }
 
@@ -411,6 +445,7 @@ pub fn predict_args<B: Backend, R: Real, D: Dim>(
         art: std::ptr::null_mut(),
         sound: std::ptr::null_mut(),
         vol: std::ptr::null_mut(),
+        damage: PrepassDamage::OFF,
     };
     if let Some(q) = prepare {
         (a.art, a.sound) =
@@ -419,6 +454,7 @@ pub fn predict_args<B: Backend, R: Real, D: Dim>(
         a.mass = input(b, "step_predict mass", n, q.mass)?;
         a.sig = output(b, "step_predict sig", n, q.sig)?;
         a.vol = output(b, "step_predict vol", n, q.vol)?;
+        a.damage = prepass_damage(b, n, q.damage)?;
     }
     Ok(a)
 }
@@ -435,6 +471,10 @@ pub fn plastic_args<B: Backend, R: Real, D: Dim, M>(
     if consts.taylor_quinney > 0.0 && a.materials.is_none() {
         return Err(Error::Length { op: "plastic_step (thermal materials missing)", expected: 1, got: 0 });
     }
+    let (damage_params, omega, damage, damage_mass) = match a.damage {
+        Some(d) => damage_ptrs(b, n, d)?,
+        None => (null(), std::ptr::null_mut(), std::ptr::null_mut(), null()),
+    };
     Ok(PlasticArgs {
         n: count(n)?,
         model,
@@ -448,6 +488,10 @@ pub fn plastic_args<B: Backend, R: Real, D: Dim, M>(
         materials: a.materials.map_or(null(), |m| b.address(m) as *const _),
         yield_stress: output_opt(b, "yield_stress", n, a.yield_stress)?,
         work: output_opt(b, "plastic work", n, a.work)?,
+        damage_params,
+        omega,
+        damage,
+        damage_mass,
     })
 }
 

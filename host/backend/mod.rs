@@ -9,6 +9,7 @@ pub mod cuda;
 pub mod passes;
 
 use crate::Result;
+use crate::kernels::damage::DamageParams;
 use crate::kernels::neighbour::{GatherField, GridParams};
 use crate::kernels::pass::Pass;
 use crate::kernels::sph::heat::{HeatParams, ThermalMaterial};
@@ -184,6 +185,8 @@ pub struct SphInputs<'a, B: Backend, R: Real, D: Dim> {
     pub bc_vel: &'a B::Buf<D::Vec<R>>,
     /// The tool's normal and friction forces from the last contact pass (present iff the scene has a tool).
     pub contact: Option<ContactForces<'a, B, R, D>>,
+    /// The damage's interaction mask of the pre-pass (present iff the run models damage).
+    pub mask: Option<&'a B::Buf<f64>>,
 }
 
 /// The normal and friction force buffers of the contact pass.
@@ -223,6 +226,24 @@ pub struct PlasticInputs<'a, B: Backend, R: Real, D: Dim> {
     pub yield_stress: Option<&'a mut B::Buf<f64>>,
     /// Accumulates the specific plastic work Σ σ_y Δε̄/ρ (energy balance), when tracked.
     pub work: Option<&'a mut B::Buf<f64>>,
+    /// The damage update after the return (present iff the run models damage).
+    pub damage: Option<DamageBufs<'a, B, R>>,
+}
+
+/// The damage's buffers in the plastic pass (`kernels::damage`): its constants (one element), ω and D, and the
+/// particles' full masses (the volume m/ρ of L_char).
+pub struct DamageBufs<'a, B: Backend, R: Real> {
+    pub params: &'a B::Buf<DamageParams>,
+    pub omega: &'a mut B::Buf<f64>,
+    pub damage: &'a mut B::Buf<f64>,
+    pub mass: &'a B::Buf<R>,
+}
+
+/// The damage's buffers in the pre-pass: D, the mask it writes and the `damage::switches`.
+pub struct PrepassDamageBufs<'a, B: Backend> {
+    pub damage: &'a B::Buf<f64>,
+    pub mask: &'a mut B::Buf<f64>,
+    pub flags: u32,
 }
 
 /// Where a step's scalars are: entry `index` of `buf`.
@@ -283,7 +304,7 @@ pub struct CellBuffers<'a, B: Backend> {
 }
 
 /// The plastic update fused into the corrector (stress, density and temperature come from [`StepFields`]).
-pub struct PlasticPass<'a, B: Backend> {
+pub struct PlasticPass<'a, B: Backend, R: Real> {
     pub model: &'a crate::material::FlowModel,
     pub shear: f64,
     pub taylor_quinney: f64,
@@ -295,6 +316,8 @@ pub struct PlasticPass<'a, B: Backend> {
     pub materials: Option<&'a B::Buf<ThermalMaterial>>,
     pub yield_stress: Option<&'a mut B::Buf<f64>>,
     pub work: Option<&'a mut B::Buf<f64>>,
+    /// The damage update after the return (present iff the run models damage).
+    pub damage: Option<DamageBufs<'a, B, R>>,
 }
 
 /// The pre-pass fused into the predictor ([`Passes::step_predict`]; no thermal expansion). Its other inputs are
@@ -308,6 +331,8 @@ pub struct FusedPrepare<'a, B: Backend, R: Real, D: Dim> {
     pub art: Option<&'a mut B::Buf<D::Sym<R>>>,
     pub sound: Option<&'a mut B::Buf<R>>,
     pub vol: &'a mut B::Buf<R>,
+    /// The damage (present iff the run models damage).
+    pub damage: Option<PrepassDamageBufs<'a, B>>,
 }
 
 /// The contact pass fused into the plastic corrector ([`Passes::step_finish`]). Its other inputs are the

@@ -8,7 +8,7 @@
 use super::args::{self, PrepareBufs, check_len};
 use super::{
     Backend, Buffer, ContactInputs, FieldsMut, FusedContact, FusedHeat, FusedPrepare, HeatInputs, PlasticInputs,
-    PlasticPass, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields,
+    PlasticPass, PrepassDamageBufs, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields,
 };
 use crate::kernels::contact::{ContactParams, Tool2d};
 use crate::kernels::neighbour::GridParams;
@@ -207,8 +207,9 @@ pub trait Passes: Backend {
         vol: &mut Self::Buf<R>,
         temp: Option<&Self::Buf<f64>>,
         gate: Option<ScalarsAt<'_, Self>>,
+        damage: Option<PrepassDamageBufs<'_, Self>>,
     ) -> Result<()> {
-        let q = PrepareBufs::<_, R, D> { params, rho, mass, stress, sig, art, sound, vol, temp };
+        let q = PrepareBufs::<_, R, D> { params, rho, mass, stress, sig, art, sound, vol, temp, damage };
         let a = args::prepare_args(self, n, stab, q, gate.as_ref())?;
         with_bools!(AV = stab.viscosity, AS = stab.stress; {
             // SAFETY: the builder checked the lengths and that the stabilisers' buffers exist where they are on.
@@ -321,7 +322,7 @@ pub trait Passes: Backend {
         n: usize,
         s: ScalarsAt<'_, Self>,
         f: StepFields<'_, Self, R, D>,
-        plastic: Option<PlasticPass<'_, Self>>,
+        plastic: Option<PlasticPass<'_, Self, R>>,
         contact: Option<FusedContact<'_, Self, R, D>>,
     ) -> Result<()> {
         if contact.is_some() && (plastic.is_none() || D::D != 2) {

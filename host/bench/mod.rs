@@ -313,6 +313,7 @@ pub fn plasticity<B: Backend>(
                         yield_stress: None,
                         work: None,
                         materials: None,
+                        damage: None,
                     },
                 )
             })?);

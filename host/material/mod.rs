@@ -44,6 +44,19 @@
 //! | `scgl` | `sigma_a`, `sigma_max` [Pa], `beta`, `eps_i`, `n`, `C1` [1/s], `U_k` [eV], `sigma_p` [Pa], `C2` [Pa s], `mu0` [Pa], `dmu_dp`, `dmu_dT` [Pa/K], `gamma0`, `melt_a`; T_ref and T_m0 from `[thermal]` |
 //! | `bilinear` | `yield_stress` [Pa], `plastic_modulus` [Pa] (H = dσ_y/dε̄, not the tangent modulus) |
 //!
+//! `[damage]` (optional; docs/damage.md): the fracture strain of ductile damage and the fracture energy of its
+//! evolution (`swarf_kernels::damage`):
+//!
+//! | model | keys |
+//! |---|---|
+//! | `jc` | `D1`..`D5`, `reference_strain_rate` [1/s], `reference_temperature`, `melt_temperature` [K] (default: `[thermal]`'s) |
+//! | `jc_gg` | the JC keys + `D6`, `D7`, `D8` (Gerstgrasser's T_term, capped at 2.5) |
+//! | `rice_tracey` | `D1` (D_RT1), `D2` (D_RT2) |
+//!
+//! plus, for any model, either `fracture_energy` G_f [J/m²] or `fracture_toughness` K_1C [Pa √m] (then
+//! G_f = K_1C² (1 − ν²)/E with `[elastic]`'s E and ν), or neither (no softening: full damage at initiation). D3 is
+//! used as exp(−|D3| σ*), so either sign of the printed value gives the same strain (klippel §2.6 [NOTE]).
+//!
 //! The equations behind each key are documented on the kernel parameter structs (`swarf_kernels::material`).
 //! Unknown keys are refused; every error names the file, the line where known, the dotted key and what was
 //! expected.
@@ -244,6 +257,32 @@ pub struct Material {
     pub elastic: Option<Elastic>,
     pub thermal: Option<Thermal>,
     pub flow_stress: Option<FlowModel>,
+    /// Ductile damage constants (`[damage]`), if given.
+    pub damage: Option<DamageConstants>,
+}
+
+/// A material's damage constants (`[damage]`): the fracture-strain model and its constants, and G_f.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DamageConstants {
+    /// `swarf_kernels::damage::model`.
+    pub model: u32,
+    /// D1..D8 (JC, JC-GG; zero where the model has fewer), D_RT1 and D_RT2 in d[0], d[1] (Rice–Tracey).
+    pub d: [f64; 8],
+    pub reference_strain_rate: f64,
+    pub reference_temperature: f64,
+    pub melt_temperature: f64,
+    /// G_f [J/m²] (given, or from K_1C); None: no softening.
+    pub fracture_energy: Option<f64>,
+}
+
+/// The damage models' names in `[damage]` and scenes, by `swarf_kernels::damage::model` index.
+pub const DAMAGE_MODEL_NAMES: &[&str] = &["jc", "jc_gg", "rice_tracey"];
+
+impl DamageConstants {
+    /// The model's name ([`DAMAGE_MODEL_NAMES`]).
+    pub fn model_name(&self) -> &'static str {
+        DAMAGE_MODEL_NAMES.get(self.model as usize).copied().unwrap_or("jc")
+    }
 }
 
 impl Material {
@@ -262,7 +301,7 @@ impl Material {
     pub fn parse(text: &str, file: &str, stem: Option<&str>) -> Result<Material, MaterialError> {
         let ctx = Ctx::new(text, file)?;
         let root: toml::Table = toml::from_str(text).map_err(|e| ctx.syntax(e))?;
-        ctx.check_keys(&root, "", &["name", "description", "source", "elastic", "thermal", "flow_stress"])?;
+        ctx.check_keys(&root, "", &["name", "description", "source", "elastic", "thermal", "flow_stress", "damage"])?;
         let name =
             ctx.required(&root, "", "name", "a string: the file name without .toml", ctx.string(&root, "", "name")?)?;
         if let Some(stem) = stem
@@ -286,7 +325,12 @@ impl Material {
             None => None,
             Some(t) => Some(parse_flow(&ctx, t, thermal.as_ref())?),
         };
+        let damage = match ctx.table(&root, "", "damage")? {
+            None => None,
+            Some(t) => Some(parse_damage(&ctx, t, elastic.as_ref(), thermal.as_ref())?),
+        };
         Ok(Material {
+            damage,
             name: name.to_string(),
             description: description.to_string(),
             source: source.to_string(),
@@ -632,6 +676,84 @@ fn parse_thermal(ctx: &Ctx, (t, path): Sub, has_elastic: bool) -> Result<Thermal
         ));
     }
     Ok(th)
+}
+
+/// `[damage]` (module doc).
+fn parse_damage(
+    ctx: &Ctx,
+    (t, path): Sub,
+    elastic: Option<&Elastic>,
+    thermal: Option<&Thermal>,
+) -> Result<DamageConstants, MaterialError> {
+    use swarf_kernels::damage::model;
+    let names = format!("one of: {}", DAMAGE_MODEL_NAMES.join(", "));
+    let name = ctx.required(t, &path, "model", &names, ctx.string(t, &path, "model")?)?;
+    let (index, d_keys): (u32, &[&str]) = match name {
+        "jc" => (model::JC, &["D1", "D2", "D3", "D4", "D5"]),
+        "jc_gg" => (model::JC_GG, &["D1", "D2", "D3", "D4", "D5", "D6", "D7", "D8"]),
+        "rice_tracey" => (model::RICE_TRACEY, &["D1", "D2"]),
+        other => return Err(ctx.invalid(&path, "model", Some(format!("\"{other}\"")), names)),
+    };
+    let jc = index != model::RICE_TRACEY;
+    let mut allowed = vec!["model", "fracture_energy", "fracture_toughness"];
+    allowed.extend_from_slice(d_keys);
+    if jc {
+        allowed.extend_from_slice(&["reference_strain_rate", "reference_temperature", "melt_temperature"]);
+    }
+    ctx.check_keys_for(t, &path, &allowed, &format!(" for damage model '{name}'"))?;
+    let mut d = [0.0; 8];
+    for (k, key) in d_keys.iter().enumerate() {
+        d[k] = ctx.req(t, &path, key, "a finite number", |_| true)?;
+    }
+    let (mut rate, mut t_ref, mut t_melt) = (1.0, 0.0, 1.0);
+    if jc {
+        rate = ctx.req(t, &path, "reference_strain_rate", "a strain rate in 1/s > 0", positive)?;
+        let th_ref = thermal.and_then(|th| th.reference_temperature);
+        let th_melt = thermal.and_then(|th| th.melt_temperature);
+        t_ref = match ctx.number(t, &path, "reference_temperature", "a temperature in K >= 0", non_negative)? {
+            Some(x) => x,
+            None => ctx.required(t, &path, "reference_temperature", "a temperature in K (or [thermal]'s)", th_ref)?,
+        };
+        t_melt = match ctx.number(t, &path, "melt_temperature", "a temperature in K > 1", |x| x > 1.0)? {
+            Some(x) => x,
+            None => ctx.required(t, &path, "melt_temperature", "a temperature in K (or [thermal]'s)", th_melt)?,
+        };
+        if t_melt <= t_ref {
+            return Err(ctx.invalid(
+                &path,
+                "melt_temperature",
+                Some(t_melt.to_string()),
+                format!("a melt temperature above the reference temperature {t_ref} K"),
+            ));
+        }
+    }
+    let gf = ctx.number(t, &path, "fracture_energy", "a fracture energy G_f in J/m^2 > 0", positive)?;
+    let k1c = ctx.number(t, &path, "fracture_toughness", "a fracture toughness K_1C in Pa m^0.5 > 0", positive)?;
+    let fracture_energy = match (gf, k1c) {
+        (Some(_), Some(k)) => {
+            return Err(ctx.invalid(
+                &path,
+                "fracture_toughness",
+                Some(k.to_string()),
+                "either fracture_energy or fracture_toughness, not both",
+            ));
+        }
+        (Some(g), None) => Some(g),
+        (None, Some(k)) => {
+            let el =
+                ctx.required(t, &path, "fracture_toughness", "fracture_energy (no [elastic] for E, ν)", elastic)?;
+            Some(swarf_kernels::damage::fracture_energy_from_toughness(k, el.youngs_modulus, el.poisson_ratio))
+        }
+        (None, None) => None,
+    };
+    Ok(DamageConstants {
+        model: index,
+        d,
+        reference_strain_rate: rate,
+        reference_temperature: t_ref,
+        melt_temperature: t_melt,
+        fracture_energy,
+    })
 }
 
 const JC_KEYS: &[&str] = &["model", "A", "B", "C", "n", "m", "reference_strain_rate", "rate_form"];

@@ -13,7 +13,7 @@ use crate::material::FlowModel;
 use crate::scene::{Bc, Conduction, ParticleSet, Precision, Scene, Switch};
 use crate::solver::diagnostics::compute;
 use crate::solver::params::{StabiliserSettings, cfl_time_step, sph_params};
-use crate::solver::{ContactSetup, PlasticSetup, Solver, ThermalSetup};
+use crate::solver::{ContactSetup, DamageSetup, PlasticSetup, Solver, ThermalSetup};
 use crate::state::HostParticles;
 use crate::tuning::Tuning;
 use crate::{Error, Result};
@@ -212,6 +212,7 @@ pub fn setup_with<R: Real, D: TensorOps<R>>(scene: &Scene, tuning: &Tuning) -> R
         }
         _ => None,
     };
+    let damage = damage_setup(scene, &particles.flags, &pos);
     let expands = ph.thermal_expansion > 0.0;
     let temperature = if thermal.is_some() || plastic.is_some() || expands { Some(temperature) } else { None };
     Ok(Setup {
@@ -228,10 +229,49 @@ pub fn setup_with<R: Real, D: TensorOps<R>>(scene: &Scene, tuning: &Tuning) -> R
         temperature,
         thermal,
         plastic,
+        damage,
         contact,
         warnings,
         tuning: tuning.clone(),
     })
+}
+
+/// The damage of `scene` (None without `[damage]`): its constants for the kernels (`kernels::damage`) and the
+/// initial ω and D of every particle (`flags`, `pos` in the set-up's order), the pre-cracks' boxes applied in
+/// order to the mechanical particles (the last box containing a particle wins).
+fn damage_setup(scene: &Scene, fl: &[u32], pos: &[[f64; 3]]) -> Option<DamageSetup> {
+    use crate::kernels::damage::{DamageParams, model, switches};
+    let d = scene.damage.as_ref()?;
+    let elastic = scene.material.elastic();
+    let params = DamageParams {
+        model: match d.model.as_str() {
+            "jc_gg" => model::JC_GG,
+            "rice_tracey" => model::RICE_TRACEY,
+            _ => model::JC,
+        },
+        flags: if d.mask { switches::MASK } else { 0 } | if d.delete { switches::DELETE } else { 0 },
+        d: d.constants,
+        ref_rate: d.reference_strain_rate,
+        ref_temp: d.reference_temperature,
+        melt_temp: d.melt_temperature,
+        fracture_energy: d.fracture_energy,
+        c0sq: elastic.bulk_modulus() / elastic.density,
+        rho0: elastic.density,
+        dim: scene.dim as f64,
+    };
+    let n = pos.len();
+    let (mut omega, mut damage) = (vec![0.0; n], vec![0.0; n]);
+    for (i, p) in pos.iter().enumerate() {
+        if fl[i] & flags::THERMAL_ONLY != 0 {
+            continue;
+        }
+        for c in &d.pre_cracks {
+            if (0..scene.dim).all(|k| p[k] >= c.min[k] && p[k] <= c.max[k]) {
+                (omega[i], damage[i]) = (c.omega, c.damage);
+            }
+        }
+    }
+    Some(DamageSetup { params, omega, damage })
 }
 
 /// A fixed ("locked") grid over the initial bodies with room to move; particles leaving it are clamped into its
@@ -471,6 +511,8 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Method<B> for Solver<B, R, D> {
         crate::solver::diagnostics::internal(&mut d, &host.id, temp.as_deref(), eps.as_deref());
         let (work, diss) = self.download_dissipated(b)?;
         crate::solver::diagnostics::dissipated(&mut d, &host, work.as_deref(), diss.as_deref());
+        let (omega, damage) = (field("damage_initiation"), field("damage"));
+        crate::solver::diagnostics::damaged(&mut d, &host, omega.as_deref(), damage.as_deref());
         let mut now = positions_f64(&host.pos);
         // The mixed precision's positions are hi + lo: the observers and the displacements see them whole.
         if let Some(lo) = self.download_pos_lo(b)? {

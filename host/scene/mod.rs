@@ -94,6 +94,44 @@ pub struct Scene {
     /// Absent from `summary.json` when `"swarf"`, so those scenes record what they recorded before.
     #[serde(skip_serializing_if = "Model::is_swarf")]
     pub model: Model,
+    /// `[damage]` (optional, needs plasticity): ductile damage (docs/damage.md). Absent from `summary.json` when
+    /// off, so the scenes without it record what they recorded before.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub damage: Option<Damage>,
+}
+
+/// `[damage]`: ductile damage (`swarf_kernels::damage`, docs/damage.md), its constants from the library material's
+/// `[damage]` unless the table gives them.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Damage {
+    /// `model` (optional, default the material's): `"jc"`, `"jc_gg"` or `"rice_tracey"`.
+    pub model: String,
+    /// `D1`..`D8` (each optional, default the material's; the model's count required).
+    pub constants: [f64; 8],
+    /// `reference_strain_rate` [1/s], `reference_temperature`, `melt_temperature` [K] (JC, JC-GG; default the
+    /// material's `[damage]`, else its `[thermal]`).
+    pub reference_strain_rate: f64,
+    pub reference_temperature: f64,
+    pub melt_temperature: f64,
+    /// G_f [J/m²] from `fracture_energy`, or `fracture_toughness` K_1C [Pa √m] with the scene's E and ν, else the
+    /// material's; 0: none (full damage at initiation).
+    pub fracture_energy: f64,
+    /// `mask` (optional, default false): the interaction mask of fully damaged neighbours in tension.
+    pub mask: bool,
+    /// `delete` (optional, default false): fully damaged particles leave the interactions.
+    pub delete: bool,
+    /// `[[damage.pre_crack]]`: regions of initial damage (`min`, `max` [m]; `damage` D, default full; `omega` ω,
+    /// default 1).
+    pub pre_cracks: Vec<PreCrack>,
+}
+
+/// A pre-crack: particles inside the box [min, max] start with damage D and initiation ω.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct PreCrack {
+    pub min: [f64; 3],
+    pub max: [f64; 3],
+    pub damage: f64,
+    pub omega: f64,
 }
 
 /// `[analysis]`: `early_stop = { tolerance = ε }` (optional, needs a `[tool]`): the run ends once F_c and F_f are

@@ -50,6 +50,8 @@ pub enum When {
     /// Heat conduction on: the thermal predictor–corrector's T0 and Ṫ.
     Conduction,
     Plastic,
+    /// Damage (with plasticity).
+    Damage,
     /// A rigid tool.
     Contact,
     /// The tool's friction capped by the current yield stress.
@@ -67,11 +69,12 @@ pub enum When {
 }
 
 impl When {
-    pub const ALL: [When; 11] = [
+    pub const ALL: [When; 12] = [
         When::Always,
         When::Temperature,
         When::Conduction,
         When::Plastic,
+        When::Damage,
         When::Contact,
         When::CurrentCap,
         When::Wear,
@@ -87,6 +90,7 @@ impl When {
             When::Temperature => s.temperature.is_some(),
             When::Conduction => s.thermal.as_ref().is_some_and(|t| t.conduction.is_some()),
             When::Plastic => s.plastic.is_some(),
+            When::Damage => s.damage.is_some(),
             When::Contact => s.contact.is_some(),
             When::CurrentCap => s.contact.as_ref().is_some_and(|c| c.params.cap_mode == cap::CURRENT),
             When::Wear => s.contact.as_ref().is_some_and(|c| c.wear),
@@ -331,6 +335,11 @@ registry! {
     "contact_friction": D::Vec<R> = field [.contact?.friction] if Contact, save, frame "contact_friction_force" vector;
     "mech_mass": R = field [.mech_mass?] if ThermalOnly, save;
     "viscous_dissipation": f64 = field [.dissipation?.0] if Viscosity, save;
+    /// Damage initiation ω and evolution D (`kernels::damage`), and the interaction mask of the last pre-pass (after
+    /// the fields of the checkpoints written before them, tests/fields.rs).
+    "damage_omega": f64 = field [.damage?.omega] if Damage, save, frame "damage_initiation";
+    "damage": f64 = field [.damage?.damage] if Damage, save, frame "damage";
+    "damage_mask": f64 = buf [.damage?.mask] if Damage, scratch, frame "damage_mask";
     /// The pre-pass outputs: σ/ρ², artificial stress, sound speed, volume.
     "sig": D::Sym<R> = buf [.sig] if Always, scratch;
     "art": D::Sym<R> = buf [.art?] if ArtificialStress, scratch;
@@ -373,7 +382,9 @@ pub fn fixed_bytes<R: Real, D: TensorOps<R>>(s: &Setup<R, D>) -> usize {
         s.thermal.as_ref().map_or(0, |t| t.materials.len() * size_of::<ThermalMaterial>() + size_of::<GridParams>());
     // The contact law's constants and the tool's shape, one block each.
     let contact = if s.contact.is_some() { size_of::<ContactParams>() + size_of::<Tool2d>() } else { 0 };
-    cells + run + thermal + contact
+    // The damage's constants, one block.
+    let damage = if s.damage.is_some() { size_of::<crate::kernels::damage::DamageParams>() } else { 0 };
+    cells + run + thermal + contact + damage
 }
 
 /// Bytes the solver of setup `s` allocates: the registry's fields for every particle plus [`fixed_bytes`].

@@ -26,10 +26,11 @@ pub use crate::tool::motion::ToolMotion;
 
 use crate::Result;
 use crate::backend::{
-    Backend, Conduction, ContactInputs, FieldsMut, FieldsRef, FusedContact, FusedHeat, FusedPrepare, HeatInputs,
-    Passes, PlasticPass, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields,
+    Backend, Conduction, ContactInputs, DamageBufs, FieldsMut, FieldsRef, FusedContact, FusedHeat, FusedPrepare,
+    HeatInputs, Passes, PlasticPass, PrepassDamageBufs, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields,
 };
 use crate::kernels::contact::{ContactParams, Tool2d, ToolState};
+use crate::kernels::damage::DamageParams;
 use crate::kernels::neighbour::GridParams;
 use crate::kernels::sph::heat::{HeatParams, ThermalMaterial};
 use crate::kernels::sph::params::flags;
@@ -59,6 +60,16 @@ pub struct PlasticSetup {
     pub taylor_quinney: f64,
     /// `PlasticConsts::flags` (the scene's `model`; 0: swarf's return).
     pub return_flags: u32,
+}
+
+/// Damage of a run (`kernels::damage`, docs/damage.md).
+#[derive(Clone, Debug)]
+pub struct DamageSetup {
+    /// The constants (fracture-strain model, G_f, switches).
+    pub params: DamageParams,
+    /// Initial ω and D of each particle, in the scene's order (the pre-crack; zero elsewhere).
+    pub omega: Vec<f64>,
+    pub damage: Vec<f64>,
 }
 
 /// The rigid tool of a cutting run (2D).
@@ -95,6 +106,8 @@ pub struct Setup<R: Real, D: TensorOps<R>> {
     pub temperature: Option<Vec<f64>>,
     pub thermal: Option<ThermalSetup>,
     pub plastic: Option<PlasticSetup>,
+    /// Damage (needs plasticity); None: no damage, the code path of an undamaged run.
+    pub damage: Option<DamageSetup>,
     pub contact: Option<ContactSetup>,
     /// Input that runs but whose result is not meaningful (`scene::degenerate_input_warnings`).
     pub warnings: Vec<String>,
@@ -132,6 +145,17 @@ struct PlasticState<B: Backend> {
     model: FlowModel,
     taylor_quinney: f64,
     return_flags: u32,
+}
+
+struct DamageState<B: Backend> {
+    params: B::Buf<DamageParams>,
+    /// `damage::switches`.
+    flags: u32,
+    /// ω (initiation) and D (evolution).
+    omega: Field<B, f64>,
+    damage: Field<B, f64>,
+    /// The interaction mask of the last pre-pass (1 interacting, 0 masked, −1 deleted; rewritten every step).
+    mask: B::Buf<f64>,
 }
 
 struct ContactState<B: Backend, R: Real, D: Dim> {
@@ -235,6 +259,7 @@ pub struct Solver<B: Backend, R: Real, D: TensorOps<R>> {
     pos_lo: Option<Field<B, D::Vec<R>>>,
     thermal: Option<ThermalState<B>>,
     plastic: Option<PlasticState<B>>,
+    damage: Option<DamageState<B>>,
     contact: Option<ContactState<B, R, D>>,
     /// Masses for the mechanics where they differ from the particles' masses: zero for thermal-only particles.
     mech_mass: Option<Field<B, R>>,
@@ -402,6 +427,29 @@ fn plastic_state<B: Backend, R: Real, D: TensorOps<R>>(
     }))
 }
 
+/// The damage state of a run with damage: its constants on the device, ω and D from the set-up (the pre-crack),
+/// the mask 1 until the first pre-pass.
+fn damage_state<B: Backend, R: Real, D: TensorOps<R>>(
+    b: &B,
+    setup: &Setup<R, D>,
+    n: usize,
+) -> Result<Option<DamageState<B>>> {
+    let Some(d) = &setup.damage else { return Ok(None) };
+    if setup.plastic.is_none() {
+        return Err(crate::Error::Scene("damage needs plasticity (a flow-stress model)".into()));
+    }
+    if d.omega.len() != n || d.damage.len() != n {
+        return Err(crate::Error::Length { op: "damage initial state", expected: n, got: d.omega.len() });
+    }
+    Ok(Some(DamageState {
+        params: b.upload(&[d.params], "damage parameters")?,
+        flags: d.params.flags,
+        omega: Field::upload(b, &d.omega, "damage initiation")?,
+        damage: Field::upload(b, &d.damage, "damage")?,
+        mask: b.upload(&vec![1.0f64; n], "damage mask")?,
+    }))
+}
+
 /// Refuses a contact set-up the run cannot honour: the parametric tool in a scene that is not 2D (a 3D tool
 /// geometry will lift this guard), the current-yield cap without plasticity, friction heating without heat.
 fn check_contact<R: Real, D: TensorOps<R>>(setup: &Setup<R, D>, c: &ContactSetup) -> Result<()> {
@@ -474,6 +522,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         };
         let thermal = thermal_state(b, setup, n)?;
         let plastic = plastic_state(b, setup, n)?;
+        let damage = damage_state(b, setup, n)?;
         let contact = contact_state(b, setup, n, &table)?;
         let mech_mass = mechanical_mass(b, setup)?;
         if (plastic.is_some() || thermal.is_some()) && temp.is_none() {
@@ -510,6 +559,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             },
             thermal,
             plastic,
+            damage,
             contact,
             mech_mass,
             dissipation: if When::Viscosity.holds(setup) {
@@ -728,6 +778,11 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                 art: self.art.as_mut(),
                 sound: self.sound.as_mut(),
                 vol: &mut self.vol,
+                damage: self.damage.as_mut().map(|d| PrepassDamageBufs {
+                    damage: &d.damage.cur,
+                    mask: &mut d.mask,
+                    flags: d.flags,
+                }),
             }),
         )?;
         Ok(())
@@ -752,6 +807,11 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             if self.host_params.expansion != R::ZERO { self.temp.as_ref().map(|t| &t.cur) } else { None },
             // Fused into the predictor, the pass runs again only after a rebuild's reorder.
             fuse_prepare.then_some(ScalarsAt { buf: &self.scalars, index: j }),
+            self.damage.as_mut().map(|d| PrepassDamageBufs {
+                damage: &d.damage.cur,
+                mask: &mut d.mask,
+                flags: d.flags,
+            }),
         )?;
         Ok(())
     }
@@ -773,6 +833,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             flags: &p.flags.cur,
             bc_vel: &self.bc_vel,
             contact: self.contact.as_ref().map(|c| (&c.normal.cur, &c.friction.cur)),
+            mask: self.damage.as_ref().map(|d| &d.mask),
         };
         let r = &mut self.rates;
         let heat = match (fused, self.temp.as_ref(), self.thermal.as_mut()) {
@@ -850,6 +911,13 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             None => (None, None),
         };
         let shear = self.shear;
+        let mass = &p.mass.cur;
+        let damage = self.damage.as_mut().map(|d| DamageBufs {
+            params: &d.params,
+            omega: &mut d.omega.cur,
+            damage: &mut d.damage.cur,
+            mass,
+        });
         let plastic = self.plastic.as_mut().map(|pl| PlasticPass {
             model: &pl.model,
             shear,
@@ -861,6 +929,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             materials,
             yield_stress,
             work: Some(&mut pl.work.cur),
+            damage,
         });
         let r = &self.rates;
         b.step_finish::<R, D>(

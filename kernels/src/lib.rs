@@ -9,6 +9,7 @@
 #![cfg_attr(target_arch = "nvptx64", feature(abi_ptx, stdarch_nvptx, core_float_math, asm_experimental_arch))]
 
 pub mod contact;
+pub mod damage;
 pub mod load;
 pub mod material;
 pub mod neighbour;

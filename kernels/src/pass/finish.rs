@@ -6,6 +6,7 @@ use super::launch::{Grid, Pass};
 use super::table::entry_index;
 use crate::contact::Tool2d;
 use crate::contact::penalty::{ContactArrays, ContactParams, contact_particle};
+use crate::damage::DamageParams;
 use crate::material::FlowStress;
 use crate::real::Real;
 use crate::sph::TensorOps;
@@ -117,6 +118,11 @@ pub struct FinishPlasticArgs<R: Real, D: Dim, M> {
     pub yield_stress: *mut f64,
     /// Accumulates the specific plastic work (null: not tracked).
     pub work: *mut f64,
+    /// The damage constants (null: no damage; `sph::plastic::PlasticArrays`), ω, D and the full masses.
+    pub damage_params: *const DamageParams,
+    pub omega: *mut f64,
+    pub damage: *mut f64,
+    pub damage_mass: *const R,
     /// The contact pass's parameters; null: no contact pass.
     pub contact: *const ContactParams,
     /// The tool's shape (with `contact`).
@@ -162,6 +168,10 @@ impl<R: Real, D: TensorOps<R>, M: FlowStress + Copy> FinishPlasticArgs<R, D, M> 
                 materials: self.materials,
                 yield_stress: self.yield_stress,
                 work: self.work,
+                damage_params: self.damage_params,
+                omega: self.omega,
+                damage: self.damage,
+                mass: self.damage_mass,
             };
             plastic_particle::<R, D, M>(model, &c, &p, i);
             if !self.contact.is_null() {

@@ -7,7 +7,7 @@ use super::table::entry_index;
 use crate::neighbour::GridParams;
 use crate::real::Real;
 use crate::sph::TensorOps;
-use crate::sph::interact::{PrepassArrays, prepare_particle};
+use crate::sph::interact::{PrepassArrays, PrepassDamage, prepare_particle};
 use crate::sph::params::SphParams;
 use crate::sph::step::{StepScalars, is_finite_vec, predict_particle};
 use crate::vector::Dim;
@@ -36,6 +36,8 @@ pub struct PredictArgs<R: Real, D: Dim> {
     pub art: *mut D::Sym<R>,
     pub sound: *mut R,
     pub vol: *mut R,
+    /// The fused pre-pass's damage (D null: none).
+    pub damage: PrepassDamage,
 }
 
 impl<R: Real, D: TensorOps<R>> PredictArgs<R, D> {
@@ -50,7 +52,7 @@ impl<R: Real, D: TensorOps<R>> PredictArgs<R, D> {
             if !self.sig.is_null() {
                 let o = PrepassArrays { sig: self.sig, art: self.art, sound: self.sound, vol: self.vol };
                 let (r, m) = (*self.step.rho.add(i), *self.mass.add(i));
-                prepare_particle::<R, D>(&self.params, &o, i, r, m, &*self.step.stress.add(i));
+                prepare_particle::<R, D>(&self.params, &o, &self.damage, i, r, m, &*self.step.stress.add(i));
             }
             x
         }

@@ -7,6 +7,7 @@ use super::launch::{Grid, Pass};
 use super::table::{entry_index, prepare_variant};
 use crate::contact::Tool2d;
 use crate::contact::penalty::{ContactArrays, ContactParams, contact_particle};
+use crate::damage::DamageParams;
 use crate::material::FlowStress;
 use crate::neighbour::{GridParams, Neighbours};
 use crate::real::Real;
@@ -15,7 +16,7 @@ use crate::sph::TensorOps;
 use crate::sph::density::density_sum;
 use crate::sph::heat::heat_rate;
 use crate::sph::heat::{HeatArrays, HeatParams, ThermalMaterial};
-use crate::sph::interact::prepare;
+use crate::sph::interact::{PrepassArrays, PrepassDamage, prepare, prepare_store};
 use crate::sph::params::SphParams;
 use crate::sph::plastic::{PlasticArrays, PlasticConsts, plastic_particle};
 use crate::sph::step::StepScalars;
@@ -74,6 +75,8 @@ pub struct PrepareArgs<R: Real, D: Dim> {
     pub vol: *mut R,
     /// Null without temperature.
     pub temp: *const f64,
+    /// The damage (D null: none) and its mask's output.
+    pub damage: PrepassDamage,
 }
 
 impl<R: Real, D: TensorOps<R>> PrepareArgs<R, D> {
@@ -85,6 +88,12 @@ impl<R: Real, D: TensorOps<R>> PrepareArgs<R, D> {
     pub unsafe fn particle<const AV: bool, const AS: bool>(&self, i: usize) {
         unsafe {
             let t = if self.temp.is_null() { None } else { Some(*self.temp.add(i)) };
+            if !self.damage.damage.is_null() {
+                let o = PrepassArrays { sig: self.sig, art: self.art, sound: self.sound, vol: self.vol };
+                let (r, m, s) = (*self.rho.add(i), *self.mass.add(i), &*self.stress.add(i));
+                prepare_store::<R, D, AV, AS>(&*self.params, &o, &self.damage, i, r, m, s, t);
+                return;
+            }
             let q =
                 prepare::<R, D, AV, AS>(&*self.params, *self.rho.add(i), *self.mass.add(i), &*self.stress.add(i), t);
             *self.sig.add(i) = q.sig;
@@ -208,6 +217,11 @@ pub struct PlasticArgs<R: Real, D: Dim, M> {
     pub yield_stress: *mut f64,
     /// Accumulates the specific plastic work (null: not tracked).
     pub work: *mut f64,
+    /// The damage constants (null: no damage; `sph::plastic::PlasticArrays`), ω, D and the full masses.
+    pub damage_params: *const DamageParams,
+    pub omega: *mut f64,
+    pub damage: *mut f64,
+    pub damage_mass: *const R,
 }
 
 impl<R: Real, D: TensorOps<R>, M: FlowStress + Copy> PlasticArgs<R, D, M> {
@@ -227,6 +241,10 @@ impl<R: Real, D: TensorOps<R>, M: FlowStress + Copy> PlasticArgs<R, D, M> {
             materials: self.materials,
             yield_stress: self.yield_stress,
             work: self.work,
+            damage_params: self.damage_params,
+            omega: self.omega,
+            damage: self.damage,
+            mass: self.damage_mass,
         };
         unsafe { plastic_particle::<R, D, M>(model, &self.consts, &a, i) }
     }

@@ -24,7 +24,7 @@ use super::tensor::TensorOps;
 use crate::load::read;
 use crate::neighbour::Neighbours;
 use crate::real::Real;
-use crate::vector::{Dim, Vector};
+use crate::vector::{Dim, SymTensor, Vector};
 
 /// Per-particle quantities the pair loop reads for every neighbour.
 #[derive(Clone, Copy, Debug, Default)]
@@ -79,6 +79,64 @@ pub fn prepare<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool>(
     }
 }
 
+/// The deviatoric stress `s` times `m` (the damage's degradation).
+#[inline(always)]
+pub fn scale_sym<R: Real, S: SymTensor<R>>(s: &S, m: R) -> S {
+    let mut o = *s;
+    // SAFETY: SymTensor types are repr(C) arrays of R (`vector::sym_type`), COMPONENTS long, without padding.
+    let c = unsafe { core::slice::from_raw_parts_mut(&mut o as *mut S as *mut R, S::COMPONENTS) };
+    for x in c.iter_mut() {
+        *x *= m;
+    }
+    o
+}
+
+/// [`prepare`] of a damaged run (docs/damage.md): the stored (undamaged) deviator times exp(−D) and the pressure
+/// times exp(−D) only in tension (klippel §2.6, Eqs. 7.27–7.28; `damage::multiplier`, `damage::degraded_pressure`)
+/// enter σ/ρ² and the artificial stress; also returns the interaction mask F_i (`damage::mask_value`, from the
+/// undamaged pressure).
+#[inline(always)]
+pub fn prepare_damaged<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool>(
+    p: &SphParams<R>,
+    rho: R,
+    mass: R,
+    s: &D::Sym<R>,
+    temp: Option<f64>,
+    damage: f64,
+    damage_flags: u32,
+) -> (Prepared<R, D>, f64) {
+    let pr = match temp {
+        Some(t) => pressure_at(p, rho, t),
+        None => pressure(p, rho),
+    };
+    let m = R::from_f64(crate::damage::multiplier(damage));
+    let (sd, pd) = (scale_sym::<R, D::Sym<R>>(s, m), crate::damage::degraded_pressure(m, pr));
+    let q = Prepared {
+        sig: D::stress_over_rho2(&sd, pd, rho),
+        art: if AS { D::artificial_stress(&sd, pd, rho, p.as_eps) } else { Default::default() },
+        c: if AV { (p.bulk / rho).sqrt() } else { R::ZERO },
+        vol: mass / rho,
+    };
+    (q, crate::damage::mask_value(damage_flags, damage, pr.to_f64()))
+}
+
+/// The damage's view in the pre-pass: D (null: no damage, the undamaged [`prepare`]), the `damage::switches` and
+/// where the mask goes.
+#[repr(C)]
+#[derive(Clone, Copy)]
+pub struct PrepassDamage {
+    pub damage: *const f64,
+    pub mask: *mut f64,
+    pub flags: u32,
+    pub _pad: u32,
+}
+
+impl PrepassDamage {
+    /// No damage.
+    pub const OFF: PrepassDamage =
+        PrepassDamage { damage: core::ptr::null(), mask: core::ptr::null_mut(), flags: 0, _pad: 0 };
+}
+
 /// Where the pre-pass writes (sorted order): σ/ρ² and V always, the artificial stress and the sound speed where
 /// their stabiliser is on (null otherwise).
 #[derive(Clone, Copy)]
@@ -87,6 +145,41 @@ pub struct PrepassArrays<R: Real, S> {
     pub art: *mut S,
     pub sound: *mut R,
     pub vol: *mut R,
+}
+
+/// The pre-pass of particle i with stabilisers `AV`, `AS`, damaged where `dmg.damage` is set (writing its mask).
+///
+/// # Safety
+/// The arrays of `o` (`art`, `sound` where `AS`, `AV`) and of `dmg` (where `damage` is set) hold i + 1 elements.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub unsafe fn prepare_store<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool>(
+    p: &SphParams<R>,
+    o: &PrepassArrays<R, D::Sym<R>>,
+    dmg: &PrepassDamage,
+    i: usize,
+    rho: R,
+    mass: R,
+    s: &D::Sym<R>,
+    temp: Option<f64>,
+) {
+    unsafe {
+        let q = if dmg.damage.is_null() {
+            prepare::<R, D, AV, AS>(p, rho, mass, s, temp)
+        } else {
+            let (q, f) = prepare_damaged::<R, D, AV, AS>(p, rho, mass, s, temp, *dmg.damage.add(i), dmg.flags);
+            *dmg.mask.add(i) = f;
+            q
+        };
+        *o.sig.add(i) = q.sig;
+        *o.vol.add(i) = q.vol;
+        if AS {
+            *o.art.add(i) = q.art;
+        }
+        if AV {
+            *o.sound.add(i) = q.c;
+        }
+    }
 }
 
 /// The pre-pass of particle i ([`prepare`], no thermal expansion) written to `o`, with the stabilisers whose
@@ -98,11 +191,17 @@ pub struct PrepassArrays<R: Real, S> {
 pub unsafe fn prepare_particle<R: Real, D: TensorOps<R>>(
     p: &SphParams<R>,
     o: &PrepassArrays<R, D::Sym<R>>,
+    dmg: &PrepassDamage,
     i: usize,
     rho: R,
     mass: R,
     s: &D::Sym<R>,
 ) {
+    if !dmg.damage.is_null() {
+        // A damaged run: its own call (the undamaged path below stays as it was).
+        unsafe { prepare_damaged_particle::<R, D>(p, o, dmg, i, rho, mass, s) };
+        return;
+    }
     let q = match (!o.sound.is_null(), !o.art.is_null()) {
         (false, false) => prepare::<R, D, false, false>(p, rho, mass, s, None),
         (false, true) => prepare::<R, D, false, true>(p, rho, mass, s, None),
@@ -117,6 +216,30 @@ pub unsafe fn prepare_particle<R: Real, D: TensorOps<R>>(
         }
         if !o.sound.is_null() {
             *o.sound.add(i) = q.c;
+        }
+    }
+}
+
+/// [`prepare_particle`] of a damaged run, never inlined (the undamaged predictor does not grow by it).
+///
+/// # Safety
+/// As [`prepare_particle`]; `dmg`'s arrays hold i + 1 elements.
+#[inline(never)]
+unsafe fn prepare_damaged_particle<R: Real, D: TensorOps<R>>(
+    p: &SphParams<R>,
+    o: &PrepassArrays<R, D::Sym<R>>,
+    dmg: &PrepassDamage,
+    i: usize,
+    rho: R,
+    mass: R,
+    s: &D::Sym<R>,
+) {
+    unsafe {
+        match (!o.sound.is_null(), !o.art.is_null()) {
+            (false, false) => prepare_store::<R, D, false, false>(p, o, dmg, i, rho, mass, s, None),
+            (false, true) => prepare_store::<R, D, false, true>(p, o, dmg, i, rho, mass, s, None),
+            (true, false) => prepare_store::<R, D, true, false>(p, o, dmg, i, rho, mass, s, None),
+            (true, true) => prepare_store::<R, D, true, true>(p, o, dmg, i, rho, mass, s, None),
         }
     }
 }
@@ -156,6 +279,9 @@ pub struct Arrays<R: Real, D: Dim> {
     /// Contact normal and friction forces of the last contact pass (`contact::penalty`); null without a tool.
     pub normal: *const D::Vec<R>,
     pub friction: *const D::Vec<R>,
+    /// The damage's interaction mask F_j of the pre-pass (`damage::mask_value`: 1, 0 or `damage::DELETED`); null
+    /// without damage (every F_j = 1).
+    pub mask: *const f64,
 }
 
 #[inline(always)]
@@ -346,7 +472,38 @@ unsafe fn add_pair<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, con
 ) {
     let (q, p) = (unsafe { partner::<R, D, AV, AS>(a, j) }, pair_params::<R, AV, AS>(p));
     if let Some(g) = geometry(&p, o, i, j, &q.x) {
-        pair_term::<R, D, AV, AS, XSPH>(&p, o, &q, &g, sums)
+        if a.mask.is_null() {
+            pair_term::<R, D, AV, AS, XSPH>(&p, o, &q, &g, sums)
+        } else {
+            unsafe { masked_pair_term::<R, D, AV, AS, XSPH>(&p, a, o, q, &g, j, sums) }
+        }
+    }
+}
+
+/// [`pair_term`] of a damaged run with the interaction mask F_j of j (klippel §2.6, Eqs. 7.30–7.34): F_j = 1 the
+/// plain term; F_j = 0 (fully damaged, in tension) the neighbour quantities only are masked, v_j F_j = 0 in the
+/// velocity gradient and XSPH, σ_j F_j = 0 in the momentum, μ_ij F_j = 0 (no viscosity); a deleted j
+/// (`damage::DELETED`) takes no part. Never inlined: the runs without damage keep their pair loop as it was.
+///
+/// # Safety
+/// `a.mask` holds j + 1 elements.
+#[inline(never)]
+unsafe fn masked_pair_term<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool>(
+    p: &SphParams<R>,
+    a: &Arrays<R, D>,
+    o: &Own<R, D>,
+    q: Partner<R, D>,
+    g: &Geometry<R, D::Vec<R>>,
+    j: u32,
+    sums: &mut PairSums<R, D>,
+) {
+    let f = unsafe { *a.mask.add(j as usize) };
+    if f > 0.0 {
+        pair_term::<R, D, AV, AS, XSPH>(p, o, &q, g, sums)
+    } else if f == 0.0 {
+        let q = Partner { v: Default::default(), sig: Default::default(), ..q };
+        // Without the viscosity's terms: Π_ij F_j = 0 (its dissipation is then 0 as well).
+        pair_term::<R, D, false, AS, XSPH>(p, o, &q, g, sums)
     }
 }
 
@@ -546,7 +703,11 @@ unsafe fn heat_and_pair<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool
         s.heat += brookshaw_term(hp, h, ho, &hq, g.dw.to_f64());
     }
     if o.mech {
-        pair_term::<R, D, AV, AS, XSPH>(&p, o, &q, &g, &mut s.mech);
+        if a.mask.is_null() {
+            pair_term::<R, D, AV, AS, XSPH>(&p, o, &q, &g, &mut s.mech);
+        } else {
+            unsafe { masked_pair_term::<R, D, AV, AS, XSPH>(&p, a, o, q, &g, j, &mut s.mech) };
+        }
     }
 }
 
@@ -595,6 +756,10 @@ pub unsafe fn finish_rates<R: Real, D: TensorOps<R>, const XSPH: bool>(
     sums: &PairSums<R, D>,
 ) -> Rates<R, D> {
     let iu = i as usize;
+    if !a.mask.is_null() && unsafe { *a.mask.add(iu) } < 0.0 {
+        // Deleted by damage (`damage::switches::DELETE`): out of the interactions, it keeps its last position.
+        return Rates::default();
+    }
     let (vi, rhoi) = unsafe { (*a.vel.add(iu), *a.rho.add(iu)) };
     let (l, mut acc, xsph) = (sums.l, sums.acc, sums.xsph);
     let fl = unsafe { *a.flags.add(iu) };

@@ -6,6 +6,7 @@
 use super::heat::ThermalMaterial;
 use super::params::flags;
 use super::tensor::TensorOps;
+use crate::damage::{DamageParams, DamageState, damage_step, triaxiality};
 use crate::material::{
     FlowStress, ReturnOptions, ReturnResult, ReturnStatus, c2d_return, heated_temperature, plastic_heating,
     radial_return,
@@ -154,6 +155,13 @@ pub struct PlasticArrays<R: Real, S> {
     pub yield_stress: *mut f64,
     /// Accumulated specific plastic work w = Σ σ_y Δε̄ / ρ [J/kg] (null unless the run balances its energy).
     pub work: *mut f64,
+    /// The damage constants (null: no damage, and `omega`, `damage`, `mass` are not read).
+    pub damage_params: *const DamageParams,
+    /// Damage initiation ω and evolution D (`damage::damage_step`).
+    pub omega: *mut f64,
+    pub damage: *mut f64,
+    /// The particles' full masses (the volume m/ρ of L_char).
+    pub mass: *const R,
 }
 
 /// The plastic update of sorted particle i, reading and writing the arrays.
@@ -216,6 +224,18 @@ unsafe fn particle_with<R: Real, D: TensorOps<R>, M: FlowStress, const C2D: bool
             // The dissipation of the step, σ_y Δε̄ per unit volume, at the flow stress the plastic heating uses
             // (σ_y(ε̄_new, ε̄̇_new, T_old), the return's).
             *a.work.add(i) += ret.flow_stress * (e - e0) / rho.to_f64();
+        }
+        if !a.damage_params.is_null() && e > e0 {
+            // Weak coupling (klippel §2.6, §7.4.2): the damage after the plastic update, from its Δε̄ and σ_y, the
+            // triaxiality −p/σ_y of the undamaged pressure (no thermal expansion), ε̄̇ and T before the heating.
+            let dp = &*a.damage_params;
+            let rho64 = rho.to_f64();
+            let triax = triaxiality(dp.c0sq * (rho64 - dp.rho0), ret.flow_stress);
+            let vol = (*a.mass.add(i)).to_f64() / rho64;
+            let st = DamageState { omega: *a.omega.add(i), d: *a.damage.add(i) };
+            let st = damage_step(dp, st, e - e0, ret.flow_stress, triax, r, t0, vol);
+            *a.omega.add(i) = st.omega;
+            *a.damage.add(i) = st.d;
         }
         *a.eps.add(i) = e;
         *a.rate.add(i) = r;
