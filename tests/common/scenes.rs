@@ -111,3 +111,48 @@ pub fn run_record(run: &Path) -> (String, String) {
         |f: &str| std::fs::read_to_string(run.join(f)).unwrap_or_else(|e| panic!("{}: {e}", run.join(f).display()));
     (read("forces.csv"), read("energy.csv"))
 }
+
+/// A Ti6Al4V strip (21 × 11 particles, Δx = 100 µm) pulled apart at `speed` m/s top and bottom for `end` s, with
+/// JC damage, Hillerborg softening and the interaction mask, and a fully damaged pre-crack across its left half.
+pub fn pulled_strip_scene(speed: f64, end: f64) -> String {
+    format!(
+        r#"
+name = "strip"
+dim = 2
+[discretisation]
+dx = 1.0e-4
+[material]
+name = "Ti6Al4V-Klippel-JC"
+[physics]
+plasticity = true
+plastic_heating = true
+[[body]]
+name = "strip"
+shape = "rectangle"
+min = [0.0, 0.0]
+max = [2.0e-3, 1.0e-3]
+[[boundary]]
+kind = "velocity"
+min = [-1.0, -1.0]
+max = [1.0, 1.0e-4]
+velocity = [0.0, -{speed}]
+[[boundary]]
+kind = "velocity"
+min = [-1.0, 0.9e-3]
+max = [1.0, 1.0]
+velocity = [0.0, {speed}]
+[stabilisation]
+artificial_viscosity = {{ alpha = 1.0, beta = 1.0, eta = 0.1 }}
+[damage]
+mask = true
+[[damage.pre_crack]]
+min = [-1.0, 0.45e-3]
+max = [1.0e-3, 0.55e-3]
+[time]
+end = {end}
+[output]
+every = {every}
+"#,
+        every = end / 10.0
+    )
+}
