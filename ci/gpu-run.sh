@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 mu22 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abregs abblock abenv ncusrc refvar
+# ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 mu22 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -454,6 +454,31 @@ gpu__time_duration.sum,sm__sass_thread_inst_executed_op_dfma_pred_on.sum,sm__sas
                     done
                 }
                 run abstep abstep ;;
+        abdamage) # issue 25: the damage's own entries (`_dmg` variants): this build against each packed earlier one
+                  # (swarf-<name>) on the reference cuts at t = 0 (bench step, both precisions) and the default V0060
+                  # cut (whole-process wall time, two rounds alternating); the scenes and the runs sit in /tmp/ab, out
+                  # of the tree, so that each binary reads its own built-in material library
+                  abdamage() {
+                      local b round t0 t1 others; others=$(cd "$here" && ls swarf-* 2>/dev/null | grep -v '\.gz$')
+                      rm -rf /tmp/ab && mkdir -p /tmp/ab || return 1
+                      cp cases/cutting/reference-cut.toml cases/cutting/reference-cut-150k.toml /tmp/ab/ || return 1
+                      for b in swarf $others; do
+                          echo "== $b"
+                          (cd /tmp/ab && "$here/$b" --backend gpu bench step --precision both --step-count 2048 \
+                              --scenes reference-cut.toml,reference-cut-150k.toml) || return 1
+                      done
+                      for round in 1 2; do
+                          for b in swarf $others; do
+                              t0=$(date +%s%N)
+                              (cd /tmp/ab && "$here/$b" --backend gpu run --quiet --out "/tmp/ab/v0060-$b-$round") || return 1
+                              t1=$(date +%s%N)
+                              echo "== $b, round $round: $(( (t1 - t0) / 1000000 )) ms"
+                              grep -E '"(fc_n_per_mm|ff_n_per_mm)"' "/tmp/ab/v0060-$b-$round/summary.json" | head -4
+                              md5sum "/tmp/ab/v0060-$b-$round/forces.csv"
+                          done
+                      done
+                  }
+                  run abdamage abdamage ;;
         abregs) # issue 7: register caps of the neighbour kernels (SWARF_MAXNREG) on the checkpoints, alternating with
                 # the uncapped build and gpu-pack/swarf-mid; then the 150k f32 interaction at t = 0 capped and not
                 abregs() {

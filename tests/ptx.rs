@@ -111,8 +111,9 @@ fn default_register_caps_mark_the_2d_neighbour_kernels_and_the_plastic_corrector
             neighbour_2d += (has && is_2d_neighbour) as usize;
             plastic += (has && is_plastic) as usize;
         }
-        // 2 precisions × (8 plain + 8 fused stabiliser variants) + Brookshaw and PSE conduction in 2 precisions.
-        assert_eq!(neighbour_2d, 36, "{target}: 2D neighbour entries capped");
+        // 2 precisions × (8 plain + 8 fused stabiliser variants) × without and with damage + Brookshaw and PSE
+        // conduction in 2 precisions.
+        assert_eq!(neighbour_2d, 68, "{target}: 2D neighbour entries capped");
         assert!(plastic >= 4, "{target}: only {plastic} plastic entries capped");
         assert_eq!(register_caps(ptx, Some(0), Some(0)), *ptx, "{target}: caps 0 must leave the PTX as built");
     }
@@ -219,7 +220,7 @@ fn argument_structs_match_the_entries_parameter_blocks() {
             Some(by_variant!(variant, HeatArgs))
         } else if name == format!("swarf_density_{variant}") {
             Some(by_variant!(variant, DensityArgs))
-        } else if name == format!("swarf_step_predict_{variant}") {
+        } else if name == format!("swarf_step_predict_{variant}") || name == format!("swarf_step_predict_{variant}_dmg") {
             Some(by_variant!(variant, PredictArgs))
         } else if name == "swarf_contact_2d_f32" {
             Some(block::<ContactArgs<f32, Dim2>>())
@@ -245,12 +246,13 @@ fn argument_structs_match_the_entries_parameter_blocks() {
             checked += 1;
         }
         assert_eq!(checked, loaded.len(), "{target}: every loaded entry checked");
-        // 4 variants × (8 stabiliser combinations × plain and fused + the elastic corrector + one plastic
-        // corrector and one plastic pass per flow-stress model + density, 4 pre-passes, the predictor, 2
-        // conductions + hash, hash-count, neighbour list, Verlet list) + the 2D contact in 2 precisions + 9
+        // 4 variants × (8 stabiliser combinations × plain and fused × without and with damage + the elastic
+        // corrector + one plastic corrector and one plastic pass per flow-stress model + density, 4 pre-passes and
+        // the predictor each without and with damage, 2 conductions + hash, hash-count, neighbour list, Verlet
+        // list) + the 2D contact in 2 precisions + 9
         // neighbour entries without variants (zero, scatter, sort, 3 gathers, gather_fields, 2 scans).
         let models = swarf::kernels::pass::FLOW_MODEL_TAGS.len();
-        assert_eq!(checked, 4 * (16 + 1 + 2 * models + 8 + 4) + 2 + 9, "{target}: entries checked");
+        assert_eq!(checked, 4 * (32 + 1 + 2 * models + 13 + 4) + 2 + 9, "{target}: entries checked");
     }
 }
 
@@ -351,8 +353,8 @@ fn every_pass_names_its_own_entry() {
             check!(Density<$r, $d>, $name);
             position += 1;
         };
-        (predict, $name:expr, $r:ident, $d:ident) => {
-            check!(Predict<$r, $d>, $name);
+        (predict, $name:expr, $r:ident, $d:ident, $dmg:literal) => {
+            check!(Predict<$r, $d, $dmg>, $name);
             position += 1;
         };
         (finish, $name:expr, $r:ident, $d:ident) => {
@@ -367,12 +369,12 @@ fn every_pass_names_its_own_entry() {
             check!(Heat<$r, $d, $pse>, $name);
             position += 1;
         };
-        (prepare, $name:expr, $r:ident, $d:ident, $av:literal, $as:literal) => {
-            check!(Prepare<$r, $d, $av, $as>, $name);
+        (prepare, $name:expr, $r:ident, $d:ident, $av:literal, $as:literal, $dmg:literal) => {
+            check!(Prepare<$r, $d, $av, $as, $dmg>, $name);
             position += 1;
         };
-        (rates, $name:expr, $r:ident, $d:ident, $av:literal, $as:literal, $xs:literal, $heat:literal) => {
-            check!(RatesPass<$r, $d, $av, $as, $xs, $heat>, $name);
+        (rates, $name:expr, $r:ident, $d:ident, $av:literal, $as:literal, $xs:literal, $heat:literal, $dmg:literal) => {
+            check!(RatesPass<$r, $d, $av, $as, $xs, $heat, $dmg>, $name);
             position += 1;
         };
         (plastic, $name:expr, $r:ident, $d:ident, $t:ident, $tag:ident) => {

@@ -209,11 +209,13 @@ pub trait Passes: Backend {
         gate: Option<ScalarsAt<'_, Self>>,
         damage: Option<PrepassDamageBufs<'_, Self>>,
     ) -> Result<()> {
+        let dmg = damage.is_some();
         let q = PrepareBufs::<_, R, D> { params, rho, mass, stress, sig, art, sound, vol, temp, damage };
         let a = args::prepare_args(self, n, stab, q, gate.as_ref())?;
-        with_bools!(AV = stab.viscosity, AS = stab.stress; {
-            // SAFETY: the builder checked the lengths and that the stabilisers' buffers exist where they are on.
-            unsafe { self.launch::<Prepare<R, D, AV, AS>>(&a) }
+        with_bools!(AV = stab.viscosity, AS = stab.stress, DMG = dmg; {
+            // SAFETY: the builder checked the lengths and that the stabilisers' and the damage's buffers exist
+            // where they are on.
+            unsafe { self.launch::<Prepare<R, D, AV, AS, DMG>>(&a) }
         })
     }
 
@@ -242,12 +244,13 @@ pub trait Passes: Backend {
         if let Some(h) = &heat {
             check_bodies(self, "sph_rates (fused conduction)", n, h.input.flags, h.input.materials.len())?;
         }
-        let fused = heat.is_some();
+        let (fused, dmg) = (heat.is_some(), input.mask.is_some());
         let a = args::rates_args(self, n, lanes, stab, params, grid, starts, list, input, out, dissipation, heat)?;
-        with_bools!(AV = stab.viscosity, AS = stab.stress, XS = stab.xsph, HEAT = fused; {
-            // SAFETY: the builder checked that every array holds n sorted particles, the cells and the list are
-            // checked above against the grid, and each particle's rates are written by its own thread only.
-            unsafe { self.launch::<RatesPass<R, D, AV, AS, XS, HEAT>>(&a) }
+        with_bools!(AV = stab.viscosity, AS = stab.stress, XS = stab.xsph, HEAT = fused, DMG = dmg; {
+            // SAFETY: the builder checked that every array holds n sorted particles (the mask where `DMG`), the
+            // cells and the list are checked above against the grid, and each particle's rates are written by its
+            // own thread only.
+            unsafe { self.launch::<RatesPass<R, D, AV, AS, XS, HEAT, DMG>>(&a) }
         })
     }
 
@@ -290,9 +293,12 @@ pub trait Passes: Backend {
         skin: SkinTest<'_, Self, R, D>,
         prepare: Option<FusedPrepare<'_, Self, R, D>>,
     ) -> Result<()> {
+        let dmg = prepare.as_ref().is_some_and(|q| q.damage.is_some());
         let a = args::predict_args(self, n, s, f, skin, prepare)?;
-        // SAFETY: the builder checked the lengths and the scalars' index.
-        unsafe { self.launch::<Predict<R, D>>(&a) }
+        with_bools!(DMG = dmg; {
+            // SAFETY: the builder checked the lengths (the damage's where `DMG`) and the scalars' index.
+            unsafe { self.launch::<Predict<R, D, DMG>>(&a) }
+        })
     }
 
     /// The Verlet list (`neighbour::verlet::verlet_row`) of the n sorted particles at `pos` on the cell list

@@ -41,18 +41,19 @@ pub struct PredictArgs<R: Real, D: Dim> {
 }
 
 impl<R: Real, D: TensorOps<R>> PredictArgs<R, D> {
-    /// Particle i's prediction followed by its pre-pass where `sig` is set; returns the predicted position.
+    /// Particle i's prediction followed by its pre-pass where `sig` is set (damaged with `DMG`); returns the
+    /// predicted position.
     ///
     /// # Safety
-    /// i < n; every non-null array holds n particles; `scalars` points at the step's scalars.
+    /// i < n; every non-null array holds n particles, `damage`'s with `DMG`; `scalars` points at the step's scalars.
     #[inline(always)]
-    pub unsafe fn particle(&self, i: usize) -> D::Vec<R> {
+    pub unsafe fn particle<const DMG: bool>(&self, i: usize) -> D::Vec<R> {
         unsafe {
             let x = predict_particle(&self.step.arrays(), (*self.scalars).dt, i);
             if !self.sig.is_null() {
                 let o = PrepassArrays { sig: self.sig, art: self.art, sound: self.sound, vol: self.vol };
                 let (r, m) = (*self.step.rho.add(i), *self.mass.add(i));
-                prepare_particle::<R, D>(&self.params, &o, &self.damage, i, r, m, &*self.step.stress.add(i));
+                prepare_particle::<R, D, DMG>(&self.params, &o, &self.damage, i, r, m, &*self.step.stress.add(i));
             }
             x
         }
@@ -61,24 +62,25 @@ impl<R: Real, D: TensorOps<R>> PredictArgs<R, D> {
 
 /// The predictor pass (`swarf_step_predict_*`). Its CPU twin flags a particle beyond the skin ([`BEYOND_SKIN`])
 /// or with a non-finite position ([`NON_FINITE`]) and sets the step's flags once after the loop; the GPU's
-/// threads set them themselves (`ptx::sph`, predict_entry).
-pub struct Predict<R, D>(PhantomData<(R, D)>);
+/// threads set them themselves (`ptx::sph`, predict_entry). With `DMG` the fused pre-pass is the damaged one
+/// (`swarf_step_predict_*_dmg`).
+pub struct Predict<R, D, const DMG: bool>(PhantomData<(R, D)>);
 
 /// A predicted particle left the skin of the cell list.
 pub const BEYOND_SKIN: u32 = 1;
 /// A predicted position is not finite.
 pub const NON_FINITE: u32 = 2;
 
-impl<R: Real, D: TensorOps<R>> Pass for Predict<R, D> {
+impl<R: Real, D: TensorOps<R>, const DMG: bool> Pass for Predict<R, D, DMG> {
     type Args = PredictArgs<R, D>;
-    const ENTRY: usize = entry_index("predict", D::D, size_of::<R>(), 0);
+    const ENTRY: usize = entry_index("predict", D::D, size_of::<R>(), DMG as u32);
     const GRID: Grid = Grid::Particles;
     fn particles(a: &Self::Args) -> usize {
         a.n as usize
     }
     unsafe fn particle(a: &Self::Args, i: usize) -> u32 {
         unsafe {
-            let x = a.particle(i);
+            let x = a.particle::<DMG>(i);
             let beyond = (*a.grid).beyond_skin::<R, D::Vec<R>>(&x, &*a.pos_ref.add(i));
             let finite = is_finite_vec::<R, D::Vec<R>>(&x);
             ((beyond as u32) * BEYOND_SKIN) | ((!finite as u32) * NON_FINITE)

@@ -86,14 +86,17 @@ impl<R: Real, D: Dim> RatesArgs<R, D> {
 
 /// The pair interaction pass (`swarf_sph_rates_*`; with `HEAT` the fused conduction, `swarf_sph_rates_heat_*`),
 /// with the viscosity (`AV`), the artificial stress (`AS`) and XSPH (`XS`), `lanes` threads per particle on the
-/// GPU (the CPU sums the lanes' shares in the same order: `sph::lanes`).
-pub struct RatesPass<R, D, const AV: bool, const AS: bool, const XS: bool, const HEAT: bool>(PhantomData<(R, D)>);
+/// GPU (the CPU sums the lanes' shares in the same order: `sph::lanes`); with `DMG` the damage's interaction mask
+/// (`swarf_sph_rates_*_dmg`, `arrays.mask` set).
+pub struct RatesPass<R, D, const AV: bool, const AS: bool, const XS: bool, const HEAT: bool, const DMG: bool>(
+    PhantomData<(R, D)>,
+);
 
-impl<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XS: bool, const HEAT: bool> Pass
-    for RatesPass<R, D, AV, AS, XS, HEAT>
+impl<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XS: bool, const HEAT: bool, const DMG: bool> Pass
+    for RatesPass<R, D, AV, AS, XS, HEAT, DMG>
 {
     type Args = RatesArgs<R, D>;
-    const ENTRY: usize = entry_index("rates", D::D, size_of::<R>(), rates_variant(AV, AS, XS, HEAT));
+    const ENTRY: usize = entry_index("rates", D::D, size_of::<R>(), rates_variant(AV, AS, XS, HEAT, DMG));
     const GRID: Grid = Grid::Pair;
     fn particles(a: &Self::Args) -> usize {
         a.n as usize
@@ -108,12 +111,19 @@ impl<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XS: bool, c
         unsafe {
             let (arr, nb) = (a.arrays, a.neighbours());
             let o = if HEAT {
-                let (o, tt) =
-                    rates_heat::<R, D, AV, AS, XS>(&a.params, &a.hp, &nb, &arr, &a.heat_arrays(), i as u32, a.lanes);
+                let (o, tt) = rates_heat::<R, D, AV, AS, XS, DMG>(
+                    &a.params,
+                    &a.hp,
+                    &nb,
+                    &arr,
+                    &a.heat_arrays(),
+                    i as u32,
+                    a.lanes,
+                );
                 *a.temp_t.add(i) = tt;
                 o
             } else {
-                rates::<R, D, AV, AS, XS>(&a.params, &nb, &arr, i as u32, a.lanes)
+                rates::<R, D, AV, AS, XS, DMG>(&a.params, &nb, &arr, i as u32, a.lanes)
             };
             a.store(i, &o);
         }

@@ -16,7 +16,7 @@ use crate::sph::TensorOps;
 use crate::sph::density::density_sum;
 use crate::sph::heat::heat_rate;
 use crate::sph::heat::{HeatArrays, HeatParams, ThermalMaterial};
-use crate::sph::interact::{PrepassArrays, PrepassDamage, prepare, prepare_store};
+use crate::sph::interact::{PrepassArrays, PrepassDamage, prepare_store};
 use crate::sph::params::SphParams;
 use crate::sph::plastic::{PlasticArrays, PlasticConsts, plastic_particle};
 use crate::sph::step::StepScalars;
@@ -80,41 +80,30 @@ pub struct PrepareArgs<R: Real, D: Dim> {
 }
 
 impl<R: Real, D: TensorOps<R>> PrepareArgs<R, D> {
-    /// Particle i's pre-pass, the viscosity's sound speed with `AV`, the artificial stress with `AS`.
+    /// Particle i's pre-pass, the viscosity's sound speed with `AV`, the artificial stress with `AS`, the damage's
+    /// degradation and mask with `DMG`.
     ///
     /// # Safety
-    /// i < n; every array holds n particles, `art`/`sound` where `AS`/`AV`; `params` points at the parameters.
+    /// i < n; every array holds n particles, `art`/`sound` where `AS`/`AV`, `damage`'s where `DMG`; `params`
+    /// points at the parameters.
     #[inline(always)]
-    pub unsafe fn particle<const AV: bool, const AS: bool>(&self, i: usize) {
+    pub unsafe fn particle<const AV: bool, const AS: bool, const DMG: bool>(&self, i: usize) {
         unsafe {
             let t = if self.temp.is_null() { None } else { Some(*self.temp.add(i)) };
-            if !self.damage.damage.is_null() {
-                let o = PrepassArrays { sig: self.sig, art: self.art, sound: self.sound, vol: self.vol };
-                let (r, m, s) = (*self.rho.add(i), *self.mass.add(i), &*self.stress.add(i));
-                prepare_store::<R, D, AV, AS>(&*self.params, &o, &self.damage, i, r, m, s, t);
-                return;
-            }
-            let q =
-                prepare::<R, D, AV, AS>(&*self.params, *self.rho.add(i), *self.mass.add(i), &*self.stress.add(i), t);
-            *self.sig.add(i) = q.sig;
-            *self.vol.add(i) = q.vol;
-            if AS {
-                *self.art.add(i) = q.art;
-            }
-            if AV {
-                *self.sound.add(i) = q.c;
-            }
+            let o = PrepassArrays { sig: self.sig, art: self.art, sound: self.sound, vol: self.vol };
+            let (r, m, s) = (*self.rho.add(i), *self.mass.add(i), &*self.stress.add(i));
+            prepare_store::<R, D, AV, AS, DMG>(&*self.params, &o, &self.damage, i, r, m, s, t);
         }
     }
 }
 
-/// The pre-pass (`swarf_sph_prepare_*`) with the viscosity's sound speed (`AV`) and the artificial stress
-/// (`AS`), gated where its struct's `gate` is set.
-pub struct Prepare<R, D, const AV: bool, const AS: bool>(PhantomData<(R, D)>);
+/// The pre-pass (`swarf_sph_prepare_*`) with the viscosity's sound speed (`AV`), the artificial stress (`AS`)
+/// and the damage (`DMG`, `swarf_sph_prepare_*_dmg`), gated where its struct's `gate` is set.
+pub struct Prepare<R, D, const AV: bool, const AS: bool, const DMG: bool>(PhantomData<(R, D)>);
 
-impl<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool> Pass for Prepare<R, D, AV, AS> {
+impl<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const DMG: bool> Pass for Prepare<R, D, AV, AS, DMG> {
     type Args = PrepareArgs<R, D>;
-    const ENTRY: usize = entry_index("prepare", D::D, size_of::<R>(), prepare_variant(AV, AS));
+    const ENTRY: usize = entry_index("prepare", D::D, size_of::<R>(), prepare_variant(AV, AS, DMG));
     const GRID: Grid = Grid::Particles;
     fn particles(a: &Self::Args) -> usize {
         a.n as usize
@@ -123,7 +112,7 @@ impl<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool> Pass for Prepare<
         a.gate
     }
     unsafe fn particle(a: &Self::Args, i: usize) -> u32 {
-        unsafe { a.particle::<AV, AS>(i) };
+        unsafe { a.particle::<AV, AS, DMG>(i) };
         0
     }
 }

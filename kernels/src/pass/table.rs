@@ -8,9 +8,11 @@
 /// statement position. The kinds and their variant parameters:
 /// - `single` (no R, D: `$cb!(single, "name", slot)`, `slot` the host's name for it): the entries without
 ///   variants, written by hand in `ptx`;
-/// - `contact` (R, Dim2); `density`, `predict`, `finish`, `hash`, `hash_count`, `neighbour_list`,
-///   `verlet_build` (R, D);
-/// - `heat` (R, D, PSE); `prepare` (R, D, AV, AS); `rates` (R, D, AV, AS, XSPH, fused conduction);
+/// - `contact` (R, Dim2); `density`, `finish`, `hash`, `hash_count`, `neighbour_list`, `verlet_build` (R, D);
+/// - `heat` (R, D, PSE); `predict` (R, D, DMG); `prepare` (R, D, AV, AS, DMG); `rates` (R, D, AV, AS, XSPH, fused
+///   conduction, DMG). DMG: the damage's degradation and interaction mask (docs/damage.md), entries of their own
+///   (`_dmg` ending the name, so that prefixes such as the register caps' see them as their plain twins) so that a
+///   run without damage runs the code it ran before;
 /// - `plastic`, `finish_plastic` (R, D, flow model type, its tag): one per model of [`for_each_flow_model!`].
 ///
 /// `for_each_entry!(@models [tokens])` expands `tokens (Type, tag), ...` with the model list.
@@ -39,7 +41,8 @@ macro_rules! for_each_entry {
         $cb!(neighbour_list, concat!("swarf_neighbour_list_", $v), $r, $d);
         $cb!(verlet_build, concat!("swarf_verlet_build_", $v), $r, $d);
         $cb!(density, concat!("swarf_density_", $v), $r, $d);
-        $cb!(predict, concat!("swarf_step_predict_", $v), $r, $d);
+        $cb!(predict, concat!("swarf_step_predict_", $v), $r, $d, false);
+        $cb!(predict, concat!("swarf_step_predict_", $v, "_dmg"), $r, $d, true);
         $cb!(finish, concat!("swarf_step_finish_", $v), $r, $d);
         $cb!(heat, concat!("swarf_heat_brookshaw_", $v), $r, $d, false);
         $cb!(heat, concat!("swarf_heat_pse_", $v), $r, $d, true);
@@ -51,12 +54,18 @@ macro_rules! for_each_entry {
         $crate::for_each_entry!(@models [@model_entries $cb, $r, $d, $v;]);
     };
     (@prepare $cb:ident, $r:ident, $d:ident, $v:literal, $(($s:ident, $av:literal, $as:literal)),*) => {
-        $($cb!(prepare, concat!("swarf_sph_prepare_", $v, "_", stringify!($s)), $r, $d, $av, $as);)*
+        $(
+            $cb!(prepare, concat!("swarf_sph_prepare_", $v, "_", stringify!($s)), $r, $d, $av, $as, false);
+            $cb!(prepare, concat!("swarf_sph_prepare_", $v, "_", stringify!($s), "_dmg"), $r, $d, $av, $as, true);
+        )*
     };
     (@rates $cb:ident, $r:ident, $d:ident, $v:literal, $(($s:ident, $av:literal, $as:literal, $xs:literal)),*) => {
         $(
-            $cb!(rates, concat!("swarf_sph_rates_", $v, "_", stringify!($s)), $r, $d, $av, $as, $xs, false);
-            $cb!(rates, concat!("swarf_sph_rates_heat_", $v, "_", stringify!($s)), $r, $d, $av, $as, $xs, true);
+            $cb!(rates, concat!("swarf_sph_rates_", $v, "_", stringify!($s)), $r, $d, $av, $as, $xs, false, false);
+            $cb!(rates, concat!("swarf_sph_rates_heat_", $v, "_", stringify!($s)), $r, $d, $av, $as, $xs, true, false);
+            $cb!(rates, concat!("swarf_sph_rates_", $v, "_", stringify!($s), "_dmg"), $r, $d, $av, $as, $xs, false, true);
+            $cb!(rates, concat!("swarf_sph_rates_heat_", $v, "_", stringify!($s), "_dmg"), $r, $d, $av, $as, $xs, true,
+                true);
         )*
     };
     (@model_entries $cb:ident, $r:ident, $d:ident, $v:literal; $(($t:ident, $tag:ident)),* $(,)?) => {
@@ -124,14 +133,14 @@ pub struct EntryKey {
     pub variant: u32,
 }
 
-/// The variant number of a prepare entry (AV, AS).
-pub const fn prepare_variant(av: bool, r#as: bool) -> u32 {
-    2 * av as u32 + r#as as u32
+/// The variant number of a prepare entry (AV, AS, DMG).
+pub const fn prepare_variant(av: bool, r#as: bool, dmg: bool) -> u32 {
+    4 * dmg as u32 + 2 * av as u32 + r#as as u32
 }
 
-/// The variant number of a rates entry (AV, AS, XSPH, fused conduction).
-pub const fn rates_variant(av: bool, r#as: bool, xs: bool, heat: bool) -> u32 {
-    8 * heat as u32 + 4 * av as u32 + 2 * r#as as u32 + xs as u32
+/// The variant number of a rates entry (AV, AS, XSPH, fused conduction, DMG).
+pub const fn rates_variant(av: bool, r#as: bool, xs: bool, heat: bool, dmg: bool) -> u32 {
+    16 * dmg as u32 + 8 * heat as u32 + 4 * av as u32 + 2 * r#as as u32 + xs as u32
 }
 
 /// Every entry's key, in table order (with [`ENTRY_NAMES`]).
@@ -157,11 +166,14 @@ pub const ENTRY_KEYS: [EntryKey; ENTRY_COUNT] = {
         (heat, $name:expr, $r:ident, $d:ident, $pse:literal) => {
             key!(@at heat, $r, $d, $pse as u32);
         };
-        (prepare, $name:expr, $r:ident, $d:ident, $av:literal, $as:literal) => {
-            key!(@at prepare, $r, $d, prepare_variant($av, $as));
+        (predict, $name:expr, $r:ident, $d:ident, $dmg:literal) => {
+            key!(@at predict, $r, $d, $dmg as u32);
         };
-        (rates, $name:expr, $r:ident, $d:ident, $av:literal, $as:literal, $xs:literal, $heat:literal) => {
-            key!(@at rates, $r, $d, rates_variant($av, $as, $xs, $heat));
+        (prepare, $name:expr, $r:ident, $d:ident, $av:literal, $as:literal, $dmg:literal) => {
+            key!(@at prepare, $r, $d, prepare_variant($av, $as, $dmg));
+        };
+        (rates, $name:expr, $r:ident, $d:ident, $av:literal, $as:literal, $xs:literal, $heat:literal, $dmg:literal) => {
+            key!(@at rates, $r, $d, rates_variant($av, $as, $xs, $heat, $dmg));
         };
         ($kind:ident, $name:expr, $r:ident, $d:ident, $t:ident, $tag:ident) => {
             key!(@at $kind, $r, $d, <crate::material::$t as ModelEntry>::INDEX as u32);

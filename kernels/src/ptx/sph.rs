@@ -31,12 +31,12 @@ type Vec_<R, D> = <D as Dim>::Vec<R>;
 /// Gated on a step's rebuild flag (null: always) where the predictor runs the pre-pass: it then runs again only
 /// after a rebuild's reorder.
 macro_rules! prepare_entry {
-    ($sym:expr, $r:ty, $d:ty, $av:literal, $as:literal) => {
+    ($sym:expr, $r:ty, $d:ty, $av:literal, $as:literal, $dmg:literal) => {
         #[unsafe(export_name = $sym)]
         pub unsafe extern "ptx-kernel" fn entry(args: PrepareArgs<$r, $d>) {
             let i = global_index() as usize;
             if i < args.n as usize && unsafe { super::neighbour::open(args.gate) } {
-                unsafe { args.particle::<$av, $as>(i) };
+                unsafe { args.particle::<$av, $as, $dmg>(i) };
             }
         }
     };
@@ -48,7 +48,7 @@ macro_rules! prepare_entry {
 /// the same walk also sums the Brookshaw conduction (sph::interact::pair_sums_heat) and writes Ṫ to `temp_t`
 /// (`heat_vol`, `temp`, `materials`, `hp` are its inputs; the plain entries ignore them).
 macro_rules! rates_entry {
-    ($sym:expr, $r:ty, $d:ty, $av:literal, $as:literal, $xs:literal, $heat:literal) => {
+    ($sym:expr, $r:ty, $d:ty, $av:literal, $as:literal, $xs:literal, $heat:literal, $dmg:literal) => {
         #[unsafe(export_name = $sym)]
         pub unsafe extern "ptx-kernel" fn entry(args: RatesArgs<$r, $d>) {
             let RatesArgs { n, lanes, reverse, params, hp, .. } = args;
@@ -63,7 +63,7 @@ macro_rules! rates_entry {
             unsafe {
                 let (mech, heat) = if $heat {
                     let s = if live {
-                        pair_sums_heat::<$r, $d, $av, $as, $xs>(&params, &hp, &nb, &a, &h, i, lane, lanes)
+                        pair_sums_heat::<$r, $d, $av, $as, $xs, $dmg>(&params, &hp, &nb, &a, &h, i, lane, lanes)
                     } else {
                         HeatPairSums::default()
                     };
@@ -71,14 +71,14 @@ macro_rules! rates_entry {
                     (s.mech, s.heat)
                 } else {
                     let s = if live {
-                        pair_sums::<$r, $d, $av, $as, $xs>(&params, &nb, &a, i, lane, lanes)
+                        pair_sums::<$r, $d, $av, $as, $xs, $dmg>(&params, &nb, &a, i, lane, lanes)
                     } else {
                         PairSums::default()
                     };
                     (butterfly(s, lanes), 0.0)
                 };
                 if live && lane == 0 {
-                    let o = finish_rates::<$r, $d, $xs>(&params, &a, i, &mech);
+                    let o = finish_rates::<$r, $d, $xs, $dmg>(&params, &a, i, &mech);
                     args.store(i as usize, &o);
                     if $heat {
                         *args.temp_t.add(i as usize) = heat_finish(&hp, &h, i, heat);
@@ -114,14 +114,14 @@ fn shuffle_xor<T: LaneSum>(x: &T, mask: u32) -> T {
 /// holds the step's rebuild (0 otherwise; created with default 0 at each graph launch): the predictor sets it to 1
 /// where it sets the rebuild flag, so that no launch of its own has to read the flag for the node.
 macro_rules! predict_entry {
-    ($sym:expr, $r:ty, $d:ty) => {
+    ($sym:expr, $r:ty, $d:ty, $dmg:literal) => {
         #[unsafe(export_name = $sym)]
         pub unsafe extern "ptx-kernel" fn entry(args: PredictArgs<$r, $d>) {
             let i = global_index();
             if i < args.n {
                 let (scalars, condition) = (args.scalars, args.condition);
                 unsafe {
-                    let x = args.particle(i as usize);
+                    let x = args.particle::<$dmg>(i as usize);
                     let flag = core::ptr::addr_of_mut!((*scalars).rebuild);
                     // A rebuild the host asked for (read before any thread of this launch sets the flag).
                     if i == 0 && condition != 0 && core::ptr::read_volatile(flag) != 0 {
@@ -239,9 +239,9 @@ macro_rules! sph_entry {
             density_entry!($sym, $r, $d);
         };
     };
-    (predict, $sym:expr, $r:ident, $d:ident) => {
+    (predict, $sym:expr, $r:ident, $d:ident, $dmg:literal) => {
         const _: () = {
-            predict_entry!($sym, $r, $d);
+            predict_entry!($sym, $r, $d, $dmg);
         };
     };
     (finish, $sym:expr, $r:ident, $d:ident) => {
@@ -259,14 +259,14 @@ macro_rules! sph_entry {
             heat_entry!($sym, $r, $d, $pse);
         };
     };
-    (prepare, $sym:expr, $r:ident, $d:ident, $av:literal, $as:literal) => {
+    (prepare, $sym:expr, $r:ident, $d:ident, $av:literal, $as:literal, $dmg:literal) => {
         const _: () = {
-            prepare_entry!($sym, $r, $d, $av, $as);
+            prepare_entry!($sym, $r, $d, $av, $as, $dmg);
         };
     };
-    (rates, $sym:expr, $r:ident, $d:ident, $av:literal, $as:literal, $xs:literal, $heat:literal) => {
+    (rates, $sym:expr, $r:ident, $d:ident, $av:literal, $as:literal, $xs:literal, $heat:literal, $dmg:literal) => {
         const _: () = {
-            rates_entry!($sym, $r, $d, $av, $as, $xs, $heat);
+            rates_entry!($sym, $r, $d, $av, $as, $xs, $heat, $dmg);
         };
     };
     (plastic, $sym:expr, $r:ident, $d:ident, $t:ident, $tag:ident) => {

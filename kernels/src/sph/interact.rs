@@ -147,13 +147,13 @@ pub struct PrepassArrays<R: Real, S> {
     pub vol: *mut R,
 }
 
-/// The pre-pass of particle i with stabilisers `AV`, `AS`, damaged where `dmg.damage` is set (writing its mask).
+/// The pre-pass of particle i with stabilisers `AV`, `AS`, damaged with `DMG` (writing its mask).
 ///
 /// # Safety
-/// The arrays of `o` (`art`, `sound` where `AS`, `AV`) and of `dmg` (where `damage` is set) hold i + 1 elements.
+/// The arrays of `o` (`art`, `sound` where `AS`, `AV`) and of `dmg` (with `DMG`) hold i + 1 elements.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-pub unsafe fn prepare_store<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool>(
+pub unsafe fn prepare_store<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const DMG: bool>(
     p: &SphParams<R>,
     o: &PrepassArrays<R, D::Sym<R>>,
     dmg: &PrepassDamage,
@@ -164,12 +164,12 @@ pub unsafe fn prepare_store<R: Real, D: TensorOps<R>, const AV: bool, const AS: 
     temp: Option<f64>,
 ) {
     unsafe {
-        let q = if dmg.damage.is_null() {
-            prepare::<R, D, AV, AS>(p, rho, mass, s, temp)
-        } else {
+        let q = if DMG {
             let (q, f) = prepare_damaged::<R, D, AV, AS>(p, rho, mass, s, temp, *dmg.damage.add(i), dmg.flags);
             *dmg.mask.add(i) = f;
             q
+        } else {
+            prepare::<R, D, AV, AS>(p, rho, mass, s, temp)
         };
         *o.sig.add(i) = q.sig;
         *o.vol.add(i) = q.vol;
@@ -183,49 +183,13 @@ pub unsafe fn prepare_store<R: Real, D: TensorOps<R>, const AV: bool, const AS: 
 }
 
 /// The pre-pass of particle i ([`prepare`], no thermal expansion) written to `o`, with the stabilisers whose
-/// arrays are not null: the predictor's fused pre-pass (`sph::step`, docs/measurements/notebook.md), on both backends.
+/// arrays are not null, damaged with `DMG`: the predictor's fused pre-pass (`sph::step`,
+/// docs/measurements/notebook.md), on both backends.
 ///
 /// # Safety
-/// The non-null arrays of `o` hold at least i + 1 elements.
+/// The non-null arrays of `o`, and those of `dmg` with `DMG`, hold at least i + 1 elements.
 #[inline(always)]
-pub unsafe fn prepare_particle<R: Real, D: TensorOps<R>>(
-    p: &SphParams<R>,
-    o: &PrepassArrays<R, D::Sym<R>>,
-    dmg: &PrepassDamage,
-    i: usize,
-    rho: R,
-    mass: R,
-    s: &D::Sym<R>,
-) {
-    if !dmg.damage.is_null() {
-        // A damaged run: its own call (the undamaged path below stays as it was).
-        unsafe { prepare_damaged_particle::<R, D>(p, o, dmg, i, rho, mass, s) };
-        return;
-    }
-    let q = match (!o.sound.is_null(), !o.art.is_null()) {
-        (false, false) => prepare::<R, D, false, false>(p, rho, mass, s, None),
-        (false, true) => prepare::<R, D, false, true>(p, rho, mass, s, None),
-        (true, false) => prepare::<R, D, true, false>(p, rho, mass, s, None),
-        (true, true) => prepare::<R, D, true, true>(p, rho, mass, s, None),
-    };
-    unsafe {
-        *o.sig.add(i) = q.sig;
-        *o.vol.add(i) = q.vol;
-        if !o.art.is_null() {
-            *o.art.add(i) = q.art;
-        }
-        if !o.sound.is_null() {
-            *o.sound.add(i) = q.c;
-        }
-    }
-}
-
-/// [`prepare_particle`] of a damaged run, never inlined (the undamaged predictor does not grow by it).
-///
-/// # Safety
-/// As [`prepare_particle`]; `dmg`'s arrays hold i + 1 elements.
-#[inline(never)]
-unsafe fn prepare_damaged_particle<R: Real, D: TensorOps<R>>(
+pub unsafe fn prepare_particle<R: Real, D: TensorOps<R>, const DMG: bool>(
     p: &SphParams<R>,
     o: &PrepassArrays<R, D::Sym<R>>,
     dmg: &PrepassDamage,
@@ -236,10 +200,10 @@ unsafe fn prepare_damaged_particle<R: Real, D: TensorOps<R>>(
 ) {
     unsafe {
         match (!o.sound.is_null(), !o.art.is_null()) {
-            (false, false) => prepare_store::<R, D, false, false>(p, o, dmg, i, rho, mass, s, None),
-            (false, true) => prepare_store::<R, D, false, true>(p, o, dmg, i, rho, mass, s, None),
-            (true, false) => prepare_store::<R, D, true, false>(p, o, dmg, i, rho, mass, s, None),
-            (true, true) => prepare_store::<R, D, true, true>(p, o, dmg, i, rho, mass, s, None),
+            (false, false) => prepare_store::<R, D, false, false, DMG>(p, o, dmg, i, rho, mass, s, None),
+            (false, true) => prepare_store::<R, D, false, true, DMG>(p, o, dmg, i, rho, mass, s, None),
+            (true, false) => prepare_store::<R, D, true, false, DMG>(p, o, dmg, i, rho, mass, s, None),
+            (true, true) => prepare_store::<R, D, true, true, DMG>(p, o, dmg, i, rho, mass, s, None),
         }
     }
 }
@@ -462,7 +426,7 @@ fn geometry<R: Real, D: TensorOps<R>>(
 /// Adds the term of pair (i, j) to `sums` (nothing for j = i, beyond the support, or a massless j: every term
 /// carries m_j, and the tool's thermal-only particles have zero mechanical mass).
 #[inline(always)]
-unsafe fn add_pair<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool>(
+unsafe fn add_pair<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool, const DMG: bool>(
     p: &SphParams<R>,
     a: &Arrays<R, D>,
     o: &Own<R, D>,
@@ -472,10 +436,10 @@ unsafe fn add_pair<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, con
 ) {
     let (q, p) = (unsafe { partner::<R, D, AV, AS>(a, j) }, pair_params::<R, AV, AS>(p));
     if let Some(g) = geometry(&p, o, i, j, &q.x) {
-        if a.mask.is_null() {
-            pair_term::<R, D, AV, AS, XSPH>(&p, o, &q, &g, sums)
-        } else {
+        if DMG {
             unsafe { masked_pair_term::<R, D, AV, AS, XSPH>(&p, a, o, q, &g, j, sums) }
+        } else {
+            pair_term::<R, D, AV, AS, XSPH>(&p, o, &q, &g, sums)
         }
     }
 }
@@ -483,11 +447,12 @@ unsafe fn add_pair<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, con
 /// [`pair_term`] of a damaged run with the interaction mask F_j of j (klippel §2.6, Eqs. 7.30–7.34): F_j = 1 the
 /// plain term; F_j = 0 (fully damaged, in tension) the neighbour quantities only are masked, v_j F_j = 0 in the
 /// velocity gradient and XSPH, σ_j F_j = 0 in the momentum, μ_ij F_j = 0 (no viscosity); a deleted j
-/// (`damage::DELETED`) takes no part. Never inlined: the runs without damage keep their pair loop as it was.
+/// (`damage::DELETED`) takes no part. Only the damaged entries (`DMG`) call it: the others' pair loop is that of a
+/// run without damage, instruction for instruction.
 ///
 /// # Safety
 /// `a.mask` holds j + 1 elements.
-#[inline(never)]
+#[inline(always)]
 unsafe fn masked_pair_term<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool>(
     p: &SphParams<R>,
     a: &Arrays<R, D>,
@@ -607,7 +572,7 @@ pub fn power<R: Real>(x: R, n: u32) -> R {
 /// # Safety
 /// As [`rates`]; `lane < lanes`.
 #[inline(always)]
-pub unsafe fn pair_sums<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool>(
+pub unsafe fn pair_sums<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool, const DMG: bool>(
     p: &SphParams<R>,
     nb: &Neighbours,
     a: &Arrays<R, D>,
@@ -621,7 +586,7 @@ pub unsafe fn pair_sums<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool
             return PairSums::default();
         }
         lane_share::<R, D::Vec<R>, _, _>(nb, &o.x, i, lane, lanes, |j, s| {
-            add_pair::<R, D, AV, AS, XSPH>(p, a, &o, i, j, s)
+            add_pair::<R, D, AV, AS, XSPH, DMG>(p, a, &o, i, j, s)
         })
     }
 }
@@ -656,7 +621,14 @@ impl<R: Real, D: TensorOps<R>> LaneSum for HeatPairSums<R, D> {
 /// material.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-pub unsafe fn pair_sums_heat<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool>(
+pub unsafe fn pair_sums_heat<
+    R: Real,
+    D: TensorOps<R>,
+    const AV: bool,
+    const AS: bool,
+    const XSPH: bool,
+    const DMG: bool,
+>(
     p: &SphParams<R>,
     hp: &HeatParams,
     nb: &Neighbours,
@@ -673,7 +645,7 @@ pub unsafe fn pair_sums_heat<R: Real, D: TensorOps<R>, const AV: bool, const AS:
             return HeatPairSums::default();
         }
         lane_share::<R, D::Vec<R>, _, _>(nb, &o.x, i, lane, lanes, |j, s: &mut HeatPairSums<R, D>| {
-            heat_and_pair::<R, D, AV, AS, XSPH>(p, hp, a, h, &o, ho.as_ref(), i, j, s)
+            heat_and_pair::<R, D, AV, AS, XSPH, DMG>(p, hp, a, h, &o, ho.as_ref(), i, j, s)
         })
     }
 }
@@ -681,7 +653,7 @@ pub unsafe fn pair_sums_heat<R: Real, D: TensorOps<R>, const AV: bool, const AS:
 /// The conduction and mechanical terms of pair (i, j) of the fused pass.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-unsafe fn heat_and_pair<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool>(
+unsafe fn heat_and_pair<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool, const DMG: bool>(
     p: &SphParams<R>,
     hp: &HeatParams,
     a: &Arrays<R, D>,
@@ -703,10 +675,10 @@ unsafe fn heat_and_pair<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool
         s.heat += brookshaw_term(hp, h, ho, &hq, g.dw.to_f64());
     }
     if o.mech {
-        if a.mask.is_null() {
-            pair_term::<R, D, AV, AS, XSPH>(&p, o, &q, &g, &mut s.mech);
-        } else {
+        if DMG {
             unsafe { masked_pair_term::<R, D, AV, AS, XSPH>(&p, a, o, q, &g, j, &mut s.mech) };
+        } else {
+            pair_term::<R, D, AV, AS, XSPH>(&p, o, &q, &g, &mut s.mech);
         }
     }
 }
@@ -718,7 +690,14 @@ unsafe fn heat_and_pair<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool
 /// As [`pair_sums_heat`].
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-pub unsafe fn rates_heat<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool>(
+pub unsafe fn rates_heat<
+    R: Real,
+    D: TensorOps<R>,
+    const AV: bool,
+    const AS: bool,
+    const XSPH: bool,
+    const DMG: bool,
+>(
     p: &SphParams<R>,
     hp: &HeatParams,
     nb: &Neighbours,
@@ -734,10 +713,10 @@ pub unsafe fn rates_heat<R: Real, D: TensorOps<R>, const AV: bool, const AS: boo
             HeatPairSums::default()
         } else {
             all_lanes::<R, D::Vec<R>, _, _>(nb, &o.x, i, lanes, |j, s: &mut HeatPairSums<R, D>| {
-                heat_and_pair::<R, D, AV, AS, XSPH>(p, hp, a, h, &o, ho.as_ref(), i, j, s)
+                heat_and_pair::<R, D, AV, AS, XSPH, DMG>(p, hp, a, h, &o, ho.as_ref(), i, j, s)
             })
         };
-        (finish_rates::<R, D, XSPH>(p, a, i, &sums.mech), heat_finish(hp, h, i, sums.heat))
+        (finish_rates::<R, D, XSPH, DMG>(p, a, i, &sums.mech), heat_finish(hp, h, i, sums.heat))
     }
 }
 
@@ -749,14 +728,14 @@ pub unsafe fn rates_heat<R: Real, D: TensorOps<R>, const AV: bool, const AS: boo
 /// # Safety
 /// As [`rates`].
 #[inline(always)]
-pub unsafe fn finish_rates<R: Real, D: TensorOps<R>, const XSPH: bool>(
+pub unsafe fn finish_rates<R: Real, D: TensorOps<R>, const XSPH: bool, const DMG: bool>(
     p: &SphParams<R>,
     a: &Arrays<R, D>,
     i: u32,
     sums: &PairSums<R, D>,
 ) -> Rates<R, D> {
     let iu = i as usize;
-    if !a.mask.is_null() && unsafe { *a.mask.add(iu) } < 0.0 {
+    if DMG && unsafe { *a.mask.add(iu) } < 0.0 {
         // Deleted by damage (`damage::switches::DELETE`): out of the interactions, it keeps its last position.
         return Rates::default();
     }
@@ -802,7 +781,7 @@ pub unsafe fn finish_rates<R: Real, D: TensorOps<R>, const XSPH: bool>(
 /// All arrays hold the sorted particles of the cell list (and Verlet list) `nb`; `i` is in range; `art` and `sound`
 /// are valid when AS and AV are on.
 #[inline(always)]
-pub unsafe fn rates<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool>(
+pub unsafe fn rates<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool, const DMG: bool>(
     p: &SphParams<R>,
     nb: &Neighbours,
     a: &Arrays<R, D>,
@@ -813,11 +792,11 @@ pub unsafe fn rates<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, co
         let o = own::<R, D, AV, AS>(a, i);
         let sums = if o.mech {
             all_lanes::<R, D::Vec<R>, _, _>(nb, &o.x, i, lanes, |j, s| {
-                add_pair::<R, D, AV, AS, XSPH>(p, a, &o, i, j, s)
+                add_pair::<R, D, AV, AS, XSPH, DMG>(p, a, &o, i, j, s)
             })
         } else {
             PairSums::default()
         };
-        finish_rates::<R, D, XSPH>(p, a, i, &sums)
+        finish_rates::<R, D, XSPH, DMG>(p, a, i, &sums)
     }
 }

@@ -226,16 +226,7 @@ unsafe fn particle_with<R: Real, D: TensorOps<R>, M: FlowStress, const C2D: bool
             *a.work.add(i) += ret.flow_stress * (e - e0) / rho.to_f64();
         }
         if !a.damage_params.is_null() && e > e0 {
-            // Weak coupling (klippel §2.6, §7.4.2): the damage after the plastic update, from its Δε̄ and σ_y, the
-            // triaxiality −p/σ_y of the undamaged pressure (no thermal expansion), ε̄̇ and T before the heating.
-            let dp = &*a.damage_params;
-            let rho64 = rho.to_f64();
-            let triax = triaxiality(dp.c0sq * (rho64 - dp.rho0), ret.flow_stress);
-            let vol = (*a.mass.add(i)).to_f64() / rho64;
-            let st = DamageState { omega: *a.omega.add(i), d: *a.damage.add(i) };
-            let st = damage_step(dp, st, e - e0, ret.flow_stress, triax, r, t0, vol);
-            *a.omega.add(i) = st.omega;
-            *a.damage.add(i) = st.d;
+            damage_after_return::<R, D::Sym<R>>(*a, i, rho.to_f64(), e - e0, ret.flow_stress, r, t0);
         }
         *a.eps.add(i) = e;
         *a.rate.add(i) = r;
@@ -249,5 +240,33 @@ unsafe fn particle_with<R: Real, D: TensorOps<R>, M: FlowStress, const C2D: bool
                 model.sigma_y_parts(e, r, t, ret.strength, model.thermal_part(t))
             };
         }
+    }
+}
+
+/// The damage after the plastic update of particle i (weak coupling, klippel §2.6, §7.4.2), from its Δε̄ `de` and
+/// σ_y, the triaxiality −p/σ_y of the undamaged pressure (no thermal expansion), ε̄̇ and T before the heating.
+/// Never inlined and called with copies (as [C2D]'s return): the corrector of a run without damage keeps its
+/// registers and code, and pays one uniform branch per particle.
+///
+/// # Safety
+/// `a`'s damage arrays hold i + 1 elements; `a.damage_params` points at the constants.
+#[inline(never)]
+unsafe fn damage_after_return<R: Real, S>(
+    a: PlasticArrays<R, S>,
+    i: usize,
+    rho: f64,
+    de: f64,
+    flow_stress: f64,
+    rate: f64,
+    temp: f64,
+) {
+    unsafe {
+        let dp = &*a.damage_params;
+        let triax = triaxiality(dp.c0sq * (rho - dp.rho0), flow_stress);
+        let vol = (*a.mass.add(i)).to_f64() / rho;
+        let st = DamageState { omega: *a.omega.add(i), d: *a.damage.add(i) };
+        let st = damage_step(dp, st, de, flow_stress, triax, rate, temp, vol);
+        *a.omega.add(i) = st.omega;
+        *a.damage.add(i) = st.d;
     }
 }
