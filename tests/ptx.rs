@@ -220,18 +220,19 @@ fn argument_structs_match_the_entries_parameter_blocks() {
             Some(by_variant!(variant, HeatArgs))
         } else if name == format!("swarf_density_{variant}") {
             Some(by_variant!(variant, DensityArgs))
-        } else if name == format!("swarf_step_predict_{variant}") || name == format!("swarf_step_predict_{variant}_dmg") {
+        } else if name == format!("swarf_step_predict_{variant}") || name == format!("swarf_step_predict_{variant}_dmg")
+        {
             Some(by_variant!(variant, PredictArgs))
         } else if name == "swarf_contact_2d_f32" {
             Some(block::<ContactArgs<f32, Dim2>>())
         } else if name == "swarf_contact_2d_f64" {
             Some(block::<ContactArgs<f64, Dim2>>())
         } else if let Some(tag) = name.strip_prefix("swarf_plastic_") {
-            plastic(tag.trim_end_matches(&format!("_{variant}")), variant)
+            plastic(tag.trim_end_matches("_dmg").trim_end_matches(&format!("_{variant}")), variant)
         } else if name == format!("swarf_step_finish_{variant}") {
             Some(by_variant!(variant, FinishArgs))
         } else if let Some(tag) = name.strip_prefix("swarf_step_finish_") {
-            finish_plastic(tag.trim_end_matches(&format!("_{variant}")), variant)
+            finish_plastic(tag.trim_end_matches("_dmg").trim_end_matches(&format!("_{variant}")), variant)
         } else {
             None
         }
@@ -247,12 +248,12 @@ fn argument_structs_match_the_entries_parameter_blocks() {
         }
         assert_eq!(checked, loaded.len(), "{target}: every loaded entry checked");
         // 4 variants × (8 stabiliser combinations × plain and fused × without and with damage + the elastic
-        // corrector + one plastic corrector and one plastic pass per flow-stress model + density, 4 pre-passes and
-        // the predictor each without and with damage, 2 conductions + hash, hash-count, neighbour list, Verlet
-        // list) + the 2D contact in 2 precisions + 9
+        // corrector + one plastic corrector and one plastic pass per flow-stress model without and with damage +
+        // density, 4 pre-passes and the predictor each without and with damage, 2 conductions + hash, hash-count,
+        // neighbour list, Verlet list) + the 2D contact in 2 precisions + 9
         // neighbour entries without variants (zero, scatter, sort, 3 gathers, gather_fields, 2 scans).
         let models = swarf::kernels::pass::FLOW_MODEL_TAGS.len();
-        assert_eq!(checked, 4 * (32 + 1 + 2 * models + 13 + 4) + 2 + 9, "{target}: entries checked");
+        assert_eq!(checked, 4 * (32 + 1 + 4 * models + 13 + 4) + 2 + 9, "{target}: entries checked");
     }
 }
 
@@ -377,12 +378,12 @@ fn every_pass_names_its_own_entry() {
             check!(RatesPass<$r, $d, $av, $as, $xs, $heat, $dmg>, $name);
             position += 1;
         };
-        (plastic, $name:expr, $r:ident, $d:ident, $t:ident, $tag:ident) => {
-            check!(Plastic<$r, $d, swarf::kernels::material::$t>, $name);
+        (plastic, $name:expr, $r:ident, $d:ident, $t:ident, $tag:ident, $dmg:literal) => {
+            check!(Plastic<$r, $d, swarf::kernels::material::$t, $dmg>, $name);
             position += 1;
         };
-        (finish_plastic, $name:expr, $r:ident, $d:ident, $t:ident, $tag:ident) => {
-            check!(FinishPlastic<$r, $d, swarf::kernels::material::$t>, $name);
+        (finish_plastic, $name:expr, $r:ident, $d:ident, $t:ident, $tag:ident, $dmg:literal) => {
+            check!(FinishPlastic<$r, $d, swarf::kernels::material::$t, $dmg>, $name);
             position += 1;
         };
     }

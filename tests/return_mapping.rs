@@ -474,7 +474,7 @@ fn flow_stress_from_the_return_equals_sigma_y_bitwise() {
                 mass: std::ptr::null(),
             };
             let c = PlasticConsts { shear: g, dt, taylor_quinney: tq, flags: 0, _pad: 0 };
-            unsafe { plastic_particle::<f64, Dim2, M>(m, &c, &a, 0) };
+            unsafe { plastic_particle::<f64, Dim2, M, false>(m, &c, &a, 0) };
             let r2 = radial_return(m, &[s[0], s[1], 0.0, s[3], 0.0, s[5]], eps, rate, temp, g, dt, &Default::default());
             assert_eq!((e.to_bits(), rt.to_bits()), (r2.eps.to_bits(), r2.rate.to_bits()), "{name}: state");
             let sy_old_t = m.sigma_y(e, rt, temp);

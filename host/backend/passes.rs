@@ -350,11 +350,13 @@ pub trait Passes: Backend {
         if let Some(m) = contact.as_ref().and_then(|c| c.materials) {
             check_bodies(self, "contact materials", n, p.flags, m.len())?;
         }
-        let model = p.model;
+        let (model, dmg) = (p.model, p.damage.is_some());
         with_model!(model, M, m => {
             let a = args::finish_plastic_args::<_, R, D, M>(self, n, &s, f, p, *m, contact)?;
-            // SAFETY: the builder checked the lengths, the bodies are checked above.
-            unsafe { self.launch::<FinishPlastic<R, D, M>>(&a) }
+            with_bools!(DMG = dmg; {
+                // SAFETY: the builder checked the lengths (the damage's where `DMG`), the bodies are checked above.
+                unsafe { self.launch::<FinishPlastic<R, D, M, DMG>>(&a) }
+            })
         })
     }
 
@@ -371,10 +373,13 @@ pub trait Passes: Backend {
         if c.taylor_quinney > 0.0 {
             check_bodies(self, "plastic_step materials", n, a.flags, a.materials.map_or(0, |m| m.len()))?;
         }
+        let dmg = a.damage.is_some();
         with_model!(model, M, m => {
             let a = args::plastic_args::<_, R, D, M>(self, n, *m, c, a)?;
-            // SAFETY: the builder checked the lengths, the bodies are checked above.
-            unsafe { self.launch::<Plastic<R, D, M>>(&a) }
+            with_bools!(DMG = dmg; {
+                // SAFETY: the builder checked the lengths (the damage's where `DMG`), the bodies are checked above.
+                unsafe { self.launch::<Plastic<R, D, M, DMG>>(&a) }
+            })
         })
     }
 

@@ -3,7 +3,7 @@
 
 use super::ModelEntry;
 use super::launch::{Grid, Pass};
-use super::table::entry_index;
+use super::table::{entry_index, model_variant};
 use crate::contact::Tool2d;
 use crate::contact::penalty::{ContactArrays, ContactParams, contact_particle};
 use crate::damage::DamageParams;
@@ -147,7 +147,7 @@ impl<R: Real, D: TensorOps<R>, M: FlowStress + Copy> FinishPlasticArgs<R, D, M> 
     /// i < n; every non-null array holds n particles; `scalars`, and `contact` and `contact_tool` (unless `contact` is
     /// null), point at live values.
     #[inline(always)]
-    pub unsafe fn particle(&self, model: &M, i: usize) {
+    pub unsafe fn particle<const DMG: bool>(&self, model: &M, i: usize) {
         unsafe {
             let dt = (*self.scalars).dt;
             correct_particle(&self.step.arrays(), dt, i);
@@ -173,7 +173,7 @@ impl<R: Real, D: TensorOps<R>, M: FlowStress + Copy> FinishPlasticArgs<R, D, M> 
                 damage: self.damage,
                 mass: self.damage_mass,
             };
-            plastic_particle::<R, D, M>(model, &c, &p, i);
+            plastic_particle::<R, D, M, DMG>(model, &c, &p, i);
             if !self.contact.is_null() {
                 let ca = ContactArrays::<R, D::Vec<R>> {
                     pos: self.step.pos,
@@ -206,12 +206,14 @@ crate::simple_pass!(Finish<R, D>, FinishArgs<R, D>, entry_index("finish", D::D, 
     [R: Real, D: Dim]);
 
 /// The corrector with the plastic update of model `M` and, where set, the contact pass
-/// (`swarf_step_finish_<model>_*`).
-pub struct FinishPlastic<R, D, M>(PhantomData<(R, D, M)>);
+/// (`swarf_step_finish_<model>_*`; with `DMG` the damage after the plastic update, `..._dmg`).
+pub struct FinishPlastic<R, D, M, const DMG: bool>(PhantomData<(R, D, M)>);
 
-impl<R: Real, D: TensorOps<R>, M: FlowStress + ModelEntry + Copy> Pass for FinishPlastic<R, D, M> {
+impl<R: Real, D: TensorOps<R>, M: FlowStress + ModelEntry + Copy, const DMG: bool> Pass
+    for FinishPlastic<R, D, M, DMG>
+{
     type Args = FinishPlasticArgs<R, D, M>;
-    const ENTRY: usize = entry_index("finish_plastic", D::D, size_of::<R>(), M::INDEX as u32);
+    const ENTRY: usize = entry_index("finish_plastic", D::D, size_of::<R>(), model_variant(M::INDEX, DMG));
     const GRID: Grid = Grid::Plastic;
     fn particles(a: &Self::Args) -> usize {
         a.n as usize
@@ -220,7 +222,7 @@ impl<R: Real, D: TensorOps<R>, M: FlowStress + ModelEntry + Copy> Pass for Finis
         Some(&mut a.reverse)
     }
     unsafe fn particle(a: &Self::Args, i: usize) -> u32 {
-        unsafe { a.particle(&a.model, i) };
+        unsafe { a.particle::<DMG>(&a.model, i) };
         0
     }
 }

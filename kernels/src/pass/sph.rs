@@ -4,7 +4,7 @@
 
 use super::ModelEntry;
 use super::launch::{Grid, Pass};
-use super::table::{entry_index, prepare_variant};
+use super::table::{entry_index, model_variant, prepare_variant};
 use crate::contact::Tool2d;
 use crate::contact::penalty::{ContactArrays, ContactParams, contact_particle};
 use crate::damage::DamageParams;
@@ -219,7 +219,7 @@ impl<R: Real, D: TensorOps<R>, M: FlowStress + Copy> PlasticArgs<R, D, M> {
     /// # Safety
     /// i < n; every non-null array holds n particles; `materials` covers every body where heating is on.
     #[inline(always)]
-    pub unsafe fn particle(&self, model: &M, i: usize) {
+    pub unsafe fn particle<const DMG: bool>(&self, model: &M, i: usize) {
         let a = PlasticArrays::<R, D::Sym<R>> {
             stress: self.stress,
             rho: self.rho,
@@ -235,22 +235,22 @@ impl<R: Real, D: TensorOps<R>, M: FlowStress + Copy> PlasticArgs<R, D, M> {
             damage: self.damage,
             mass: self.damage_mass,
         };
-        unsafe { plastic_particle::<R, D, M>(model, &self.consts, &a, i) }
+        unsafe { plastic_particle::<R, D, M, DMG>(model, &self.consts, &a, i) }
     }
 }
 
-/// The standalone plastic update (`swarf_plastic_<model>_*`).
-pub struct Plastic<R, D, M>(PhantomData<(R, D, M)>);
+/// The standalone plastic update (`swarf_plastic_<model>_*`; with `DMG` the damage after it, `..._dmg`).
+pub struct Plastic<R, D, M, const DMG: bool>(PhantomData<(R, D, M)>);
 
-impl<R: Real, D: TensorOps<R>, M: FlowStress + ModelEntry + Copy> Pass for Plastic<R, D, M> {
+impl<R: Real, D: TensorOps<R>, M: FlowStress + ModelEntry + Copy, const DMG: bool> Pass for Plastic<R, D, M, DMG> {
     type Args = PlasticArgs<R, D, M>;
-    const ENTRY: usize = entry_index("plastic", D::D, size_of::<R>(), M::INDEX as u32);
+    const ENTRY: usize = entry_index("plastic", D::D, size_of::<R>(), model_variant(M::INDEX, DMG));
     const GRID: Grid = Grid::Plastic;
     fn particles(a: &Self::Args) -> usize {
         a.n as usize
     }
     unsafe fn particle(a: &Self::Args, i: usize) -> u32 {
-        unsafe { a.particle(&a.model, i) };
+        unsafe { a.particle::<DMG>(&a.model, i) };
         0
     }
 }

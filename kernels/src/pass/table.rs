@@ -13,7 +13,8 @@
 ///   conduction, DMG). DMG: the damage's degradation and interaction mask (docs/damage.md), entries of their own
 ///   (`_dmg` ending the name, so that prefixes such as the register caps' see them as their plain twins) so that a
 ///   run without damage runs the code it ran before;
-/// - `plastic`, `finish_plastic` (R, D, flow model type, its tag): one per model of [`for_each_flow_model!`].
+/// - `plastic`, `finish_plastic` (R, D, flow model type, its tag, DMG): one per model of [`for_each_flow_model!`],
+///   without and with the damage's update after the return.
 ///
 /// `for_each_entry!(@models [tokens])` expands `tokens (Type, tag), ...` with the model list.
 #[macro_export]
@@ -70,8 +71,11 @@ macro_rules! for_each_entry {
     };
     (@model_entries $cb:ident, $r:ident, $d:ident, $v:literal; $(($t:ident, $tag:ident)),* $(,)?) => {
         $(
-            $cb!(plastic, concat!("swarf_plastic_", stringify!($tag), "_", $v), $r, $d, $t, $tag);
-            $cb!(finish_plastic, concat!("swarf_step_finish_", stringify!($tag), "_", $v), $r, $d, $t, $tag);
+            $cb!(plastic, concat!("swarf_plastic_", stringify!($tag), "_", $v), $r, $d, $t, $tag, false);
+            $cb!(finish_plastic, concat!("swarf_step_finish_", stringify!($tag), "_", $v), $r, $d, $t, $tag, false);
+            $cb!(plastic, concat!("swarf_plastic_", stringify!($tag), "_", $v, "_dmg"), $r, $d, $t, $tag, true);
+            $cb!(finish_plastic, concat!("swarf_step_finish_", stringify!($tag), "_", $v, "_dmg"), $r, $d, $t, $tag,
+                true);
         )*
     };
     // The flow-stress models the kernels are built for: the kernel type (in `crate::material`) and the tag of
@@ -143,6 +147,11 @@ pub const fn rates_variant(av: bool, r#as: bool, xs: bool, heat: bool, dmg: bool
     16 * dmg as u32 + 8 * heat as u32 + 4 * av as u32 + 2 * r#as as u32 + xs as u32
 }
 
+/// The variant number of a plastic or plastic-corrector entry (the flow model's index, DMG).
+pub const fn model_variant(index: usize, dmg: bool) -> u32 {
+    index as u32 + 256 * dmg as u32
+}
+
 /// Every entry's key, in table order (with [`ENTRY_NAMES`]).
 pub const ENTRY_KEYS: [EntryKey; ENTRY_COUNT] = {
     use crate::pass::ModelEntry;
@@ -175,8 +184,8 @@ pub const ENTRY_KEYS: [EntryKey; ENTRY_COUNT] = {
         (rates, $name:expr, $r:ident, $d:ident, $av:literal, $as:literal, $xs:literal, $heat:literal, $dmg:literal) => {
             key!(@at rates, $r, $d, rates_variant($av, $as, $xs, $heat, $dmg));
         };
-        ($kind:ident, $name:expr, $r:ident, $d:ident, $t:ident, $tag:ident) => {
-            key!(@at $kind, $r, $d, <crate::material::$t as ModelEntry>::INDEX as u32);
+        ($kind:ident, $name:expr, $r:ident, $d:ident, $t:ident, $tag:ident, $dmg:literal) => {
+            key!(@at $kind, $r, $d, model_variant(<crate::material::$t as ModelEntry>::INDEX, $dmg));
         };
         ($kind:ident, $name:expr, $r:ident, $d:ident) => {
             key!(@at $kind, $r, $d, 0);

@@ -162,14 +162,14 @@ macro_rules! finish_entry {
 /// (contact::penalty::contact_particle: it reads only the particle's own corrected state, its temperature and
 /// yield stress after the plastic update), so that the step needs no launch of its own for it.
 macro_rules! finish_plastic_entry {
-    ($sym:expr, $m:ty, $r:ty, $d:ty) => {
+    ($sym:expr, $m:ty, $r:ty, $d:ty, $dmg:literal) => {
         #[unsafe(export_name = $sym)]
         pub unsafe extern "ptx-kernel" fn entry(args: FinishPlasticArgs<$r, $d, $m>) {
             let i = ordered_index(args.reverse);
             if i < args.n {
                 // The model alone goes to the flow-stress functions (a local copy, as the by-value parameter was).
                 let model = args.model;
-                unsafe { args.particle(&model, i as usize) };
+                unsafe { args.particle::<$dmg>(&model, i as usize) };
             }
         }
     };
@@ -205,14 +205,14 @@ macro_rules! heat_entry {
 /// The plastic update (radial return + heating) of every particle, one entry per flow-stress model (its parameters
 /// by value, as in finish_plastic_entry).
 macro_rules! plastic_entry {
-    ($sym:expr, $m:ty, $r:ty, $d:ty) => {
+    ($sym:expr, $m:ty, $r:ty, $d:ty, $dmg:literal) => {
         #[unsafe(export_name = $sym)]
         pub unsafe extern "ptx-kernel" fn entry(args: PlasticArgs<$r, $d, $m>) {
             let i = global_index() as usize;
             if i < args.n as usize {
                 // The model alone goes to the flow-stress functions (a local copy, as the by-value parameter was).
                 let model = args.model;
-                unsafe { args.particle(&model, i) };
+                unsafe { args.particle::<$dmg>(&model, i) };
             }
         }
     };
@@ -269,14 +269,14 @@ macro_rules! sph_entry {
             rates_entry!($sym, $r, $d, $av, $as, $xs, $heat, $dmg);
         };
     };
-    (plastic, $sym:expr, $r:ident, $d:ident, $t:ident, $tag:ident) => {
+    (plastic, $sym:expr, $r:ident, $d:ident, $t:ident, $tag:ident, $dmg:literal) => {
         const _: () = {
-            plastic_entry!($sym, crate::material::$t, $r, $d);
+            plastic_entry!($sym, crate::material::$t, $r, $d, $dmg);
         };
     };
-    (finish_plastic, $sym:expr, $r:ident, $d:ident, $t:ident, $tag:ident) => {
+    (finish_plastic, $sym:expr, $r:ident, $d:ident, $t:ident, $tag:ident, $dmg:literal) => {
         const _: () = {
-            finish_plastic_entry!($sym, crate::material::$t, $r, $d);
+            finish_plastic_entry!($sym, crate::material::$t, $r, $d, $dmg);
         };
     };
     ($kind:ident, $($rest:tt)*) => {};

@@ -155,7 +155,7 @@ pub struct PlasticArrays<R: Real, S> {
     pub yield_stress: *mut f64,
     /// Accumulated specific plastic work w = Σ σ_y Δε̄ / ρ [J/kg] (null unless the run balances its energy).
     pub work: *mut f64,
-    /// The damage constants (null: no damage, and `omega`, `damage`, `mass` are not read).
+    /// The damage constants (read, with `omega`, `damage` and `mass`, only by the damaged entries: `DMG`).
     pub damage_params: *const DamageParams,
     /// Damage initiation ω and evolution D (`damage::damage_step`).
     pub omega: *mut f64,
@@ -164,12 +164,13 @@ pub struct PlasticArrays<R: Real, S> {
     pub mass: *const R,
 }
 
-/// The plastic update of sorted particle i, reading and writing the arrays.
+/// The plastic update of sorted particle i, reading and writing the arrays; with `DMG` the damage after it.
 ///
 /// # Safety
-/// All arrays hold at least i + 1 particles; `materials` covers every body index when t_q > 0.
+/// All arrays hold at least i + 1 particles; `materials` covers every body index when t_q > 0; the damage's
+/// arrays are set with `DMG`.
 #[inline(always)]
-pub unsafe fn plastic_particle<R: Real, D: TensorOps<R>, M: FlowStress + Copy>(
+pub unsafe fn plastic_particle<R: Real, D: TensorOps<R>, M: FlowStress + Copy, const DMG: bool>(
     model: &M,
     c: &PlasticConsts,
     a: &PlasticArrays<R, D::Sym<R>>,
@@ -178,9 +179,9 @@ pub unsafe fn plastic_particle<R: Real, D: TensorOps<R>, M: FlowStress + Copy>(
     if c.flags & return_flags::C2D_RETURN != 0 {
         // [C2D]'s return: a function of its own, called with copies, so that the default's corrector neither grows
         // by a second solver nor keeps the model, the trial stress and the result in local memory for the call.
-        unsafe { c2d_particle::<R, D, M>(*model, *c, *a, i) }
+        unsafe { c2d_particle::<R, D, M, DMG>(*model, *c, *a, i) }
     } else {
-        unsafe { particle_with::<R, D, M, false>(model, c, a, i) }
+        unsafe { particle_with::<R, D, M, false, DMG>(model, c, a, i) }
     }
 }
 
@@ -189,13 +190,13 @@ pub unsafe fn plastic_particle<R: Real, D: TensorOps<R>, M: FlowStress + Copy>(
 /// # Safety
 /// As [`plastic_particle`].
 #[inline(never)]
-unsafe fn c2d_particle<R: Real, D: TensorOps<R>, M: FlowStress>(
+unsafe fn c2d_particle<R: Real, D: TensorOps<R>, M: FlowStress, const DMG: bool>(
     model: M,
     c: PlasticConsts,
     a: PlasticArrays<R, D::Sym<R>>,
     i: usize,
 ) {
-    unsafe { particle_with::<R, D, M, true>(&model, &c, &a, i) }
+    unsafe { particle_with::<R, D, M, true, DMG>(&model, &c, &a, i) }
 }
 
 /// [`plastic_particle`]'s body with swarf's return (`C2D` false) or [C2D]'s (true).
@@ -203,7 +204,7 @@ unsafe fn c2d_particle<R: Real, D: TensorOps<R>, M: FlowStress>(
 /// # Safety
 /// As [`plastic_particle`].
 #[inline(always)]
-unsafe fn particle_with<R: Real, D: TensorOps<R>, M: FlowStress, const C2D: bool>(
+unsafe fn particle_with<R: Real, D: TensorOps<R>, M: FlowStress, const C2D: bool, const DMG: bool>(
     model: &M,
     c: &PlasticConsts,
     a: &PlasticArrays<R, D::Sym<R>>,
@@ -225,8 +226,8 @@ unsafe fn particle_with<R: Real, D: TensorOps<R>, M: FlowStress, const C2D: bool
             // (σ_y(ε̄_new, ε̄̇_new, T_old), the return's).
             *a.work.add(i) += ret.flow_stress * (e - e0) / rho.to_f64();
         }
-        if !a.damage_params.is_null() && e > e0 {
-            damage_after_return::<R, D::Sym<R>>(*a, i, rho.to_f64(), e - e0, ret.flow_stress, r, t0);
+        if DMG && e > e0 {
+            damage_after_return::<R, D::Sym<R>>(a, i, rho.to_f64(), e - e0, ret.flow_stress, r, t0);
         }
         *a.eps.add(i) = e;
         *a.rate.add(i) = r;
@@ -245,14 +246,13 @@ unsafe fn particle_with<R: Real, D: TensorOps<R>, M: FlowStress, const C2D: bool
 
 /// The damage after the plastic update of particle i (weak coupling, klippel §2.6, §7.4.2), from its Δε̄ `de` and
 /// σ_y, the triaxiality −p/σ_y of the undamaged pressure (no thermal expansion), ε̄̇ and T before the heating.
-/// Never inlined and called with copies (as [C2D]'s return): the corrector of a run without damage keeps its
-/// registers and code, and pays one uniform branch per particle.
+/// Only the damaged entries (`DMG`) run it: a run without damage keeps its corrector's code and registers.
 ///
 /// # Safety
 /// `a`'s damage arrays hold i + 1 elements; `a.damage_params` points at the constants.
-#[inline(never)]
+#[inline(always)]
 unsafe fn damage_after_return<R: Real, S>(
-    a: PlasticArrays<R, S>,
+    a: &PlasticArrays<R, S>,
     i: usize,
     rho: f64,
     de: f64,
