@@ -219,23 +219,12 @@ fn the_glm_slip_on_a_45_degree_normal() {
     assert_ne!(a.friction, b.friction, "the history's normal part is kept by the original only");
 }
 
-/// V0060 coarsened to Δx = 20 µm, 0.15 mm of cut (tests/cutting.rs's CI cut), with `extra` overrides.
+/// V0060 coarsened to Δx = 20 µm, 0.15 mm of cut (tests/cutting.rs's CI cut), with `extra` overrides: the shared
+/// coarse cut (`common::scenes::coarse_cut`, 4 µs) run to 24 µs.
 fn coarse_cut(extra: &[&str]) -> Scene {
-    let mut over: Vec<String> = [
-        "discretisation.dx=2.0e-5",
-        "body.0.max=[1.0e-3,2.8e-4]",
-        "boundary.1.max=[1.0e-9,1.4e-4]",
-        "boundary.2.min=[0.9999e-3,-1.0]",
-        "tool.position=[-3.6e-5]",
-        "tool.depth_of_cut=0.9e-4",
-        "time.end=2.4e-5",
-        "output.every=2.4e-6",
-    ]
-    .iter()
-    .map(|s| s.to_string())
-    .collect();
-    over.extend(extra.iter().map(|s| s.to_string()));
-    Scene::load("cases/cutting/v0060.toml", &over).expect("scene")
+    let mut over = vec!["time.end=2.4e-5", "output.every=2.4e-6"];
+    over.extend_from_slice(extra);
+    common::scenes::coarse_cut(&over)
 }
 
 /// The original code's datum: the feed below the top row's centres, Δx/2 deeper than swarf's (the row + Δx/2); on
