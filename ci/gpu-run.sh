@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 mu22 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
+# ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -186,6 +186,91 @@ for p in $parts; do
                 cat /tmp/table22/$c/sweep.md
             done
             tar czf "$out/table22.tgz" --exclude='*.vtu' --exclude='*.png' -C /tmp table22 ;;
+        damage25|damage25fine) # issue 25 item 5 (docs/damage.md, "Scenes"). damage25: the CT specimen with the mask, without
+                  # it and with load reversal; the SHTB, classic JC and JC-GG (fracture strain and diameter by
+                  # `swarf neck`); V0060 with damage at 10 and 5 µm; Ducobu at 9.3 µm, 4 flow models × damage on/off
+                  # as one batched sweep, last (the biggest: 8 × 11.5k particles × 890k steps). damage25fine: Ducobu
+                  # at 4.65 µm (8 × 46.6k particles × 1.78 M steps: far beyond one call; SWARF_DUCOBU_END shortens
+                  # it). Every run is bounded by SWARF_DAMAGE_S s (default 240; SIGINT: it stops and keeps what it
+                  # wrote, and the table takes F_c from the second half of forces.csv where summary.json is missing).
+                  # damage25.md (the table: forces, segmentation, pitch, damaged volume, SHTB fracture) and
+                  # damage25.tgz (summaries, force and energy traces, no frames).
+            damage25() {
+                local d=/tmp/damage25 lim=${SWARF_DAMAGE_S:-240} m models=""
+                mkdir -p $d
+                for m in JC TANH2008 TANH2010 TANHSO3; do models="$models${models:+,}\"Ti6Al4V-Klippel-$m\""; done
+                one() { # out-name, scene, --set arguments...
+                    local name=$1 scene=$2; shift 2
+                    local sets=(); for a in "$@"; do sets+=(--set "$a"); done
+                    rm -rf "$d/$name"
+                    timeout -s INT "$lim" "$here/swarf" --backend gpu run "$scene" --quiet --out "$d/$name" "${sets[@]}"
+                    echo "== $name rc=$? $(tail -n 1 "$d/$name/run.log" 2>/dev/null)"
+                }
+                if [ "$1" = damage25 ]; then
+                    local ct=cases/damage/ct-specimen.toml rev='[5.0e-5,1.5e-4]'
+                    one ct-mask $ct
+                    one ct-nomask $ct damage.mask=false
+                    one ct-reversal $ct "boundary.0.reverse_at=$rev" "boundary.1.reverse_at=$rev" time.end=4.52e-4
+                    one v0060-damage-10um cases/cutting/v0060-damage.toml
+                    one shtb-jc cases/damage/shtb-50sib8.toml
+                    one shtb-jcgg cases/damage/shtb-50sib8.toml 'material.name="50SiB8-Klippel-JCGG"'
+                    for r in shtb-jc shtb-jcgg; do
+                        "$here/swarf" neck "$d/$r" && find "$d/$r" -name 'frame_*.vtu' -delete
+                    done
+                    one v0060-damage-5um cases/cutting/v0060-damage.toml discretisation.dx=5.0e-6
+                    rm -f $d/ct-*/frame_*.vtu $d/v0060-*/frame_*.vtu
+                    timeout -s INT "$lim" "$here/swarf" --backend gpu sweep cases/cutting/ducobu.toml --grid "material.name=$models" \
+                        --grid damage.enabled=true,false --batch 8 --out $d/ducobu-9.3um --quiet
+                else
+                    timeout -s INT "$lim" "$here/swarf" --backend gpu sweep cases/cutting/ducobu.toml --grid "material.name=$models" \
+                        --grid damage.enabled=true,false --set discretisation.dx=4.65e-6 \
+                        --set time.end="${SWARF_DUCOBU_END:-1.2e-3}" --batch 8 --out $d/ducobu-4.65um --quiet
+                fi
+                python3 - "$d" > "$out/$1.md" <<'PY'
+import csv, glob, json, os, sys
+root = sys.argv[1]
+def last(path, col):
+    try:
+        rows = list(csv.DictReader(open(path)))
+        return float(rows[-1][col]) if rows else None
+    except (OSError, KeyError, ValueError):
+        return None
+def half_mean(path, col):
+    try:
+        v = [float(r[col]) for r in csv.DictReader(open(path))]
+        v = v[len(v) // 2:]
+        return sum(v) / len(v) if v else None
+    except (OSError, KeyError, ValueError):
+        return None
+def f(x, fmt="{:.4g}"):
+    return "–" if x is None else fmt.format(x)
+print("| run | t_end [s] | steps | wall [s] | F_c [N/mm] | F_f [N/mm] | h [µm] | segmentation | degree | pitch [µm] | damaged volume | initiated volume | fracture |")
+print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+for run in sorted(os.path.dirname(p) for p in glob.glob(root + "/**/energy.csv", recursive=True)):
+    s = {}
+    try:
+        s = json.load(open(run + "/summary.json"))
+    except (OSError, ValueError):
+        pass
+    seg = ((s.get("cutting") or {}).get("segments") or {})
+    fc, ff = s.get("fc_n_per_mm"), s.get("ff_n_per_mm")
+    if fc is None:
+        fc, ff = half_mean(run + "/forces.csv", "fc_n_per_mm"), half_mean(run + "/forces.csv", "ff_n_per_mm")
+    neck = "–"
+    if os.path.exists(run + "/neck.json"):
+        n = json.load(open(run + "/neck.json"))
+        neck = "none" if not n.get("fractured") else "ε_f {:.1f} %, d_f {:.3f} mm at {:.3g} s".format(
+            100 * n["fracture_strain"], n["fracture_diameter_mm"], n["fracture_time_s"])
+    cells = [os.path.relpath(run, root), f(last(run + "/energy.csv", "time")), f(s.get("steps"), "{}"),
+             f(s.get("wall_time_s"), "{:.1f}"), f(fc, "{:.1f}"), f(ff, "{:.1f}"), f(s.get("chip_thickness_um"), "{:.1f}"),
+             f(s.get("segmentation"), "{:.3f}"), f(seg.get("degree"), "{:.3f}"), f(seg.get("pitch_um"), "{:.1f}"),
+             f(last(run + "/energy.csv", "damaged_volume")), f(last(run + "/energy.csv", "initiated_volume")), neck]
+    print("| " + " | ".join(cells) + " |")
+PY
+                cat "$out/$1.md"
+                tar czf "$out/$1.tgz" --exclude='*.vtu' --exclude='*.png' --exclude='*.vtp' --exclude='checkpoint.bin' -C /tmp damage25
+            }
+            run "$p" damage25 "$p" ;;
         mu22) # issue 22: V0060 (1 mm) with the defaults over μ, twice each (CFL 0.5, 0.4995): can friction alone bring
               # F_f to the measured 115.5 N/mm with F_c within 10 % of 157.5? mu22.tgz
             run mu22 "$here/swarf" --backend gpu sweep cases/cutting/v0060.toml --grid tool.friction=0.35,0.5,0.7,1.0 \

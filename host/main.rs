@@ -63,6 +63,13 @@ enum Cmd {
     /// models over depths of cut, for the paper's polymer (K 980 MPa, G 376 MPa, σ_y0 25 MPa, G_c 2000 J/m²) or
     /// the properties given.
     Model(ModelArgs),
+    /// The fracture strain and diameter of a round tensile specimen's run (the SHTB, docs/damage.md): the
+    /// thinnest slab of live particles at the last frame before it falls into two pieces; prints it and writes
+    /// neck.json in the run folder.
+    Neck {
+        /// The run folder (frames written, scene.toml).
+        run: std::path::PathBuf,
+    },
     /// Draw the PNG plots of a run folder (energies, momenta; forces and temperatures where recorded).
     Plot {
         /// The run folder (holds energy.csv).
@@ -439,6 +446,13 @@ fn run(cli: Cli) -> Result<()> {
             let p = precision.map(PrecisionChoice::precision);
             let r = swarf::check::check(&any, &sc, p, 5)?;
             print!("{}", swarf::check::format(&sc, &r));
+            Ok(())
+        }
+        Cmd::Neck { run } => {
+            let json = swarf::analysis::neck::to_json(swarf::analysis::neck::run_fracture(&run)?);
+            std::fs::write(run.join("neck.json"), format!("{json}\n"))
+                .map_err(|e| swarf::Error::Output(format!("{}: {e}", run.display())))?;
+            println!("{json}");
             Ok(())
         }
         Cmd::Plot { run } => {

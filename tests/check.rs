@@ -8,7 +8,7 @@ use swarf::scene::Scene;
 fn every_case_checks() {
     let any = AnyBackend::select(BackendChoice::Cpu).expect("cpu").0;
     let mut n = 0;
-    let dirs = ["cases", "cases/cutting", "cases/hard"];
+    let dirs = ["cases", "cases/cutting", "cases/hard", "cases/damage"];
     let paths = dirs.iter().flat_map(|d| std::fs::read_dir(d).unwrap_or_else(|e| panic!("{d}: {e}")));
     for entry in paths {
         let path = entry.expect("entry").path();

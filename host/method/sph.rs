@@ -20,10 +20,18 @@ use crate::{Error, Result};
 
 pub use crate::solver::Setup;
 
-/// The index of prescribed velocity `v` in the table the flags point into, adding it if new.
-fn velocity_index(table: &mut Vec<[f64; 3]>, v: [f64; 3], scene: &Scene) -> Result<usize> {
-    let k = table.iter().position(|t| *t == v).unwrap_or_else(|| {
+/// The index of prescribed velocity `v` with the reversal times `reverse` in the table the flags point into
+/// (`table` and `reversals` side by side), adding it if new.
+fn velocity_index(
+    table: &mut Vec<[f64; 3]>,
+    reversals: &mut Vec<Vec<f64>>,
+    v: [f64; 3],
+    reverse: &[f64],
+    scene: &Scene,
+) -> Result<usize> {
+    let k = (0..table.len()).find(|&k| table[k] == v && reversals[k] == reverse).unwrap_or_else(|| {
         table.push(v);
+        reversals.push(reverse.to_vec());
         table.len() - 1
     });
     if k > flags::VEL_INDEX_MASK as usize {
@@ -47,6 +55,8 @@ struct Initial {
     temperature: Vec<f64>,
     /// The prescribed-velocity table the flags point into.
     table: Vec<[f64; 3]>,
+    /// Each table entry's reversal times (a boundary's `reverse_at`; empty: constant).
+    reversals: Vec<Vec<f64>>,
 }
 
 impl Initial {
@@ -54,6 +64,7 @@ impl Initial {
     fn bodies(scene: &Scene, set: &ParticleSet) -> Result<Initial> {
         let n = set.len();
         let mut table: Vec<[f64; 3]> = Vec::new();
+        let mut reversals: Vec<Vec<f64>> = Vec::new();
         let mut fl = Vec::with_capacity(n);
         // The original code holds every mechanically fixed particle at its initial temperature where it has thermal
         // tool constants (`perform_boundary_conditions_thermal` runs only then): with a thermal tool.
@@ -63,7 +74,10 @@ impl Initial {
             let (kind, idx) = match set.bc[i] {
                 Bc::Free => (flags::FREE, 0),
                 Bc::Fixed => (flags::FIXED, 0),
-                Bc::Velocity(v) => (flags::VELOCITY, velocity_index(&mut table, v, scene)? as u32),
+                Bc::Velocity(v) => {
+                    let reverse = set.bc_source[i].map_or(&[][..], |j| &scene.boundaries[j].reverse_at[..]);
+                    (flags::VELOCITY, velocity_index(&mut table, &mut reversals, v, reverse, scene)? as u32)
+                }
             };
             let held = set.fixed_temperature[i] || (hold_fixed && kind == flags::FIXED);
             let thermal_fix = if held { flags::FIXED_TEMPERATURE } else { 0 };
@@ -77,6 +91,7 @@ impl Initial {
             density: vec![scene.material.density; n],
             temperature: set.temperature.clone(),
             table,
+            reversals,
         })
     }
 
@@ -98,7 +113,7 @@ impl Initial {
             let tp = crate::tool::setup::tool_particles(&tool, t, dx, th.fixed_width);
             let v0 = motion.velocity_at(0.0);
             let v = [t.velocity[0], t.velocity[1], 0.0];
-            let k = velocity_index(&mut self.table, v, scene)?;
+            let k = velocity_index(&mut self.table, &mut self.reversals, v, &[], scene)?;
             tool_velocity_index = (t.ramp > 0.0).then_some(k);
             let body = scene.bodies.len() as u32;
             let rho_t = mat.density.unwrap_or(m.density);
@@ -157,7 +172,7 @@ pub fn setup_with<R: Real, D: TensorOps<R>>(scene: &Scene, tuning: &Tuning) -> R
     let mut init = Initial::bodies(scene, &set)?;
     let (contact, tool_thermal) = init.tool(scene, &set)?;
     let conv = |c: &[f64; 3]| D::Vec::<R>::new(std::array::from_fn(|k| R::from_f64(c[k])));
-    let Initial { flags: fl, pos, vel, mass, density, temperature, table } = init;
+    let Initial { flags: fl, pos, vel, mass, density, temperature, table, reversals } = init;
     let n = pos.len();
     // The mixed precision keeps each coordinate as a pair hi + lo in R: lo is what rounding it to R dropped.
     // f32's only: the f64 corrector has no compensated sum (`sph::step::correct_particle`).
@@ -221,6 +236,7 @@ pub fn setup_with<R: Real, D: TensorOps<R>>(scene: &Scene, tuning: &Tuning) -> R
         params,
         stabilisers,
         bc_velocities: table.iter().map(conv).collect(),
+        bc_reversals: reversals,
         grid,
         dt,
         c0,

@@ -30,6 +30,9 @@ pub struct ParticleSet {
     pub body: Vec<u32>,
     /// Boundary condition of each particle: the last `[[boundary]]` whose region (and body) contains it.
     pub bc: Vec<Bc>,
+    /// The index into [`Scene::boundaries`] of the mechanical boundary that set `bc` (None for `Free`): its
+    /// `reverse_at` times apply to the particle.
+    pub bc_source: Vec<Option<usize>>,
     /// Initial temperature of each particle (K): `physics.initial_temperature`, or a temperature boundary's.
     pub temperature: Vec<f64>,
     /// Held at its temperature by a `kind = "temperature"` boundary.
@@ -189,9 +192,11 @@ pub(super) fn generate(scene: &Scene) -> Result<ParticleSet, SceneError> {
 
     // Boundary conditions: the last entry containing the particle wins.
     let mut bc = vec![Bc::Free; pos.len()];
+    let mut bc_source = vec![None; pos.len()];
     let mut used = vec![false; scene.boundaries.len()];
     if !scene.boundaries.is_empty() {
-        for (p, (&b, (slot, v))) in pos.iter().zip(body.iter().zip(bc.iter_mut().zip(vel.iter_mut()))) {
+        for (i, (p, (&b, (slot, v)))) in pos.iter().zip(body.iter().zip(bc.iter_mut().zip(vel.iter_mut()))).enumerate()
+        {
             for (j, boundary) in scene.boundaries.iter().enumerate() {
                 let contains = boundary.body.is_none_or(|only| only == b as usize)
                     && (0..dim).all(|k| boundary.min[k] <= p[k] && p[k] <= boundary.max[k]);
@@ -202,6 +207,9 @@ pub(super) fn generate(scene: &Scene) -> Result<ParticleSet, SceneError> {
                         BoundaryKind::Velocity { velocity } => Bc::Velocity(velocity),
                         BoundaryKind::Temperature { .. } => *slot,
                     };
+                    if !matches!(boundary.kind, BoundaryKind::Temperature { .. }) {
+                        bc_source[i] = Some(j);
+                    }
                 }
             }
             match *slot {
@@ -242,6 +250,7 @@ pub(super) fn generate(scene: &Scene) -> Result<ParticleSet, SceneError> {
         vel,
         body,
         bc,
+        bc_source,
         temperature,
         fixed_temperature,
         mass: scene.particle_mass(),

@@ -522,6 +522,17 @@ pub struct Boundary {
     /// `body` (optional): restrict to the particles of the body with this name. Stored as the index into
     /// [`Scene::bodies`].
     pub body: Option<usize>,
+    /// `reverse_at` (optional, `kind = "velocity"` only; unit s): increasing times at which the prescribed
+    /// velocity changes sign, a load reversal (the CT specimen's, docs/damage.md). Empty: constant.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub reverse_at: Vec<f64>,
+}
+
+impl Boundary {
+    /// The sign of the prescribed velocity at time `t`: −1 after an odd number of the `reverse_at` times.
+    pub fn sign_at(reverse_at: &[f64], t: f64) -> f64 {
+        if reverse_at.iter().filter(|&&r| r <= t).count() % 2 == 1 { -1.0 } else { 1.0 }
+    }
 }
 
 /// The kind of a boundary condition.

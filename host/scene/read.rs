@@ -307,7 +307,7 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
 
     // [damage]
     let damage = match root.table("damage", "damage", "a table [damage] (docs/damage.md)")? {
-        Some(t) => Some(damage(&t, dim, &material, &physics)?),
+        Some(t) => damage(&t, dim, &material, &physics)?,
         None => None,
     };
 
@@ -333,8 +333,8 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
 }
 
 /// `[damage]`: the model and its constants (the library material's `[damage]` unless given here), G_f, the mask,
-/// deletion and the pre-cracks.
-fn damage(t: &Tab<'_>, dim: usize, material: &Material, physics: &Physics) -> Result<Damage> {
+/// deletion and the pre-cracks; `None` for `enabled = false` (every key still checked, as the stabilisers').
+fn damage(t: &Tab<'_>, dim: usize, material: &Material, physics: &Physics) -> Result<Option<Damage>> {
     use crate::material::DAMAGE_MODEL_NAMES;
     const D_KEYS: [&str; 8] = ["D1", "D2", "D3", "D4", "D5", "D6", "D7", "D8"];
     let mut keys = vec![
@@ -347,10 +347,12 @@ fn damage(t: &Tab<'_>, dim: usize, material: &Material, physics: &Physics) -> Re
         "reference_temperature",
         "melt_temperature",
         "pre_crack",
+        "enabled",
     ];
     keys.extend_from_slice(&D_KEYS);
     t.check_keys(&keys, &[], "")?;
-    if !physics.plasticity {
+    let enabled = t.boolean("enabled", "true or false")?.unwrap_or(true);
+    if enabled && !physics.plasticity {
         return Err(t.invalid(
             "model",
             t.get("model"),
@@ -453,7 +455,7 @@ fn damage(t: &Tab<'_>, dim: usize, material: &Material, physics: &Physics) -> Re
         }
         pre_cracks.push(PreCrack { min, max, damage, omega });
     }
-    Ok(Damage {
+    Ok(enabled.then_some(Damage {
         model,
         constants,
         reference_strain_rate,
@@ -463,7 +465,7 @@ fn damage(t: &Tab<'_>, dim: usize, material: &Material, physics: &Physics) -> Re
         mask,
         delete,
         pre_cracks,
-    })
+    }))
 }
 
 /// `model` (optional, default `"swarf"`): `"swarf"`, `"mfree_iwf"` or a list of the original code's switches
@@ -1293,7 +1295,7 @@ fn dim_of(shape: &str) -> usize {
 }
 
 fn boundary(t: &Tab<'_>, dim: usize, bodies: &[Body]) -> Result<Boundary> {
-    t.check_keys(&["kind", "min", "max", "velocity", "body", "temperature"], &[], "")?;
+    t.check_keys(&["kind", "min", "max", "velocity", "body", "temperature", "reverse_at"], &[], "")?;
     let kind_expected = "\"fixed\", \"velocity\" or \"temperature\"";
     let kind = t.required(
         "kind",
@@ -1339,5 +1341,24 @@ fn boundary(t: &Tab<'_>, dim: usize, bodies: &[Body]) -> Result<Boundary> {
         },
         None => None,
     };
-    Ok(Boundary { kind, min, max, body })
+    let reverse_at = reverse_at(t, &kind)?;
+    Ok(Boundary { kind, min, max, body, reverse_at })
+}
+
+/// `reverse_at` (velocity boundaries only): increasing positive times [s] at which the prescribed velocity
+/// changes sign (a load reversal).
+fn reverse_at(t: &Tab<'_>, kind: &BoundaryKind) -> Result<Vec<f64>> {
+    let Some(node) = t.get("reverse_at") else { return Ok(Vec::new()) };
+    let expected = "an array of increasing positive times in s (kind = \"velocity\" only)";
+    let bad = || t.invalid("reverse_at", Some(node), expected);
+    let Val::Array(items) = &node.val else { return Err(bad()) };
+    if !matches!(kind, BoundaryKind::Velocity { .. }) || items.is_empty() {
+        return Err(bad());
+    }
+    let times: Vec<f64> = items.iter().map(as_number).collect::<Option<_>>().ok_or_else(bad)?;
+    let increasing = times.windows(2).all(|w| w[0] < w[1]);
+    if !increasing || times.iter().any(|x| !x.is_finite() || *x <= 0.0) {
+        return Err(bad());
+    }
+    Ok(times)
 }

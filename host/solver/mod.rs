@@ -96,6 +96,8 @@ pub struct Setup<R: Real, D: TensorOps<R>> {
     pub params: SphParams<R>,
     pub stabilisers: params::StabiliserSettings,
     pub bc_velocities: Vec<D::Vec<R>>,
+    /// Each `bc_velocities` entry's reversal times (a boundary's `reverse_at`; empty: constant).
+    pub bc_reversals: Vec<Vec<f64>>,
     pub grid: GridParams,
     pub dt: f64,
     pub c0: f64,
@@ -252,6 +254,8 @@ pub struct Solver<B: Backend, R: Real, D: TensorOps<R>> {
     params: B::Buf<SphParams<R>>,
     pub host_params: SphParams<R>,
     bc_vel: B::Buf<D::Vec<R>>,
+    /// Load reversals of the prescribed velocities (None when no boundary has `reverse_at`).
+    reversal: Option<Reversal<R, D>>,
     /// Temperature (present with heat or plasticity).
     temp: Option<Field<B, f64>>,
     /// The low parts of the positions (mixed precision): the start position of a step is pos0 + pos_lo, its end
@@ -294,6 +298,30 @@ pub struct Solver<B: Backend, R: Real, D: TensorOps<R>> {
     pub n: usize,
     pub time: f64,
     pub steps: u64,
+}
+
+/// The load reversals of a run: the prescribed-velocity table as set up, each entry's reversal times, and the
+/// signs in force (the table on the device is the base times these signs).
+struct Reversal<R: Real, D: TensorOps<R>> {
+    base: Vec<D::Vec<R>>,
+    times: Vec<Vec<f64>>,
+    signs: Vec<f64>,
+}
+
+impl<R: Real, D: TensorOps<R>> Reversal<R, D> {
+    fn new(setup: &Setup<R, D>) -> Option<Self> {
+        let times = setup.bc_reversals.clone();
+        times.iter().any(|t| !t.is_empty()).then(|| Reversal {
+            base: setup.bc_velocities.clone(),
+            signs: vec![1.0; times.len()],
+            times,
+        })
+    }
+
+    /// Whether a reversal time lies in (t0, t1].
+    fn any_in(&self, t0: f64, t1: f64) -> bool {
+        self.times.iter().flatten().any(|&r| t0 < r && r <= t1)
+    }
 }
 
 /// The phases of a step, in order (`Solver::profile_step` times each).
@@ -552,6 +580,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             params: b.upload(&[setup.params], "SPH parameters")?,
             host_params: setup.params,
             bc_vel: b.upload(&table, "boundary velocities")?,
+            reversal: Reversal::new(setup),
             temp,
             pos_lo: match &setup.pos_lo {
                 Some(lo) => Some(Field::upload(b, lo, "position low parts")?),
@@ -606,6 +635,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
     /// One step of length `dt`.
     pub fn step(&mut self, b: &B, dt: f64) -> Result<()> {
         self.ramp_tool(b, dt)?;
+        self.reverse_loads(b, self.time + 0.5 * dt)?;
         self.fill_scalars(b, dt, 1)?;
         self.step_at(b, dt, 0)?;
         self.plain_steps += 1;
@@ -617,7 +647,9 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
     /// have uploaded the reorder tables: the in-place reorder keeps every buffer's address, so one graph serves).
     pub fn advance(&mut self, b: &B, dt: f64, mut count: usize) -> Result<()> {
         while count > 0 {
-            if self.ramping() || count < GRAPH_STEPS || self.plain_steps < 2 || !self.use_graphs {
+            let batch = (GRAPH_STEPS + 1) as f64 * dt;
+            let reversing = self.reversal.as_ref().is_some_and(|r| r.any_in(self.time - dt, self.time + batch));
+            if reversing || self.ramping() || count < GRAPH_STEPS || self.plain_steps < 2 || !self.use_graphs {
                 self.step(b, dt)?;
                 count -= 1;
                 continue;
@@ -670,6 +702,39 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             let v = c.motion.velocity_at(self.time + 0.5 * dt);
             c.bc_table[k] = D::Vec::<R>::new(v.map(R::from_f64));
             b.write(&mut self.bc_vel, &c.bc_table)?;
+        }
+        Ok(())
+    }
+
+    /// The prescribed velocities with the signs of the boundaries' `reverse_at` at time `t` (a step's midpoint):
+    /// the table is rewritten when a sign changed (in the contact's host copy too, which the ramp rewrites).
+    fn reverse_loads(&mut self, b: &B, t: f64) -> Result<()> {
+        let Some(r) = self.reversal.as_mut() else { return Ok(()) };
+        let signs: Vec<f64> = r.times.iter().map(|ts| crate::scene::Boundary::sign_at(ts, t)).collect();
+        if signs == r.signs {
+            return Ok(());
+        }
+        r.signs = signs;
+        let mut table = self.contact.as_ref().map_or_else(|| r.base.clone(), |c| c.bc_table.clone());
+        for k in (0..r.times.len()).filter(|&k| !r.times[k].is_empty()) {
+            let v = r.base[k];
+            table[k] = D::Vec::<R>::new(std::array::from_fn(|c| R::from_f64(v.get(c).to_f64() * r.signs[k])));
+        }
+        b.write(&mut self.bc_vel, &table)?;
+        // The step moves a prescribed particle with the table's velocity but keeps its own (the initial one), which
+        // its neighbours' velocity gradients read: the reversed particles get the new velocity too.
+        let reversed: Vec<bool> = r.times.iter().map(|ts| !ts.is_empty()).collect();
+        let fl = b.read(&self.particles.flags.cur)?;
+        let mut vel = b.read(&self.particles.vel.cur)?;
+        for (v, f) in vel.iter_mut().zip(&fl) {
+            let k = ((f >> flags::VEL_INDEX_SHIFT) & flags::VEL_INDEX_MASK) as usize;
+            if f & flags::KIND_MASK == flags::VELOCITY && reversed.get(k).copied().unwrap_or(false) {
+                *v = table[k];
+            }
+        }
+        b.write(&mut self.particles.vel.cur, &vel)?;
+        if let Some(c) = self.contact.as_mut() {
+            c.bc_table = table;
         }
         Ok(())
     }
@@ -993,6 +1058,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
     /// every phase) and equal to it in its results.
     pub fn profile_step(&mut self, b: &B, dt: f64) -> Result<[f64; 8]> {
         self.ramp_tool(b, dt)?;
+        self.reverse_loads(b, self.time + 0.5 * dt)?;
         self.fill_scalars(b, dt, 1)?;
         let mut ms = [0.0; 8];
         for (k, ph) in Phase::ALL.into_iter().enumerate() {
@@ -1164,6 +1230,11 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                 c.bc_table[k] = D::Vec::<R>::new([R::from_f64(v[0]), R::from_f64(v[1]), R::ZERO]);
                 b.write(&mut self.bc_vel, &c.bc_table)?;
             }
+        }
+        // The reversals' signs at the restored time (the table on the device is the base until then).
+        if let Some(r) = self.reversal.as_mut() {
+            r.signs.iter_mut().for_each(|s| *s = 0.0);
+            self.reverse_loads(b, self.time)?;
         }
         Ok(())
     }

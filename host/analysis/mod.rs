@@ -1,5 +1,7 @@
 //! Analyses of particle states used by tests and reports.
 
+pub mod neck;
+
 use crate::backend::CpuBackend;
 use crate::grid::{bounding_box, grid_for_support};
 use crate::kernels::vector::V3f64;
