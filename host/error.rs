@@ -47,6 +47,10 @@ pub enum Error {
         "interrupted at t = {time:e} s, step {step}; checkpoint written to {path}; continue with `swarf run --resume {dir}`"
     )]
     Interrupted { time: f64, step: u64, path: String, dir: String },
+    /// The chip analysis of a frame cannot run (no tool, a 3D or rotating cut, a frame without the fields it
+    /// needs); the message names the scene or the file.
+    #[error("chip analysis: {0}")]
+    Chip(String),
     /// A `SWARF_*` tuning switch with a value it does not accept (the message names it and what it accepts).
     #[error("tuning switch: {0}")]
     Tuning(#[from] crate::tuning::TuningError),

@@ -80,9 +80,25 @@ enum Cmd {
     /// Run a scene over the cross product of --grid values (one run folder each); a table (sweep.csv, sweep.md)
     /// and plots (sweep-<key>.png) of each run's summary values against every swept key.
     Sweep(SweepArgs),
+    /// The chip geometry of a 2D cut's frame along the whole chip: thickness profile, h_min/h_max (valleys/crests),
+    /// segment pitch l_seg and frequency, shear-band thickness t_seg, secondary shear layer t_sl, curl radius
+    /// r_chip (Klippel Tab. 9.56's quantities; docs/validation.md, "Chip analysis of a frame").
+    Chip(ChipArgs),
     /// Identify scene or material parameters against measured cutting forces (an identification file: experiments,
     /// parameters with bounds, objective, optimiser); history.csv, report.md, plots and the best material file.
     Identify(IdentifyArgs),
+}
+
+#[derive(clap::Args)]
+struct ChipArgs {
+    /// A run folder (its last frame) or a frame file (.vtu) of one; the folder's scene.toml gives the tool and dx.
+    path: std::path::PathBuf,
+    /// The frame's index in the run folder's particles.pvd (default: the last).
+    #[arg(long)]
+    frame: Option<usize>,
+    /// Print the summary.json entry (JSON) instead of the table.
+    #[arg(long)]
+    json: bool,
 }
 
 #[derive(clap::Args)]
@@ -439,6 +455,7 @@ fn run(cli: Cli) -> Result<()> {
         Cmd::Render(a) => cmd_render(&a),
         Cmd::Sweep(a) => cmd_sweep(cli.backend, &a),
         Cmd::Identify(a) => cmd_identify(cli.backend, &a),
+        Cmd::Chip(a) => cmd_chip(&a),
         Cmd::Check { scene, precision, set } => {
             let sc = load_scene(scene.as_deref(), &set)?;
             let (any, line) = AnyBackend::select(cli.backend)?;
@@ -486,6 +503,25 @@ fn run(cli: Cli) -> Result<()> {
             with_backend!(&any, b => run_bench(b, &a, &sizes))
         }
     }
+}
+
+/// `swarf chip`: the chip geometry of a frame, as a table (with Klippel's Tab. 9.56 for V0060) or JSON.
+fn cmd_chip(a: &ChipArgs) -> Result<()> {
+    if a.frame.is_some() && a.path.is_file() {
+        return Err(swarf::Error::Chip(format!("--frame: {} is a frame file already", a.path.display())));
+    }
+    let r = swarf::cutting::chip_run::analyse_path(&a.path, a.frame)?;
+    if a.json {
+        let v = swarf::cutting::chip_report::json(r.chip.as_ref(), r.time);
+        println!("{}", serde_json::to_string_pretty(&v).map_err(|e| swarf::Error::Output(e.to_string()))?);
+        return Ok(());
+    }
+    println!("{} at t = {:.4e} s (scene {})", r.frame.display(), r.time, r.scene);
+    match &r.chip {
+        Some(c) => print!("{}", swarf::cutting::chip_report::table(c, r.scene.to_lowercase().starts_with("v0060"))),
+        None => println!("no chip: no cross-section of workpiece above the uncut surface at the rake face"),
+    }
+    Ok(())
 }
 
 /// The scene file `path` with `set`, or without one the built-in default scene.

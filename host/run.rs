@@ -642,6 +642,15 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
         if let Some(a) = &cutting {
             self.log.line(&cutting_line(a))?;
         }
+        let chip = self.cut.as_ref().and_then(|c| last_chip(c, scene, &j));
+        if let Some(c) = &chip {
+            let line = crate::cutting::chip_report::line(c);
+            if !opts.quiet {
+                eprintln!("{line}");
+            }
+            self.log.line(&line)?;
+        }
+        let cutting = cutting.map(|a| with_chip_frame(a.json(), chip.as_ref(), j.time));
         let summary = Summary {
             dir: &opts.out_dir,
             overrides: &opts.overrides,
@@ -655,7 +664,7 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
             wall,
             tuning: self.tuning,
         };
-        summary.write(&j.now, &body, &set_centres(scene), cutting.map(|a| a.json()))?;
+        summary.write(&j.now, &body, &set_centres(scene), cutting)?;
         if opts.frames {
             // The plots are a convenience: a failure is reported, never fatal to a finished run.
             match crate::plot::plot_run(&opts.out_dir) {
@@ -1092,6 +1101,32 @@ fn cutting_line(a: &crate::cutting::record::CutAnalysis) -> String {
         .as_ref()
         .and_then(|e| e.at)
         .map_or(String::new(), |(t, s)| format!("; stopped early at t = {t:.3e} s, step {s} (analysis.early_stop)"))
+}
+
+/// The chip geometry of the run's last state along the whole chip (`cutting::chip_frame`), where the run cuts in
+/// 2D with a translating tool and a chip has formed.
+fn last_chip<R: Real, D: TensorOps<R>>(
+    cut: &crate::cutting::record::CutRecorder,
+    scene: &Scene,
+    j: &OutputJob<R, D>,
+) -> Option<crate::cutting::chip_frame::FrameChip> {
+    let setup = cut.frame_setup(scene, j.time).ok()?;
+    let keep: Vec<usize> = (0..j.now.len()).filter(|&i| j.host.flags[i] & flags::THERMAL_ONLY == 0).collect();
+    let pos: Vec<[f64; 2]> = keep.iter().map(|&i| [j.now[i][0], j.now[i][1]]).collect();
+    let eps: Option<Vec<f64>> = j.internal[1].as_ref().map(|e| keep.iter().map(|&i| e[i]).collect());
+    crate::cutting::chip_frame::analyse(&setup, &pos, eps.as_deref())
+}
+
+/// The cutting entries of summary.json with `cutting.chip_frame` (the last state's chip, null without one).
+fn with_chip_frame(
+    mut v: serde_json::Value,
+    chip: Option<&crate::cutting::chip_frame::FrameChip>,
+    time: f64,
+) -> serde_json::Value {
+    if let Some(serde_json::Value::Object(c)) = v.get_mut("cutting") {
+        c.insert("chip_frame".into(), crate::cutting::chip_report::json(chip, time));
+    }
+    v
 }
 
 /// Each body's initial centre (the axis for the footprint radius).

@@ -51,3 +51,15 @@ pub fn prepare(dir: &Path, force: bool) -> Result<usize> {
     }
     Ok(entries.len())
 }
+
+/// The `--set` overrides the run in `dir` was made with: summary.json's, else the checkpoint's, else none (for
+/// reading its `scene.toml` as it ran: `swarf render`, `swarf chip`).
+pub fn overrides(dir: &Path) -> Vec<String> {
+    let from_summary = std::fs::read_to_string(dir.join("summary.json"))
+        .ok()
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+        .and_then(|v| serde_json::from_value::<Vec<String>>(v.get("overrides")?.clone()).ok());
+    from_summary
+        .or_else(|| crate::checkpoint::read(&dir.join("checkpoint.bin")).ok().map(|(h, _)| h.overrides))
+        .unwrap_or_default()
+}

@@ -84,9 +84,9 @@ fn connected_piece(pts: &[[f64; 2]], c: [f64; 2], link: f64) -> Vec<[f64; 2]> {
     out
 }
 
-/// Centroid and unit principal axis (larger eigenvalue of the covariance) of `pts`; None for fewer than 3 points
-/// or an isotropic covariance.
-fn principal_axis(pts: &[[f64; 2]]) -> Option<([f64; 2], [f64; 2])> {
+/// Centroid g and covariance (C_xx, C_yy, C_xy) of `pts` (sums over the points divided by their count); None for
+/// fewer than 3 points.
+pub(crate) fn covariance(pts: &[[f64; 2]]) -> Option<([f64; 2], [f64; 3])> {
     if pts.len() < 3 {
         return None;
     }
@@ -99,6 +99,13 @@ fn principal_axis(pts: &[[f64; 2]]) -> Option<([f64; 2], [f64; 2])> {
         cyy += y * y;
         cxy += x * y;
     }
+    Some((g, [cxx / n, cyy / n, cxy / n]))
+}
+
+/// Centroid and unit principal axis (larger eigenvalue of the covariance) of `pts`; None for fewer than 3 points
+/// or an isotropic covariance.
+pub(crate) fn principal_axis(pts: &[[f64; 2]]) -> Option<([f64; 2], [f64; 2])> {
+    let (g, [cxx, cyy, cxy]) = covariance(pts)?;
     // Isotropic: no axis (the eigenvalue gap √((C_xx − C_yy)² + 4C_xy²) vanishes against the trace).
     if (cxx - cyy).hypot(2.0 * cxy) <= 1e-9 * (cxx + cyy) {
         return None;

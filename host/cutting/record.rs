@@ -80,8 +80,7 @@ impl CutRecorder {
         // A resting tool reports its forces along x and y.
         let dir = if speed > 0.0 { [t.velocity[0] / speed, t.velocity[1] / speed] } else { [1.0, 0.0] };
         let dx = scene.discretisation.dx;
-        let surface_y = pos.iter().map(|p| p[1]).fold(f64::NEG_INFINITY, f64::max) + 0.5 * dx;
-        let uncut = (surface_y - t.position[1]).max(dx);
+        let (surface_y, uncut) = super::chip_run::surface_and_uncut(scene, t.position[1], pos);
         Some(CutRecorder {
             series: TimeSeries::new(out_dir.join("forces.csv"), FORCE_COLUMNS),
             every: scene.output.every / SAMPLES_PER_OUTPUT,
@@ -108,6 +107,12 @@ impl CutRecorder {
             ff: Vec::new(),
             thickness: Vec::new(),
         })
+    }
+
+    /// The frame chip analysis' set-up at `time` ([`super::chip_frame`]): this record's uncut surface, and the
+    /// scene's tool where its motion puts it then. Err as [`super::chip_run::frame_setup`].
+    pub fn frame_setup(&self, scene: &Scene, time: f64) -> Result<super::chip_profile::FrameSetup> {
+        super::chip_run::frame_setup(scene, self.station.surface_y, time)
     }
 
     /// Whether a sample is due at simulated time `t`.

@@ -48,30 +48,14 @@ pub fn crests_valleys(t: &[f64], h: &[f64], prominence: f64) -> Option<Segments>
     if !valid || h.is_empty() {
         return None;
     }
-    let (mut crests, mut valleys): (Vec<(f64, f64)>, Vec<f64>) = (Vec::new(), Vec::new());
-    let (mut hi, mut lo) = ((t[0], h[0]), h[0]);
-    let mut seeking_crest = true;
-    for (&ti, &x) in t.iter().zip(h) {
-        if x > hi.1 {
-            hi = (ti, x);
-        }
-        lo = lo.min(x);
-        if seeking_crest && x < hi.1 - prominence {
-            crests.push(hi);
-            (lo, seeking_crest) = (x, false);
-        } else if !seeking_crest && x > lo + prominence {
-            valleys.push(lo);
-            (hi, seeking_crest) = ((ti, x), true);
-        }
-    }
+    let (crests, valleys) = extrema(h, prominence);
     if crests.is_empty() || valleys.is_empty() {
         return None;
     }
-    let mean = |v: &mut dyn Iterator<Item = f64>, n: usize| v.sum::<f64>() / n as f64;
-    let h_crest = mean(&mut crests.iter().map(|c| c.1), crests.len());
-    let h_valley = mean(&mut valleys.iter().copied(), valleys.len());
+    let mean = |idx: &[usize]| idx.iter().map(|&i| h[i]).sum::<f64>() / idx.len() as f64;
+    let (h_crest, h_valley) = (mean(&crests), mean(&valleys));
     let period = match (crests.first(), crests.last()) {
-        (Some(a), Some(b)) if crests.len() >= 2 => (b.0 - a.0) / (crests.len() - 1) as f64,
+        (Some(&a), Some(&b)) if crests.len() >= 2 => (t[b] - t[a]) / (crests.len() - 1) as f64,
         _ => f64::NAN,
     };
     Some(Segments {
@@ -82,4 +66,31 @@ pub fn crests_valleys(t: &[f64], h: &[f64], prominence: f64) -> Option<Segments>
         degree: (h_crest - h_valley) / h_crest,
         period,
     })
+}
+
+/// The indices of the crests and of the valleys of `h` (finite) found with hysteresis `prominence` (the module
+/// doc's rule, in the order they occur; the first of equal extreme values counts).
+pub fn extrema(h: &[f64], prominence: f64) -> (Vec<usize>, Vec<usize>) {
+    let (mut crests, mut valleys) = (Vec::new(), Vec::new());
+    if h.is_empty() {
+        return (crests, valleys);
+    }
+    let (mut hi, mut lo) = (0, 0);
+    let mut seeking_crest = true;
+    for (i, &x) in h.iter().enumerate() {
+        if x > h[hi] {
+            hi = i;
+        }
+        if x < h[lo] {
+            lo = i;
+        }
+        if seeking_crest && x < h[hi] - prominence {
+            crests.push(hi);
+            (lo, seeking_crest) = (i, false);
+        } else if !seeking_crest && x > h[lo] + prominence {
+            valleys.push(lo);
+            (hi, seeking_crest) = (i, true);
+        }
+    }
+    (crests, valleys)
 }

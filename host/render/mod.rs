@@ -160,7 +160,7 @@ fn open(dir: &Path, warnings: &mut Vec<String>) -> Result<RunFolder> {
         return Err(Error::Output(format!("render: {} lists no frames", pvd_path.display())));
     }
     let frames = entries.into_iter().map(|(t, f)| (t, dir.join(f))).collect();
-    let scene = match Scene::load(dir.join("scene.toml"), &overrides(dir)) {
+    let scene = match Scene::load(dir.join("scene.toml"), &crate::run_folder::overrides(dir)) {
         Ok(s) => Some(s),
         Err(e) => {
             warnings.push(format!("{}: the scene is not read ({e}); the tool is not drawn", dir.display()));
@@ -170,17 +170,6 @@ fn open(dir: &Path, warnings: &mut Vec<String>) -> Result<RunFolder> {
     let folder = dir.file_name().map_or_else(|| dir.display().to_string(), |n| n.to_string_lossy().into_owned());
     let name = scene.as_ref().map_or(folder, |s| s.name.clone());
     Ok(RunFolder { frames, scene, name })
-}
-
-/// The `--set` overrides the run was made with: summary.json's, else the checkpoint's, else none.
-fn overrides(dir: &Path) -> Vec<String> {
-    let from_summary = std::fs::read_to_string(dir.join("summary.json"))
-        .ok()
-        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
-        .and_then(|v| serde_json::from_value::<Vec<String>>(v.get("overrides")?.clone()).ok());
-    from_summary
-        .or_else(|| crate::checkpoint::read(&dir.join("checkpoint.bin")).ok().map(|(h, _)| h.overrides))
-        .unwrap_or_default()
 }
 
 /// The PVD entries to draw.
