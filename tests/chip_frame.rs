@@ -5,6 +5,8 @@
 //! strip; a strip that curls on a circle of known radius. Tolerances are tied to Δx: a lattice resolves a length
 //! to within one spacing.
 
+mod common;
+
 use swarf::backend::{AnyBackend, BackendChoice};
 use swarf::cutting::chip_frame::{FrameChip, analyse};
 use swarf::cutting::chip_profile::FrameSetup;
@@ -230,22 +232,11 @@ fn no_chip_above_the_surface_is_none() {
 // ---------------------------------------------------------------------------------------------------------------
 // A run: summary.json, `swarf chip`, and the errors on bad input
 
-/// The coarse V0060 cut of tests/cutting.rs (Δx = 20 µm) over 60 µs: the tool travels 0.38 mm, past the 3 t1 =
+/// The coarse V0060 cut of tests/common (`coarse_overrides`, Δx = 20 µm) over 60 µs: the tool travels 0.38 mm, past the 3 t1 =
 /// 0.27 mm whose chip is the head the analysis leaves out; with frames; the overrides are recorded as `swarf run --set` records them, so that the run
 /// folder's scene is the one that ran.
 fn coarse_run(tag: &str) -> std::path::PathBuf {
-    let over: Vec<String> = [
-        "discretisation.dx=2.0e-5",
-        "body.0.max=[1.0e-3,2.8e-4]",
-        "boundary.1.max=[1.0e-9,1.4e-4]",
-        "boundary.2.min=[0.9999e-3,-1.0]",
-        "tool.position=[-3.6e-5]",
-        "tool.depth_of_cut=0.9e-4",
-        "time.end=6.0e-5",
-        "output.every=1.5e-5",
-    ]
-    .map(String::from)
-    .to_vec();
+    let over = common::scenes::coarse_overrides(&["time.end=6.0e-5", "output.every=1.5e-5"]);
     let scene = swarf::scene::Scene::load("cases/cutting/v0060.toml", &over).expect("scene");
     let dir = std::env::temp_dir().join(format!("swarf-test-chip-{tag}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);

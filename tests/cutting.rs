@@ -63,20 +63,7 @@ fn dropped_block_penetrates_less_than_a_tenth_of_the_spacing() {
 /// uncut surface.
 #[test]
 fn short_coarse_cut_has_forces_of_the_right_sign_and_order() {
-    let over: Vec<String> = [
-        "discretisation.dx=2.0e-5",
-        "body.0.max=[1.0e-3,2.8e-4]",
-        "boundary.1.max=[1.0e-9,1.4e-4]",
-        "boundary.2.min=[0.9999e-3,-1.0]",
-        "tool.position=[-3.6e-5]",
-        "tool.depth_of_cut=0.9e-4",
-        "time.end=2.4e-5",
-        "output.every=2.4e-6",
-    ]
-    .iter()
-    .map(|s| s.to_string())
-    .collect();
-    let scene = Scene::load("cases/cutting/v0060.toml", &over).expect("scene");
+    let scene = common::scenes::coarse_cut(&["time.end=2.4e-5", "output.every=2.4e-6"]);
     let o = opts("coarse");
     let r = run(&cpu(), &scene, &o).expect("the coarse cut runs to its end without a non-finite value");
     assert!(r.steps > 4000, "{} steps", r.steps);

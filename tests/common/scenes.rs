@@ -66,6 +66,11 @@ pub const STEP_CONTACT: &str = "contact_law = \"step\"\ncontact_damping = 0.0\n"
 
 /// V0060 coarsened to Δx = 20 µm (as tests/cutting.rs's CI cut), 4 µs of cut, with `extra` overrides.
 pub fn coarse_cut(extra: &[&str]) -> Scene {
+    Scene::load("cases/cutting/v0060.toml", &coarse_overrides(extra)).expect("scene")
+}
+
+/// The `--set` overrides of [`coarse_cut`]: V0060 at Δx = 20 µm, 4 µs of cut, then `extra` (a later key wins).
+pub fn coarse_overrides(extra: &[&str]) -> Vec<String> {
     let mut over: Vec<String> = [
         "discretisation.dx=2.0e-5",
         "body.0.max=[1.0e-3,2.8e-4]",
@@ -80,7 +85,7 @@ pub fn coarse_cut(extra: &[&str]) -> Scene {
     .map(|s| s.to_string())
     .collect();
     over.extend(extra.iter().map(|s| s.to_string()));
-    Scene::load("cases/cutting/v0060.toml", &over).expect("scene")
+    over
 }
 
 /// The members: the model, and one change each of friction, material, tool geometry, speed, feed and resolution.
