@@ -70,11 +70,7 @@ pub fn separated(pos: &[[f64; 3]], live: &[bool], radius: f64) -> Result<bool> {
 
 /// Positions and liveness (`damage_mask` ≥ 0; all live without damage) of a frame.
 fn live_particles(f: &ReadFrame) -> (Vec<[f64; 3]>, Vec<bool>) {
-    let p = match &f.points {
-        OwnedValues::F64(v) => v.clone(),
-        OwnedValues::F32(v) => v.iter().map(|&x| x as f64).collect(),
-        _ => Vec::new(),
-    };
+    let p = f.points.floats().unwrap_or_default();
     let pos: Vec<[f64; 3]> = p.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
     let mask = f.point_data.iter().find(|(n, _, _)| n == "damage_mask").map(|(_, _, v)| v);
     let live = match mask {

@@ -93,22 +93,14 @@ type Workpiece = (Vec<[f64; 2]>, Option<Vec<f64>>);
 /// The workpiece particles' (x, y) (body index below `bodies`: not the tool's thermal particles) and their
 /// plastic strain where the frame has it; Err names what the frame lacks.
 fn workpiece(f: &vtu::ReadFrame, bodies: usize) -> std::result::Result<Workpiece, String> {
-    let xyz = f64s(&f.points).ok_or("the points are not floating point")?;
+    let xyz = f.points.floats().ok_or("the points are not floating point")?;
     let body = match f.point_data.iter().find(|a| a.0 == "body") {
         Some((_, 1, vtu::OwnedValues::U32(b))) => b.clone(),
         _ => return Err("no \"body\" array (UInt32) in the frame".into()),
     };
-    let eps = f.point_data.iter().find(|a| a.0 == "plastic_strain" && a.1 == 1).and_then(|a| f64s(&a.2));
+    let eps = f.point_data.iter().find(|a| a.0 == "plastic_strain" && a.1 == 1).and_then(|a| a.2.floats());
     let keep = |i: &usize| (body[*i] as usize) < bodies && xyz[3 * i + 2] == 0.0;
     let idx: Vec<usize> = (0..f.n).filter(keep).collect();
     let pos = idx.iter().map(|&i| [xyz[3 * i], xyz[3 * i + 1]]).collect();
     Ok((pos, eps.map(|e| idx.iter().map(|&i| e[i]).collect())))
-}
-
-fn f64s(v: &vtu::OwnedValues) -> Option<Vec<f64>> {
-    match v {
-        vtu::OwnedValues::F64(v) => Some(v.clone()),
-        vtu::OwnedValues::F32(v) => Some(v.iter().map(|&x| f64::from(x)).collect()),
-        _ => None,
-    }
 }

@@ -150,6 +150,15 @@ impl OwnedValues {
         self.len() == 0
     }
 
+    /// The values as f64 when they are floating point (`F32` widened exactly); `None` for integers.
+    pub fn floats(&self) -> Option<Vec<f64>> {
+        match self {
+            OwnedValues::F64(v) => Some(v.clone()),
+            OwnedValues::F32(v) => Some(v.iter().map(|&x| f64::from(x)).collect()),
+            _ => None,
+        }
+    }
+
     pub fn as_values(&self) -> Values<'_> {
         match self {
             OwnedValues::F32(v) => Values::F32(v),

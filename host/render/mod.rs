@@ -202,11 +202,7 @@ fn refuse_3d(what: &Path, why: &str) -> Error {
 
 /// The frame's positions in the plane; `None` if any particle has z ≠ 0 (a 3D frame).
 fn planar(frame: &vtu::ReadFrame) -> Option<Vec<[f64; 2]>> {
-    let xyz: Vec<f64> = match &frame.points {
-        vtu::OwnedValues::F64(v) => v.clone(),
-        vtu::OwnedValues::F32(v) => v.iter().map(|&x| f64::from(x)).collect(),
-        _ => return None,
-    };
+    let xyz = frame.points.floats()?;
     xyz.chunks(3).map(|p| (p[2] == 0.0).then_some([p[0], p[1]])).collect()
 }
 

@@ -710,11 +710,12 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
     /// the table is rewritten when a sign changed (in the contact's host copy too, which the ramp rewrites).
     fn reverse_loads(&mut self, b: &B, t: f64) -> Result<()> {
         let Some(r) = self.reversal.as_mut() else { return Ok(()) };
-        let signs: Vec<f64> = r.times.iter().map(|ts| crate::scene::Boundary::sign_at(ts, t)).collect();
-        if signs == r.signs {
+        let sign = |ts: &[f64]| crate::scene::Boundary::sign_at(ts, t);
+        // Compared in place: no allocation on the steps without a reversal.
+        if r.times.iter().zip(&r.signs).all(|(ts, &s)| sign(ts) == s) {
             return Ok(());
         }
-        r.signs = signs;
+        r.signs = r.times.iter().map(|ts| sign(ts)).collect();
         let mut table = self.contact.as_ref().map_or_else(|| r.base.clone(), |c| c.bc_table.clone());
         for k in (0..r.times.len()).filter(|&k| !r.times[k].is_empty()) {
             let v = r.base[k];
