@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
+# ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine tool3d whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -186,6 +186,25 @@ for p in $parts; do
                 cat /tmp/table22/$c/sweep.md
             done
             tar czf "$out/table22.tgz" --exclude='*.vtu' --exclude='*.png' -C /tmp table22 ;;
+        tool3d) # issue 24: V0060 extruded in z (cases/3d/orthogonal-v0060.toml, 22.6k particles, the parametric tool's
+                # prism) whole beside the 2D V0060 (the default scene), each bounded by SWARF_TOOL3D_S s (default 300;
+                # SIGINT keeps what was written): F_c and F_f per mm of width, wall time; tool3d.tgz (summaries,
+                # forces.csv, energy.csv)
+            tool3d() {
+                local d=/tmp/tool3d lim=${SWARF_TOOL3D_S:-300}
+                rm -rf $d; mkdir -p $d
+                for c in cases/cutting/v0060.toml cases/3d/orthogonal-v0060.toml; do
+                    local name; name=$(basename "$c" .toml)-$(basename "$(dirname "$c")")
+                    local t0; t0=$(date +%s.%N)
+                    timeout -s INT "$lim" "$here/swarf" --backend gpu run "$c" --quiet --out "$d/$name"
+                    local rc=$?
+                    echo "== $name rc=$rc wall $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { print b - a }') s"
+                    cat "$d/$name/summary.json" 2>/dev/null | grep -E '"(fc|ff)_n_per_mm"|"particles"|"steps"' | head -6
+                    tail -n 2 "$d/$name/forces.csv"
+                done
+                tar czf "$out/tool3d.tgz" -C $d --exclude='*.vtu' --exclude='*.vtp' --exclude='*.pvd' .
+            }
+            run tool3d tool3d ;;
         damage25|damage25fine) # issue 25 item 5 (docs/damage.md, "Scenes"). damage25: the CT specimen with the mask, without
                   # it and with load reversal; the SHTB, classic JC and JC-GG (fracture strain and diameter by
                   # `swarf neck`); V0060 with damage at 10 and 5 µm; Ducobu at 9.3 µm, 4 flow models × damage on/off

@@ -43,6 +43,8 @@ pub fn grid_with_cell(lo: [f64; 3], hi: [f64; 3], dim: usize, cell: f64, stencil
         cell_size: cell,
         inv_cell: 1.0 / cell,
         skin: 0.0,
+        period: 0.0,
+        inv_period: 0.0,
         dims,
         n_cells: total as u32,
         stencil,
@@ -76,6 +78,42 @@ pub fn grid_with_skin(lo: [f64; 3], hi: [f64; 3], dim: usize, support_radius: f6
     let mut g = grid_for_support(lo, hi, dim, support_radius + skin, 2)?;
     g.skin = skin;
     Ok(g)
+}
+
+/// `g` made periodic in z with period `period` (3D): its cells grow to the smallest size ≥ its own that tiles the
+/// period exactly, P / ⌊P / cell⌋ (x and y re-tiled over the same box), and the period needs at least 2s + 1 such
+/// cells for the stencil's wrapped rows to be distinct (s: the stencil), which also keeps every pair within the
+/// support to one image (P > 2 · support).
+pub fn periodic_z(g: &GridParams, hi: [f64; 3], period: f64) -> Result<GridParams> {
+    if g.dim != 3 {
+        return Err(Error::Grid("a period in z needs a 3D grid".into()));
+    }
+    let cells = (period / g.cell_size).floor();
+    let need = 2 * g.stencil + 1;
+    if !(period.is_finite() && cells >= need as f64) {
+        return Err(Error::Grid(format!(
+            "the period in z, {period:e} m, must hold at least {need} cells of {:e} m (2h + skin over the stencil \
+             {}): {:e} m or more",
+            g.cell_size,
+            g.stencil,
+            need as f64 * g.cell_size
+        )));
+    }
+    let cell = period / cells;
+    let lo = g.origin;
+    let mut p = grid_with_cell(lo, [hi[0], hi[1], lo[2]], 3, cell, g.stencil)?;
+    p.dims[2] = cells as u32;
+    let total = p.dims.iter().map(|&d| d as u64).product::<u64>();
+    if total > MAX_CELLS {
+        return Err(Error::Grid(format!("{total} cells exceed the limit of {MAX_CELLS}")));
+    }
+    p.n_cells = total as u32;
+    p.skin = g.skin;
+    p.period = period;
+    p.inv_period = 1.0 / period;
+    p.list_capacity = g.list_capacity;
+    p.list_stride = g.list_stride;
+    Ok(p)
 }
 
 /// Bounding box of the finite positions (zero box if there are none).

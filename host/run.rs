@@ -338,7 +338,7 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
         let cut = match &scene.tool {
             Some(t) => crate::cutting::record::CutRecorder::new(
                 scene,
-                crate::tool::setup::build_tool(t)?,
+                t.mesh.is_none().then(|| crate::tool::setup::build_tool(t)).transpose()?,
                 &plan.workpiece,
                 &opts.out_dir,
             ),
@@ -855,8 +855,8 @@ struct OutputJob<R: Real, D: TensorOps<R>> {
     /// The field registry's frame fields (`Solver::download_frame_fields`), when frames are written.
     fields: Vec<FrameField>,
     now: Vec<[f64; 3]>,
-    /// The tool's outline in the world, with a tool (written beside the frame).
-    tool: Option<Vec<[f64; 3]>>,
+    /// The tool in the world, with a tool (written beside the frame).
+    tool: Option<crate::tool::Picture>,
     /// Every particle's position at t = 0 by id.
     initial: std::sync::Arc<Vec<[f64; 3]>>,
     /// The closest-pair search radius (2h).
@@ -938,10 +938,13 @@ impl<R: Real, D: TensorOps<R>> OutputJob<R, D> {
             let temp = internal[0].as_deref();
             write_frame(&dir.join(&name), *encoding, h5, host, temp, fields, params, time, steps)?;
             f.pvd.push(time, name).map_err(|e| io_err(f.pvd.path(), e))?;
-            if let Some(outline) = tool {
+            if let Some(picture) = tool {
                 let name = format!("tool_{index:05}.vtp");
-                crate::output::vtp::write_outline(&dir.join(&name), time, outline)
-                    .map_err(|e| io_err(&dir.join(&name), e))?;
+                let written = match picture {
+                    crate::tool::Picture::Outline(p) => crate::output::vtp::write_outline(&dir.join(&name), time, p),
+                    crate::tool::Picture::Surface(p) => crate::output::vtp::write_surface(&dir.join(&name), time, p),
+                };
+                written.map_err(|e| io_err(&dir.join(&name), e))?;
                 f.pvd.push_part(time, 1, name).map_err(|e| io_err(f.pvd.path(), e))?;
             }
             f.pvd.write().map_err(|e| io_err(f.pvd.path(), e))?;

@@ -223,10 +223,10 @@ fn argument_structs_match_the_entries_parameter_blocks() {
         } else if name == format!("swarf_step_predict_{variant}") || name == format!("swarf_step_predict_{variant}_dmg")
         {
             Some(by_variant!(variant, PredictArgs))
-        } else if name == "swarf_contact_2d_f32" {
-            Some(block::<ContactArgs<f32, Dim2>>())
-        } else if name == "swarf_contact_2d_f64" {
-            Some(block::<ContactArgs<f64, Dim2>>())
+        } else if name == format!("swarf_contact_{variant}") {
+            Some(by_variant!(variant, ContactArgs, *const swarf::kernels::contact::Tool2d))
+        } else if name == format!("swarf_contact_mesh_{variant}") {
+            Some(by_variant!(variant, ContactArgs, swarf::kernels::contact::MeshTool<'static>))
         } else if let Some(tag) = name.strip_prefix("swarf_plastic_") {
             plastic(tag.trim_end_matches("_dmg").trim_end_matches(&format!("_{variant}")), variant)
         } else if name == format!("swarf_step_finish_{variant}") {
@@ -250,10 +250,11 @@ fn argument_structs_match_the_entries_parameter_blocks() {
         // 4 variants × (8 stabiliser combinations × plain and fused × without and with damage + the elastic
         // corrector + one plastic corrector and one plastic pass per flow-stress model without and with damage +
         // density, 4 pre-passes and the predictor each without and with damage, 2 conductions + hash, hash-count,
-        // neighbour list, Verlet list) + the 2D contact in 2 precisions + 9
+        // neighbour list, Verlet list) + the contact with the parametric tool in 2D and 3D and with a mesh tool in 3D,
+        // each in 2 precisions + 9
         // neighbour entries without variants (zero, scatter, sort, 3 gathers, gather_fields, 2 scans).
         let models = swarf::kernels::pass::FLOW_MODEL_TAGS.len();
-        assert_eq!(checked, 4 * (32 + 1 + 4 * models + 13 + 4) + 2 + 9, "{target}: entries checked");
+        assert_eq!(checked, 4 * (32 + 1 + 4 * models + 13 + 4) + 6 + 9, "{target}: entries checked");
     }
 }
 
@@ -362,8 +363,8 @@ fn every_pass_names_its_own_entry() {
             check!(Finish<$r, $d>, $name);
             position += 1;
         };
-        (contact, $name:expr, $r:ident, $d:ident) => {
-            check!(Contact<$r>, $name);
+        (contact, $name:expr, $r:ident, $d:ident, $tool:ident) => {
+            check!(Contact<$r, $d, swarf::kernels::contact_tool!($tool)>, $name);
             position += 1;
         };
         (heat, $name:expr, $r:ident, $d:ident, $pse:literal) => {

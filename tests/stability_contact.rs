@@ -62,7 +62,7 @@ fn run_contact_with(path: &str, mu: f64, more: &[&str]) -> ContactRun {
     let scene = Scene::load(path, &over).expect("scene");
     let dx = scene.discretisation.dx;
     let tool = swarf::cutting::setup::build_tool(scene.tool.as_ref().expect("tool")).expect("tool");
-    assert_eq!(scene.tool.as_ref().unwrap().velocity, [0.0, 0.0], "a resting tool: forces.csv reports F_x, -F_y");
+    assert_eq!(scene.tool.as_ref().unwrap().velocity, [0.0, 0.0, 0.0], "a resting tool: forces.csv reports F_x, -F_y");
     let mut depth = 0.0f64;
     let mut snaps = Vec::new();
     let mut obs = |s: &Snapshot| {

@@ -7,7 +7,7 @@ use super::{
     Backend, Buffer, ContactInputs, DamageBufs, Element, FieldsMut, FusedContact, FusedHeat, FusedPrepare, HeatInputs,
     PlasticInputs, PlasticPass, PrepassDamageBufs, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields,
 };
-use crate::kernels::contact::{ContactParams, Tool2d};
+use crate::kernels::contact::{ContactParams, Tool2d, ToolArg};
 use crate::kernels::damage::DamageParams;
 use crate::kernels::neighbour::GridParams;
 use crate::kernels::pass::{
@@ -19,7 +19,7 @@ use crate::kernels::sph::interact::{Arrays, PrepassDamage};
 use crate::kernels::sph::plastic::PlasticConsts;
 use crate::kernels::sph::step::StepScalars;
 use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers};
-use crate::kernels::{Dim, Dim2, Real};
+use crate::kernels::{Dim, Real};
 use crate::{Error, Result};
 
 /// An error unless a buffer of `len` elements holds the `n` a pass reads or writes.
@@ -144,6 +144,11 @@ pub fn scalars_ptr<B: Backend>(b: &B, s: &ScalarsAt<'_, B>) -> Result<*const Ste
     Ok((b.address(s.buf) as *const StepScalars).wrapping_add(s.index))
 }
 
+/// The address of the parametric tool's one copy (the contact pass's `*const Tool2d` argument).
+pub fn tool_ptr<B: Backend>(b: &B, tool: &B::Buf<Tool2d>) -> Result<*const Tool2d> {
+    input(b, "the tool's shape", 1, tool)
+}
+
 /// The addresses of the fields a step integrates, each checked to hold n particles.
 pub fn step_ptrs<B: Backend, R: Real, D: Dim>(b: &B, n: usize, f: StepFields<'_, B, R, D>) -> Result<StepPtrs<R, D>> {
     let (temp, temp0, temp_t) = match (f.temp, f.conduction) {
@@ -247,7 +252,7 @@ pub fn finish_plastic_args<B: Backend, R: Real, D: Dim, M>(
             return Err(Error::Length { op: "step_finish (the friction cap's yield stresses)", expected: 1, got: 0 });
         }
         a.contact = input(b, "contact parameters", 1, c.params)?;
-        a.contact_tool = input(b, "the tool's shape", 1, c.tool)?;
+        a.contact_tool = tool_ptr(b, c.tool)?;
         a.mass = input(b, "mass", n, c.mass)?;
         a.normal = output(b, "normal", n, c.normal)?;
         a.friction = output(b, "friction", n, c.friction)?;
@@ -495,23 +500,24 @@ pub fn plastic_args<B: Backend, R: Real, D: Dim, M>(
     })
 }
 
-/// The standalone contact pass's arguments ([`super::Passes::contact`]; the parametric tool is 2D, so the
-/// scene's vectors are 2D vectors: the pointers are cast after the check).
-pub fn contact_args<B: Backend, R: Real, D: Dim>(
+/// The standalone contact pass's arguments ([`super::Passes::contact`]) with the tool argument `tool`, for the
+/// entry of dimension `E`: the scene's `D` (the parametric tool) or `Dim3` (a mesh tool, whose entries are 3D
+/// only); the vectors' pointers are cast after the dimensions are checked equal.
+pub fn contact_args<B: Backend, R: Real, D: Dim, E: Dim, T: ToolArg>(
     b: &B,
     n: usize,
     params: &B::Buf<ContactParams>,
-    tool: &B::Buf<Tool2d>,
+    tool: T,
     s: &ScalarsAt<'_, B>,
     a: ContactInputs<'_, B, R, D>,
-) -> Result<ContactArgs<R, Dim2>> {
-    if D::D != 2 {
-        return Err(Error::Length { op: "contact (the parametric tool is 2D)", expected: 2, got: D::D });
+) -> Result<ContactArgs<R, E, T>> {
+    if D::D != E::D {
+        return Err(Error::Length { op: "contact (a mesh tool is 3D)", expected: E::D, got: D::D });
     }
     Ok(ContactArgs {
         n: count(n)?,
         params: input(b, "contact parameters", 1, params)?,
-        tool: input(b, "contact (the tool's shape)", 1, tool)?,
+        tool,
         scalars: scalars_ptr(b, s)?,
         pos: input(b, "pos", n, a.pos)?.cast(),
         vel: input(b, "vel", n, a.vel)?.cast(),

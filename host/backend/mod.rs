@@ -7,6 +7,7 @@ pub mod args;
 pub mod cpu;
 pub mod cuda;
 pub mod passes;
+pub mod tool;
 
 use crate::Result;
 use crate::kernels::damage::DamageParams;
@@ -21,6 +22,7 @@ use bytemuck::Pod;
 pub use cpu::CpuBackend;
 pub use cuda::CudaBackend;
 pub use passes::Passes;
+pub use tool::{DeviceMesh, DeviceTool};
 
 /// A typed array in the backend's memory.
 pub trait Buffer<T>: Send + Sync {

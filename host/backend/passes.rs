@@ -6,11 +6,12 @@
 //! checked against the table when it compiles.
 
 use super::args::{self, PrepareBufs, check_len};
+use super::tool::DeviceTool;
 use super::{
     Backend, Buffer, ContactInputs, FieldsMut, FusedContact, FusedHeat, FusedPrepare, HeatInputs, PlasticInputs,
     PlasticPass, PrepassDamageBufs, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields,
 };
-use crate::kernels::contact::{ContactParams, Tool2d};
+use crate::kernels::contact::{ContactParams, MeshTool, Tool2d};
 use crate::kernels::neighbour::GridParams;
 use crate::kernels::pass::{
     Contact, Density, Finish, FinishPlastic, Hash, Heat, NeighbourList, Plastic, Predict, Prepare, RatesPass, Verlet,
@@ -19,7 +20,7 @@ use crate::kernels::sph::heat::HeatParams;
 use crate::kernels::sph::params::flags::BODY_SHIFT;
 use crate::kernels::sph::plastic::PlasticConsts;
 use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers, TensorOps};
-use crate::kernels::{Dim, Real};
+use crate::kernels::{Dim, Dim3, Real};
 use crate::material::FlowModel;
 use crate::{Error, Result};
 
@@ -383,12 +384,13 @@ pub trait Passes: Backend {
         })
     }
 
-    /// The contact pass with the rigid 2D tool (`contact::penalty::contact_particle`); 2D only.
+    /// The contact pass with a rigid tool (`contact::penalty::contact_particle`): the parametric tool in 2D or 3D,
+    /// a mesh tool in 3D.
     fn contact<R: Real, D: Dim>(
         &self,
         n: usize,
         params: &Self::Buf<ContactParams>,
-        tool: &Self::Buf<Tool2d>,
+        tool: &DeviceTool<Self>,
         s: ScalarsAt<'_, Self>,
         a: ContactInputs<'_, Self, R, D>,
     ) -> Result<()> {
@@ -396,9 +398,19 @@ pub trait Passes: Backend {
         if let Some(m) = a.materials {
             check_bodies(self, "contact materials", n, a.flags, m.len())?;
         }
-        let a = args::contact_args(self, n, params, tool, &s, a)?;
-        // SAFETY: the builder checked the lengths (and that the scene is 2D), the bodies are checked above.
-        unsafe { self.launch::<Contact<R>>(&a) }
+        match tool {
+            DeviceTool::Prism(t) => {
+                let t = args::tool_ptr(self, t)?;
+                let a = args::contact_args::<_, R, D, D, _>(self, n, params, t, &s, a)?;
+                // SAFETY: the builder checked the lengths, the bodies are checked above.
+                unsafe { self.launch::<Contact<R, D, *const Tool2d>>(&a) }
+            }
+            DeviceTool::Mesh(m) => {
+                let a = args::contact_args::<_, R, D, Dim3, _>(self, n, params, m.tool(self), &s, a)?;
+                // SAFETY: the builder checked the lengths and that the scene is 3D; the mesh's buffers are live.
+                unsafe { self.launch::<Contact<R, Dim3, MeshTool<'static>>>(&a) }
+            }
+        }
     }
 }
 

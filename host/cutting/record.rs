@@ -20,7 +20,7 @@ use crate::scene::Scene;
 use crate::{Error, Result};
 use std::path::Path;
 
-/// Columns of `forces.csv`.
+/// Columns of `forces.csv` (3D runs add [`FORCE_COLUMNS_3D`]).
 pub const FORCE_COLUMNS: &[&str] = &[
     "time",
     "step",
@@ -32,6 +32,16 @@ pub const FORCE_COLUMNS: &[&str] = &[
     "tool_x",
     "friction_ratio",
 ];
+
+/// The columns a 3D run adds to `forces.csv`: the tool's total force on the workpiece [N] and its moment [N·m]
+/// about the tool's reference point (the rotation axis' point o + c of a rotating tool, else the frame origin o).
+pub const FORCE_COLUMNS_3D: &[&str] = &["fx_n", "fy_n", "fz_n", "mx_n_m", "my_n_m", "mz_n_m"];
+
+/// The columns of `forces.csv` in dimension `dim`.
+pub fn force_columns(dim: usize) -> Vec<&'static str> {
+    let extra = if dim == 3 { FORCE_COLUMNS_3D } else { &[] };
+    FORCE_COLUMNS.iter().chain(extra).copied().collect()
+}
 
 /// The scalar results a cutting run adds to summary.json (the keys of [`CutAnalysis::json`]): the observables
 /// `swarf study` compares and `[experiment]` may give measured values for; declared with the scene's observables.
@@ -54,9 +64,18 @@ pub struct CutRecorder {
     pub series: TimeSeries,
     every: f64,
     next: f64,
-    dir: [f64; 2],
-    up: [f64; 2],
-    station: Station,
+    dir: [f64; 3],
+    up: [f64; 3],
+    /// Width of the cut [m]: 1 in 2D (forces per unit depth), the workpiece's extent in z plus dx in 3D.
+    width: f64,
+    /// 3D: the total force and moment columns too.
+    three_d: bool,
+    /// Where the chip thickness is measured; None for a mesh tool (no rake face: no thickness).
+    station: Option<Station>,
+    /// The chip thickness' quantisation step, dx.
+    spacing: f64,
+    /// The uncut surface's height [m].
+    surface_y: f64,
     /// Uncut chip thickness t1 [m] and cutting speed v_c [m/s].
     uncut: f64,
     speed: f64,
@@ -72,29 +91,47 @@ pub struct CutRecorder {
 }
 
 impl CutRecorder {
-    /// The recorder of a scene with a tool (None without one). `pos` are the initial particle positions of the
-    /// workpiece bodies (the uncut surface is their highest point plus dx/2).
-    pub fn new(scene: &Scene, tool: Tool2d, pos: &[[f64; 3]], out_dir: &Path) -> Option<CutRecorder> {
+    /// The recorder of a scene with a tool (None without one); `tool` is the parametric tool (None: a mesh tool,
+    /// whose chip thickness is not measured). `pos` are the initial particle positions of the workpiece bodies
+    /// (the uncut surface is their highest point plus dx/2; in 3D their z extent plus dx is the cut's width).
+    ///
+    /// F_c = F·u/w and F_f = −F·e/w (×1e-3: N/mm), u the unit cutting velocity, e = (−u_y, u_x, 0)/|…| the
+    /// direction +90° from it in the x–y plane (out of the workpiece for a tool cutting in +x), w the width.
+    pub fn new(scene: &Scene, tool: Option<Tool2d>, pos: &[[f64; 3]], out_dir: &Path) -> Option<CutRecorder> {
         let t = scene.tool.as_ref()?;
-        let speed = t.velocity[0].hypot(t.velocity[1]);
+        let v = t.velocity;
+        let speed = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
         // A resting tool reports its forces along x and y.
-        let dir = if speed > 0.0 { [t.velocity[0] / speed, t.velocity[1] / speed] } else { [1.0, 0.0] };
+        let dir = if speed > 0.0 { v.map(|c| c / speed) } else { [1.0, 0.0, 0.0] };
+        let planar = dir[0].hypot(dir[1]);
+        let up = if planar > 0.0 { [-dir[1] / planar, dir[0] / planar, 0.0] } else { [0.0, 1.0, 0.0] };
         let dx = scene.discretisation.dx;
+        let three_d = scene.dim == 3;
+        let width = if three_d {
+            let (lo, hi) = pos.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| (l.min(p[2]), h.max(p[2])));
+            if hi >= lo { hi - lo + dx } else { dx }
+        } else {
+            1.0
+        };
         let (surface_y, uncut) = super::chip_run::surface_and_uncut(scene, t.position[1], pos);
         Some(CutRecorder {
-            series: TimeSeries::new(out_dir.join("forces.csv"), FORCE_COLUMNS),
+            series: TimeSeries::new(out_dir.join("forces.csv"), &force_columns(scene.dim)),
             every: scene.output.every / SAMPLES_PER_OUTPUT,
             next: 0.0,
             dir,
-            up: [-dir[1], dir[0]],
-            station: Station {
+            up,
+            width,
+            three_d,
+            station: tool.map(|tool| Station {
                 rake_point: tool.rake_tangent(),
                 rake_angle: tool.rake_angle,
                 surface_y,
                 station: t.chip_station.unwrap_or(2.0 * uncut),
                 half_width: dx,
                 spacing: dx,
-            },
+            }),
+            spacing: dx,
+            surface_y,
             uncut,
             speed,
             min_time: time_to_travel(MIN_TRANSIENT_UNCUT * uncut, speed, t.ramp),
@@ -112,7 +149,7 @@ impl CutRecorder {
     /// The frame chip analysis' set-up at `time` ([`super::chip_frame`]): this record's uncut surface, and the
     /// scene's tool where its motion puts it then. Err as [`super::chip_run::frame_setup`].
     pub fn frame_setup(&self, scene: &Scene, time: f64) -> Result<super::chip_profile::FrameSetup> {
-        super::chip_run::frame_setup(scene, self.station.surface_y, time)
+        super::chip_run::frame_setup(scene, self.surface_y, time)
     }
 
     /// Whether a sample is due at simulated time `t`.
@@ -128,12 +165,14 @@ impl CutRecorder {
     /// Takes a sample of the tool's state (`method::Method::tool_sample`).
     pub fn sample(&mut self, c: &ToolSample) -> Result<()> {
         let offset = c.offset;
-        let mut st = self.station;
-        st.rake_point = [st.rake_point[0] + offset[0], st.rake_point[1] + offset[1]];
-        let h = chip_thickness_normal(&st, c.workpiece.iter().copied());
-        let fc = 1e-3 * (c.force[0] * self.dir[0] + c.force[1] * self.dir[1]);
-        let ff = 0.0 - 1e-3 * (c.force[0] * self.up[0] + c.force[1] * self.up[1]);
-        self.push(&[
+        let h = self.station.and_then(|mut st| {
+            st.rake_point = [st.rake_point[0] + offset[0], st.rake_point[1] + offset[1]];
+            chip_thickness_normal(&st, c.workpiece.iter().copied())
+        });
+        let along = |d: &[f64; 3]| c.force[0] * d[0] + c.force[1] * d[1] + c.force[2] * d[2];
+        let fc = 1e-3 * along(&self.dir) / self.width;
+        let ff = 0.0 - 1e-3 * along(&self.up) / self.width;
+        let mut row = vec![
             c.time,
             c.steps as f64,
             fc,
@@ -143,7 +182,12 @@ impl CutRecorder {
             c.wear_rate,
             offset[0],
             c.friction_ratio,
-        ])?;
+        ];
+        if self.three_d {
+            row.extend(c.force);
+            row.extend(c.moment);
+        }
+        self.push(&row)?;
         Ok(())
     }
 
@@ -202,8 +246,8 @@ impl CutRecorder {
         let chip_w = find(&ht, &hv, self.min_time, MAX_DRIFT);
         let chip_part = chip_w.map_or(&[][..], |w| &hv[w.start..]);
         let chip = chip_geometry(&chip_part.iter().map(|&h| Some(h)).collect::<Vec<_>>());
-        let segments = chip_w
-            .and_then(|w| crests_valleys(&ht[w.start..], &hv[w.start..], SEGMENT_PROMINENCE_DX * self.station.spacing));
+        let segments =
+            chip_w.and_then(|w| crests_valleys(&ht[w.start..], &hv[w.start..], SEGMENT_PROMINENCE_DX * self.spacing));
         CutAnalysis {
             steady: fc_w.map(|w| Steady {
                 start: w.start,

@@ -57,7 +57,7 @@ pub struct Output<R: Real, D: TensorOps<R>> {
     pub fields: Vec<crate::solver::fields::FrameField>,
     pub positions: Vec<[f64; 3]>,
     /// The tool's outline in the world at this instant (a closed polyline), with a tool.
-    pub tool: Option<Vec<[f64; 3]>>,
+    pub tool: Option<crate::tool::Picture>,
     /// The equation-of-state parameters the frame's pressure is computed with.
     pub params: SphParams<R>,
 }

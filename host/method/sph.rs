@@ -74,6 +74,7 @@ impl Initial {
             let (kind, idx) = match set.bc[i] {
                 Bc::Free => (flags::FREE, 0),
                 Bc::Fixed => (flags::FIXED, 0),
+                Bc::Plane => (flags::PLANE, 0),
                 Bc::Velocity(v) => {
                     let reverse = set.bc_source[i].map_or(&[][..], |j| &scene.boundaries[j].reverse_at[..]);
                     (flags::VELOCITY, velocity_index(&mut table, &mut reversals, v, reverse, scene)? as u32)
@@ -100,7 +101,7 @@ impl Initial {
     fn tool(&mut self, scene: &Scene, set: &ParticleSet) -> Result<(Option<ContactSetup>, Option<ThermalMaterial>)> {
         let Some(t) = &scene.tool else { return Ok((None, None)) };
         let m = &scene.material;
-        let tool = crate::tool::setup::build_tool(t)?;
+        let tool = crate::tool::setup::shape(t)?;
         let motion = crate::tool::setup::motion(t);
         crate::tool::setup::check_engagement(scene, &tool, &motion, &set.pos, &set.vel)?;
         let model = flow_model(scene);
@@ -110,7 +111,7 @@ impl Initial {
             && let Some(mat) = th.material.as_ref().and_then(|m| m.thermal)
         {
             let dx = scene.discretisation.dx;
-            let tp = crate::tool::setup::tool_particles(&tool, t, dx, th.fixed_width);
+            let tp = crate::tool::setup::tool_particles(&crate::tool::setup::build_tool(t)?, t, dx, th.fixed_width);
             let v0 = motion.velocity_at(0.0);
             let v = [t.velocity[0], t.velocity[1], 0.0];
             let k = velocity_index(&mut self.table, &mut self.reversals, v, &[], scene)?;
@@ -320,6 +321,10 @@ fn grid(
         ghi[k] = hi[k] + margin;
     }
     let mut grid = grid_with_skin(glo, ghi, scene.dim, 2.0 * h, scene.discretisation.skin_over_h * h)?;
+    if let Some(period) = scene.discretisation.period_z {
+        grid = crate::grid::periodic_z(&grid, ghi, period)
+            .map_err(|e| Error::Scene(format!("{}: discretisation.period_z: {e}", scene.origin)))?;
+    }
     if scene.discretisation.verlet_list {
         grid.list_capacity = crate::neighbour::verlet_capacity(&grid, scene.discretisation.dx);
     }
@@ -544,7 +549,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Method<B> for Solver<B, R, D> {
             internal: [temp, eps, rate],
             fields,
             positions: now,
-            tool: self.tool_outline(),
+            tool: self.tool_picture(),
             params: self.host_params,
         })
     }
@@ -562,6 +567,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Method<B> for Solver<B, R, D> {
             time: self.time,
             steps: self.steps,
             force: c.force,
+            moment: c.moment,
             contacts: c.contacts,
             wear_rate: c.wear_rate,
             friction_ratio: c.friction_ratio,

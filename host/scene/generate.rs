@@ -16,6 +16,8 @@ pub enum Bc {
     Fixed,
     /// v prescribed for ever (m/s) (z = 0 in 2D).
     Velocity([f64; 3]),
+    /// v_z = 0 for ever (3D plane strain).
+    Plane,
 }
 
 /// The particles of a scene, body after body, each body's lattice in z, y, x order (x fastest).
@@ -205,6 +207,7 @@ pub(super) fn generate(scene: &Scene) -> Result<ParticleSet, SceneError> {
                     *slot = match boundary.kind {
                         BoundaryKind::Fixed => Bc::Fixed,
                         BoundaryKind::Velocity { velocity } => Bc::Velocity(velocity),
+                        BoundaryKind::PlaneStrain => Bc::Plane,
                         BoundaryKind::Temperature { .. } => *slot,
                     };
                     if !matches!(boundary.kind, BoundaryKind::Temperature { .. }) {
@@ -216,6 +219,7 @@ pub(super) fn generate(scene: &Scene) -> Result<ParticleSet, SceneError> {
                 Bc::Free => {}
                 Bc::Fixed => *v = [0.0; 3],
                 Bc::Velocity(velocity) => *v = velocity,
+                Bc::Plane => v[2] = 0.0,
             }
         }
     }

@@ -161,9 +161,11 @@ pub struct Measurement {
     pub uncertainty: Option<f64>,
 }
 
-/// `[tool]`: the rigid 2D cutting tool (roethlin-solver.md §5.4; klippel-constitutive.md §1.3). Its outline is
-/// the rake face, top, back and flank faces and the edge arc (kernels/src/contact/tool2d.rs); the tool frame's
-/// origin is the lowest point of the cutting edge and the rake face faces +x.
+/// `[tool]`: the rigid cutting tool (roethlin-solver.md §5.4, §5.5; klippel-constitutive.md §1.3). The parametric
+/// tool's outline is the rake face, top, back and flank faces and the edge arc (kernels/src/contact/tool2d.rs),
+/// in 3D extruded along z (a prism); the tool frame's origin is the lowest point of the cutting edge and the rake
+/// face faces +x. In 3D the tool may instead be a triangle mesh (`mesh`), whose own coordinates (scaled and
+/// oriented) are the tool frame; its outline keys are then absent (NaN here: null in summary.json).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Tool {
     /// `rake_angle` (required; unit degree), in (−90, 90): γ from the vertical, positive leaning back.
@@ -176,11 +178,16 @@ pub struct Tool {
     pub length: f64,
     /// `height` (required; unit m), > 0: its extent above the edge's lowest point.
     pub height: f64,
-    /// `position` (required; unit m) `[x, y]`: where the edge's lowest point is at t = 0. With `depth_of_cut` the
+    /// `mesh` (optional, 3D only): the tool is this triangle mesh (see [`ToolMesh`]) instead of the outline.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mesh: Option<ToolMesh>,
+    /// `position` (required; unit m) `[x, y]` (a mesh tool: `[x, y, z]`, where its frame's origin is at t = 0;
+    /// z = 0 otherwise, left out of summary.json): where the edge's lowest point is at t = 0. With `depth_of_cut` the
     /// file gives `[x]` only and y is resolved when the scene is read: y = y_top + dx/2 − depth_of_cut, y_top the
     /// highest particle row of the workpiece body (`body`, default the first `[[body]]`); under `model =
     /// "mfree_iwf"` y = y_top − depth_of_cut (the original code's datum). Always resolved here.
-    pub position: [f64; 2],
+    #[serde(serialize_with = "planar")]
+    pub position: [f64; 3],
     /// `depth_of_cut` (optional; unit m), > 0: the edge's lowest point lies this far below the workpiece's uncut
     /// surface (top particle row + dx/2). Keeps the cut's geometry when dx changes (`--set discretisation.dx`);
     /// excludes a y in `position`.
@@ -188,8 +195,10 @@ pub struct Tool {
     /// `body` (optional, only with `depth_of_cut`; default the first `[[body]]`): the workpiece body whose top
     /// surface `depth_of_cut` is measured from, as an index into [`Scene::bodies`].
     pub body: Option<usize>,
-    /// `velocity` (required; unit m/s) `[vx, vy]`: the cutting velocity (zero: a resting tool, e.g. a contact test).
-    pub velocity: [f64; 2],
+    /// `velocity` (required; unit m/s) `[vx, vy]` (a mesh tool: `[vx, vy, vz]`): the cutting velocity (zero: a
+    /// resting tool, e.g. a contact test).
+    #[serde(serialize_with = "planar")]
+    pub velocity: [f64; 3],
     /// `ramp` (optional, default 0; unit s), ≥ 0: the velocity is reached linearly over this time.
     pub ramp: f64,
     /// `rotation = { axis, centre, rpm }` (optional, default none): the tool also turns (see [`ToolRotation`]).
@@ -229,6 +238,45 @@ pub struct Tool {
     pub chip_station: Option<f64>,
     /// `[tool.thermal]` (optional): the tool as thermal-only particles (a heat sink, roethlin-solver.md §5.6).
     pub thermal: Option<ToolThermal>,
+}
+
+/// A tool's 3-vector as summary.json shows it: `[x, y]` when z = 0 (the parametric tool's, as before 3D tools),
+/// else `[x, y, z]`.
+fn planar<S: serde::Serializer>(v: &[f64; 3], s: S) -> std::result::Result<S::Ok, S::Error> {
+    use serde::Serialize as _;
+    if v[2] == 0.0 { v[..2].serialize(s) } else { v.serialize(s) }
+}
+
+/// `mesh = { file, scale, axis, angle, weld, cell, cutoff, safe }` in `[tool]` (3D): a rigid tool given as a closed
+/// triangle surface (docs/3d.md). The file's coordinates times `scale`, turned by `angle` about `axis`, are the tool
+/// frame; `position` places its origin. The mesh is read, checked and hashed into its grid when the scene is read.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ToolMesh {
+    /// `file` (required): an STL (binary or ASCII), OBJ or LS-DYNA keyword file (`.stl`, `.obj`, `.k`/`.key`/`.dyn`),
+    /// relative to the scene file's folder.
+    pub file: String,
+    /// `scale` (optional, default 1), > 0: the file's unit in m (1e-6 for a mesh in µm).
+    pub scale: f64,
+    /// `axis` (optional, default `[0, 0, 1]`), finite and non-zero, and `angle` (optional, default 0; unit degree):
+    /// the rotation of the scaled mesh into the tool frame.
+    pub axis: [f64; 3],
+    pub angle: f64,
+    /// `weld` (optional, default 1e-9), ≥ 0: vertices closer than this fraction of the bounding box's diagonal are
+    /// merged before the checks (STL repeats every corner).
+    pub weld: f64,
+    /// `cell` (optional, default the mean edge length; unit m), > 0: the grid's cell size.
+    pub cell: Option<f64>,
+    /// `cutoff` (optional, default 2h = 2 h_over_dx dx; unit m), > 0: points farther than this from the surface are
+    /// not resolved exactly (the contact needs only those inside or near it).
+    pub cutoff: f64,
+    /// `safe` (optional, default false): the inside test by ray parity (roethlin §5.5's safe mode) instead of the
+    /// pseudo-normals.
+    pub safe: bool,
+    /// Triangles of the checked mesh (reported).
+    pub triangles: usize,
+    /// The checked, placed mesh's grid (the tool frame), built once when the scene is read.
+    #[serde(skip)]
+    pub grid: std::sync::Arc<crate::mesh::MeshGridData>,
 }
 
 /// `rotation` in `[tool]`: the tool turns about the axis through `centre` along `axis`, at `rpm` once the ramp is
@@ -355,6 +403,12 @@ pub struct Discretisation {
     /// a list built with the cell list (docs/neighbour-search.md, "Verlet list") instead of walking the ±2
     /// stencil of cells. With one lane per particle the sums are bitwise the same either way.
     pub verlet_list: bool,
+    /// `period_z` (optional, 3D only; unit m), > 0: the domain is periodic in z with this period: a particle near
+    /// z = z_0 + P interacts with those near z_0 (nearest images), so an extruded 2D model has no z faces. Give
+    /// the bodies' z extent plus dx (a `nodes` lattice from 0 to P − dx; `cells`: 0 to P). At least 5 neighbour
+    /// cells of (2h + s)/2 (about 8 dx).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub period_z: Option<f64>,
 }
 
 /// `[material]`: linear elasticity (for now the only material; a library by name comes later).
@@ -544,6 +598,9 @@ pub enum BoundaryKind {
     /// `kind = "velocity"`: `velocity` (required; unit m/s), `dim` components, prescribed for ever and used as the
     /// initial velocity too.
     Velocity { velocity: [f64; 3] },
+    /// `kind = "plane_strain"` (3D only): the particles keep v_z = 0 and move in their x–y planes; an extruded 2D
+    /// model whose every particle is so held deforms in plane strain (ε_zz = 0).
+    PlaneStrain,
     /// `kind = "temperature"`: the particles are held at `temperature` (optional, default the initial temperature)
     /// [K]; no conduction into them and no heating. Independent of the mechanical conditions.
     Temperature { temperature: Option<f64> },
@@ -554,6 +611,7 @@ impl BoundaryKind {
         match self {
             BoundaryKind::Fixed => "fixed",
             BoundaryKind::Velocity { .. } => "velocity",
+            BoundaryKind::PlaneStrain => "plane_strain",
             BoundaryKind::Temperature { .. } => "temperature",
         }
     }

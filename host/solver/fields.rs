@@ -23,7 +23,7 @@
 use super::{GRAPH_STEPS, Setup, Solver, StateBlobs};
 use crate::Result;
 use crate::backend::{Backend, SCAN_TILE};
-use crate::kernels::contact::{ContactParams, Tool2d, penalty::cap};
+use crate::kernels::contact::{ContactParams, penalty::cap};
 use crate::kernels::neighbour::GridParams;
 use crate::kernels::sph::heat::ThermalMaterial;
 use crate::kernels::sph::params::flags;
@@ -381,7 +381,7 @@ pub fn fixed_bytes<R: Real, D: TensorOps<R>>(s: &Setup<R, D>) -> usize {
     let thermal =
         s.thermal.as_ref().map_or(0, |t| t.materials.len() * size_of::<ThermalMaterial>() + size_of::<GridParams>());
     // The contact law's constants and the tool's shape, one block each.
-    let contact = if s.contact.is_some() { size_of::<ContactParams>() + size_of::<Tool2d>() } else { 0 };
+    let contact = s.contact.as_ref().map_or(0, |c| size_of::<ContactParams>() + c.tool.device_bytes());
     // The damage's constants, one block.
     let damage = if s.damage.is_some() { size_of::<crate::kernels::damage::DamageParams>() } else { 0 };
     cells + run + thermal + contact + damage

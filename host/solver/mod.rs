@@ -26,10 +26,11 @@ pub use crate::tool::motion::ToolMotion;
 
 use crate::Result;
 use crate::backend::{
-    Backend, Conduction, ContactInputs, DamageBufs, FieldsMut, FieldsRef, FusedContact, FusedHeat, FusedPrepare,
-    HeatInputs, Passes, PlasticPass, PrepassDamageBufs, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields,
+    Backend, Conduction, ContactInputs, DamageBufs, DeviceMesh, DeviceTool, FieldsMut, FieldsRef, FusedContact,
+    FusedHeat, FusedPrepare, HeatInputs, Passes, PlasticPass, PrepassDamageBufs, ScalarsAt, ScalarsMut, SkinTest,
+    SphInputs, StepFields,
 };
-use crate::kernels::contact::{ContactParams, Tool2d, ToolState};
+use crate::kernels::contact::{ContactParams, ToolState};
 use crate::kernels::damage::DamageParams;
 use crate::kernels::neighbour::GridParams;
 use crate::kernels::sph::heat::{HeatParams, ThermalMaterial};
@@ -72,13 +73,13 @@ pub struct DamageSetup {
     pub damage: Vec<f64>,
 }
 
-/// The rigid tool of a cutting run (2D).
+/// The rigid tool of a cutting run.
 #[derive(Clone, Debug)]
 pub struct ContactSetup {
     /// The contact law's constants.
     pub params: ContactParams,
-    /// The tool's shape.
-    pub tool: Tool2d,
+    /// The tool's shape: the parametric tool (2D, or its prism in 3D) or a mesh (3D).
+    pub tool: crate::tool::Shape,
     pub motion: ToolMotion,
     /// Index of the tool particles' velocity in the prescribed-velocity table (rewritten during a start-up ramp).
     pub tool_velocity_index: Option<usize>,
@@ -162,9 +163,9 @@ struct DamageState<B: Backend> {
 
 struct ContactState<B: Backend, R: Real, D: Dim> {
     params: B::Buf<ContactParams>,
-    tool: B::Buf<Tool2d>,
-    /// The tool's outline in its frame, for the frames' pictures (`tool::outline`).
-    outline: Vec<[f64; 2]>,
+    tool: DeviceTool<B>,
+    /// The tool in its frame, for the frames' pictures (`tool::Shape::picture`).
+    picture: crate::tool::Picture,
     motion: ToolMotion,
     normal: Field<B, D::Vec<R>>,
     friction: Field<B, D::Vec<R>>,
@@ -186,6 +187,9 @@ struct ContactState<B: Backend, R: Real, D: Dim> {
 pub struct ContactSample {
     /// Σ (f_c + f_t) over the particles: the force of the tool on the workpiece [N per m of depth in 2D; z = 0].
     pub force: [f64; 3],
+    /// Σ (x − p) × (f_c + f_t): its moment about the tool's reference point p, the point o + c of its rotation axis
+    /// (a point of the axis, which does not turn), else its frame origin o [N·m; per m in 2D].
+    pub moment: [f64; 3],
     /// Particles in contact.
     pub contacts: usize,
     /// Mean Usui wear rate over the contacting particles [m/s] (NaN when wear is off or nothing touches).
@@ -423,6 +427,13 @@ fn thermal_state<B: Backend, R: Real, D: TensorOps<R>>(
     let Some(t) = &setup.thermal else { return Ok(None) };
     let mut g = setup.grid;
     g.stencil = 3;
+    if g.period > 0.0 && g.dims[2] < 7 && t.conduction == Some(true) {
+        return Err(crate::Error::Scene(format!(
+            "PSE conduction's ±3 stencil needs a z period of at least 7 cells ({:e} m); this one has {}",
+            7.0 * g.cell_size,
+            g.dims[2]
+        )));
+    }
     // PSE reaches beyond the Verlet list: it walks the stencil.
     g.list_capacity = 0;
     let conducting = When::Conduction.holds(setup);
@@ -478,11 +489,11 @@ fn damage_state<B: Backend, R: Real, D: TensorOps<R>>(
     }))
 }
 
-/// Refuses a contact set-up the run cannot honour: the parametric tool in a scene that is not 2D (a 3D tool
-/// geometry will lift this guard), the current-yield cap without plasticity, friction heating without heat.
+/// Refuses a contact set-up the run cannot honour: a mesh tool in a scene that is not 3D, the current-yield cap
+/// without plasticity, friction heating without heat.
 fn check_contact<R: Real, D: TensorOps<R>>(setup: &Setup<R, D>, c: &ContactSetup) -> Result<()> {
-    if D::D != 2 {
-        return Err(crate::Error::Scene("the parametric tool is 2D only".into()));
+    if D::D != 3 && c.tool.parametric().is_none() {
+        return Err(crate::Error::Scene("a mesh tool needs a 3D scene".into()));
     }
     if When::CurrentCap.holds(setup) && setup.plastic.is_none() {
         return Err(crate::Error::Scene("the current-yield friction cap needs plasticity".into()));
@@ -506,8 +517,11 @@ fn contact_state<B: Backend, R: Real, D: TensorOps<R>>(
     let zeros_v = vec![D::Vec::<R>::default(); n];
     Ok(Some(ContactState {
         params: b.upload(&[c.params], "contact parameters")?,
-        tool: b.upload(&[c.tool], "tool shape")?,
-        outline: crate::tool::outline::outline(&c.tool),
+        tool: match &c.tool {
+            crate::tool::Shape::Parametric(t) => DeviceTool::Prism(b.upload(&[*t], "tool shape")?),
+            crate::tool::Shape::Mesh(m) => DeviceTool::Mesh(DeviceMesh::upload(b, m)?),
+        },
+        picture: c.tool.picture(),
         motion: c.motion,
         normal: Field::upload(b, &zeros_v, "contact forces")?,
         friction: Field::upload(b, &zeros_v, "friction forces")?,
@@ -623,7 +637,10 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
     /// The contact pass runs inside the plastic corrector's launch (`Passes::step_finish`; 2D with plasticity, the
     /// cutting runs), not in one of its own.
     fn fused_contact(&self) -> bool {
-        self.fuse_contact && self.contact.is_some() && self.plastic.is_some() && D::D == 2
+        self.fuse_contact
+            && self.contact.as_ref().is_some_and(|c| matches!(c.tool, DeviceTool::Prism(_)))
+            && self.plastic.is_some()
+            && D::D == 2
     }
 
     /// Whether the interaction pass sums the conduction: Brookshaw conduction (on the interaction's own cell
@@ -962,9 +979,13 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         let (yield_stress, contact) = match self.contact.as_mut() {
             Some(ContactState { params, tool, normal, friction, yield_stress, wear, heating, .. }) => {
                 let cap = yield_stress.is_some();
-                let fused = fuse_contact.then_some(FusedContact {
+                let prism = match tool {
+                    DeviceTool::Prism(t) => Some(&*t),
+                    DeviceTool::Mesh(_) => None,
+                };
+                let fused = prism.filter(|_| fuse_contact).map(|tool| FusedContact {
                     params: &*params,
-                    tool: &*tool,
+                    tool,
                     mass: &p.mass.cur,
                     normal: &mut normal.cur,
                     friction: &mut friction.cur,
@@ -1076,6 +1097,10 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
     pub fn contact_sample(&self, b: &B) -> Result<Option<ContactSample>> {
         let Some(c) = &self.contact else { return Ok(None) };
         let (fc, ft) = (c.normal.read(b)?, c.friction.read(b)?);
+        let pos = self.particles.pos.read(b)?;
+        let state = c.motion.state_at(self.time, c.nominal_dt, c.nominal_dt);
+        let o = state.offset;
+        let p = if state.rotating != 0 { std::array::from_fn(|k| o[k] + state.centre[k]) } else { o };
         let wear = match &c.wear {
             Some(w) => Some(b.read(w)?),
             None => None,
@@ -1089,6 +1114,11 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             let f: [f64; 3] = std::array::from_fn(|k| fc[i].get(k).to_f64() + ft[i].get(k).to_f64());
             for (sum, fk) in s.force.iter_mut().zip(f) {
                 *sum += fk;
+            }
+            let r: [f64; 3] = std::array::from_fn(|k| pos[i].get(k).to_f64() - if k < D::D { p[k] } else { 0.0 });
+            let m = [r[1] * f[2] - r[2] * f[1], r[2] * f[0] - r[0] * f[2], r[0] * f[1] - r[1] * f[0]];
+            for (sum, mk) in s.moment.iter_mut().zip(m) {
+                *sum += mk;
             }
             if (0..D::D).any(|k| fc[i].get(k) != R::ZERO) {
                 s.contacts += 1;
@@ -1135,10 +1165,11 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         self.contact.as_ref().map(|c| c.motion.state_at(self.time, c.nominal_dt, c.nominal_dt))
     }
 
-    /// The tool's outline in the world at the current time (z = 0 in 2D), with a tool.
-    pub fn tool_outline(&self) -> Option<Vec<[f64; 3]>> {
+    /// The tool's picture in the world at the current time (the outline at z = 0, or a mesh's surface), with a
+    /// tool.
+    pub fn tool_picture(&self) -> Option<crate::tool::Picture> {
         let s = self.tool_state()?;
-        self.contact.as_ref().map(|c| crate::tool::outline::in_world(&c.outline, &s))
+        self.contact.as_ref().map(|c| c.picture.in_world(&s))
     }
 
     /// Where the tool's frame origin is at the current time (its translation; z = 0 in 2D), with a tool.

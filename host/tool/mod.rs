@@ -5,8 +5,10 @@
 pub mod motion;
 pub mod outline;
 pub mod setup;
+pub mod shape;
 
 pub use motion::{Rotation, ToolMotion};
+pub use shape::{Picture, Shape};
 
 /// The tool's state at one instant, for the cutting record: the force of the tool on the workpiece, its contact
 /// statistics, where the tool's frame origin is, and the workpiece's positions (2D, f64).
@@ -16,6 +18,8 @@ pub struct ToolSample {
     pub steps: u64,
     /// Σ (f_c + f_t) over the particles [N per m of depth in 2D; z = 0 there].
     pub force: [f64; 3],
+    /// Σ (x − p) × (f_c + f_t) about the tool's reference point p (`ContactSample::moment`) [N·m; per m in 2D].
+    pub moment: [f64; 3],
     pub contacts: usize,
     /// Mean Usui wear rate over the contacting particles [m/s] (NaN when wear is off or nothing touches).
     pub wear_rate: f64,

@@ -26,9 +26,9 @@ pub struct ToolMotion {
 }
 
 impl ToolMotion {
-    /// A translating tool in the plane (z = 0).
-    pub fn planar(start: [f64; 2], velocity: [f64; 2], ramp: f64) -> ToolMotion {
-        ToolMotion { start: [start[0], start[1], 0.0], velocity: [velocity[0], velocity[1], 0.0], ramp, rotation: None }
+    /// A translating tool (z = 0 in 2D).
+    pub fn translating(start: [f64; 3], velocity: [f64; 3], ramp: f64) -> ToolMotion {
+        ToolMotion { start, velocity, ramp, rotation: None }
     }
 
     /// The ramp's factor f(t) = min(t/t_r, 1): v(t) = v f(t), ω(t) = ω f(t).

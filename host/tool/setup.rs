@@ -9,9 +9,21 @@ use crate::scene::{ContactLawKind, FrictionCap, Scene, Switch, Tool};
 use crate::{Error, Result};
 
 use super::motion::{Rotation, ToolMotion};
+use super::shape::Shape;
 
-/// The built tool of a scene's `[tool]` (validated when the scene was read).
+/// The tool's shape of a scene's `[tool]` (validated, and a mesh's grid built, when the scene was read).
+pub fn shape(t: &Tool) -> Result<Shape> {
+    match &t.mesh {
+        Some(m) => Ok(Shape::Mesh(m.grid.clone())),
+        None => build_tool(t).map(Shape::Parametric),
+    }
+}
+
+/// The built parametric tool of a scene's `[tool]` (validated when the scene was read); a mesh tool has none.
 pub fn build_tool(t: &Tool) -> Result<Tool2d> {
+    if t.mesh.is_some() {
+        return Err(Error::Scene("tool: a mesh tool has no outline (rake face, edge) to build".into()));
+    }
     Tool2d::new(&ToolShape {
         rake_angle: t.rake_angle.to_radians(),
         clearance_angle: t.clearance_angle.to_radians(),
@@ -25,7 +37,7 @@ pub fn build_tool(t: &Tool) -> Result<Tool2d> {
 /// The tool's motion: a translation in the plane and, with `rotation`, a turn about the unit axis a = axis/|axis|
 /// at ω = 2π rpm/60 rad/s (none without the key, so those scenes keep the translating path's bits).
 pub fn motion(t: &Tool) -> ToolMotion {
-    let mut m = ToolMotion::planar(t.position, t.velocity, t.ramp);
+    let mut m = ToolMotion::translating(t.position, t.velocity, t.ramp);
     m.rotation = t.rotation.map(|r| {
         let norm = (r.axis[0] * r.axis[0] + r.axis[1] * r.axis[1] + r.axis[2] * r.axis[2]).sqrt();
         Rotation { axis: r.axis.map(|a| a / norm), centre: r.centre, rate: r.rpm * std::f64::consts::TAU / 60.0 }

@@ -161,3 +161,67 @@ every = {every}
         every = end / 10.0
     )
 }
+
+/// [`drop_scene`] in 3D: the block 12 × 6 × 3 particles (Δx = 10 µm, cell centres from y = 202 µm and z = 5 to
+/// 25 µm) dropped at `speed` onto the
+/// top face of the tool, given by `tool`, the `[tool]` lines of its shape and placement (the parametric tool's
+/// outline and `position = [0.0, 0.0]`, or a mesh); the velocity and contact law are the 2D scene's.
+pub fn drop_scene_3d(speed: f64, slide: f64, tool: &str) -> String {
+    format!(
+        r#"
+name = "drop3d"
+dim = 3
+[discretisation]
+dx = 1.0e-5
+h_over_dx = 1.5
+[material]
+name = "Ti6Al4V-V0060-DE-mu035"
+[physics]
+plastic_heating = false
+[[body]]
+name = "block"
+shape = "box"
+min = [-3.0e-4, 1.97e-4, 0.0]
+max = [-1.8e-4, 2.57e-4, 3.0e-5]
+velocity = [{slide}, -{speed}, 0.0]
+[tool]
+{tool}
+contact_stiffness = 0.1
+friction = 0.35
+[stabilisation]
+artificial_viscosity = {{ alpha = 1.0, beta = 1.0, eta = 0.1 }}
+[time]
+end = 6.0e-7
+[output]
+every = 3.0e-8
+"#
+    )
+}
+
+/// The `[tool]` lines of the parametric tool of [`drop_scene`] (rake 0°, clearance 7°, sharp, 0.4 × 0.2 mm, its
+/// edge at the origin), resting.
+pub const PRISM_TOOL: &str = "rake_angle = 0.0\nclearance_angle = 7.0\nlength = 4.0e-4\nheight = 2.0e-4\n\
+                              position = [0.0, 0.0]\nvelocity = [0.0, 0.0]";
+
+/// The prism of [`PRISM_TOOL`]'s outline from z = `z0` to `z1` as a Wavefront OBJ text: the outline's four
+/// corners (edge at the origin, rake face up to the top, the back, the flank at 7° back down to the edge),
+/// counter-clockwise seen from +z, extruded; the caps fanned, the sides split in two, all faces outward.
+pub fn prism_obj(z0: f64, z1: f64) -> String {
+    let (l, h) = (4.0e-4, 2.0e-4);
+    let flank_y = l * 7f64.to_radians().tan();
+    // Counter-clockwise in the x–y plane: edge, rake top, top back, flank back.
+    let ring = [[0.0, 0.0], [0.0, h], [-l, h], [-l, flank_y]];
+    let mut s = String::from("# the prism of swarf's parametric test tool (tests/common/scenes.rs)\n");
+    for z in [z0, z1] {
+        for p in ring {
+            s.push_str(&format!("v {:e} {:e} {:e}\n", p[0], p[1], z));
+        }
+    }
+    // Bottom cap (z0) seen from −z: clockwise in x–y; top cap (z1) counter-clockwise.
+    s.push_str("f 1 4 3 2\nf 5 6 7 8\n");
+    for k in 0..4 {
+        let (a, b) = (k + 1, (k + 1) % 4 + 1);
+        s.push_str(&format!("f {a} {b} {} {}\n", b + 4, a + 4));
+    }
+    s
+}

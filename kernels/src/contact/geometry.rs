@@ -6,6 +6,7 @@
 //! Points are 3-component in every dimension: a 2D run passes z = 0 and reads only x and y of the answer. The
 //! tool's rigid motion (where its frame is, how fast a point of it moves) is the step's [`super::ToolState`].
 
+use super::mesh::MeshTool;
 use super::tool2d::Tool2d;
 
 /// The closest surface point of a query point, in the tool's frame.
@@ -49,5 +50,36 @@ impl ToolGeometry for Tool2d {
     #[inline(always)]
     fn contains(&self, p: [f64; 3]) -> bool {
         Tool2d::contains(self, [p[0], p[1]])
+    }
+}
+
+/// How a contact pass receives its tool: the parametric tool through a pointer to its one copy in device (or host)
+/// memory, the mesh tool by value (its grid's scalars and the pointers to its arrays). `VARIANT` is the pass
+/// table's variant number of the contact entry (kernels/src/pass/table.rs): 0 the parametric tool, 1 the mesh.
+pub trait ToolArg: Copy {
+    type Geometry: ToolGeometry;
+    const VARIANT: u32;
+    /// The tool's shape.
+    ///
+    /// # Safety
+    /// A pointer argument points at a live tool.
+    unsafe fn geometry(&self) -> &Self::Geometry;
+}
+
+impl ToolArg for *const Tool2d {
+    type Geometry = Tool2d;
+    const VARIANT: u32 = 0;
+    #[inline(always)]
+    unsafe fn geometry(&self) -> &Tool2d {
+        unsafe { &**self }
+    }
+}
+
+impl ToolArg for MeshTool<'static> {
+    type Geometry = MeshTool<'static>;
+    const VARIANT: u32 = 1;
+    #[inline(always)]
+    unsafe fn geometry(&self) -> &Self {
+        self
     }
 }

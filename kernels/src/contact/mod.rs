@@ -8,7 +8,7 @@ pub mod motion;
 pub mod penalty;
 pub mod tool2d;
 
-pub use geometry::{SurfacePoint, ToolGeometry};
+pub use geometry::{SurfacePoint, ToolArg, ToolGeometry};
 pub use mesh::{MeshGrid, MeshTool};
 pub use motion::ToolState;
 pub use penalty::ContactParams;

@@ -22,6 +22,11 @@ pub struct GridParams {
     /// that every pair within 2h of the current positions stays within the stencil of the binned ones.
     /// 0 rebuilds whenever a particle moved at all.
     pub skin: f64,
+    /// The period P of a domain periodic in z (3D; 0: not periodic) and 1/P. The z cells then tile the period
+    /// exactly (dims[2] · cell_size = P), a particle's z cell wraps modulo dims[2], the stencil wraps with it, and
+    /// every pair's z displacement is its nearest image, d_z − P ⌊d_z/P + ½⌋ ([`GridParams::displacement`]).
+    pub period: f64,
+    pub inv_period: f64,
     /// Cells along x, y, z (z = 1 in 2D).
     pub dims: [u32; 3],
     pub n_cells: u32,
@@ -56,6 +61,50 @@ pub fn dist2_f64<R: Real, V: Vector<R>>(a: &V, b: &V) -> f64 {
 }
 
 impl GridParams {
+    /// a − b in R, its z component reduced to the nearest periodic image when the grid is periodic in z:
+    /// d_z − P ⌊d_z/P + ½⌋. Without a period, the plain difference.
+    #[inline(always)]
+    pub fn displacement<R: Real, V: Vector<R>>(&self, a: &V, b: &V) -> V {
+        let mut d = [R::ZERO; 3];
+        let mut k = 0;
+        while k < V::DIM {
+            // SAFETY: k < DIM <= 3.
+            unsafe { *d.get_unchecked_mut(k) = a.get(k) - b.get(k) };
+            k += 1;
+        }
+        if V::DIM == 3 && self.period > 0.0 {
+            let (p, inv) = (R::from_f64(self.period), R::from_f64(self.inv_period));
+            d[2] = d[2] - p * (d[2] * inv + R::from_f64(0.5)).floor();
+        }
+        V::new(d)
+    }
+
+    /// |a − b|² in R with the nearest periodic image in z (the pair test's distance); without a period,
+    /// `Vector::dist2`, bit for bit.
+    #[inline(always)]
+    pub fn dist2<R: Real, V: Vector<R>>(&self, a: &V, b: &V) -> R {
+        if V::DIM == 3 && self.period > 0.0 { self.displacement::<R, V>(a, b).dist2(&V::default()) } else { a.dist2(b) }
+    }
+
+    /// [`dist2_f64`] with the nearest periodic image in z (the Verlet list's distance).
+    #[inline(always)]
+    pub fn dist2_f64<R: Real, V: Vector<R>>(&self, a: &V, b: &V) -> f64 {
+        if V::DIM != 3 || self.period <= 0.0 {
+            return dist2_f64::<R, V>(a, b);
+        }
+        let mut d2 = 0.0;
+        let mut k = 0;
+        while k < 3 {
+            let mut d = a.get(k).to_f64() - b.get(k).to_f64();
+            if k == 2 {
+                d -= self.period * floor_f64(d * self.inv_period + 0.5);
+            }
+            d2 += d * d;
+            k += 1;
+        }
+        d2
+    }
+
     /// The cell size for a support radius and stencil half-width.
     #[inline]
     pub fn cell_for(support_radius: f64, stencil: u32) -> f64 {
@@ -113,6 +162,11 @@ impl GridParams {
         // SAFETY: k < 3 at every call site (loops over the dimension).
         let (o, n) = unsafe { (*self.origin.get_unchecked(k), *self.dims.get_unchecked(k)) };
         let c = floor_f64((x - o) * self.inv_cell);
+        if k == 2 && self.period > 0.0 {
+            // Periodic in z: the cell modulo dims[2] (exact in f64 for any finite cell count).
+            let m = c - n as f64 * floor_f64(c / n as f64);
+            return if m >= 0.0 && m < n as f64 { m as u32 } else { 0 };
+        }
         if c <= 0.0 {
             0
         } else if c >= n as f64 {

@@ -30,10 +30,18 @@ pub unsafe fn for_each_row<R: Real, V: Vector<R>, F: FnMut(u32, u32)>(
     let x1 = if c[0] + s < nx { c[0] + s } else { nx - 1 };
     let y0 = c[1].saturating_sub(s);
     let y1 = if c[1] + s < ny { c[1] + s } else { ny - 1 };
-    let (z0, z1) =
-        if V::DIM == 3 { (c[2].saturating_sub(s), if c[2] + s < nz { c[2] + s } else { nz - 1 }) } else { (0, 0) };
-    let mut z = z0;
-    while z <= z1 {
+    // Periodic in z: the 2s + 1 rows c − s ..= c + s modulo nz (distinct: the host keeps nz ≥ 2s + 1).
+    let wrap = V::DIM == 3 && grid.period > 0.0;
+    let (z0, z1) = if wrap {
+        (c[2] + nz - s, c[2] + nz + s)
+    } else if V::DIM == 3 {
+        (c[2].saturating_sub(s), if c[2] + s < nz { c[2] + s } else { nz - 1 })
+    } else {
+        (0, 0)
+    };
+    let mut zw = z0;
+    while zw <= z1 {
+        let z = if wrap { zw % nz } else { zw };
         let mut y = y0;
         while y <= y1 {
             let row = (z * ny + y) * nx;
@@ -41,7 +49,7 @@ pub unsafe fn for_each_row<R: Real, V: Vector<R>, F: FnMut(u32, u32)>(
             f(a, b);
             y += 1;
         }
-        z += 1;
+        zw += 1;
     }
 }
 
@@ -92,7 +100,7 @@ pub unsafe fn neighbour_row<R: Real, V: Vector<R>>(
     let mut c = 0u32;
     unsafe {
         for_each_neighbour::<R, V, _>(grid, starts, &pi, |j| {
-            if j != i && pi.dist2(&*pos.add(j as usize)) < support2 {
+            if j != i && grid.dist2::<R, V>(&pi, &*pos.add(j as usize)) < support2 {
                 if !out.is_null() {
                     *out.add(c as usize) = j;
                 }

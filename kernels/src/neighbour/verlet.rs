@@ -16,7 +16,7 @@
 //! sit within a few cell rows in the sorted order, far less than that in every 2D scene, but a 3D stencil spans
 //! two layers of cells (nx·ny cells each), so a large 3D domain has far rows.
 
-use super::grid::{GridParams, dist2_f64};
+use super::grid::GridParams;
 use super::search::{for_each_neighbour, for_each_neighbour_strided};
 use crate::real::Real;
 use crate::vector::Vector;
@@ -163,7 +163,7 @@ pub unsafe fn verlet_row<R: Real, V: Vector<R>>(
     let (mut c, mut far, mut low) = (0u32, false, 0u32);
     unsafe {
         for_each_neighbour::<R, V, _>(grid, starts, &xi, |j| {
-            if j != i && dist2_f64::<R, V>(&xi, &*pos.add(j as usize)) < r2 {
+            if j != i && grid.dist2_f64::<R, V>(&xi, &*pos.add(j as usize)) < r2 {
                 far |= j.abs_diff(i) > MAX_OFFSET;
                 if c < cap {
                     let half = j.wrapping_sub(i) & 0xffff;

@@ -5,7 +5,7 @@
 use super::ModelEntry;
 use super::launch::{Grid, Pass};
 use super::table::{entry_index, model_variant, prepare_variant};
-use crate::contact::Tool2d;
+use crate::contact::ToolArg;
 use crate::contact::penalty::{ContactArrays, ContactParams, contact_particle};
 use crate::damage::DamageParams;
 use crate::material::FlowStress;
@@ -20,7 +20,7 @@ use crate::sph::interact::{PrepassArrays, PrepassDamage, prepare_store};
 use crate::sph::params::SphParams;
 use crate::sph::plastic::{PlasticArrays, PlasticConsts, plastic_particle};
 use crate::sph::step::StepScalars;
-use crate::vector::{Dim, Dim2};
+use crate::vector::Dim;
 use core::marker::PhantomData;
 
 /// The density sum ρ_i = Σ_j m_j W(|x_i − x_j|) (`sph::density::density_sum`).
@@ -255,14 +255,15 @@ impl<R: Real, D: TensorOps<R>, M: FlowStress + ModelEntry + Copy, const DMG: boo
     }
 }
 
-/// The tool's contact pass (`contact::penalty::contact_particle`) with the parametric 2D tool.
+/// The tool's contact pass (`contact::penalty::contact_particle`) with the tool `T`: the parametric tool (its
+/// outline in 2D, the prism of the outline along z in 3D) or, in 3D, a triangle mesh ([`ToolArg`]).
 #[repr(C)]
 #[derive(Clone, Copy)]
-pub struct ContactArgs<R: Real, D: Dim> {
+pub struct ContactArgs<R: Real, D: Dim, T: ToolArg> {
     pub n: u32,
     pub params: *const ContactParams,
     /// The tool's shape.
-    pub tool: *const Tool2d,
+    pub tool: T,
     /// The step's scalars (the tool's state).
     pub scalars: *const StepScalars,
     pub pos: *const D::Vec<R>,
@@ -281,11 +282,11 @@ pub struct ContactArgs<R: Real, D: Dim> {
     pub wear: *mut f64,
 }
 
-impl<R: Real, D: Dim> ContactArgs<R, D> {
+impl<R: Real, D: Dim, T: ToolArg> ContactArgs<R, D, T> {
     /// Particle i's contact forces.
     ///
     /// # Safety
-    /// i < n; every non-null array holds n particles; `params`, `tool` and `scalars` point at live values.
+    /// i < n; every non-null array holds n particles; `params`, the tool and `scalars` point at live values.
     #[inline(always)]
     pub unsafe fn particle(&self, i: usize) {
         let a = ContactArrays::<R, D::Vec<R>> {
@@ -301,11 +302,20 @@ impl<R: Real, D: Dim> ContactArgs<R, D> {
             yield_stress: self.yield_stress,
             wear: self.wear,
         };
-        unsafe { contact_particle::<R, D::Vec<R>, Tool2d>(&*self.params, &*self.tool, &(*self.scalars).tool, &a, i) }
+        unsafe {
+            contact_particle::<R, D::Vec<R>, T::Geometry>(
+                &*self.params,
+                self.tool.geometry(),
+                &(*self.scalars).tool,
+                &a,
+                i,
+            )
+        }
     }
 }
 
-/// The standalone contact pass (`swarf_contact_2d_*`; the parametric tool is 2D).
-pub struct Contact<R>(PhantomData<R>);
-crate::simple_pass!(Contact<R>, ContactArgs<R, Dim2>, entry_index("contact", 2, size_of::<R>(), 0), Grid::Particles,
-    [R: Real]);
+/// The standalone contact pass (`swarf_contact_2d_*`, `swarf_contact_3d_*`: the parametric tool;
+/// `swarf_contact_mesh_3d_*`: a mesh tool).
+pub struct Contact<R, D, T>(PhantomData<(R, D, T)>);
+crate::simple_pass!(Contact<R, D, T>, ContactArgs<R, D, T>, entry_index("contact", D::D, size_of::<R>(), T::VARIANT),
+    Grid::Particles, [R: Real, D: Dim, T: ToolArg]);

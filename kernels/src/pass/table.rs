@@ -8,7 +8,8 @@
 /// statement position. The kinds and their variant parameters:
 /// - `single` (no R, D: `$cb!(single, "name", slot)`, `slot` the host's name for it): the entries without
 ///   variants, written by hand in `ptx`;
-/// - `contact` (R, Dim2); `density`, `finish`, `hash`, `hash_count`, `neighbour_list`, `verlet_build` (R, D);
+/// - `contact` (R, D, the tool: `prism`, the parametric tool, in 2D and 3D; `mesh`, a triangle mesh, in 3D);
+///   `density`, `finish`, `hash`, `hash_count`, `neighbour_list`, `verlet_build` (R, D);
 /// - `heat` (R, D, PSE); `predict` (R, D, DMG); `prepare` (R, D, AV, AS, DMG); `rates` (R, D, AV, AS, XSPH, fused
 ///   conduction, DMG). DMG: the damage's degradation and interaction mask (docs/damage.md), entries of their own
 ///   (`_dmg` ending the name, so that prefixes such as the register caps' see them as their plain twins) so that a
@@ -29,8 +30,12 @@ macro_rules! for_each_entry {
         $cb!(single, "swarf_gather_b8", gather_b8);
         $cb!(single, "swarf_gather_b16", gather_b16);
         $cb!(single, "swarf_gather_fields", gather_fields);
-        $cb!(contact, "swarf_contact_2d_f32", f32, Dim2);
-        $cb!(contact, "swarf_contact_2d_f64", f64, Dim2);
+        $cb!(contact, "swarf_contact_2d_f32", f32, Dim2, prism);
+        $cb!(contact, "swarf_contact_2d_f64", f64, Dim2, prism);
+        $cb!(contact, "swarf_contact_3d_f32", f32, Dim3, prism);
+        $cb!(contact, "swarf_contact_3d_f64", f64, Dim3, prism);
+        $cb!(contact, "swarf_contact_mesh_3d_f32", f32, Dim3, mesh);
+        $cb!(contact, "swarf_contact_mesh_3d_f64", f64, Dim3, mesh);
         $crate::for_each_entry!(@variant $cb, f32, Dim2, "2d_f32");
         $crate::for_each_entry!(@variant $cb, f64, Dim2, "2d_f64");
         $crate::for_each_entry!(@variant $cb, f32, Dim3, "3d_f32");
@@ -97,6 +102,18 @@ macro_rules! for_each_entry {
     };
     (@call $callback:ident $($list:tt)*) => {
         $callback! { $($list)* }
+    };
+}
+
+/// The argument type of a contact entry's tool (`for_each_entry!`'s `contact` kind): `prism` the parametric tool,
+/// `mesh` a triangle mesh ([`crate::contact::ToolArg`]).
+#[macro_export]
+macro_rules! contact_tool {
+    (prism) => {
+        *const $crate::contact::Tool2d
+    };
+    (mesh) => {
+        $crate::contact::MeshTool<'static>
     };
 }
 
@@ -174,6 +191,9 @@ pub const ENTRY_KEYS: [EntryKey; ENTRY_COUNT] = {
         };
         (heat, $name:expr, $r:ident, $d:ident, $pse:literal) => {
             key!(@at heat, $r, $d, $pse as u32);
+        };
+        (contact, $name:expr, $r:ident, $d:ident, $tool:ident) => {
+            key!(@at contact, $r, $d, <$crate::contact_tool!($tool) as crate::contact::ToolArg>::VARIANT);
         };
         (predict, $name:expr, $r:ident, $d:ident, $dmg:literal) => {
             key!(@at predict, $r, $d, $dmg as u32);

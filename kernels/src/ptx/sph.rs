@@ -218,11 +218,12 @@ macro_rules! plastic_entry {
     };
 }
 
-/// The contact pass with the rigid 2D tool (contact::penalty::contact_particle).
+/// The contact pass with a rigid tool (contact::penalty::contact_particle; the tool's argument type from
+/// `contact_tool!`).
 macro_rules! contact_entry {
-    ($sym:expr, $r:ty) => {
+    ($sym:expr, $r:ty, $d:ty, $tool:ident) => {
         #[unsafe(export_name = $sym)]
-        pub unsafe extern "ptx-kernel" fn entry(args: ContactArgs<$r, Dim2>) {
+        pub unsafe extern "ptx-kernel" fn entry(args: ContactArgs<$r, $d, crate::contact_tool!($tool)>) {
             let i = global_index() as usize;
             if i < args.n as usize {
                 unsafe { args.particle(i) };
@@ -249,9 +250,9 @@ macro_rules! sph_entry {
             finish_entry!($sym, $r, $d);
         };
     };
-    (contact, $sym:expr, $r:ident, $d:ident) => {
+    (contact, $sym:expr, $r:ident, $d:ident, $tool:ident) => {
         const _: () = {
-            contact_entry!($sym, $r);
+            contact_entry!($sym, $r, $d, $tool);
         };
     };
     (heat, $sym:expr, $r:ident, $d:ident, $pse:literal) => {

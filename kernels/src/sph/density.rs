@@ -22,7 +22,7 @@ pub unsafe fn density_sum<R: Real, V: Vector<R>>(
     let mut rho = R::ZERO;
     unsafe {
         for_each_neighbour::<R, V, _>(grid, starts, &pi, |j| {
-            let d2 = pi.dist2(&*pos.add(j as usize));
+            let d2 = grid.dist2::<R, V>(&pi, &*pos.add(j as usize));
             if d2 < kernel.support2 {
                 rho += *mass.add(j as usize) * kernel.w(d2.sqrt());
             }

@@ -107,7 +107,7 @@ pub unsafe fn heat_sum<R: Real, V: Vector<R>, const PSE: bool>(
     unsafe {
         match heat_own(a, i) {
             Some(o) => lane_share::<R, V, f64, _>(nb, &o.x, i, lane, lanes, |j, s| {
-                *s += heat_pair::<R, V, PSE>(hp, k, a, &o, i, j)
+                *s += heat_pair::<R, V, PSE>(hp, k, nb.grid, a, &o, i, j)
             }),
             None => 0.0,
         }
@@ -176,6 +176,7 @@ pub(crate) unsafe fn heat_partner<R: Real, V: Vector<R>>(a: &HeatArrays<R, V>, j
 pub(crate) unsafe fn heat_pair<R: Real, V: Vector<R>, const PSE: bool>(
     hp: &HeatParams,
     k: &CubicSpline<R>,
+    grid: &crate::neighbour::GridParams,
     a: &HeatArrays<R, V>,
     o: &HeatOwn<V>,
     i: u32,
@@ -184,7 +185,7 @@ pub(crate) unsafe fn heat_pair<R: Real, V: Vector<R>, const PSE: bool>(
     let cut2 = if PSE { R::from_f64(hp.pse_cut2) } else { k.support2 };
     let ju = j as usize;
     let (xj, q) = unsafe { (*a.pos.add(ju), heat_partner(a, j)) };
-    let r2 = o.x.dist2(&xj);
+    let r2 = grid.dist2::<R, V>(&o.x, &xj);
     if j == i || r2 >= cut2 || r2 < R::from_f64(hp.min_r2) {
         return 0.0;
     }
@@ -273,9 +274,9 @@ pub unsafe fn heat_rate<R: Real, V: Vector<R>, const PSE: bool>(
 ) -> f64 {
     unsafe {
         let sum = match heat_own(a, i) {
-            Some(o) => {
-                all_lanes::<R, V, f64, _>(nb, &o.x, i, lanes, |j, s| *s += heat_pair::<R, V, PSE>(hp, k, a, &o, i, j))
-            }
+            Some(o) => all_lanes::<R, V, f64, _>(nb, &o.x, i, lanes, |j, s| {
+                *s += heat_pair::<R, V, PSE>(hp, k, nb.grid, a, &o, i, j)
+            }),
             None => 0.0,
         };
         heat_finish(hp, a, i, sum)

@@ -22,7 +22,7 @@ use super::lanes::{LaneSum, all_lanes, lane_share, map_real, map_vector};
 use super::params::{SphParams, flags};
 use super::tensor::TensorOps;
 use crate::load::read;
-use crate::neighbour::Neighbours;
+use crate::neighbour::{GridParams, Neighbours};
 use crate::real::Real;
 use crate::vector::{Dim, SymTensor, Vector};
 
@@ -408,13 +408,14 @@ struct Geometry<R: Real, V: Vector<R>> {
 #[inline(always)]
 fn geometry<R: Real, D: TensorOps<R>>(
     p: &SphParams<R>,
+    grid: &GridParams,
     o: &Own<R, D>,
     i: u32,
     j: u32,
     xj: &D::Vec<R>,
 ) -> Option<Geometry<R, D::Vec<R>>> {
     let k = &p.kernel;
-    let xij = sub(&o.x, xj);
+    let xij = if D::D == 3 && grid.period > 0.0 { grid.displacement::<R, D::Vec<R>>(&o.x, xj) } else { sub(&o.x, xj) };
     let r2 = dot(&xij, &xij);
     if j == i || r2 >= k.support2 || r2 < p.min_r2 {
         return None;
@@ -428,6 +429,7 @@ fn geometry<R: Real, D: TensorOps<R>>(
 #[inline(always)]
 unsafe fn add_pair<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool, const DMG: bool>(
     p: &SphParams<R>,
+    grid: &GridParams,
     a: &Arrays<R, D>,
     o: &Own<R, D>,
     i: u32,
@@ -435,7 +437,7 @@ unsafe fn add_pair<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, con
     sums: &mut PairSums<R, D>,
 ) {
     let (q, p) = (unsafe { partner::<R, D, AV, AS>(a, j) }, pair_params::<R, AV, AS>(p));
-    if let Some(g) = geometry(&p, o, i, j, &q.x) {
+    if let Some(g) = geometry(&p, grid, o, i, j, &q.x) {
         if DMG {
             unsafe { masked_pair_term::<R, D, AV, AS, XSPH>(&p, a, o, q, &g, j, sums) }
         } else {
@@ -586,7 +588,7 @@ pub unsafe fn pair_sums<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool
             return PairSums::default();
         }
         lane_share::<R, D::Vec<R>, _, _>(nb, &o.x, i, lane, lanes, |j, s| {
-            add_pair::<R, D, AV, AS, XSPH, DMG>(p, a, &o, i, j, s)
+            add_pair::<R, D, AV, AS, XSPH, DMG>(p, nb.grid, a, &o, i, j, s)
         })
     }
 }
@@ -645,7 +647,7 @@ pub unsafe fn pair_sums_heat<
             return HeatPairSums::default();
         }
         lane_share::<R, D::Vec<R>, _, _>(nb, &o.x, i, lane, lanes, |j, s: &mut HeatPairSums<R, D>| {
-            heat_and_pair::<R, D, AV, AS, XSPH, DMG>(p, hp, a, h, &o, ho.as_ref(), i, j, s)
+            heat_and_pair::<R, D, AV, AS, XSPH, DMG>(p, hp, nb.grid, a, h, &o, ho.as_ref(), i, j, s)
         })
     }
 }
@@ -656,6 +658,7 @@ pub unsafe fn pair_sums_heat<
 unsafe fn heat_and_pair<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool, const DMG: bool>(
     p: &SphParams<R>,
     hp: &HeatParams,
+    grid: &GridParams,
     a: &Arrays<R, D>,
     h: &HeatArrays<R, D::Vec<R>>,
     o: &Own<R, D>,
@@ -668,7 +671,7 @@ unsafe fn heat_and_pair<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool
     // r², r and W'(r)/r, bit for bit).
     let (q, hq) = unsafe { (partner::<R, D, AV, AS>(a, j), heat_partner(h, j)) };
     let (p, heat_min_r2) = (pair_params::<R, AV, AS>(p), hp.min_r2);
-    let Some(g) = geometry(&p, o, i, j, &q.x) else { return };
+    let Some(g) = geometry(&p, grid, o, i, j, &q.x) else { return };
     if let Some(ho) = ho
         && g.r2 >= R::from_f64(heat_min_r2)
     {
@@ -713,7 +716,7 @@ pub unsafe fn rates_heat<
             HeatPairSums::default()
         } else {
             all_lanes::<R, D::Vec<R>, _, _>(nb, &o.x, i, lanes, |j, s: &mut HeatPairSums<R, D>| {
-                heat_and_pair::<R, D, AV, AS, XSPH, DMG>(p, hp, a, h, &o, ho.as_ref(), i, j, s)
+                heat_and_pair::<R, D, AV, AS, XSPH, DMG>(p, hp, nb.grid, a, h, &o, ho.as_ref(), i, j, s)
             })
         };
         (finish_rates::<R, D, XSPH, DMG>(p, a, i, &sums.mech), heat_finish(hp, h, i, sums.heat))
@@ -771,6 +774,9 @@ pub unsafe fn finish_rates<R: Real, D: TensorOps<R>, const XSPH: bool, const DMG
         let idx = ((fl >> flags::VEL_INDEX_SHIFT) & flags::VEL_INDEX_MASK) as usize;
         out.pos_t = unsafe { *a.bc_vel.add(idx) };
         out.vel_t = Default::default();
+    } else if kind == flags::PLANE && D::D == 3 {
+        out.pos_t = D::Vec::<R>::new([out.pos_t.get(0), out.pos_t.get(1), R::ZERO]);
+        out.vel_t = D::Vec::<R>::new([out.vel_t.get(0), out.vel_t.get(1), R::ZERO]);
     }
     out
 }
@@ -792,7 +798,7 @@ pub unsafe fn rates<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, co
         let o = own::<R, D, AV, AS>(a, i);
         let sums = if o.mech {
             all_lanes::<R, D::Vec<R>, _, _>(nb, &o.x, i, lanes, |j, s| {
-                add_pair::<R, D, AV, AS, XSPH, DMG>(p, a, &o, i, j, s)
+                add_pair::<R, D, AV, AS, XSPH, DMG>(p, nb.grid, a, &o, i, j, s)
             })
         } else {
             PairSums::default()

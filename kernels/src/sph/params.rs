@@ -72,6 +72,9 @@ pub mod flags {
     pub const FREE: u32 = 0;
     pub const FIXED: u32 = 1;
     pub const VELOCITY: u32 = 2;
+    /// Held in its x–y plane (3D): the z components of its velocity and position rates are zero, so that its
+    /// initial v_z = 0 stays (plane strain, `kind = "plane_strain"`).
+    pub const PLANE: u32 = 3;
     pub const KIND_MASK: u32 = 0x3f;
     pub const VEL_INDEX_SHIFT: u32 = 8;
     pub const VEL_INDEX_MASK: u32 = 0xff;

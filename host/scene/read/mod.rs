@@ -5,6 +5,9 @@ use super::doc::{Doc, Entry, Node, Val, show};
 use super::error::SceneError;
 use super::*;
 
+mod tool;
+use tool::tool;
+
 type Result<T> = std::result::Result<T, SceneError>;
 
 /// Most lattice points a scene may ask for (bounding-box lattices of all bodies together).
@@ -242,7 +245,7 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
     let disc_expected = "a table [discretisation] with dx (and h_over_dx, skin_over_h, verlet_list)";
     let disc =
         root.required("discretisation", disc_expected, root.table("discretisation", "discretisation", disc_expected)?)?;
-    disc.check_keys(&["dx", "h_over_dx", "skin_over_h", "verlet_list"], &[], "")?;
+    disc.check_keys(&["dx", "h_over_dx", "skin_over_h", "verlet_list", "period_z"], &[], "")?;
     let dx_expected = "a positive lattice spacing in m";
     let dx = disc.required("dx", dx_expected, disc.number("dx", dx_expected, positive)?)?;
     let h_over_dx = disc.number("h_over_dx", "a ratio h/dx in [1, 3]", |x| (1.0..=3.0).contains(&x))?.unwrap_or(1.7);
@@ -250,6 +253,10 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
         .number("skin_over_h", "a cell-list skin in units of h, in [0, 1]", |x| (0.0..=1.0).contains(&x))?
         .unwrap_or(0.1);
     let verlet_list = disc.boolean("verlet_list", "true or false")?.unwrap_or(true);
+    let period_z = disc.number("period_z", "a positive period in m (3D only)", positive)?;
+    if period_z.is_some() && dim != 3 {
+        return Err(disc.invalid("period_z", disc.get("period_z"), "no period_z in 2D (a 3D scene's z period)"));
+    }
 
     // [material]
     let material = material(&root, doc)?;
@@ -293,7 +300,7 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
 
     // [tool]
     let tool = match root.table("tool", "tool", "a table [tool]")? {
-        Some(t) => Some(tool(&t, doc, dim, dx, &physics, &bodies, switches)?),
+        Some(t) => Some(tool(&t, doc, dim, dx, 2.0 * h_over_dx * dx, &physics, &bodies, switches)?),
         None => None,
     };
 
@@ -316,7 +323,7 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
         name: name.to_string(),
         dim,
         precision,
-        discretisation: Discretisation { dx, h_over_dx, skin_over_h, verlet_list },
+        discretisation: Discretisation { dx, h_over_dx, skin_over_h, verlet_list, period_z },
         material,
         bodies,
         boundaries,
@@ -829,330 +836,6 @@ fn named_material(t: &Tab<'_>, doc: &Doc, k: &str, name: &str) -> Result<crate::
     })
 }
 
-/// The `[tool]` table.
-const TOOL_KEYS: &[&str] = &[
-    "rake_angle",
-    "clearance_angle",
-    "edge_radius",
-    "length",
-    "height",
-    "position",
-    "depth_of_cut",
-    "body",
-    "velocity",
-    "ramp",
-    "rotation",
-    "contact_law",
-    "contact_stiffness",
-    "contact_damping",
-    "friction_stiffness",
-    "friction",
-    "friction_cap",
-    "friction_cap_factor",
-    "friction_heating",
-    "usui",
-    "chip_station",
-    "thermal",
-];
-
-/// `[tool]`, read in steps: the outline, where and how the tool moves, the contact law, the thermal tool, then the
-/// checks that need several of them.
-fn tool(
-    t: &Tab<'_>,
-    doc: &Doc,
-    dim: usize,
-    dx: f64,
-    physics: &Physics,
-    bodies: &[Body],
-    switches: super::model::ModelSwitches,
-) -> Result<Tool> {
-    t.check_keys(TOOL_KEYS, &[], "")?;
-    if dim != 2 {
-        // About the table, not one of its keys (it said `tool.rake_angle: missing` with the key present).
-        return Err(SceneError::Invalid {
-            at: doc.loc(t.node.at),
-            key: "tool".into(),
-            value: Some(format!("[tool] in a dim = {dim} scene")),
-            expected: "a 2D scene (dim = 2): the parametric tool is 2D".into(),
-        });
-    }
-    let outline = tool_outline(t)?;
-    let row_datum = switches.has(super::model::Switch::RowDatum);
-    let (position, depth_of_cut, body) = tool_position(t, dx, bodies, row_datum)?;
-    let e = "the cutting velocity [vx, vy] in m/s";
-    let velocity = t.required("velocity", e, t.vector("velocity", 2, e)?)?;
-    let ramp = t.number("ramp", "a non-negative time in s", non_negative)?.unwrap_or(0.0);
-    let rotation = tool_rotation(t)?;
-    let law = tool_contact(t, physics, switches)?;
-    let chip_station = t.number("chip_station", "a positive distance in m", positive)?;
-    let thermal = tool_thermal(t, doc, dx, physics)?;
-    if law.friction_heating > 0.0 && !(physics.plastic_heating || physics.conduction != Conduction::Off) {
-        return Err(t.invalid(
-            "friction_heating",
-            t.get("friction_heating"),
-            "0: friction heating needs the thermal model (plastic heating or conduction, and the material's \
-             specific heat)",
-        ));
-    }
-    check_outline(t, &outline)?;
-    if rotation.is_some() && thermal.is_some() {
-        return Err(t.invalid(
-            "rotation",
-            t.get("rotation"),
-            "no rotation with [tool.thermal]: the thermal tool particles move with the tool's translation only",
-        ));
-    }
-    Ok(Tool {
-        rake_angle: outline.rake_angle,
-        clearance_angle: outline.clearance_angle,
-        edge_radius: outline.edge_radius,
-        length: outline.length,
-        height: outline.height,
-        position,
-        depth_of_cut,
-        body,
-        velocity: [velocity[0], velocity[1]],
-        ramp,
-        rotation,
-        contact_law: law.contact_law,
-        contact_stiffness: law.contact_stiffness,
-        contact_damping: law.contact_damping,
-        friction_stiffness: law.friction_stiffness,
-        friction: law.friction,
-        friction_cap: law.friction_cap,
-        friction_cap_factor: law.friction_cap_factor,
-        friction_heating: law.friction_heating,
-        usui: law.usui,
-        chip_station,
-        thermal,
-    })
-}
-
-/// The tool's outline as the file gives it (angles in degrees).
-struct Outline {
-    rake_angle: f64,
-    clearance_angle: f64,
-    edge_radius: f64,
-    length: f64,
-    height: f64,
-}
-
-fn tool_outline(t: &Tab<'_>) -> Result<Outline> {
-    let e = "an angle in degrees in (-90, 90)";
-    let rake_angle = t.required("rake_angle", e, t.number("rake_angle", e, |x| x > -90.0 && x < 90.0)?)?;
-    let e = "an angle in degrees >= 0 with rake_angle + clearance_angle < 90";
-    let clearance_angle =
-        t.required("clearance_angle", e, t.number("clearance_angle", e, |x| x >= 0.0 && x + rake_angle < 90.0)?)?;
-    let edge_radius = t.number("edge_radius", "a non-negative radius in m", non_negative)?.unwrap_or(0.0);
-    let e = "a positive length in m";
-    let length = t.required("length", e, t.number("length", e, positive)?)?;
-    let height = t.required("height", e, t.number("height", e, positive)?)?;
-    Ok(Outline { rake_angle, clearance_angle, edge_radius, length, height })
-}
-
-/// Refuses an outline the parametric tool cannot build (kernels/src/contact/tool2d.rs), at `length`.
-fn check_outline(t: &Tab<'_>, o: &Outline) -> Result<()> {
-    let shape = crate::kernels::contact::ToolShape {
-        rake_angle: o.rake_angle.to_radians(),
-        clearance_angle: o.clearance_angle.to_radians(),
-        edge_radius: o.edge_radius,
-        length: o.length,
-        height: o.height,
-    };
-    if let Err(err) = crate::kernels::contact::Tool2d::new(&shape) {
-        let why = match err {
-            crate::kernels::contact::tool2d::ShapeError::Angles => "angles with a wedge 90 - rake - clearance > 0",
-            crate::kernels::contact::tool2d::ShapeError::Size => "finite, non-negative sizes",
-            crate::kernels::contact::tool2d::ShapeError::TooSmall => {
-                "a tool large enough for its edge radius (faces longer than the arc's tangent length, the flank \
-                 below the top)"
-            }
-        };
-        return Err(t.invalid("length", t.get("length"), why));
-    }
-    Ok(())
-}
-
-/// `rotation = { axis, centre, rpm }`: the axis must be a finite, non-zero vector, and along z, since the
-/// parametric tool is 2D and can only turn in its plane (a 3D tool geometry will accept any axis).
-fn tool_rotation(t: &Tab<'_>) -> Result<Option<ToolRotation>> {
-    let e = "a table { axis = [x, y, z], centre = [x, y, z], rpm = n }";
-    let Some(r) = t.table("rotation", "tool.rotation", e)? else { return Ok(None) };
-    r.check_keys(&["axis", "centre", "rpm"], &[], "")?;
-    let e = "a finite, non-zero axis [x, y, z]";
-    let axis = r.required("axis", e, r.vector("axis", 3, e)?)?;
-    let norm = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
-    if !(norm.is_finite() && norm > 0.0) {
-        return Err(r.invalid("axis", r.get("axis"), e));
-    }
-    if axis[0] != 0.0 || axis[1] != 0.0 {
-        return Err(r.invalid(
-            "axis",
-            r.get("axis"),
-            "an axis along z, [0, 0, 1] or [0, 0, -1]: the parametric tool is 2D and turns in its plane only",
-        ));
-    }
-    let e = "the rotation centre [x, y, z] in m, in the tool frame";
-    let centre = r.required("centre", e, r.vector("centre", 3, e)?)?;
-    let e = "a finite rotational speed in revolutions per minute (positive: right-handed about axis)";
-    let rpm = r.required("rpm", e, r.number("rpm", e, |_| true)?)?;
-    Ok(Some(ToolRotation { axis, centre, rpm }))
-}
-
-/// The contact law's keys of `[tool]`.
-struct ContactLaw {
-    contact_law: ContactLawKind,
-    contact_stiffness: f64,
-    contact_damping: f64,
-    friction_stiffness: Option<f64>,
-    friction: f64,
-    friction_cap: FrictionCap,
-    friction_cap_factor: f64,
-    friction_heating: f64,
-    usui: Option<[f64; 2]>,
-}
-
-/// The contact law's defaults: `"bulk"` with ξ = 1 (converged in Δt and κ, docs/validation.md), or the theses'
-/// undamped `"step"` under the original model's `step_contact` switch.
-fn tool_contact(t: &Tab<'_>, physics: &Physics, switches: super::model::ModelSwitches) -> Result<ContactLaw> {
-    let theses = switches.has(super::model::Switch::StepContact);
-    let contact_law = match t.string("contact_law", "\"step\" or \"bulk\"", |s| matches!(s, "step" | "bulk"))? {
-        Some("bulk") => ContactLawKind::Bulk,
-        Some(_) => ContactLawKind::Step,
-        None if theses => ContactLawKind::Step,
-        None => ContactLawKind::Bulk,
-    };
-    let contact_stiffness =
-        t.number("contact_stiffness", "a fraction in (0, 1]", |x| x > 0.0 && x <= 1.0)?.unwrap_or(0.1);
-    let contact_damping = t
-        .number("contact_damping", "a fraction of critical damping in [0, 1]", |x| (0.0..=1.0).contains(&x))?
-        .unwrap_or(if theses { 0.0 } else { 1.0 });
-    let friction_stiffness = t.number("friction_stiffness", "a fraction in (0, 1]", |x| x > 0.0 && x <= 1.0)?;
-    let friction = t.number("friction", "a non-negative coefficient", non_negative)?.unwrap_or(0.0);
-    let e = "\"none\", \"static\" or \"current\"";
-    let friction_cap = match t.string("friction_cap", e, |s| matches!(s, "none" | "static" | "current"))? {
-        Some("static") => FrictionCap::Static,
-        Some("current") => FrictionCap::Current,
-        _ => FrictionCap::None,
-    };
-    if friction_cap != FrictionCap::None && !physics.plasticity {
-        return Err(t.invalid("friction_cap", t.get("friction_cap"), "\"none\": a yield-stress cap needs plasticity"));
-    }
-    let friction_cap_factor = t.number("friction_cap_factor", "a positive factor", positive)?.unwrap_or(1.0);
-    let friction_heating =
-        t.number("friction_heating", "a fraction in [0, 1]", |x| (0.0..=1.0).contains(&x))?.unwrap_or(0.0);
-    let usui = match t.table("usui", "tool.usui", "a table { psi, xi }")? {
-        Some(u) => {
-            u.check_keys(&["psi", "xi"], &[], "")?;
-            Some([
-                u.number("psi", "a positive coefficient in 1/Pa", positive)?.unwrap_or(7.8e-9),
-                u.number("xi", "a positive temperature in K", positive)?.unwrap_or(2500.0),
-            ])
-        }
-        None => None,
-    };
-    Ok(ContactLaw {
-        contact_law,
-        contact_stiffness,
-        contact_damping,
-        friction_stiffness,
-        friction,
-        friction_cap,
-        friction_cap_factor,
-        friction_heating,
-        usui,
-    })
-}
-
-/// `[tool.thermal]`: the tool as a heat sink of thermal-only particles.
-fn tool_thermal(t: &Tab<'_>, doc: &Doc, dx: f64, physics: &Physics) -> Result<Option<ToolThermal>> {
-    let Some(th) = t.table("thermal", "tool.thermal", "a table [tool.thermal] with material")? else {
-        return Ok(None);
-    };
-    th.check_keys(&["material", "temperature", "fixed_width"], &[], "")?;
-    let material = library_material(&th, doc, "material")?;
-    let ok =
-        material.thermal.is_some_and(|m| m.density.is_some() && m.specific_heat.is_some() && m.conductivity.is_some());
-    if !ok {
-        return Err(th.invalid(
-            "material",
-            th.get("material"),
-            "a library material with [thermal] density, specific_heat and conductivity",
-        ));
-    }
-    if physics.conduction == Conduction::Off {
-        return Err(th.invalid(
-            "material",
-            th.get("material"),
-            "a scene that conducts heat (physics.conduction): the thermal tool is a heat sink",
-        ));
-    }
-    Ok(Some(ToolThermal {
-        material: Some(material),
-        temperature: th
-            .number("temperature", "a positive temperature in K", positive)?
-            .unwrap_or(physics.initial_temperature),
-        fixed_width: th.number("fixed_width", "a non-negative width in m", non_negative)?.unwrap_or(2.0 * dx),
-    }))
-}
-
-/// `position` and `depth_of_cut`: the edge's lowest point at t = 0, y = top + dx/2 − depth (the uncut surface half a
-/// spacing above the top row's centres), or with `row_datum` (`model = "mfree_iwf"`) y = top − depth, the original
-/// code's datum (`setup_ref_cut`: the feed measured from the top row's centres).
-fn tool_position(
-    t: &Tab<'_>,
-    dx: f64,
-    bodies: &[Body],
-    row_datum: bool,
-) -> Result<([f64; 2], Option<f64>, Option<usize>)> {
-    let depth = t.number("depth_of_cut", "a positive depth in m below the workpiece's uncut surface", positive)?;
-    let names = bodies.iter().map(|b| format!("'{}'", b.name)).collect::<Vec<_>>().join(", ");
-    let body_expected = format!("the name of the workpiece body depth_of_cut is measured from (one of: {names})");
-    let body = match t.string("body", &body_expected, |_| true)? {
-        Some(name) => match bodies.iter().position(|b| b.name == name) {
-            Some(i) => Some(i),
-            None => return Err(t.invalid("body", t.get("body"), body_expected)),
-        },
-        None => None,
-    };
-    let Some(depth) = depth else {
-        if body.is_some() {
-            return Err(t.invalid(
-                "body",
-                t.get("body"),
-                "no body without depth_of_cut (it names the surface the depth is measured from)",
-            ));
-        }
-        let e = format!("{} (or [x] with depth_of_cut)", point_text("the edge's lowest point at t = 0", 2, "m"));
-        let p = t.required("position", &e, t.vector("position", 2, &e)?)?;
-        return Ok(([p[0], p[1]], None, None));
-    };
-    if let Some(node @ Node { val: Val::Array(items), .. }) = t.get("position")
-        && items.len() == 2
-    {
-        return Err(t.invalid(
-            "position",
-            Some(node),
-            "[x] only: depth_of_cut places the edge's y (give position = [x, y] or depth_of_cut, not both)",
-        ));
-    }
-    let e = "[x] of the edge's lowest point at t = 0 in m (depth_of_cut places y)";
-    let x = t.required("position", e, t.vector("position", 1, e)?)?[0];
-    let k = body.unwrap_or(0);
-    let b = &bodies[k];
-    let top = super::generate::top_row(&b.shape, b.lattice, dx).ok_or_else(|| {
-        t.invalid(
-            "depth_of_cut",
-            t.get("depth_of_cut"),
-            format!("a workpiece with particles: body '{}' holds no lattice point at dx = {dx} m", b.name),
-        )
-    })?;
-    // top + (dx/2 − depth), in this order: it rounds V0060's 2.9e-4 + (5e-6 − 1e-4) to exactly the 1.95e-4 the
-    // scene gave before depth_of_cut existed, so its runs are unchanged bit for bit.
-    let y = if row_datum { top - depth } else { top + (0.5 * dx - depth) };
-    Ok(([x, y], Some(depth), body))
-}
-
 /// Number of lattice points on an axis of length `extent`.
 pub(super) fn points_on_axis(extent: f64, dx: f64, lattice: Lattice) -> usize {
     let n = (extent / dx + 1e-9).floor();
@@ -1296,12 +979,13 @@ fn dim_of(shape: &str) -> usize {
 
 fn boundary(t: &Tab<'_>, dim: usize, bodies: &[Body]) -> Result<Boundary> {
     t.check_keys(&["kind", "min", "max", "velocity", "body", "temperature", "reverse_at"], &[], "")?;
-    let kind_expected = "\"fixed\", \"velocity\" or \"temperature\"";
-    let kind = t.required(
-        "kind",
-        kind_expected,
-        t.string("kind", kind_expected, |s| s == "fixed" || s == "velocity" || s == "temperature")?,
-    )?;
+    let kind_expected = "\"fixed\", \"velocity\", \"temperature\" or (3D) \"plane_strain\"";
+    let kinds: &[&str] = if dim == 3 {
+        &["fixed", "velocity", "temperature", "plane_strain"]
+    } else {
+        &["fixed", "velocity", "temperature"]
+    };
+    let kind = t.required("kind", kind_expected, t.string("kind", kind_expected, |s| kinds.contains(&s))?)?;
     if kind != "temperature"
         && let Some(v) = t.get("temperature")
     {
@@ -1314,15 +998,15 @@ fn boundary(t: &Tab<'_>, dim: usize, bodies: &[Body]) -> Result<Boundary> {
     if (0..dim).any(|k| max[k] < min[k]) {
         return Err(t.invalid("max", t.get("max"), e_max));
     }
-    let kind = if kind == "fixed" {
+    let kind = if kind == "fixed" || kind == "plane_strain" {
         if let Some(v) = t.get("velocity") {
             return Err(t.invalid(
                 "velocity",
                 Some(v),
-                "no velocity for kind = \"fixed\" (remove it, or use kind = \"velocity\")",
+                format!("no velocity for kind = \"{kind}\" (remove it, or use kind = \"velocity\")"),
             ));
         }
-        BoundaryKind::Fixed
+        if kind == "fixed" { BoundaryKind::Fixed } else { BoundaryKind::PlaneStrain }
     } else if kind == "temperature" {
         if let Some(v) = t.get("velocity") {
             return Err(t.invalid("velocity", Some(v), "no velocity for kind = \"temperature\""));

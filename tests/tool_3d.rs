@@ -1,0 +1,125 @@
+//! Issue 24: rigid tools in 3D (docs/3d.md). The contact pass with the parametric tool's prism and with a triangle
+//! mesh, the scene keys of a mesh tool, the forces and moments of `forces.csv` in 3D and the tool's surface beside
+//! the frames. CPU; the GPU twin of these runs is tests/gpu.rs's `tool_3d_runs_equal_cpu`.
+
+mod common;
+
+use common::scenes::{PRISM_TOOL, drop_scene_3d, prism_obj};
+use std::path::{Path, PathBuf};
+use swarf::run::{RunOptions, run};
+use swarf::scene::Scene;
+
+fn scratch(tag: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("swarf-test-tool3d-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch folder");
+    dir
+}
+
+/// The `[tool]` lines of the mesh tool that is [`PRISM_TOOL`]'s prism from z = −1 mm to 1 mm, written to `dir`.
+fn mesh_tool(dir: &Path, obj: &str) -> String {
+    let file = dir.join("prism.obj");
+    std::fs::write(&file, obj).expect("write the mesh");
+    format!(
+        "mesh = {{ file = {:?} }}\nposition = [0.0, 0.0, 0.0]\nvelocity = [0.0, 0.0, 0.0]",
+        file.display().to_string()
+    )
+}
+
+/// forces.csv's rows (with its header checked against the 3D columns) of a run of `text` into `dir`.
+fn run_rows(text: &str, dir: &Path, frames: bool) -> Vec<Vec<f64>> {
+    let scene = Scene::from_str(text, "drop3d.toml", &[]).expect("scene");
+    let opts = RunOptions { frames, ..RunOptions::quiet(dir.to_path_buf()) };
+    run(&common::test_backend(), &scene, &opts).expect("run");
+    let (head, rows) = swarf::output::csv::read(&dir.join("forces.csv")).expect("forces.csv");
+    assert_eq!(head, swarf::cutting::record::force_columns(3));
+    rows
+}
+
+/// Columns of forces.csv in 3D: F = (F_x, F_y, F_z) [N] and M [N·m].
+const FX: usize = 9;
+const MX: usize = 12;
+
+/// The prism of the parametric tool and the same prism as a triangle mesh are one tool: a Ti6Al4V block dropped at
+/// 10 m/s (sliding at 2 m/s) onto its top face gets the same contact forces from both, to 1e-9 of the largest
+/// force (the two queries compute the same exact distances by different arithmetic: the outline's segments, or
+/// Ericson's closest point on the triangles, so the runs differ by rounding only).
+#[test]
+fn parametric_prism_and_its_mesh_give_the_same_forces() {
+    let dir = scratch("same");
+    let prism = run_rows(&drop_scene_3d(10.0, 2.0, PRISM_TOOL), &dir.join("prism"), false);
+    let mesh = run_rows(&drop_scene_3d(10.0, 2.0, &mesh_tool(&dir, &prism_obj(-1e-3, 1e-3))), &dir.join("mesh"), false);
+    assert_eq!(prism.len(), mesh.len(), "sample counts");
+    let scale = prism.iter().map(|r| r[FX + 1].abs()).fold(0.0, f64::max);
+    assert!(scale > 0.0 && prism.iter().any(|r| r[4] > 0.0), "the block must land on the tool");
+    let mut worst = 0.0f64;
+    for (a, b) in prism.iter().zip(&mesh) {
+        assert_eq!(a[4], b[4], "particles in contact at t = {}", a[0]);
+        for k in FX..FX + 3 {
+            worst = worst.max((a[k] - b[k]).abs() / scale);
+        }
+    }
+    eprintln!("prism against mesh: {} samples, peak F_y {scale:e} N, worst difference {worst:e} of it", prism.len());
+    assert!(worst <= 1e-9, "the mesh prism's forces differ from the parametric prism's by {worst:e} of the peak");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// forces.csv's 3D columns: the block (z from 0 to 30 µm) lands on the prism, whose normals lie in the x–y plane,
+/// so by the block's mirror symmetry about z_c = 15 µm the force has no z component and the moment about the tool's
+/// origin has M_x = −z_c F_y (Σ z f_y = z_c Σ f_y; Σ y f_z = 0), M_y = z_c F_x, to 1e-6 of the peak (rounding,
+/// grown over the run). F_y > 0: the tool pushes the block up; the friction opposes its slide (F_x < 0).
+#[test]
+fn forces_and_moments_of_a_3d_contact_follow_the_mirror_symmetry() {
+    let dir = scratch("moment");
+    let rows = run_rows(&drop_scene_3d(10.0, 2.0, PRISM_TOOL), &dir, false);
+    let zc = 1.5e-5;
+    let peak = rows.iter().map(|r| r[FX + 1].abs()).fold(0.0, f64::max);
+    let (mut fz, mut mx, mut my) = (0.0f64, 0.0f64, 0.0f64);
+    for r in &rows {
+        fz = fz.max(r[FX + 2].abs() / peak);
+        mx = mx.max((r[MX] + zc * r[FX + 1]).abs() / (zc * peak));
+        my = my.max((r[MX + 1] - zc * r[FX]).abs() / (zc * peak));
+    }
+    let contact: Vec<_> = rows.iter().filter(|r| r[4] > 0.0).collect();
+    eprintln!("3D drop: peak F_y {peak:e} N; |F_z| {fz:e}, M_x {mx:e}, M_y {my:e} of the peak");
+    assert!(!contact.is_empty() && contact.iter().all(|r| r[FX + 1] > 0.0), "the tool pushes the block up");
+    assert!(contact.iter().any(|r| r[FX] < 0.0), "friction opposes the slide in +x");
+    assert!(fz <= 1e-6 && mx <= 1e-6 && my <= 1e-6, "F_z {fz:e}, M_x {mx:e}, M_y {my:e} of the peak");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The frames carry the mesh tool's surface: `tool_*.vtp` with the mesh's 12 triangles (36 corners), where the
+/// tool's motion puts it (a tool moving at 1 m/s along x has moved by v·t).
+#[test]
+fn frames_carry_the_mesh_tool_surface() {
+    let dir = scratch("frames");
+    let tool =
+        mesh_tool(&dir, &prism_obj(-1e-3, 1e-3)).replace("velocity = [0.0, 0.0, 0.0]", "velocity = [1.0, 0.0, 0.0]");
+    run_rows(&drop_scene_3d(10.0, 0.0, &tool), &dir.join("run"), true);
+    let (time, points) = swarf::output::vtp::read_outline(&dir.join("run/tool_00002.vtp")).expect("tool frame");
+    assert_eq!(points.len(), 36, "12 triangles, 3 corners each");
+    let xmax = points.iter().map(|p| p[0]).fold(f64::NEG_INFINITY, f64::max);
+    assert!((xmax - time).abs() <= 1e-12, "the rake face at x = v t = {time:e}, found {xmax:e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A mesh tool's input is checked when the scene is read: only in 3D, not beside the outline keys, and a mesh that
+/// is not closed is refused with the key, the file and what is wrong.
+#[test]
+fn mesh_tool_input_is_checked() {
+    let dir = scratch("input");
+    let good = drop_scene_3d(10.0, 0.0, &mesh_tool(&dir, &prism_obj(-1e-3, 1e-3)));
+    let refused = |text: &str| Scene::from_str(text, "drop3d.toml", &[]).expect_err("refused").to_string();
+    let e = refused(&good.replace("dim = 3", "dim = 2"));
+    assert!(e.contains("tool.mesh") || e.contains("dim"), "{e}");
+    let e = refused(&good.replace("[tool]\n", "[tool]\nrake_angle = 0.0\n"));
+    assert!(e.contains("rake_angle") && e.contains("mesh"), "{e}");
+    let open: String = prism_obj(-1e-3, 1e-3).lines().filter(|l| *l != "f 5 6 7 8").map(|l| format!("{l}\n")).collect();
+    let holed = dir.join("holed");
+    std::fs::create_dir_all(&holed).expect("folder");
+    let e = refused(&drop_scene_3d(10.0, 0.0, &mesh_tool(&holed, &open)));
+    assert!(e.contains("tool.mesh.file") && e.contains("prism.obj") && e.contains("not closed"), "{e}");
+    let e = refused(&good.replace("position = [0.0, 0.0, 0.0]", "position = [0.0, 0.0]"));
+    assert!(e.contains("tool.position") && e.contains("[x, y, z]"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
