@@ -186,23 +186,49 @@ for p in $parts; do
                 cat /tmp/table22/$c/sweep.md
             done
             tar czf "$out/table22.tgz" --exclude='*.vtu' --exclude='*.png' -C /tmp table22 ;;
-        tool3d) # issue 24: V0060 extruded in z (cases/3d/orthogonal-v0060.toml, 22.6k particles, the parametric tool's
-                # prism) whole beside the 2D V0060 (the default scene), each bounded by SWARF_TOOL3D_S s (default 300;
-                # SIGINT keeps what was written): F_c and F_f per mm of width, wall time; tool3d.tgz (summaries,
-                # forces.csv, energy.csv)
+        tool3d) # issue 24 (docs/3d.md): (1) the 3D step against each packed earlier build (swarf-<name>) on the
+                # 3D tubes at Δx = 0.5 mm (the non-periodic 3D path), bench step both precisions; (2) the extruded
+                # V0060 (cases/3d/orthogonal-v0060.toml, 45k particles) at t = 0 with and without its z period;
+                # (3) whole runs, each bounded by SWARF_TOOL3D_S s (default 240; SIGINT keeps what was written): the
+                # 2D V0060, its periodic plane-strain extrusion, and the single diamond grain
+                # (cases/3d/single-grain.toml); F_c and F_f per mm, the 3D columns, wall time; tool3d.tgz
+                # (summaries, forces.csv, energy.csv, the grain's last frame and tool surface)
             tool3d() {
-                local d=/tmp/tool3d lim=${SWARF_TOOL3D_S:-300}
-                rm -rf $d; mkdir -p $d
-                for c in cases/cutting/v0060.toml cases/3d/orthogonal-v0060.toml; do
-                    local name; name=$(basename "$c" .toml)-$(basename "$(dirname "$c")")
+                local d=/tmp/tool3d lim=${SWARF_TOOL3D_S:-240} b others
+                others=$(cd "$here" && ls swarf-* 2>/dev/null | grep -v '\.gz$')
+                rm -rf $d; mkdir -p $d/ab
+                sed 's/^dx = 0.0025/dx = 0.0005/' cases/cylinders-3d.toml > $d/ab/tubes-3d.toml
+                for b in swarf $others; do
+                    echo "== $b: 3D tubes"
+                    (cd $d/ab && "$here/$b" --backend gpu bench step --precision both --step-count 512 \
+                        --scenes tubes-3d.toml) || return 1
+                done
+                # 10 layers (P = 10 dx), so that the bench's skin 0.2 h still has 5 cells in the period.
+                sed 's/^period_z = 8.0e-5/period_z = 1.0e-4/; s/2.9e-4, 7.0e-5\]/2.9e-4, 9.0e-5]/' \
+                    cases/3d/orthogonal-v0060.toml > $d/orthogonal-period.toml
+                sed '/^period_z/d' $d/orthogonal-period.toml > $d/orthogonal-noperiod.toml
+                cp -r cases/3d/tools $d/
+                "$here/swarf" --backend gpu bench step --precision both --step-count 512 \
+                    --scenes $d/orthogonal-period.toml,$d/orthogonal-noperiod.toml || return 1
+                for c in cases/cutting/v0060.toml cases/3d/orthogonal-v0060.toml cases/3d/single-grain.toml; do
+                    local name; name=$(basename "$c" .toml)
                     local t0; t0=$(date +%s.%N)
                     timeout -s INT "$lim" "$here/swarf" --backend gpu run "$c" --quiet --out "$d/$name"
                     local rc=$?
                     echo "== $name rc=$rc wall $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { print b - a }') s"
-                    cat "$d/$name/summary.json" 2>/dev/null | grep -E '"(fc|ff)_n_per_mm"|"particles"|"steps"' | head -6
-                    tail -n 2 "$d/$name/forces.csv"
+                    grep -E '"(fc|ff)_n_per_mm"' "$d/$name/summary.json" 2>/dev/null | head -2
+                    tail -n 2 "$d/$name/run.log" 2>/dev/null
+                    head -n 1 "$d/$name/forces.csv"; awk 'NR > 1 && NR % 20 == 0' "$d/$name/forces.csv" | tail -n 12
                 done
-                tar czf "$out/tool3d.tgz" -C $d --exclude='*.vtu' --exclude='*.vtp' --exclude='*.pvd' .
+                local last; last=$(ls $d/single-grain/frame_*.vtu 2>/dev/null | tail -n 1)
+                mkdir -p $d/grain-last
+                if [ -n "$last" ]; then
+                    cp "$last" $d/grain-last/
+                    cp "$(dirname "$last")/tool_$(basename "$last" .vtu | sed 's/^frame_//').vtp" $d/grain-last/ 2>/dev/null
+                fi
+                tar czf "$out/tool3d.tgz" -C $d --exclude='*/frame_*.vtu' --exclude='*/tool_*.vtp' --exclude=./ab \
+                    --exclude=./tools .
+                tar czf "$out/grain-last.tgz" -C $d grain-last
             }
             run tool3d tool3d ;;
         damage25|damage25fine) # issue 25 item 5 (docs/damage.md, "Scenes"). damage25: the CT specimen with the mask, without

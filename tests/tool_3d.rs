@@ -123,3 +123,50 @@ fn mesh_tool_input_is_checked() {
     assert!(e.contains("tool.position") && e.contains("[x, y, z]"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A rotating mesh tool: a wheel (a cylinder of radius R = 100 µm about z, 512 segments) spinning at ωR = 20 m/s
+/// (right-handed about +z) is fed down at 10 m/s onto a Ti6Al4V block (fixed at its bottom), μ = 0.2. At the
+/// contact the wheel's surface slides at v + ω × r ≈ +20 m/s along x, far faster than anything else moves, so every
+/// contact slides: the friction drags the block along +x with F_x = μ |F_y| (the friction ratio column = μ, to 2 %;
+/// measured 8e-16) while the wheel pushes it down (F_y < 0), and the moment about the wheel's axis is that friction
+/// at the rim, M_z = R F_x, to 5 % (measured 4.4 %: the contacts sit a penetration depth inside the rim, and the
+/// patch's lever arms along x cancel only nearly). The normal forces point through the axis and add nothing.
+#[test]
+fn a_spinning_wheel_drags_the_block_with_its_rim_speed() {
+    let dir = scratch("wheel");
+    let obj = dir.join("wheel.obj");
+    std::fs::write(&obj, common::scenes::cylinder_obj(1.0e-4, -1.0e-3, 1.0e-3, 512)).expect("mesh");
+    let (r, rpm) = (1.0e-4, 20.0 / 1.0e-4 * 60.0 / std::f64::consts::TAU);
+    let tool = format!(
+        "mesh = {{ file = {:?} }}\nposition = [0.0, 1.57e-4, 0.0]\nvelocity = [0.0, -10.0, 0.0]\n\
+         rotation = {{ axis = [0.0, 0.0, 1.0], centre = [0.0, 0.0, 0.0], rpm = {rpm} }}\nfriction = 0.2\n",
+        obj.display().to_string()
+    );
+    let text = common::scenes::drop_scene_3d(0.0, 0.0, &tool)
+        .replace("friction = 0.35\n", "")
+        .replace(
+            "min = [-3.0e-4, 1.97e-4, 0.0]\nmax = [-1.8e-4, 2.57e-4, 3.0e-5]",
+            "min = [-1.5e-4, 0.0, 0.0]\nmax = [1.5e-4, 6.0e-5, 3.0e-5]",
+        )
+        .replace(
+            "[tool]",
+            "[[boundary]]\nkind = \"fixed\"\nmin = [-1.0, -1.0, -1.0]\nmax = [1.0, 1.0e-5, 1.0]\n[tool]",
+        );
+    let rows = run_rows(&text, &dir.join("run"), false);
+    let contact: Vec<_> = rows.iter().filter(|row| row[4] >= 3.0).collect();
+    assert!(contact.len() >= 5, "the wheel must press into the block ({} samples in contact)", contact.len());
+    let (mut ratio, mut lever) = (0.0f64, 0.0f64);
+    for row in &contact {
+        let (fx, fy, mz) = (row[FX], row[FX + 1], row[MX + 2]);
+        assert!(fx > 0.0 && fy < 0.0, "the rim drags the block along +x and pushes it down: F = ({fx:e}, {fy:e})");
+        ratio = ratio.max((row[8] / 0.2 - 1.0).abs());
+        lever = lever.max((mz / (r * fx) - 1.0).abs());
+    }
+    eprintln!(
+        "spinning wheel: {} samples in contact; friction ratio within {ratio:e} of mu, M_z/(R F_x) within {lever:e} of 1",
+        contact.len()
+    );
+    assert!(ratio <= 0.02, "every contact slides: friction ratio off mu by {ratio:e}");
+    assert!(lever <= 0.05, "M_z = R F_x: off by {lever:e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

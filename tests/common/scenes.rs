@@ -225,3 +225,24 @@ pub fn prism_obj(z0: f64, z1: f64) -> String {
     }
     s
 }
+
+/// A closed cylinder of radius `r` about the z axis from z = `z0` to `z1`, `n` segments, as Wavefront OBJ text:
+/// the two rings, the caps fanned from their centres, every face outward.
+pub fn cylinder_obj(r: f64, z0: f64, z1: f64, n: usize) -> String {
+    let mut s = String::from("# a cylinder (tests/common/scenes.rs)\n");
+    for z in [z0, z1] {
+        for k in 0..n {
+            let a = std::f64::consts::TAU * k as f64 / n as f64;
+            s.push_str(&format!("v {:e} {:e} {:e}\n", r * a.cos(), r * a.sin(), z));
+        }
+    }
+    s.push_str(&format!("v 0 0 {z0:e}\nv 0 0 {z1:e}\n"));
+    let (c0, c1) = (2 * n + 1, 2 * n + 2);
+    for k in 0..n {
+        let (a, b) = (k + 1, (k + 1) % n + 1);
+        // Side: counter-clockwise seen from outside; bottom cap seen from −z; top cap seen from +z.
+        s.push_str(&format!("f {a} {b} {}\nf {a} {} {}\n", b + n, b + n, a + n));
+        s.push_str(&format!("f {c0} {b} {a}\nf {c1} {} {}\n", a + n, b + n));
+    }
+    s
+}

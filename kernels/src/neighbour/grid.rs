@@ -60,6 +60,32 @@ pub fn dist2_f64<R: Real, V: Vector<R>>(a: &V, b: &V) -> f64 {
     d2
 }
 
+/// A grid's z period in the run's precision, read once per particle before its pair loop, so that the loop can be
+/// unswitched on it (`on` false: the plain loop, instruction for instruction).
+#[derive(Clone, Copy)]
+pub struct Period<R: Real> {
+    /// A 3D grid with a period.
+    pub on: bool,
+    p: R,
+    inv: R,
+}
+
+impl<R: Real> Period<R> {
+    /// The period of `grid` for a run of dimension `D` (off in 2D, whatever the grid says).
+    #[inline(always)]
+    pub fn of<D: crate::vector::Dim>(grid: &GridParams) -> Self {
+        let on = D::D == 3 && grid.period > 0.0;
+        Period { on, p: R::from_f64(grid.period), inv: R::from_f64(grid.inv_period) }
+    }
+
+    /// a − b with z reduced to the nearest image, d_z − P ⌊d_z/P + ½⌋ (as [`GridParams::displacement`]).
+    #[inline(always)]
+    pub fn displacement<V: Vector<R>>(&self, a: &V, b: &V) -> V {
+        let dz = a.get(2) - b.get(2);
+        V::new([a.get(0) - b.get(0), a.get(1) - b.get(1), dz - self.p * (dz * self.inv + R::from_f64(0.5)).floor()])
+    }
+}
+
 impl GridParams {
     /// a − b in R, its z component reduced to the nearest periodic image when the grid is periodic in z:
     /// d_z − P ⌊d_z/P + ½⌋. Without a period, the plain difference.

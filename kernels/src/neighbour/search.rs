@@ -41,7 +41,16 @@ pub unsafe fn for_each_row<R: Real, V: Vector<R>, F: FnMut(u32, u32)>(
     };
     let mut zw = z0;
     while zw <= z1 {
-        let z = if wrap { zw % nz } else { zw };
+        // zw < c + nz + s < 3 nz: at most two subtractions, no division (no panic path on the GPU).
+        let z = if !wrap {
+            zw
+        } else if zw >= 2 * nz {
+            zw - 2 * nz
+        } else if zw >= nz {
+            zw - nz
+        } else {
+            zw
+        };
         let mut y = y0;
         while y <= y1 {
             let row = (z * ny + y) * nx;

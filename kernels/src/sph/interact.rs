@@ -22,7 +22,8 @@ use super::lanes::{LaneSum, all_lanes, lane_share, map_real, map_vector};
 use super::params::{SphParams, flags};
 use super::tensor::TensorOps;
 use crate::load::read;
-use crate::neighbour::{GridParams, Neighbours};
+use crate::neighbour::Neighbours;
+use crate::neighbour::grid::Period;
 use crate::real::Real;
 use crate::vector::{Dim, SymTensor, Vector};
 
@@ -406,16 +407,16 @@ struct Geometry<R: Real, V: Vector<R>> {
 
 /// The geometry of pair (i, j) with j at `xj`; None for j = i, beyond the support or closer than the skip distance.
 #[inline(always)]
-fn geometry<R: Real, D: TensorOps<R>>(
+fn geometry<R: Real, D: TensorOps<R>, const PER: bool>(
     p: &SphParams<R>,
-    grid: &GridParams,
+    per: &Period<R>,
     o: &Own<R, D>,
     i: u32,
     j: u32,
     xj: &D::Vec<R>,
 ) -> Option<Geometry<R, D::Vec<R>>> {
     let k = &p.kernel;
-    let xij = if D::D == 3 && grid.period > 0.0 { grid.displacement::<R, D::Vec<R>>(&o.x, xj) } else { sub(&o.x, xj) };
+    let xij = if PER { per.displacement(&o.x, xj) } else { sub(&o.x, xj) };
     let r2 = dot(&xij, &xij);
     if j == i || r2 >= k.support2 || r2 < p.min_r2 {
         return None;
@@ -427,9 +428,17 @@ fn geometry<R: Real, D: TensorOps<R>>(
 /// Adds the term of pair (i, j) to `sums` (nothing for j = i, beyond the support, or a massless j: every term
 /// carries m_j, and the tool's thermal-only particles have zero mechanical mass).
 #[inline(always)]
-unsafe fn add_pair<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool, const DMG: bool>(
+unsafe fn add_pair<
+    R: Real,
+    D: TensorOps<R>,
+    const AV: bool,
+    const AS: bool,
+    const XSPH: bool,
+    const DMG: bool,
+    const PER: bool,
+>(
     p: &SphParams<R>,
-    grid: &GridParams,
+    per: &Period<R>,
     a: &Arrays<R, D>,
     o: &Own<R, D>,
     i: u32,
@@ -437,7 +446,7 @@ unsafe fn add_pair<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, con
     sums: &mut PairSums<R, D>,
 ) {
     let (q, p) = (unsafe { partner::<R, D, AV, AS>(a, j) }, pair_params::<R, AV, AS>(p));
-    if let Some(g) = geometry(&p, grid, o, i, j, &q.x) {
+    if let Some(g) = geometry::<R, D, PER>(&p, per, o, i, j, &q.x) {
         if DMG {
             unsafe { masked_pair_term::<R, D, AV, AS, XSPH>(&p, a, o, q, &g, j, sums) }
         } else {
@@ -587,9 +596,18 @@ pub unsafe fn pair_sums<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool
         if !o.mech {
             return PairSums::default();
         }
-        lane_share::<R, D::Vec<R>, _, _>(nb, &o.x, i, lane, lanes, |j, s| {
-            add_pair::<R, D, AV, AS, XSPH, DMG>(p, nb.grid, a, &o, i, j, s)
-        })
+        let per = Period::<R>::of::<D>(nb.grid);
+        // The loop unswitched on the period: a run without one runs the loop it ran before, instruction for
+        // instruction.
+        if per.on {
+            lane_share::<R, D::Vec<R>, _, _>(nb, &o.x, i, lane, lanes, |j, s| {
+                add_pair::<R, D, AV, AS, XSPH, DMG, true>(p, &per, a, &o, i, j, s)
+            })
+        } else {
+            lane_share::<R, D::Vec<R>, _, _>(nb, &o.x, i, lane, lanes, |j, s| {
+                add_pair::<R, D, AV, AS, XSPH, DMG, false>(p, &per, a, &o, i, j, s)
+            })
+        }
     }
 }
 
@@ -646,19 +664,34 @@ pub unsafe fn pair_sums_heat<
         if !o.mech && ho.is_none() {
             return HeatPairSums::default();
         }
-        lane_share::<R, D::Vec<R>, _, _>(nb, &o.x, i, lane, lanes, |j, s: &mut HeatPairSums<R, D>| {
-            heat_and_pair::<R, D, AV, AS, XSPH, DMG>(p, hp, nb.grid, a, h, &o, ho.as_ref(), i, j, s)
-        })
+        let per = Period::<R>::of::<D>(nb.grid);
+        if per.on {
+            lane_share::<R, D::Vec<R>, _, _>(nb, &o.x, i, lane, lanes, |j, s: &mut HeatPairSums<R, D>| {
+                heat_and_pair::<R, D, AV, AS, XSPH, DMG, true>(p, hp, &per, a, h, &o, ho.as_ref(), i, j, s)
+            })
+        } else {
+            lane_share::<R, D::Vec<R>, _, _>(nb, &o.x, i, lane, lanes, |j, s: &mut HeatPairSums<R, D>| {
+                heat_and_pair::<R, D, AV, AS, XSPH, DMG, false>(p, hp, &per, a, h, &o, ho.as_ref(), i, j, s)
+            })
+        }
     }
 }
 
 /// The conduction and mechanical terms of pair (i, j) of the fused pass.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-unsafe fn heat_and_pair<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool, const DMG: bool>(
+unsafe fn heat_and_pair<
+    R: Real,
+    D: TensorOps<R>,
+    const AV: bool,
+    const AS: bool,
+    const XSPH: bool,
+    const DMG: bool,
+    const PER: bool,
+>(
     p: &SphParams<R>,
     hp: &HeatParams,
-    grid: &GridParams,
+    per: &Period<R>,
     a: &Arrays<R, D>,
     h: &HeatArrays<R, D::Vec<R>>,
     o: &Own<R, D>,
@@ -671,7 +704,7 @@ unsafe fn heat_and_pair<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool
     // r², r and W'(r)/r, bit for bit).
     let (q, hq) = unsafe { (partner::<R, D, AV, AS>(a, j), heat_partner(h, j)) };
     let (p, heat_min_r2) = (pair_params::<R, AV, AS>(p), hp.min_r2);
-    let Some(g) = geometry(&p, grid, o, i, j, &q.x) else { return };
+    let Some(g) = geometry::<R, D, PER>(&p, per, o, i, j, &q.x) else { return };
     if let Some(ho) = ho
         && g.r2 >= R::from_f64(heat_min_r2)
     {
@@ -715,9 +748,16 @@ pub unsafe fn rates_heat<
         let sums = if !o.mech && ho.is_none() {
             HeatPairSums::default()
         } else {
-            all_lanes::<R, D::Vec<R>, _, _>(nb, &o.x, i, lanes, |j, s: &mut HeatPairSums<R, D>| {
-                heat_and_pair::<R, D, AV, AS, XSPH, DMG>(p, hp, nb.grid, a, h, &o, ho.as_ref(), i, j, s)
-            })
+            let per = Period::<R>::of::<D>(nb.grid);
+            if per.on {
+                all_lanes::<R, D::Vec<R>, _, _>(nb, &o.x, i, lanes, |j, s: &mut HeatPairSums<R, D>| {
+                    heat_and_pair::<R, D, AV, AS, XSPH, DMG, true>(p, hp, &per, a, h, &o, ho.as_ref(), i, j, s)
+                })
+            } else {
+                all_lanes::<R, D::Vec<R>, _, _>(nb, &o.x, i, lanes, |j, s: &mut HeatPairSums<R, D>| {
+                    heat_and_pair::<R, D, AV, AS, XSPH, DMG, false>(p, hp, &per, a, h, &o, ho.as_ref(), i, j, s)
+                })
+            }
         };
         (finish_rates::<R, D, XSPH, DMG>(p, a, i, &sums.mech), heat_finish(hp, h, i, sums.heat))
     }
@@ -797,9 +837,16 @@ pub unsafe fn rates<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, co
     unsafe {
         let o = own::<R, D, AV, AS>(a, i);
         let sums = if o.mech {
-            all_lanes::<R, D::Vec<R>, _, _>(nb, &o.x, i, lanes, |j, s| {
-                add_pair::<R, D, AV, AS, XSPH, DMG>(p, nb.grid, a, &o, i, j, s)
-            })
+            let per = Period::<R>::of::<D>(nb.grid);
+            if per.on {
+                all_lanes::<R, D::Vec<R>, _, _>(nb, &o.x, i, lanes, |j, s| {
+                    add_pair::<R, D, AV, AS, XSPH, DMG, true>(p, &per, a, &o, i, j, s)
+                })
+            } else {
+                all_lanes::<R, D::Vec<R>, _, _>(nb, &o.x, i, lanes, |j, s| {
+                    add_pair::<R, D, AV, AS, XSPH, DMG, false>(p, &per, a, &o, i, j, s)
+                })
+            }
         } else {
             PairSums::default()
         };
