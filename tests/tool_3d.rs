@@ -170,3 +170,86 @@ fn a_spinning_wheel_drags_the_block_with_its_rim_speed() {
     assert!(lever <= 0.05, "M_z = R F_x: off by {lever:e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The thermal particles of a mesh tool (`[tool.thermal]` with `mesh`): a box tool of 16 × 10 × 3 lattice cells is
+/// filled by exactly its 480 cell centres (each at least dx/2 inside), and a hot block (800 K) landing on the cold
+/// diamond (300 K, nothing held) heats it by conduction while Σ m c_p T over the block and the tool stays what it
+/// was (Brookshaw's pair exchange is antisymmetric: to 1e-9 of the block's heat; heat_conduction.rs holds it to
+/// 1e-12 on one material).
+#[test]
+fn a_mesh_tool_filled_with_thermal_particles_takes_heat_and_conserves_it() {
+    let dir = scratch("thermal");
+    let (lo, hi) = ([-3.2e-4, 1.0e-4, 0.0], [-1.6e-4, 2.0e-4, 3.0e-5]);
+    let c = |x: usize, y: usize, z: usize| [[lo[0], hi[0]][x], [lo[1], hi[1]][y], [lo[2], hi[2]][z]];
+    let mut obj = String::new();
+    for z in 0..2 {
+        for y in 0..2 {
+            for x in 0..2 {
+                let p = c(x, y, z);
+                obj.push_str(&format!("v {:e} {:e} {:e}\n", p[0], p[1], p[2]));
+            }
+        }
+    }
+    // Vertex 1 + x + 2y + 4z; the six faces counter-clockwise seen from outside.
+    obj.push_str("f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n");
+    std::fs::write(dir.join("box.obj"), obj).expect("mesh");
+    let tool = format!(
+        "mesh = {{ file = {:?} }}\nposition = [0.0, 0.0, 0.0]\nvelocity = [0.0, 0.0, 0.0]\n\
+         [tool.thermal]\nmaterial = \"Diamond-C3D\"\ntemperature = 300.0\nfixed_width = 0.0\n",
+        dir.join("box.obj").display().to_string()
+    );
+    let text = drop_scene_3d(10.0, 0.0, &tool)
+        .replace("plastic_heating = false", "plastic_heating = false\nconduction = \"brookshaw\"")
+        .replace("velocity = [0, -10, 0.0]", "velocity = [0, -10, 0.0]\ntemperature = 800.0")
+        .replace("contact_stiffness = 0.1\nfriction = 0.35\n", "")
+        .replace("[tool]\n", "[tool]\ncontact_stiffness = 0.1\nfriction = 0.35\n");
+    let scene = Scene::from_str(&text, "drop3d.toml", &[]).expect("scene");
+    let lib = |name: &str| {
+        swarf::material::search::Search::for_scene("drop3d.toml")
+            .library()
+            .expect("library")
+            .get(name)
+            .cloned()
+            .expect("material")
+    };
+    let (work, diamond) = (lib("Ti6Al4V-V0060-DE-mu035"), lib("Diamond-C3D"));
+    let dx3 = 1.0e-15;
+    let mc = |m: &swarf::material::Material, fallback_rho: f64| {
+        let th = m.thermal.expect("thermal data");
+        th.density.unwrap_or(fallback_rho) * dx3 * th.specific_heat.expect("c_p")
+    };
+    let mc_work = scene.material.density * dx3 * work.thermal.and_then(|t| t.specific_heat).expect("c_p");
+    let mc_tool = mc(&diamond, scene.material.density);
+    let mut seen = Vec::new();
+    let mut obs = |s: &swarf::run::Snapshot| {
+        let t = s.temperature.expect("temperatures");
+        let (mut heat, mut tool_n, mut tool_max) = (0.0, 0, 0.0f64);
+        for (k, b) in s.body.iter().enumerate() {
+            if *b == 1 {
+                heat += mc_tool * t[k];
+                tool_n += 1;
+                tool_max = tool_max.max(t[k]);
+            } else {
+                heat += mc_work * t[k];
+            }
+        }
+        seen.push((heat, tool_n, tool_max));
+        true
+    };
+    let opts = swarf::run::RunOptions::quiet(dir.join("run"));
+    swarf::run::run_observed(&common::test_backend(), &scene, &opts, Some(&mut obs)).expect("run");
+    let (first, last) = (seen[0], *seen.last().expect("snapshots"));
+    let block_heat = 12.0 * 6.0 * 3.0 * mc_work * 800.0;
+    eprintln!(
+        "thermal mesh tool: {} particles; hottest tool particle {:.3} K at the end; heat {:e} -> {:e} J ({:e} of the block's)",
+        last.1,
+        last.2,
+        first.0,
+        last.0,
+        (last.0 - first.0).abs() / block_heat
+    );
+    assert_eq!(first.1, 480, "16 x 10 x 3 cell centres fill the box");
+    assert!(last.2 > 300.0 + 1e-6, "the tool must take heat from the block (hottest {:.6} K)", last.2);
+    assert!((last.0 - first.0).abs() <= 1e-9 * block_heat, "heat not conserved: {:e} -> {:e}", first.0, last.0);
+    let _ = std::fs::remove_dir_all(&dir);
+}

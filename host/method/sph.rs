@@ -111,9 +111,9 @@ impl Initial {
             && let Some(mat) = th.material.as_ref().and_then(|m| m.thermal)
         {
             let dx = scene.discretisation.dx;
-            let tp = crate::tool::setup::tool_particles(&crate::tool::setup::build_tool(t)?, t, dx, th.fixed_width);
+            let tp = crate::tool::setup::thermal_particles(&tool, t, dx, th.fixed_width);
             let v0 = motion.velocity_at(0.0);
-            let v = [t.velocity[0], t.velocity[1], 0.0];
+            let v = t.velocity;
             let k = velocity_index(&mut self.table, &mut self.reversals, v, &[], scene)?;
             tool_velocity_index = (t.ramp > 0.0).then_some(k);
             let body = scene.bodies.len() as u32;
@@ -131,8 +131,8 @@ impl Initial {
                         | (k as u32) << flags::VEL_INDEX_SHIFT
                         | body << flags::BODY_SHIFT,
                 );
-                self.pos.push([p[0], p[1], 0.0]);
-                self.vel.push([v0[0], v0[1], 0.0]);
+                self.pos.push(*p);
+                self.vel.push(v0);
                 self.mass.push(tool_mass);
                 self.density.push(rho_t);
                 self.temperature.push(th.temperature);
@@ -306,11 +306,24 @@ fn grid(
         // particles inside the grid instead of clamping the chip into boundary cells.
         let end = c.motion.offset_at(scene.time.end);
         let top = pos.iter().map(|p| p[1]).fold(f64::NEG_INFINITY, f64::max);
-        for o in [c.motion.start, end] {
-            corners.push(crate::kernels::vector::V3f64([o[0] - t.length, o[1], 0.0, 0.0]));
-            corners.push(crate::kernels::vector::V3f64([o[0], o[1] + t.height, 0.0, 0.0]));
+        match &t.mesh {
+            // A mesh tool: its vertices' bounding box at the start and the end of the path (a rotating tool's
+            // sweep is not followed: particles beyond the grid are clamped into its boundary cells, still exact).
+            Some(m) => {
+                for o in [c.motion.start, end] {
+                    for v in m.grid.verts.iter().step_by(3) {
+                        corners.push(crate::kernels::vector::V3f64([o[0] + v[0], o[1] + v[1], o[2] + v[2], 0.0]));
+                    }
+                }
+            }
+            None => {
+                for o in [c.motion.start, end] {
+                    corners.push(crate::kernels::vector::V3f64([o[0] - t.length, o[1], 0.0, 0.0]));
+                    corners.push(crate::kernels::vector::V3f64([o[0], o[1] + t.height, 0.0, 0.0]));
+                }
+                corners.push(crate::kernels::vector::V3f64([end[0], top + t.height, 0.0, 0.0]));
+            }
         }
-        corners.push(crate::kernels::vector::V3f64([end[0], top + t.height, 0.0, 0.0]));
     }
     let (lo, hi) = crate::grid::bounding_box::<f64, _>(&corners);
     let mut glo = [0.0; 3];

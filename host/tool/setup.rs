@@ -80,11 +80,49 @@ pub fn contact_params(scene: &Scene, t: &Tool, model: Option<&FlowModel>) -> Con
 }
 
 /// Thermal-only particles filling the tool: cell centres of a lattice of spacing `dx` in the tool frame, kept
-/// when at least dx/2 inside the outline; `held` marks those within `band` of the top or back face.
+/// when at least dx/2 inside the tool; `held` marks its far boundary (the parametric tool's top and back faces, a
+/// mesh tool's top: its fixture), held at the tool's temperature.
 pub struct ToolParticles {
-    /// World positions at t = 0.
-    pub pos: Vec<[f64; 2]>,
+    /// World positions at t = 0 (z = 0 in 2D).
+    pub pos: Vec<[f64; 3]>,
     pub held: Vec<bool>,
+}
+
+/// The tool particles of a scene's `[tool.thermal]`: the parametric tool's (2D) or a mesh tool's (3D).
+pub fn thermal_particles(shape: &Shape, t: &Tool, dx: f64, band: f64) -> ToolParticles {
+    match shape {
+        Shape::Parametric(tool) => tool_particles(tool, t, dx, band),
+        Shape::Mesh(m) => mesh_tool_particles(m, t, dx, band),
+    }
+}
+
+/// A mesh tool's particles: the cell centres of a lattice of spacing `dx` from the mesh's lowest corner (tool
+/// frame) that lie at least dx/2 inside it (a hair of rounding allowed, so that a box aligned with the lattice is
+/// filled exactly); held: those within `band` of the mesh's highest y (its fixture, away from the cut).
+pub fn mesh_tool_particles(m: &crate::mesh::MeshGridData, t: &Tool, dx: f64, band: f64) -> ToolParticles {
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for v in &m.verts {
+        for k in 0..3 {
+            lo[k] = lo[k].min(v[k]);
+            hi[k] = hi[k].max(v[k]);
+        }
+    }
+    let n: [usize; 3] = std::array::from_fn(|k| ((hi[k] - lo[k]) / dx).ceil().max(0.0) as usize);
+    let query = m.tool();
+    let mut out = ToolParticles { pos: Vec::new(), held: Vec::new() };
+    for kz in 0..n[2] {
+        for j in 0..n[1] {
+            for i in 0..n[0] {
+                let p = [lo[0] + (i as f64 + 0.5) * dx, lo[1] + (j as f64 + 0.5) * dx, lo[2] + (kz as f64 + 0.5) * dx];
+                if query.query(p).distance > -0.5 * dx * (1.0 - 1e-9) {
+                    continue;
+                }
+                out.pos.push(std::array::from_fn(|k| p[k] + t.position[k]));
+                out.held.push(hi[1] - p[1] < band);
+            }
+        }
+    }
+    out
 }
 
 pub fn tool_particles(tool: &Tool2d, t: &Tool, dx: f64, band: f64) -> ToolParticles {
@@ -99,7 +137,7 @@ pub fn tool_particles(tool: &Tool2d, t: &Tool, dx: f64, band: f64) -> ToolPartic
             }
             let top = tool.seg[TOP][1] - p[1];
             let back = p[0] - tool.seg[BACK][0];
-            out.pos.push([p[0] + t.position[0], p[1] + t.position[1]]);
+            out.pos.push([p[0] + t.position[0], p[1] + t.position[1], 0.0]);
             out.held.push(top < band || back < band);
         }
     }

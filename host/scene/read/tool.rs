@@ -76,11 +76,11 @@ pub(super) fn tool(
             "no rotation with [tool.thermal]: the thermal tool particles move with the tool's translation only",
         ));
     }
-    if thermal.is_some() && dim != 2 {
+    if thermal.is_some() && dim != 2 && mesh.is_none() {
         return Err(t.invalid(
             "thermal",
             t.get("thermal"),
-            "no [tool.thermal] in 3D: the thermal tool particles are 2D",
+            "no [tool.thermal] with the parametric tool in 3D (its particles fill the 2D outline); a mesh tool's fill it",
         ));
     }
     if mesh.is_some() && chip_station.is_some() {
