@@ -373,17 +373,22 @@ fn sparse_frames_still_get_wall_time_checkpoints() {
     assert_eq!(h.frame, 1, "written between the only two frames");
 }
 
-/// `[tool]` in a 3D scene: before, `tool.rake_angle: missing` although it was present. Now the table is named,
-/// with the dimension it needs.
+/// `[tool]` in a 3D scene: before issue 24, `tool.rake_angle: missing` although it was present, then a refusal
+/// naming the table and the dimension. Now the parametric tool in 3D is the prism of its outline along z (docs/3d.md):
+/// the scene loads with the tool where the file puts it (z = 0), and what the prism cannot do is refused, naming
+/// the key: a rotation about an axis not along z.
 #[test]
-fn tool_in_a_3d_scene_names_the_table_and_dim() {
+fn tool_in_a_3d_scene_is_the_prism_of_its_outline() {
     let taylor = std::fs::read_to_string("cases/taylor-bar.toml").unwrap();
     let v0060 = std::fs::read_to_string("cases/cutting/v0060.toml").unwrap();
     let tool = &v0060[v0060.find("[tool]").unwrap()..v0060.find("friction = 0.35").unwrap()];
     let text = format!("{taylor}\n{tool}");
-    let err = swarf::scene::Scene::from_str(&text, "t3.toml", &[]).expect_err("a 3D tool").to_string();
-    assert!(err.contains("tool = [tool] in a dim = 3 scene: expected a 2D scene (dim = 2)"), "{err}");
-    assert!(!err.contains("missing"), "{err}");
+    let scene = swarf::scene::Scene::from_str(&text, "t3.toml", &[]).expect("the prism in 3D");
+    let t = scene.tool.as_ref().expect("a tool");
+    assert_eq!((t.position[0], t.position[2], t.rake_angle), (-3.6e-5, 0.0, 0.0));
+    let turned = format!("{text}rotation = {{ axis = [1.0, 0.0, 0.0], centre = [0.0, 0.0, 0.0], rpm = 10.0 }}\n");
+    let err = swarf::scene::Scene::from_str(&turned, "t3.toml", &[]).expect_err("a turn about x").to_string();
+    assert!(err.contains("tool.rotation.axis") && err.contains("an axis along z"), "{err}");
 }
 
 /// `--set boundary.0.kind=...` in a scene without boundaries: before, `boundary: expected [[boundary]] tables`,
