@@ -568,8 +568,11 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Method<B> for Solver<B, R, D> {
     }
 
     fn tool_sample(&self, b: &B) -> Result<Option<ToolSample>> {
-        let Some(c) = self.contact_sample(b)? else { return Ok(None) };
+        if self.tool_state().is_none() {
+            return Ok(None);
+        }
         let (pos, fl) = self.positions(b)?;
+        let Some(c) = self.contact_sample_at(b, &pos)? else { return Ok(None) };
         let workpiece = pos
             .iter()
             .zip(&fl)

@@ -1095,10 +1095,16 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
     /// The tool's force on the workpiece now, summed in f64 in particle order (deterministic, equal on every
     /// backend); None without a tool.
     pub fn contact_sample(&self, b: &B) -> Result<Option<ContactSample>> {
-        let Some(c) = &self.contact else { return Ok(None) };
+        if self.contact.is_none() {
+            return Ok(None);
+        }
+        self.contact_sample_at(b, &self.particles.pos.read(b)?)
+    }
+
+    /// [`Solver::contact_sample`] with the positions (state order) the caller has already read, for the moment.
+    pub fn contact_sample_at(&self, b: &B, pos: &[D::Vec<R>]) -> Result<Option<ContactSample>> {
+        let (Some(c), Some(state)) = (&self.contact, self.tool_state()) else { return Ok(None) };
         let (fc, ft) = (c.normal.read(b)?, c.friction.read(b)?);
-        let pos = self.particles.pos.read(b)?;
-        let state = c.motion.state_at(self.time, c.nominal_dt, c.nominal_dt);
         let o = state.offset;
         let p = if state.rotating != 0 { std::array::from_fn(|k| o[k] + state.centre[k]) } else { o };
         let wear = match &c.wear {
