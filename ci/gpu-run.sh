@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine tool3d whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
+# ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine tool3d tools24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -231,6 +231,94 @@ for p in $parts; do
                 tar czf "$out/grain-last.tgz" -C $d grain-last
             }
             run tool3d tool3d ;;
+        tools24) # issue 24, several tools (docs/3d.md): (1) bench step of the single grain and the 2D V0060 with this
+                 # build and each packed earlier one that reads them (the contact pass's tool array against the mesh
+                 # passed by value); (2) whole runs, each bounded by SWARF_TOOLS24_S s (default 150; SIGINT keeps
+                 # what was written): the 2D tandem tools, the Taylor bar on the rigid wall (μ = 0, 0.3) beside the
+                 # particle wall, the micro-milling cut with JC and SCGL, the multi-grain patterns A, B, C (SWARF_TOOLS24_CASES picks fewer: names of
+                 # whole runs); every tool's mean force over the last quarter; tools24.tgz
+            tools24() {
+                local d=/tmp/tools24 lim=${SWARF_TOOLS24_S:-150} b name round
+                rm -rf $d; mkdir -p $d
+                local sc
+                for round in ${SWARF_TOOLS24_AB_ROUNDS-1 2}; do
+                    for b in swarf $(cd "$here" && ls swarf-* 2>/dev/null | grep -v '\.gz$'); do
+                        for sc in cases/cutting/v0060.toml cases/3d/single-grain.toml; do
+                            echo "== $b: $sc, bench step, round $round"
+                            "$here/$b" --backend gpu bench step --precision f64 --step-count 256 --scenes "$sc" \
+                                || echo "($b cannot run $sc)"
+                        done
+                    done
+                done
+                local names=${SWARF_TOOLS24_CASES:-"tandem taylor-particles taylor-wall taylor-wall-mu03 mill-jc mill-scgl grain-a grain-b grain-c"}
+                for name in $names; do
+                    local c set=()
+                    case $name in
+                        tandem) c=cases/cutting/tandem-tools.toml ;;
+                        taylor-particles) c=cases/taylor-bar.toml ;;
+                        taylor-wall) c=cases/3d/taylor-bar-wall.toml; set=(--state-at 1500) ;;
+                        taylor-wall-mu03) c=cases/3d/taylor-bar-wall.toml; set=(--set tool.friction=0.3) ;;
+                        mill-jc) c=cases/3d/micro-milling.toml ;;
+                        mill-scgl) c=cases/3d/micro-milling.toml; set=(--set 'material.name="OFHC-Cu-SCGL"') ;;
+                        # 504k particles: 4 frames (forces.csv keeps 10 samples per frame interval).
+                        grain-a|grain-c) c=cases/3d/multi-grain-${name#grain-}.toml; set=(--set output.every=2.9e-6) ;;
+                        grain-b) c=cases/3d/multi-grain-b.toml; set=(--set output.every=2.9e-6 --state-at 23000) ;;
+                    esac
+                    local t0; t0=$(date +%s.%N)
+                    timeout -s INT -k 20 "$lim" "$here/swarf" --backend gpu run "$c" "${set[@]}" --quiet --out "$d/$name" < /dev/null
+                    local rc=$?
+                    echo "== $name rc=$rc wall $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { print b - a }') s"
+                    tail -n 2 "$d/$name/run.log" 2>/dev/null
+                    # Kept in $out as each run ends, so that a call cut short returns the runs it finished.
+                    mkdir -p "$out/runs/$name"
+                    cp "$d/$name"/{summary.json,forces.csv,run.log,energy.csv} "$out/runs/$name/" 2>/dev/null
+                    python3 - "$d/$name" <<'PY'
+import csv, json, sys
+d = sys.argv[1]
+try:
+    s = json.load(open(d + "/summary.json"))
+    for b in s.get("bodies", []):
+        print("body", b["name"], "extent_m", b["extent_m"], "min_m", b["min_m"], "radius_xy_max_m", b.get("radius_xy_max_m"))
+except (OSError, ValueError) as e:
+    print("no summary:", e)
+try:
+    rows = list(csv.reader(open(d + "/forces.csv")))
+except OSError:
+    sys.exit(0)
+head, rows = rows[0], [list(map(float, r)) for r in rows[1:]]
+if rows:
+    q = rows[3 * len(rows) // 4:]
+    for k, c in enumerate(head):
+        if c.startswith(("fc_", "ff_", "fx_", "fy_", "fz_", "contacts")):
+            print("mean last quarter %-14s %.6g" % (c, sum(r[k] for r in q) / len(q)))
+    print("samples", len(rows), "last t", rows[-1][0])
+PY
+                done
+                tar czf "$out/tools24.tgz" -C $d --exclude='*/frame_*.vtu' --exclude='*/tool*_*.vtp' --exclude='*/states' .
+                # Pictures' data: the state tables of grain-b and taylor-wall (--state-at), thinned to x, y, z, the
+                # plastic strain and the owning tool (grain-b: the particles above mid-height only).
+                local f
+                for f in $d/grain-b/states/state_*.csv $d/taylor-wall/states/state_*.csv; do
+                    [ -e "$f" ] || continue
+                    python3 - "$f" "$out/pic-$(basename "$(dirname "$(dirname "$f")")")-$(basename "$f" .csv).csv" <<'PY'
+import csv, sys
+src, dst = sys.argv[1], sys.argv[2]
+r = csv.reader(open(src))
+head = next(r)
+cols = [c for c in ("x", "y", "z", "eps_pl", "contact_tool") if c in head]
+ix = [head.index(c) for c in cols]
+grain = "grain-b" in dst
+with open(dst, "w") as o:
+    o.write(",".join(cols) + "\n")
+    for row in r:
+        if grain and float(row[head.index("y")]) < 3.0e-5:
+            continue
+        o.write(",".join("%.4g" % float(row[k]) for k in ix) + "\n")
+PY
+                    gzip -9 "$out"/pic-*.csv
+                done
+            }
+            run tools24 tools24 ;;
         damage25|damage25fine) # issue 25 item 5 (docs/damage.md, "Scenes"). damage25: the CT specimen with the mask, without
                   # it and with load reversal; the SHTB, classic JC and JC-GG (fracture strain and diameter by
                   # `swarf neck`); V0060 with damage at 10 and 5 µm; Ducobu at 9.3 µm, 4 flow models × damage on/off

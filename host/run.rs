@@ -530,7 +530,7 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
             internal: out.internal,
             fields: if opts.frames { out.fields } else { Vec::new() },
             now: out.positions,
-            tool: if opts.frames { out.tool } else { None },
+            tools: if opts.frames { out.tools } else { Vec::new() },
             initial: self.initial.clone(),
             radius: 2.0 * self.plan.h,
             params: out.params,
@@ -855,8 +855,8 @@ struct OutputJob<R: Real, D: TensorOps<R>> {
     /// The field registry's frame fields (`Solver::download_frame_fields`), when frames are written.
     fields: Vec<FrameField>,
     now: Vec<[f64; 3]>,
-    /// The tool in the world, with a tool (written beside the frame).
-    tool: Option<crate::tool::Picture>,
+    /// The tools in the world (written beside the frame: `tool_*.vtp`, then `tool2_*.vtp`, …).
+    tools: Vec<crate::tool::Picture>,
     /// Every particle's position at t = 0 by id.
     initial: std::sync::Arc<Vec<[f64; 3]>>,
     /// The closest-pair search radius (2h).
@@ -884,7 +884,7 @@ impl<R: Real, D: TensorOps<R>> OutputJob<R, D> {
 
     /// Completes the diagnostics (`d`) and writes the rows and the frame.
     fn write(&mut self, f: &mut OutputFiles, h5: &mut Option<H5>) -> Result<()> {
-        let OutputJob { d, host, internal, fields, now, tool, initial, radius, params, frame, time, steps } = self;
+        let OutputJob { d, host, internal, fields, now, tools, initial, radius, params, frame, time, steps } = self;
         let (radius, time, steps) = (*radius, *time, *steps);
         // Closest approach of two mechanical particles (within 2h): pairing and interpenetration show here.
         // Of pairs that started at least 2h apart: contact between material that was apart (chip self-contact),
@@ -938,14 +938,15 @@ impl<R: Real, D: TensorOps<R>> OutputJob<R, D> {
             let temp = internal[0].as_deref();
             write_frame(&dir.join(&name), *encoding, h5, host, temp, fields, params, time, steps)?;
             f.pvd.push(time, name).map_err(|e| io_err(f.pvd.path(), e))?;
-            if let Some(picture) = tool {
-                let name = format!("tool_{index:05}.vtp");
+            for (k, picture) in tools.iter().enumerate() {
+                let name =
+                    if k == 0 { format!("tool_{index:05}.vtp") } else { format!("tool{}_{index:05}.vtp", k + 1) };
                 let written = match picture {
                     crate::tool::Picture::Outline(p) => crate::output::vtp::write_outline(&dir.join(&name), time, p),
                     crate::tool::Picture::Surface(p) => crate::output::vtp::write_surface(&dir.join(&name), time, p),
                 };
                 written.map_err(|e| io_err(&dir.join(&name), e))?;
-                f.pvd.push_part(time, 1, name).map_err(|e| io_err(f.pvd.path(), e))?;
+                f.pvd.push_part(time, k as u32 + 1, name).map_err(|e| io_err(f.pvd.path(), e))?;
             }
             f.pvd.write().map_err(|e| io_err(f.pvd.path(), e))?;
         }

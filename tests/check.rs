@@ -27,6 +27,25 @@ fn every_case_checks() {
     assert!(n >= 18, "expected the scenes of cases/, cases/cutting/ and cases/hard/, found {n}");
 }
 
+/// The 3D cases (cases/3d: up to 372 400 particles and five mesh tools, whose one-step probe and engagement
+/// checks take about 30 s each on CI's CPU) load: every key valid, every mesh read, checked and hashed, each
+/// tool's table complete.
+#[test]
+fn every_3d_case_loads() {
+    let mut n = 0;
+    for entry in std::fs::read_dir("cases/3d").expect("cases/3d") {
+        let path = entry.expect("entry").path();
+        if path.extension().is_none_or(|e| e != "toml") {
+            continue;
+        }
+        let scene = Scene::load(&path, &[]).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        assert_eq!(scene.dim, 3, "{}", path.display());
+        assert!(scene.tools().count() >= 1, "{}: a 3D case has a tool", path.display());
+        n += 1;
+    }
+    assert!(n >= 7, "expected the 3D cases, found {n}");
+}
+
 /// A scene larger than the GPU's memory is refused before anything is allocated, with the bytes it needs.
 #[test]
 fn a_scene_too_large_for_the_gpu_is_refused() {

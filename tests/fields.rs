@@ -135,6 +135,8 @@ fn checkpoint_names_are_unchanged() {
         // Issue 25: the damage's ω and D (present only with [damage]).
         "damage_omega",
         "damage",
+        // Issue 24: the tool each particle's friction history belongs to (several tools).
+        "contact_owner",
     ];
     assert_eq!(names, before);
     let frames: Vec<&str> = FIELDS.iter().filter_map(|f| f.frame).collect();
@@ -149,6 +151,7 @@ fn checkpoint_names_are_unchanged() {
             "contact_friction_force",
             "damage_initiation",
             "damage",
+            "contact_tool",
             "damage_mask"
         ]
     );

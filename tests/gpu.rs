@@ -907,6 +907,50 @@ fn tool_3d_runs_equal_cpu() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// Issue 24 on the GPU: several tools (`[[tool]]`, one contact launch looping over the tools, the owner field)
+/// give the CPU's run bit for bit: tests/several_tools.rs's twin cuts (2D, two parametric tools, the standalone
+/// contact pass, not the fused one) and the block dropped across two mesh tools with different contact laws (3D),
+/// in f64 and f32 (final positions and velocities, and forces.csv's text with every tool's columns).
+#[test]
+fn several_tools_equal_cpu() {
+    let Some(_) = gpu() else { return };
+    use swarf::backend::{AnyBackend, BackendChoice};
+    use swarf::run::RunOptions;
+    use swarf::scene::Scene;
+    let dir = std::env::temp_dir().join(format!("swarf-gpu-tools-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("folder");
+    let pair = [common::scenes::prism_mesh_tool(&dir, -2.4e-4, ""), common::scenes::prism_mesh_tool(&dir, 1.6e-4, "")];
+    let scenes = [
+        (common::scenes::twin_cut_scene(true), "twin cuts"),
+        (common::scenes::drop_scene_3d_tools(10.0, 2.0, &pair), "mesh pair"),
+    ];
+    for (text, what) in scenes {
+        for precision in ["f64", "f32"] {
+            let text = text.replacen("dim = ", &format!("precision = \"{precision}\"\ndim = "), 1);
+            let scene = Scene::from_str(&text, "tools.toml", &[]).expect("scene");
+            let mut runs = Vec::new();
+            for (k, choice) in [BackendChoice::Cpu, BackendChoice::Gpu].into_iter().enumerate() {
+                let any = AnyBackend::select(choice).expect("backend").0;
+                let out = dir.join(format!("{}-{precision}-{k}", what.replace(' ', "-")));
+                let (last, _) = final_state(&any, &scene, &RunOptions::quiet(out.clone()));
+                runs.push((last, std::fs::read_to_string(out.join("forces.csv")).expect("forces.csv")));
+            }
+            let second =
+                runs[0].1.lines().skip(1).filter(|l| l.split(',').next_back().is_some_and(|c| c != "0")).count();
+            eprintln!(
+                "several tools, {what}, {precision}: {second} samples with the second tool in contact; final state \
+                 bitwise equal: {}, forces.csv equal: {}",
+                runs[0].0 == runs[1].0,
+                runs[0].1 == runs[1].1
+            );
+            assert!(second > 0, "{what}: the second tool must touch");
+            assert!(runs[0].1 == runs[1].1, "{what} {precision}: GPU forces.csv differs from the CPU's");
+            assert!(runs[0].0 == runs[1].0, "{what} {precision}: GPU final state differs from the CPU's");
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// Issue 24 on the GPU: the periodic z domain (the wrapped stencil rows and nearest-image pairs in every neighbour
 /// pass) with the plane-strain condition gives the CPU's run bit for bit: V0060 extruded by 8 layers
 /// (cases/3d/orthogonal-v0060.toml at Δx = 20 µm, 6 120 particles), 1 µs of cut, f64 and f32.

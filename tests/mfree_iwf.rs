@@ -261,8 +261,8 @@ fn the_original_model_sets_up_its_time_step_cutoff_and_flags() {
     let rate_form = |p: &swarf::solver::PlasticSetup| p.model.johnson_cook().expect("JC").rate_form;
     assert_eq!((rate_form(pl_own), rate_form(pl_orig)), (RATE_FORM_CLAMP, RATE_FORM_UINTAH));
     use swarf::kernels::contact::penalty::slip;
-    assert_eq!(own.contact.as_ref().expect("tool").params.slip_mode, slip::PROJECTED);
-    assert_eq!(orig.contact.as_ref().expect("tool").params.slip_mode, slip::C2D);
+    assert_eq!(own.contact.as_ref().expect("tool").tools[0].params.slip_mode, slip::PROJECTED);
+    assert_eq!(orig.contact.as_ref().expect("tool").tools[0].params.slip_mode, slip::C2D);
     // Without a thermal tool the original code holds no fixed particle's temperature (its thermal boundary runs only
     // with the tool's thermal constants): V0060 holds only its bottom row, as the scene says, under both models.
     assert!(own.particles.flags == orig.particles.flags);

@@ -226,7 +226,7 @@ fn argument_structs_match_the_entries_parameter_blocks() {
         } else if name == format!("swarf_contact_{variant}") {
             Some(by_variant!(variant, ContactArgs, *const swarf::kernels::contact::Tool2d))
         } else if name == format!("swarf_contact_mesh_{variant}") {
-            Some(by_variant!(variant, ContactArgs, swarf::kernels::contact::MeshTool<'static>))
+            Some(by_variant!(variant, ContactArgs, *const swarf::kernels::contact::MeshTool<'static>))
         } else if let Some(tag) = name.strip_prefix("swarf_plastic_") {
             plastic(tag.trim_end_matches("_dmg").trim_end_matches(&format!("_{variant}")), variant)
         } else if name == format!("swarf_step_finish_{variant}") {

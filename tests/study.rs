@@ -183,7 +183,7 @@ fn depth_of_cut_places_the_tool_as_the_absolute_position_did() {
             assert!((t.position[k] - old[k]).abs() <= 1e-15, "{file}: position {:?} against {old:?}", t.position);
         }
         let set = swarf::run::setup::<f64, swarf::kernels::Dim2>(&scene).expect("setup");
-        let start3 = set.contact.expect("contact").motion.start;
+        let start3 = set.contact.expect("contact").tools[0].motion.start;
         let start = [start3[0], start3[1]];
         for k in 0..2 {
             assert!((start[k] - old[k]).abs() <= 1e-15, "{file}: the solver's tool starts at {start:?}");

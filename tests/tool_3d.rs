@@ -32,7 +32,7 @@ fn run_rows(text: &str, dir: &Path, frames: bool) -> Vec<Vec<f64>> {
     let opts = RunOptions { frames, ..RunOptions::quiet(dir.to_path_buf()) };
     run(&common::test_backend(), &scene, &opts).expect("run");
     let (head, rows) = swarf::output::csv::read(&dir.join("forces.csv")).expect("forces.csv");
-    assert_eq!(head, swarf::cutting::record::force_columns(3));
+    assert_eq!(head, swarf::cutting::record::force_columns(3, 1));
     rows
 }
 

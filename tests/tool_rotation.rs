@@ -50,12 +50,15 @@ fn a_rotating_tool_reaches_the_solver_tool_state() {
     let setup = swarf::run::setup::<f64, Dim2>(&scene).expect("setup");
     let contact = setup.contact.as_ref().expect("contact");
     let rate = 1000.0 * std::f64::consts::TAU / 60.0;
-    assert_eq!(contact.motion.rotation, Some(Rotation { axis: [0.0, 0.0, 1.0], centre: [-1.0e-4, 5.0e-5, 0.0], rate }));
+    assert_eq!(
+        contact.tools[0].motion.rotation,
+        Some(Rotation { axis: [0.0, 0.0, 1.0], centre: [-1.0e-4, 5.0e-5, 0.0], rate })
+    );
     let b = CpuBackend::new();
     let mut solver = Solver::<CpuBackend, f64, Dim2>::new(&b, &setup).expect("solver");
     solver.step(&b, setup.dt).expect("step");
     let s = solver.tool_state().expect("a tool");
-    assert_eq!(s, contact.motion.state_at(setup.dt, setup.dt, setup.dt));
+    assert_eq!(s, contact.tools[0].motion.state_at(setup.dt, setup.dt, setup.dt));
     assert_eq!(s.rotating, 1);
     assert_eq!(s.centre, [-1.0e-4, 5.0e-5, 0.0]);
     assert_eq!(s.omega, [0.0, 0.0, rate]);
@@ -68,7 +71,7 @@ fn without_the_key_the_tool_only_translates() {
     let scene = Scene::from_str(&drop_scene(20.0, 0.1, 0.35, 0.0), FILE, &[]).expect("scene");
     assert_eq!(scene.tool.as_ref().expect("tool").rotation, None);
     let setup = swarf::run::setup::<f64, Dim2>(&scene).expect("setup");
-    assert_eq!(setup.contact.as_ref().expect("contact").motion.rotation, None);
+    assert_eq!(setup.contact.as_ref().expect("contact").tools[0].motion.rotation, None);
     let b = CpuBackend::new();
     let solver = Solver::<CpuBackend, f64, Dim2>::new(&b, &setup).expect("solver");
     assert_eq!(solver.tool_state().expect("a tool").rotating, 0);

@@ -6,8 +6,10 @@
 use super::{
     Backend, Buffer, ContactInputs, DamageBufs, Element, FieldsMut, FusedContact, FusedHeat, FusedPrepare, HeatInputs,
     PlasticInputs, PlasticPass, PrepassDamageBufs, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields,
+    ToolStatesAt, tool::DeviceTools,
 };
-use crate::kernels::contact::{ContactParams, Tool2d, ToolArg};
+use crate::kernels::contact::penalty::ToolSet;
+use crate::kernels::contact::{ToolArg, ToolState};
 use crate::kernels::damage::DamageParams;
 use crate::kernels::neighbour::GridParams;
 use crate::kernels::pass::{
@@ -144,9 +146,10 @@ pub fn scalars_ptr<B: Backend>(b: &B, s: &ScalarsAt<'_, B>) -> Result<*const Ste
     Ok((b.address(s.buf) as *const StepScalars).wrapping_add(s.index))
 }
 
-/// The address of the parametric tool's one copy (the contact pass's `*const Tool2d` argument).
-pub fn tool_ptr<B: Backend>(b: &B, tool: &B::Buf<Tool2d>) -> Result<*const Tool2d> {
-    input(b, "the tool's shape", 1, tool)
+/// The address of a step's tool states (`count` of them).
+pub fn states_ptr<B: Backend>(b: &B, s: &ToolStatesAt<'_, B>) -> Result<*const ToolState> {
+    check_len("tool states", (s.index + 1) * s.count, s.buf.len())?;
+    Ok((b.address(s.buf) as *const ToolState).wrapping_add(s.index * s.count))
 }
 
 /// The addresses of the fields a step integrates, each checked to hold n particles.
@@ -237,6 +240,7 @@ pub fn finish_plastic_args<B: Backend, R: Real, D: Dim, M>(
         damage_mass: null(),
         contact: null(),
         contact_tool: null(),
+        contact_state: null(),
         mass: null(),
         normal: std::ptr::null_mut(),
         friction: std::ptr::null_mut(),
@@ -252,7 +256,8 @@ pub fn finish_plastic_args<B: Backend, R: Real, D: Dim, M>(
             return Err(Error::Length { op: "step_finish (the friction cap's yield stresses)", expected: 1, got: 0 });
         }
         a.contact = input(b, "contact parameters", 1, c.params)?;
-        a.contact_tool = tool_ptr(b, c.tool)?;
+        a.contact_tool = input(b, "the tool's shape", 1, c.tool)?;
+        a.contact_state = states_ptr(b, &c.state)?;
         a.mass = input(b, "mass", n, c.mass)?;
         a.normal = output(b, "normal", n, c.normal)?;
         a.friction = output(b, "friction", n, c.friction)?;
@@ -500,25 +505,36 @@ pub fn plastic_args<B: Backend, R: Real, D: Dim, M>(
     })
 }
 
-/// The standalone contact pass's arguments ([`super::Passes::contact`]) with the tool argument `tool`, for the
-/// entry of dimension `E`: the scene's `D` (the parametric tool) or `Dim3` (a mesh tool, whose entries are 3D
-/// only); the vectors' pointers are cast after the dimensions are checked equal.
+/// The standalone contact pass's arguments ([`super::Passes::contact`]) with the tools' argument `shapes` (the
+/// address of their array), for the entry of dimension `E`: the scene's `D` (parametric tools) or `Dim3` (mesh
+/// tools, whose entries are 3D only); the vectors' pointers are cast after the dimensions are checked equal.
+#[allow(clippy::too_many_arguments)]
 pub fn contact_args<B: Backend, R: Real, D: Dim, E: Dim, T: ToolArg>(
     b: &B,
     n: usize,
-    params: &B::Buf<ContactParams>,
-    tool: T,
-    s: &ScalarsAt<'_, B>,
+    tools: &DeviceTools<B>,
+    shapes: T,
+    states: &ToolStatesAt<'_, B>,
+    owner: Option<&mut B::Buf<u32>>,
     a: ContactInputs<'_, B, R, D>,
 ) -> Result<ContactArgs<R, E, T>> {
     if D::D != E::D {
         return Err(Error::Length { op: "contact (a mesh tool is 3D)", expected: E::D, got: D::D });
     }
+    if states.count != tools.count || (tools.count > 1) != owner.is_some() {
+        return Err(Error::Length { op: "contact (tool states and owners)", expected: tools.count, got: states.count });
+    }
     Ok(ContactArgs {
         n: count(n)?,
-        params: input(b, "contact parameters", 1, params)?,
-        tool,
-        scalars: scalars_ptr(b, s)?,
+        _pad: 0,
+        set: ToolSet {
+            tools: shapes,
+            params: input(b, "contact parameters", tools.count, &tools.params)?,
+            states: states_ptr(b, states)?,
+            owner: output_opt(b, "contact owner", n, owner)?,
+            count: count(tools.count)?,
+            _pad: 0,
+        },
         pos: input(b, "pos", n, a.pos)?.cast(),
         vel: input(b, "vel", n, a.vel)?.cast(),
         mass: input(b, "mass", n, a.mass)?,

@@ -22,7 +22,7 @@ use bytemuck::Pod;
 pub use cpu::CpuBackend;
 pub use cuda::CudaBackend;
 pub use passes::Passes;
-pub use tool::{DeviceMesh, DeviceTool};
+pub use tool::{DeviceMesh, DeviceShapes, DeviceTools};
 
 /// A typed array in the backend's memory.
 pub trait Buffer<T>: Send + Sync {
@@ -254,6 +254,13 @@ pub struct ScalarsAt<'a, B: Backend> {
     pub index: usize,
 }
 
+/// Where a step's tool states are: `count` states (one per tool) from entry `index · count` of `buf`.
+pub struct ToolStatesAt<'a, B: Backend> {
+    pub buf: &'a B::Buf<crate::kernels::contact::ToolState>,
+    pub index: usize,
+    pub count: usize,
+}
+
 /// The fields a step integrates, in sorted order: the state y, its start-of-step copy y0, the rates, and the
 /// temperature (present with heat or plasticity) with its start copy and rate (present with conduction).
 pub struct StepFields<'a, B: Backend, R: Real, D: Dim> {
@@ -342,8 +349,9 @@ pub struct FusedPrepare<'a, B: Backend, R: Real, D: Dim> {
 /// the plastic pass's flags and (with `yield_stress`) its yield stresses.
 pub struct FusedContact<'a, B: Backend, R: Real, D: Dim> {
     pub params: &'a B::Buf<crate::kernels::contact::ContactParams>,
-    /// The tool's shape (one element).
+    /// The tool's shape (one element) and its state this step.
     pub tool: &'a B::Buf<crate::kernels::contact::Tool2d>,
+    pub state: ToolStatesAt<'a, B>,
     /// The particles' own masses.
     pub mass: &'a B::Buf<R>,
     pub normal: &'a mut B::Buf<D::Vec<R>>,

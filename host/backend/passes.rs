@@ -6,12 +6,12 @@
 //! checked against the table when it compiles.
 
 use super::args::{self, PrepareBufs, check_len};
-use super::tool::DeviceTool;
+use super::tool::{DeviceShapes, DeviceTools};
 use super::{
     Backend, Buffer, ContactInputs, FieldsMut, FusedContact, FusedHeat, FusedPrepare, HeatInputs, PlasticInputs,
-    PlasticPass, PrepassDamageBufs, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields,
+    PlasticPass, PrepassDamageBufs, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields, ToolStatesAt,
 };
-use crate::kernels::contact::{ContactParams, MeshTool, Tool2d};
+use crate::kernels::contact::{MeshTool, Tool2d};
 use crate::kernels::neighbour::GridParams;
 use crate::kernels::pass::{
     Contact, Density, Finish, FinishPlastic, Hash, Heat, NeighbourList, Plastic, Predict, Prepare, RatesPass, Verlet,
@@ -384,31 +384,36 @@ pub trait Passes: Backend {
         })
     }
 
-    /// The contact pass with a rigid tool (`contact::penalty::contact_particle`): the parametric tool in 2D or 3D,
-    /// a mesh tool in 3D.
+    /// The contact pass with the rigid tools (`contact::penalty::contact_particle`): parametric tools in 2D or 3D,
+    /// mesh tools in 3D; `owner` (several tools only) keeps the tool each particle's friction history belongs to.
     fn contact<R: Real, D: Dim>(
         &self,
         n: usize,
-        params: &Self::Buf<ContactParams>,
-        tool: &DeviceTool<Self>,
-        s: ScalarsAt<'_, Self>,
+        tools: &DeviceTools<Self>,
+        states: ToolStatesAt<'_, Self>,
+        owner: Option<&mut Self::Buf<u32>>,
         a: ContactInputs<'_, Self, R, D>,
     ) -> Result<()> {
         check_len("flags", n, a.flags.len())?;
         if let Some(m) = a.materials {
             check_bodies(self, "contact materials", n, a.flags, m.len())?;
         }
-        match tool {
-            DeviceTool::Prism(t) => {
-                let t = args::tool_ptr(self, t)?;
-                let a = args::contact_args::<_, R, D, D, _>(self, n, params, t, &s, a)?;
+        match &tools.shapes {
+            DeviceShapes::Prism(t) => {
+                check_len("tool shapes", tools.count, t.len())?;
+                let t = self.address(t) as *const Tool2d;
+                let a = args::contact_args::<_, R, D, D, _>(self, n, tools, t, &states, owner, a)?;
                 // SAFETY: the builder checked the lengths, the bodies are checked above.
                 unsafe { self.launch::<Contact<R, D, *const Tool2d>>(&a) }
             }
-            DeviceTool::Mesh(m) => {
-                let a = args::contact_args::<_, R, D, Dim3, _>(self, n, params, m.tool(self), &s, a)?;
-                // SAFETY: the builder checked the lengths and that the scene is 3D; the mesh's buffers are live.
-                unsafe { self.launch::<Contact<R, Dim3, MeshTool<'static>>>(&a) }
+            DeviceShapes::Mesh { meshes, views } => {
+                check_len("mesh tools", tools.count, meshes.len())?;
+                check_len("mesh tool views", tools.count * size_of::<MeshTool>() / 8, views.len())?;
+                let t = self.address(views) as *const MeshTool<'static>;
+                let a = args::contact_args::<_, R, D, Dim3, _>(self, n, tools, t, &states, owner, a)?;
+                // SAFETY: the builder checked the lengths and that the scene is 3D; the meshes' buffers, which
+                // the views point into, are live.
+                unsafe { self.launch::<Contact<R, Dim3, *const MeshTool<'static>>>(&a) }
             }
         }
     }

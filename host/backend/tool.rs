@@ -1,12 +1,13 @@
-//! A rigid tool's shape in the backend's memory, as the contact pass reads it: the parametric tool as one
-//! `Tool2d` (its outline in 2D, the prism of the outline along z in 3D), or a triangle-mesh tool as its grid's
-//! flat arrays (`swarf::mesh::MeshGridData`), from which each launch builds the kernels' `MeshTool` by value over
-//! the buffers' addresses (roethlin-solver.md §5.5).
+//! A run's rigid tools in the backend's memory, as the contact pass reads them: their contact constants, one
+//! `ContactParams` each, and their shapes: parametric tools as an array of `Tool2d` (the outline in 2D, the prism
+//! of the outline along z in 3D), or triangle-mesh tools, each as its grid's flat arrays
+//! (`swarf::mesh::MeshGridData`) with an array of the kernels' `MeshTool`s over the buffers' addresses
+//! (roethlin-solver.md §5.5).
 
 use super::{Backend, Buffer};
 use crate::Result;
 use crate::kernels::contact::mesh::MeshGrid;
-use crate::kernels::contact::{MeshTool, Tool2d};
+use crate::kernels::contact::{ContactParams, MeshTool, Tool2d};
 use crate::mesh::MeshGridData;
 
 /// The mesh tool's arrays in the backend's memory (lengths as `MeshGridData`'s).
@@ -65,9 +66,66 @@ impl<B: Backend> DeviceMesh<B> {
     }
 }
 
-/// A tool's shape on the backend.
-pub enum DeviceTool<B: Backend> {
-    /// The parametric tool (one element).
+/// The tools' shapes on the backend, all of one kind.
+pub enum DeviceShapes<B: Backend> {
+    /// Parametric tools (one element each).
     Prism(B::Buf<Tool2d>),
-    Mesh(DeviceMesh<B>),
+    /// Mesh tools: their arrays, and the kernels' `MeshTool`s over them as raw words (a `MeshTool` holds device
+    /// addresses, so it is not `Pod`; the contact pass reads the array as `*const MeshTool`).
+    Mesh { meshes: Vec<DeviceMesh<B>>, views: B::Buf<u64> },
+}
+
+/// A run's tools on the backend: their contact constants and shapes, `count` of each.
+pub struct DeviceTools<B: Backend> {
+    pub params: B::Buf<ContactParams>,
+    pub shapes: DeviceShapes<B>,
+    pub count: usize,
+}
+
+// The `MeshTool` array is uploaded as whole 8-byte words.
+const _: () = assert!(size_of::<MeshTool<'static>>().is_multiple_of(8) && align_of::<MeshTool<'static>>() <= 8);
+
+impl<B: Backend> DeviceTools<B> {
+    /// Uploads the tools (`params[k]` with `shapes[k]`; all parametric or all meshes).
+    pub fn upload(b: &B, params: &[ContactParams], shapes: &[&crate::tool::Shape]) -> Result<Self> {
+        use crate::tool::Shape;
+        if params.len() != shapes.len() || params.is_empty() {
+            return Err(crate::Error::Length {
+                op: "tools (constants and shapes)",
+                expected: params.len(),
+                got: shapes.len(),
+            });
+        }
+        let prisms: Option<Vec<Tool2d>> = shapes.iter().map(|s| s.parametric().copied()).collect();
+        let shapes = match prisms {
+            Some(p) => DeviceShapes::Prism(b.upload(&p, "tool shapes")?),
+            None => {
+                let meshes = shapes
+                    .iter()
+                    .map(|s| match s {
+                        Shape::Mesh(m) => DeviceMesh::upload(b, m),
+                        Shape::Parametric(_) => {
+                            Err(crate::Error::Scene("the tools of a run must be all meshes or all parametric".into()))
+                        }
+                    })
+                    .collect::<Result<Vec<_>>>()?;
+                let views: Vec<MeshTool<'static>> = meshes.iter().map(|m| m.tool(b)).collect();
+                // SAFETY: `MeshTool` is `repr(C)`, a whole number of words (asserted above) with no padding (its
+                // fields are words and u32 pairs), so its bytes read as u64 words.
+                let words = unsafe {
+                    std::slice::from_raw_parts(views.as_ptr() as *const u64, views.len() * size_of::<MeshTool>() / 8)
+                };
+                DeviceShapes::Mesh { views: b.upload(words, "mesh tools")?, meshes }
+            }
+        };
+        Ok(DeviceTools { params: b.upload(params, "contact parameters")?, shapes, count: params.len() })
+    }
+
+    /// The parametric tools' array, if the tools are parametric.
+    pub fn prisms(&self) -> Option<&B::Buf<Tool2d>> {
+        match &self.shapes {
+            DeviceShapes::Prism(t) => Some(t),
+            DeviceShapes::Mesh { .. } => None,
+        }
+    }
 }

@@ -200,15 +200,16 @@ pub fn without<R: Real, D: TensorOps<R>>(s: &Setup<R, D>, option: &str) -> Optio
         "heat conduction" => o.thermal.as_mut()?.conduction.take().map(|_| ())?,
         "friction" => {
             let c = o.contact.as_mut()?;
-            (c.params.friction > 0.0).then_some(())?;
-            c.params.friction = 0.0;
+            c.tools.iter().any(|t| t.params.friction > 0.0).then_some(())?;
+            c.tools.iter_mut().for_each(|t| t.params.friction = 0.0);
         }
         "plasticity" => {
+            use crate::kernels::contact::penalty::cap;
             o.plastic.take()?;
             if let Some(c) = o.contact.as_mut() {
                 // The current-yield cap reads the plastic pass' yield stress: fall back to the static cap.
-                if c.params.cap_mode == crate::kernels::contact::penalty::cap::CURRENT {
-                    c.params.cap_mode = crate::kernels::contact::penalty::cap::STATIC;
+                for t in c.tools.iter_mut().filter(|t| t.params.cap_mode == cap::CURRENT) {
+                    t.params.cap_mode = cap::STATIC;
                 }
             }
         }

@@ -37,10 +37,15 @@ pub const FORCE_COLUMNS: &[&str] = &[
 /// about the tool's reference point (the rotation axis' point o + c of a rotating tool, else the frame origin o).
 pub const FORCE_COLUMNS_3D: &[&str] = &["fx_n", "fy_n", "fz_n", "mx_n_m", "my_n_m", "mz_n_m"];
 
-/// The columns of `forces.csv` in dimension `dim`.
-pub fn force_columns(dim: usize) -> Vec<&'static str> {
+/// The columns a scene with several tools adds for each tool k ≥ 2 (`_t2`, `_t3`, … appended): its force on the
+/// workpiece [N; per m of depth in 2D], its moment about its reference point and the particles it touches.
+pub const TOOL_COLUMNS: &[&str] = &["fx_n", "fy_n", "fz_n", "mx_n_m", "my_n_m", "mz_n_m", "contacts"];
+
+/// The columns of `forces.csv` in dimension `dim` with `tools` tools.
+pub fn force_columns(dim: usize, tools: usize) -> Vec<String> {
     let extra = if dim == 3 { FORCE_COLUMNS_3D } else { &[] };
-    FORCE_COLUMNS.iter().chain(extra).copied().collect()
+    let more = (2..=tools).flat_map(|k| TOOL_COLUMNS.iter().map(move |c| format!("{c}_t{k}")));
+    FORCE_COLUMNS.iter().chain(extra).map(|c| c.to_string()).chain(more).collect()
 }
 
 /// The scalar results a cutting run adds to summary.json (the keys of [`CutAnalysis::json`]): the observables
@@ -115,7 +120,10 @@ impl CutRecorder {
         };
         let (surface_y, uncut) = super::chip_run::surface_and_uncut(scene, t.position[1], pos);
         Some(CutRecorder {
-            series: TimeSeries::new(out_dir.join("forces.csv"), &force_columns(scene.dim)),
+            series: TimeSeries::new(
+                out_dir.join("forces.csv"),
+                &force_columns(scene.dim, scene.tools().count()).iter().map(String::as_str).collect::<Vec<_>>(),
+            ),
             every: scene.output.every / SAMPLES_PER_OUTPUT,
             next: 0.0,
             dir,
@@ -186,6 +194,11 @@ impl CutRecorder {
         if self.three_d {
             row.extend(c.force);
             row.extend(c.moment);
+        }
+        for t in &c.more {
+            row.extend(t.force);
+            row.extend(t.moment);
+            row.push(t.contacts as f64);
         }
         self.push(&row)?;
         Ok(())

@@ -56,14 +56,14 @@ pub struct Output<R: Real, D: TensorOps<R>> {
     /// The frame's per-particle f64 fields (the SPH field registry's frame entries: name, components, values).
     pub fields: Vec<crate::solver::fields::FrameField>,
     pub positions: Vec<[f64; 3]>,
-    /// The tool's outline in the world at this instant (a closed polyline), with a tool.
-    pub tool: Option<crate::tool::Picture>,
+    /// Each tool in the world at this instant (an outline or a surface), in the scene's order.
+    pub tools: Vec<crate::tool::Picture>,
     /// The equation-of-state parameters the frame's pressure is computed with.
     pub params: SphParams<R>,
 }
 
 /// The tool's state at one instant (declared with the cutting record that takes it).
-pub use crate::tool::ToolSample;
+pub use crate::tool::{ToolLoad, ToolSample};
 
 /// A particle method as the drivers use it: built from a scene, advanced by steps of Δt, read back at output
 /// steps, saved to and restored from checkpoints.

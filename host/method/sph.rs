@@ -13,8 +13,9 @@ use crate::material::FlowModel;
 use crate::scene::{Bc, Conduction, ParticleSet, Precision, Scene, Switch};
 use crate::solver::diagnostics::compute;
 use crate::solver::params::{StabiliserSettings, cfl_time_step, sph_params};
-use crate::solver::{ContactSetup, DamageSetup, PlasticSetup, Solver, ThermalSetup};
+use crate::solver::{ContactSetup, DamageSetup, PlasticSetup, Solver, ThermalSetup, ToolSetup};
 use crate::state::HostParticles;
+use crate::tool::ToolLoad;
 use crate::tuning::Tuning;
 use crate::{Error, Result};
 
@@ -96,22 +97,33 @@ impl Initial {
         })
     }
 
-    /// The cutting tool: its contact set-up, and its thermal-only particles appended as one more body (with
-    /// their thermal material).
+    /// The tools: their contact set-up, and the (lone) tool's thermal-only particles appended as one more body
+    /// (with their thermal material).
     fn tool(&mut self, scene: &Scene, set: &ParticleSet) -> Result<(Option<ContactSetup>, Option<ThermalMaterial>)> {
         let Some(t) = &scene.tool else { return Ok((None, None)) };
         let m = &scene.material;
-        let tool = crate::tool::setup::shape(t)?;
-        let motion = crate::tool::setup::motion(t);
-        crate::tool::setup::check_engagement(scene, &tool, &motion, &set.pos, &set.vel)?;
         let model = flow_model(scene);
+        let several = !scene.more_tools.is_empty();
+        let mut tools = Vec::new();
+        for (k, t) in scene.tools().enumerate() {
+            let key = if several { format!("tool.{k}") } else { "tool".to_string() };
+            let shape = crate::tool::setup::shape(t)?;
+            let motion = crate::tool::setup::motion(t);
+            crate::tool::setup::check_engagement(scene, &key, &shape, &motion, &set.pos, &set.vel)?;
+            tools.push(ToolSetup {
+                params: crate::tool::setup::contact_params(scene, t, model.as_ref()),
+                shape,
+                motion,
+            });
+        }
+        let (tool, motion) = (&tools[0].shape, tools[0].motion);
         let mut tool_velocity_index = None;
         let mut tool_thermal = None;
         if let Some(th) = &t.thermal
             && let Some(mat) = th.material.as_ref().and_then(|m| m.thermal)
         {
             let dx = scene.discretisation.dx;
-            let tp = crate::tool::setup::thermal_particles(&tool, t, dx, th.fixed_width);
+            let tp = crate::tool::setup::thermal_particles(tool, t, dx, th.fixed_width);
             let v0 = motion.velocity_at(0.0);
             let v = t.velocity;
             let k = velocity_index(&mut self.table, &mut self.reversals, v, &[], scene)?;
@@ -142,13 +154,8 @@ impl Initial {
                 specific_heat: mat.specific_heat.unwrap_or(1.0),
             });
         }
-        let contact = ContactSetup {
-            params: crate::tool::setup::contact_params(scene, t, model.as_ref()),
-            tool,
-            motion,
-            tool_velocity_index,
-            wear: t.usui.is_some(),
-        };
+        let wear = scene.tools().any(|t| t.usui.is_some());
+        let contact = ContactSetup { tools, tool_velocity_index, wear };
         Ok((Some(contact), tool_thermal))
     }
 }
@@ -301,7 +308,8 @@ fn grid(
 ) -> Result<crate::kernels::neighbour::GridParams> {
     let mut corners: Vec<crate::kernels::vector::V3f64> =
         pos.iter().map(|p| crate::kernels::vector::V3f64([p[0], p[1], p[2], 0.0])).collect();
-    if let (Some(t), Some(c)) = (&scene.tool, contact) {
+    let tools = scene.tools().zip(contact.map_or(&[][..], |c| &c.tools[..]));
+    for (t, c) in tools {
         // The tool's path, and room above the workpiece for the chip (a tool height): cutting runs keep their
         // particles inside the grid instead of clamping the chip into boundary cells.
         let end = c.motion.offset_at(scene.time.end);
@@ -562,7 +570,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Method<B> for Solver<B, R, D> {
             internal: [temp, eps, rate],
             fields,
             positions: now,
-            tool: self.tool_picture(),
+            tools: self.tool_pictures(),
             params: self.host_params,
         })
     }
@@ -572,7 +580,8 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Method<B> for Solver<B, R, D> {
             return Ok(None);
         }
         let (pos, fl) = self.positions(b)?;
-        let Some(c) = self.contact_sample_at(b, &pos)? else { return Ok(None) };
+        let samples = self.contact_samples_at(b, &pos)?;
+        let Some(c) = samples.first() else { return Ok(None) };
         let workpiece = pos
             .iter()
             .zip(&fl)
@@ -588,6 +597,10 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Method<B> for Solver<B, R, D> {
             wear_rate: c.wear_rate,
             friction_ratio: c.friction_ratio,
             offset: self.tool_offset().unwrap_or([0.0; 3]),
+            more: samples[1..]
+                .iter()
+                .map(|s| ToolLoad { force: s.force, moment: s.moment, contacts: s.contacts })
+                .collect(),
             workpiece,
         }))
     }

@@ -82,8 +82,13 @@ pub struct Scene {
     pub output: Output,
     /// `[physics]` (optional): plasticity, heat conduction and heating, initial temperature.
     pub physics: Physics,
-    /// `[tool]` (optional, 2D): a rigid cutting tool with penalty contact and friction.
+    /// `[tool]` (optional): a rigid cutting tool with penalty contact and friction; or `[[tool]]`, several tools,
+    /// this the first (the one whose forces are the cutting run's F_c and F_f and whose chip is analysed).
     pub tool: Option<Tool>,
+    /// The second and later `[[tool]]` entries (empty with `[tool]`): all of one kind with the first (parametric
+    /// outlines or meshes), each with its own motion and contact law. Absent from `summary.json` when empty.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub more_tools: Vec<Tool>,
     /// `[experiment]` (optional): measured values of the scene's observables ([`observe`]), the
     /// reference `swarf study` reports its error against; in the order of the scene's observables.
     pub experiment: Vec<Measurement>,
@@ -681,6 +686,11 @@ pub struct Output {
 }
 
 impl Scene {
+    /// Every tool of the scene, the first (`tool`) first.
+    pub fn tools(&self) -> impl Iterator<Item = &Tool> {
+        self.tool.iter().chain(&self.more_tools)
+    }
+
     /// This scene with its precision replaced by `precision` where one is given (a command line's override):
     /// the set-up reads the scene's precision.
     pub fn with_precision(&self, precision: Option<Precision>) -> std::borrow::Cow<'_, Scene> {

@@ -56,6 +56,8 @@ pub enum When {
     Contact,
     /// The tool's friction capped by the current yield stress.
     CurrentCap,
+    /// Several rigid tools.
+    Tools,
     /// The tool's Usui wear rate recorded.
     Wear,
     /// Thermal-only particles present (their mechanical mass is zero).
@@ -69,7 +71,7 @@ pub enum When {
 }
 
 impl When {
-    pub const ALL: [When; 12] = [
+    pub const ALL: [When; 13] = [
         When::Always,
         When::Temperature,
         When::Conduction,
@@ -77,6 +79,7 @@ impl When {
         When::Damage,
         When::Contact,
         When::CurrentCap,
+        When::Tools,
         When::Wear,
         When::ThermalOnly,
         When::Viscosity,
@@ -92,7 +95,10 @@ impl When {
             When::Plastic => s.plastic.is_some(),
             When::Damage => s.damage.is_some(),
             When::Contact => s.contact.is_some(),
-            When::CurrentCap => s.contact.as_ref().is_some_and(|c| c.params.cap_mode == cap::CURRENT),
+            When::CurrentCap => {
+                s.contact.as_ref().is_some_and(|c| c.tools.iter().any(|t| t.params.cap_mode == cap::CURRENT))
+            }
+            When::Tools => s.contact.as_ref().is_some_and(|c| c.tools.len() > 1),
             When::Wear => s.contact.as_ref().is_some_and(|c| c.wear),
             When::ThermalOnly => s.particles.flags.iter().any(|f| f & flags::THERMAL_ONLY != 0),
             When::Viscosity => s.stabilisers.switches().viscosity,
@@ -214,6 +220,12 @@ macro_rules! frame_one {
             let v: Vec<f64> =
                 $b.read(cur!($kind, f))?.iter().flat_map(|x| (0..3).map(move |k| x.get(k).to_f64())).collect();
             $out.push(FrameField { name: $vtu, components: 3, values: v });
+        }
+    };
+    ($kind:ident, $s:ident, $b:ident, $out:ident, [$($path:tt)*], $vtu:literal integer) => {
+        if let Some(f) = reach!(ref Some($s); $($path)*) {
+            let v: Vec<f64> = $b.read(cur!($kind, f))?.iter().map(|&x: &u32| f64::from(x)).collect();
+            $out.push(FrameField { name: $vtu, components: 1, values: v });
         }
     };
     ($kind:ident, $s:ident, $b:ident, $out:ident, [$($path:tt)*]) => {};
@@ -339,6 +351,8 @@ registry! {
     /// the fields of the checkpoints written before them, tests/fields.rs).
     "damage_omega": f64 = field [.damage?.omega] if Damage, save, frame "damage_initiation";
     "damage": f64 = field [.damage?.damage] if Damage, save, frame "damage";
+    /// The tool each particle's friction history belongs to (several tools).
+    "contact_owner": u32 = field [.contact?.owner?] if Tools, save, frame "contact_tool" integer;
     "damage_mask": f64 = buf [.damage?.mask] if Damage, scratch, frame "damage_mask";
     /// The pre-pass outputs: σ/ρ², artificial stress, sound speed, volume.
     "sig": D::Sym<R> = buf [.sig] if Always, scratch;
@@ -381,7 +395,16 @@ pub fn fixed_bytes<R: Real, D: TensorOps<R>>(s: &Setup<R, D>) -> usize {
     let thermal =
         s.thermal.as_ref().map_or(0, |t| t.materials.len() * size_of::<ThermalMaterial>() + size_of::<GridParams>());
     // The contact law's constants and the tool's shape, one block each.
-    let contact = s.contact.as_ref().map_or(0, |c| size_of::<ContactParams>() + c.tool.device_bytes());
+    let contact = s.contact.as_ref().map_or(0, |c| {
+        let k = c.tools.len();
+        let views = if c.tools[0].shape.parametric().is_some() {
+            0
+        } else {
+            k * size_of::<crate::kernels::contact::MeshTool>()
+        };
+        let shapes: usize = c.tools.iter().map(|t| size_of::<ContactParams>() + t.shape.device_bytes()).sum();
+        shapes + views + k * GRAPH_STEPS * size_of::<crate::kernels::contact::ToolState>()
+    });
     // The damage's constants, one block.
     let damage = if s.damage.is_some() { size_of::<crate::kernels::damage::DamageParams>() } else { 0 };
     cells + run + thermal + contact + damage

@@ -26,9 +26,9 @@ pub use crate::tool::motion::ToolMotion;
 
 use crate::Result;
 use crate::backend::{
-    Backend, Conduction, ContactInputs, DamageBufs, DeviceMesh, DeviceTool, FieldsMut, FieldsRef, FusedContact,
-    FusedHeat, FusedPrepare, HeatInputs, Passes, PlasticPass, PrepassDamageBufs, ScalarsAt, ScalarsMut, SkinTest,
-    SphInputs, StepFields,
+    Backend, Conduction, ContactInputs, DamageBufs, DeviceTools, FieldsMut, FieldsRef, FusedContact, FusedHeat,
+    FusedPrepare, HeatInputs, Passes, PlasticPass, PrepassDamageBufs, ScalarsAt, ScalarsMut, SkinTest, SphInputs,
+    StepFields, ToolStatesAt,
 };
 use crate::kernels::contact::{ContactParams, ToolState};
 use crate::kernels::damage::DamageParams;
@@ -73,15 +73,24 @@ pub struct DamageSetup {
     pub damage: Vec<f64>,
 }
 
-/// The rigid tool of a cutting run.
+/// One rigid tool of a run: its contact law, shape and motion.
 #[derive(Clone, Debug)]
-pub struct ContactSetup {
+pub struct ToolSetup {
     /// The contact law's constants.
     pub params: ContactParams,
     /// The tool's shape: the parametric tool (2D, or its prism in 3D) or a mesh (3D).
-    pub tool: crate::tool::Shape,
+    pub shape: crate::tool::Shape,
     pub motion: ToolMotion,
-    /// Index of the tool particles' velocity in the prescribed-velocity table (rewritten during a start-up ramp).
+}
+
+/// The rigid tools of a run (one or more; the first is the cutting run's tool, whose forces are F_c and F_f).
+#[derive(Clone, Debug)]
+pub struct ContactSetup {
+    /// The tools, in the scene's order (all parametric or all meshes): a particle inside several is taken by the
+    /// first (`contact::penalty::contact_particle`).
+    pub tools: Vec<ToolSetup>,
+    /// Index of the (lone) tool's thermal particles' velocity in the prescribed-velocity table (rewritten during a
+    /// start-up ramp).
     pub tool_velocity_index: Option<usize>,
     /// Record the Usui wear rate.
     pub wear: bool,
@@ -162,18 +171,24 @@ struct DamageState<B: Backend> {
 }
 
 struct ContactState<B: Backend, R: Real, D: Dim> {
-    params: B::Buf<ContactParams>,
-    tool: DeviceTool<B>,
-    /// The tool in its frame, for the frames' pictures (`tool::Shape::picture`).
-    picture: crate::tool::Picture,
-    motion: ToolMotion,
+    /// The tools' constants and shapes.
+    tools: DeviceTools<B>,
+    /// Each tool in its frame, for the frames' pictures (`tool::Shape::picture`).
+    pictures: Vec<crate::tool::Picture>,
+    motions: Vec<ToolMotion>,
+    /// The tools' states of a batch: [`GRAPH_STEPS`] steps of one state per tool (step j's from j·tools), and the
+    /// host copy they are written from.
+    states: B::Buf<ToolState>,
+    host_states: Vec<ToolState>,
+    /// The tool each particle's friction history belongs to (several tools only).
+    owner: Option<Field<B, u32>>,
     normal: Field<B, D::Vec<R>>,
     friction: Field<B, D::Vec<R>>,
     /// σ_y after the plastic update (CURRENT friction cap only; rewritten every step, never reordered).
     yield_stress: Option<B::Buf<f64>>,
     wear: Option<B::Buf<f64>>,
     tool_velocity_index: Option<usize>,
-    /// Friction heating is on.
+    /// Friction heating is on (for some tool).
     heating: bool,
     /// The run's time step, which scales the contact stiffness (a step shortened to land on an output time does
     /// not stiffen it).
@@ -185,7 +200,7 @@ struct ContactState<B: Backend, R: Real, D: Dim> {
 /// The tool's force on the workpiece and its contact statistics at one instant.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ContactSample {
-    /// Σ (f_c + f_t) over the particles: the force of the tool on the workpiece [N per m of depth in 2D; z = 0].
+    /// Σ (f_c + f_t) over the particles the tool touches: its force on the workpiece [N per m of depth in 2D; z = 0].
     pub force: [f64; 3],
     /// Σ (x − p) × (f_c + f_t): its moment about the tool's reference point p, the point o + c of its rotation axis
     /// (a point of the axis, which does not turn), else its frame origin o [N·m; per m in 2D].
@@ -492,13 +507,17 @@ fn damage_state<B: Backend, R: Real, D: TensorOps<R>>(
 /// Refuses a contact set-up the run cannot honour: a mesh tool in a scene that is not 3D, the current-yield cap
 /// without plasticity, friction heating without heat.
 fn check_contact<R: Real, D: TensorOps<R>>(setup: &Setup<R, D>, c: &ContactSetup) -> Result<()> {
-    if D::D != 3 && c.tool.parametric().is_none() {
+    if D::D != 3 && c.tools.iter().any(|t| t.shape.parametric().is_none()) {
         return Err(crate::Error::Scene("a mesh tool needs a 3D scene".into()));
+    }
+    if c.tools.is_empty() {
+        return Err(crate::Error::Scene("a contact set-up needs a tool".into()));
     }
     if When::CurrentCap.holds(setup) && setup.plastic.is_none() {
         return Err(crate::Error::Scene("the current-yield friction cap needs plasticity".into()));
     }
-    if c.params.heat_fraction > 0.0 && (setup.thermal.is_none() || setup.temperature.is_none()) {
+    if c.tools.iter().any(|t| t.params.heat_fraction > 0.0) && (setup.thermal.is_none() || setup.temperature.is_none())
+    {
         return Err(crate::Error::Scene("friction heating needs the thermal model".into()));
     }
     Ok(())
@@ -515,20 +534,22 @@ fn contact_state<B: Backend, R: Real, D: TensorOps<R>>(
     let Some(c) = &setup.contact else { return Ok(None) };
     check_contact(setup, c)?;
     let zeros_v = vec![D::Vec::<R>::default(); n];
+    let params: Vec<ContactParams> = c.tools.iter().map(|t| t.params).collect();
+    let shapes: Vec<&crate::tool::Shape> = c.tools.iter().map(|t| &t.shape).collect();
+    let k = c.tools.len();
     Ok(Some(ContactState {
-        params: b.upload(&[c.params], "contact parameters")?,
-        tool: match &c.tool {
-            crate::tool::Shape::Parametric(t) => DeviceTool::Prism(b.upload(&[*t], "tool shape")?),
-            crate::tool::Shape::Mesh(m) => DeviceTool::Mesh(DeviceMesh::upload(b, m)?),
-        },
-        picture: c.tool.picture(),
-        motion: c.motion,
+        tools: DeviceTools::upload(b, &params, &shapes)?,
+        pictures: c.tools.iter().map(|t| t.shape.picture()).collect(),
+        motions: c.tools.iter().map(|t| t.motion).collect(),
+        states: b.alloc(GRAPH_STEPS * k, "tool states")?,
+        host_states: vec![ToolState::default(); GRAPH_STEPS * k],
+        owner: if k > 1 { Some(Field::upload(b, &vec![0u32; n], "contact owners")?) } else { None },
         normal: Field::upload(b, &zeros_v, "contact forces")?,
         friction: Field::upload(b, &zeros_v, "friction forces")?,
         yield_stress: if When::CurrentCap.holds(setup) { Some(b.alloc(n, "yield stress")?) } else { None },
         wear: if When::Wear.holds(setup) { Some(b.alloc(n, "wear rate")?) } else { None },
         tool_velocity_index: c.tool_velocity_index,
-        heating: c.params.heat_fraction > 0.0,
+        heating: c.tools.iter().any(|t| t.params.heat_fraction > 0.0),
         nominal_dt: setup.dt,
         bc_table: bc_table.to_vec(),
     }))
@@ -638,7 +659,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
     /// cutting runs), not in one of its own.
     fn fused_contact(&self) -> bool {
         self.fuse_contact
-            && self.contact.as_ref().is_some_and(|c| matches!(c.tool, DeviceTool::Prism(_)))
+            && self.contact.as_ref().is_some_and(|c| c.tools.count == 1 && c.tools.prisms().is_some())
             && self.plastic.is_some()
             && D::D == 2
     }
@@ -703,9 +724,9 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
 
     /// The tool's prescribed velocity is being ramped up (steps then run one by one: the table is rewritten).
     fn ramping(&self) -> bool {
-        self.contact
-            .as_ref()
-            .is_some_and(|c| c.tool_velocity_index.is_some() && c.motion.ramp > 0.0 && self.time < c.motion.ramp)
+        self.contact.as_ref().is_some_and(|c| {
+            c.tool_velocity_index.is_some() && c.motions[0].ramp > 0.0 && self.time < c.motions[0].ramp
+        })
     }
 
     fn ramp_tool(&mut self, b: &B, dt: f64) -> Result<()> {
@@ -716,7 +737,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             && let Some(k) = c.tool_velocity_index
         {
             // The tool particles follow the ramp: their prescribed velocity at this step's midpoint.
-            let v = c.motion.velocity_at(self.time + 0.5 * dt);
+            let v = c.motions[0].velocity_at(self.time + 0.5 * dt);
             c.bc_table[k] = D::Vec::<R>::new(v.map(R::from_f64));
             b.write(&mut self.bc_vel, &c.bc_table)?;
         }
@@ -760,16 +781,22 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
     /// Writes the scalars of the next `count` steps of length `dt` (their Δt and the tool's state at each step's
     /// end, on the time line the host's `time += dt` makes).
     fn fill_scalars(&mut self, b: &B, dt: f64, count: usize) -> Result<()> {
-        let mut t = self.time;
         for s in self.host_scalars[..count].iter_mut() {
-            t += dt;
             *s = StepScalars { dt, ..Default::default() };
-            if let Some(c) = &self.contact {
-                s.tool = c.motion.state_at(t, dt.max(c.nominal_dt), dt);
-            }
         }
         if let Some(first) = self.host_scalars.first_mut() {
             first.rebuild = std::mem::take(&mut self.force_rebuild) as u32;
+        }
+        if let Some(c) = self.contact.as_mut() {
+            let k = c.motions.len();
+            let mut t = self.time;
+            for step in c.host_states[..count * k].chunks_exact_mut(k) {
+                t += dt;
+                for (s, m) in step.iter_mut().zip(&c.motions) {
+                    *s = m.state_at(t, dt.max(c.nominal_dt), dt);
+                }
+            }
+            b.write(&mut c.states, &c.host_states[..count * k])?;
         }
         b.write(&mut self.scalars, &self.host_scalars[..count])
     }
@@ -977,15 +1004,12 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         let (p, s) = (&mut self.particles, &mut self.start);
         let (materials, conduction) = thermal_views(self.thermal.as_mut());
         let (yield_stress, contact) = match self.contact.as_mut() {
-            Some(ContactState { params, tool, normal, friction, yield_stress, wear, heating, .. }) => {
+            Some(ContactState { tools, states, normal, friction, yield_stress, wear, heating, .. }) => {
                 let cap = yield_stress.is_some();
-                let prism = match tool {
-                    DeviceTool::Prism(t) => Some(&*t),
-                    DeviceTool::Mesh(_) => None,
-                };
-                let fused = prism.filter(|_| fuse_contact).map(|tool| FusedContact {
-                    params: &*params,
+                let fused = tools.prisms().filter(|_| fuse_contact).map(|tool| FusedContact {
+                    params: &tools.params,
                     tool,
+                    state: ToolStatesAt { buf: &*states, index: j, count: 1 },
                     mass: &p.mass.cur,
                     normal: &mut normal.cur,
                     friction: &mut friction.cur,
@@ -1048,9 +1072,9 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             let heating = c.heating;
             b.contact::<R, D>(
                 n,
-                &c.params,
-                &c.tool,
-                ScalarsAt { buf: &self.scalars, index: j },
+                &c.tools,
+                ToolStatesAt { buf: &c.states, index: j, count: c.tools.count },
+                c.owner.as_mut().map(|o| &mut o.cur),
                 ContactInputs {
                     pos: &p.pos.cur,
                     vel: &p.vel.cur,
@@ -1092,52 +1116,61 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         Ok(ms)
     }
 
-    /// The tool's force on the workpiece now, summed in f64 in particle order (deterministic, equal on every
+    /// The first tool's force on the workpiece now, summed in f64 in particle order (deterministic, equal on every
     /// backend); None without a tool.
     pub fn contact_sample(&self, b: &B) -> Result<Option<ContactSample>> {
         if self.contact.is_none() {
             return Ok(None);
         }
-        self.contact_sample_at(b, &self.particles.pos.read(b)?)
+        Ok(self.contact_samples_at(b, &self.particles.pos.read(b)?)?.into_iter().next())
     }
 
-    /// [`Solver::contact_sample`] with the positions (state order) the caller has already read, for the moment.
-    pub fn contact_sample_at(&self, b: &B, pos: &[D::Vec<R>]) -> Result<Option<ContactSample>> {
-        let (Some(c), Some(state)) = (&self.contact, self.tool_state()) else { return Ok(None) };
+    /// Each tool's force on the workpiece now (the scene's order; empty without a tool), with the positions (state
+    /// order) the caller has already read, for the moments: tool k sums the particles it touches (its owners').
+    pub fn contact_samples_at(&self, b: &B, pos: &[D::Vec<R>]) -> Result<Vec<ContactSample>> {
+        let Some(c) = &self.contact else { return Ok(Vec::new()) };
         let (fc, ft) = (c.normal.read(b)?, c.friction.read(b)?);
-        let o = state.offset;
-        let p = if state.rotating != 0 { std::array::from_fn(|k| o[k] + state.centre[k]) } else { o };
-        let wear = match &c.wear {
-            Some(w) => Some(b.read(w)?),
-            None => None,
-        };
-        let mut s = ContactSample::default();
-        let mut wear_sum = 0.0;
-        let (mut normal_sum, mut friction_sum) = (0.0, 0.0);
+        let owner = c.owner.as_ref().map(|o| o.read(b)).transpose()?;
+        let wear = c.wear.as_ref().map(|w| b.read(w)).transpose()?;
+        let mut samples = vec![ContactSample::default(); c.motions.len()];
+        let mut sums = vec![(0.0, 0.0, 0.0); c.motions.len()];
+        let refs: Vec<[f64; 3]> = c
+            .motions
+            .iter()
+            .map(|m| {
+                let st = m.state_at(self.time, c.nominal_dt, c.nominal_dt);
+                let o = st.offset;
+                if st.rotating != 0 { std::array::from_fn(|k| o[k] + st.centre[k]) } else { o }
+            })
+            .collect();
         let norm = |v: &D::Vec<R>| (0..D::D).map(|k| v.get(k).to_f64().powi(2)).sum::<f64>().sqrt();
         for i in 0..self.n {
+            let k = owner.as_ref().map_or(0, |o| o[i] as usize);
+            let (Some(s), Some(sum), Some(p)) = (samples.get_mut(k), sums.get_mut(k), refs.get(k)) else { continue };
             // Components past the dimension read as zero (`Vector::get`).
             let f: [f64; 3] = std::array::from_fn(|k| fc[i].get(k).to_f64() + ft[i].get(k).to_f64());
-            for (sum, fk) in s.force.iter_mut().zip(f) {
-                *sum += fk;
+            for (acc, fk) in s.force.iter_mut().zip(f) {
+                *acc += fk;
             }
             let r: [f64; 3] = std::array::from_fn(|k| pos[i].get(k).to_f64() - if k < D::D { p[k] } else { 0.0 });
             let m = [r[1] * f[2] - r[2] * f[1], r[2] * f[0] - r[0] * f[2], r[0] * f[1] - r[1] * f[0]];
-            for (sum, mk) in s.moment.iter_mut().zip(m) {
-                *sum += mk;
+            for (acc, mk) in s.moment.iter_mut().zip(m) {
+                *acc += mk;
             }
             if (0..D::D).any(|k| fc[i].get(k) != R::ZERO) {
                 s.contacts += 1;
-                normal_sum += norm(&fc[i]);
-                friction_sum += norm(&ft[i]);
+                sum.0 += norm(&fc[i]);
+                sum.1 += norm(&ft[i]);
                 if let Some(w) = &wear {
-                    wear_sum += w[i];
+                    sum.2 += w[i];
                 }
             }
         }
-        s.wear_rate = if wear.is_some() && s.contacts > 0 { wear_sum / s.contacts as f64 } else { f64::NAN };
-        s.friction_ratio = if normal_sum > 0.0 { friction_sum / normal_sum } else { f64::NAN };
-        Ok(Some(s))
+        for (s, (normal, friction, wear_sum)) in samples.iter_mut().zip(sums) {
+            s.wear_rate = if wear.is_some() && s.contacts > 0 { wear_sum / s.contacts as f64 } else { f64::NAN };
+            s.friction_ratio = if normal > 0.0 { friction / normal } else { f64::NAN };
+        }
+        Ok(samples)
     }
 
     /// Whether a predictor of the steps since the last scalars were written saw a non-finite position (one small
@@ -1168,19 +1201,23 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
     /// The tool as the contact pass sees it at the current time, with the run's nominal step (its translation and,
     /// for a rotating tool, its centre, angular velocity and rotation), with a tool.
     pub fn tool_state(&self) -> Option<ToolState> {
-        self.contact.as_ref().map(|c| c.motion.state_at(self.time, c.nominal_dt, c.nominal_dt))
+        self.contact.as_ref().map(|c| c.motions[0].state_at(self.time, c.nominal_dt, c.nominal_dt))
     }
 
-    /// The tool's picture in the world at the current time (the outline at z = 0, or a mesh's surface), with a
-    /// tool.
-    pub fn tool_picture(&self) -> Option<crate::tool::Picture> {
-        let s = self.tool_state()?;
-        self.contact.as_ref().map(|c| c.picture.in_world(&s))
+    /// Each tool's picture in the world at the current time (the outline at z = 0, or a mesh's surface), in the
+    /// scene's order; empty without a tool.
+    pub fn tool_pictures(&self) -> Vec<crate::tool::Picture> {
+        let Some(c) = &self.contact else { return Vec::new() };
+        c.pictures
+            .iter()
+            .zip(&c.motions)
+            .map(|(p, m)| p.in_world(&m.state_at(self.time, c.nominal_dt, c.nominal_dt)))
+            .collect()
     }
 
-    /// Where the tool's frame origin is at the current time (its translation; z = 0 in 2D), with a tool.
+    /// Where the first tool's frame origin is at the current time (its translation; z = 0 in 2D), with a tool.
     pub fn tool_offset(&self) -> Option<[f64; 3]> {
-        self.contact.as_ref().map(|c| c.motion.offset_at(self.time))
+        self.contact.as_ref().map(|c| c.motions[0].offset_at(self.time))
     }
 
     /// Host copies of the positions' low parts (mixed precision; state order): x = pos + pos_lo.
@@ -1264,7 +1301,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         if let Some(c) = &mut self.contact {
             // The ramp's table entry is rewritten by the next step while the ramp lasts; after it, it is final.
             if let Some(k) = c.tool_velocity_index {
-                let v = c.motion.velocity_at(self.time);
+                let v = c.motions[0].velocity_at(self.time);
                 c.bc_table[k] = D::Vec::<R>::new([R::from_f64(v[0]), R::from_f64(v[1]), R::ZERO]);
                 b.write(&mut self.bc_vel, &c.bc_table)?;
             }

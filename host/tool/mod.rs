@@ -27,6 +27,17 @@ pub struct ToolSample {
     pub friction_ratio: f64,
     /// The tool's translation (z = 0 in 2D).
     pub offset: [f64; 3],
+    /// The second and later tools' loads (scenes with several tools).
+    pub more: Vec<ToolLoad>,
     /// The mechanical (not thermal-only) particles' positions.
     pub workpiece: Vec<[f64; 2]>,
+}
+
+/// A further tool's force on the workpiece [N; per m of depth in 2D], its moment about the tool's reference point
+/// [N·m] and the particles it touches, at one sample.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ToolLoad {
+    pub force: [f64; 3],
+    pub moment: [f64; 3],
+    pub contacts: usize,
 }

@@ -149,6 +149,7 @@ pub fn tool_particles(tool: &Tool2d, t: &Tool, dx: f64, band: f64) -> ToolPartic
 /// particles, moving on with their initial velocities, are checked at 400 instants.
 pub fn check_engagement<G: ToolGeometry>(
     scene: &Scene,
+    key: &str,
     tool: &G,
     motion: &ToolMotion,
     pos: &[[f64; 3]],
@@ -168,7 +169,7 @@ pub fn check_engagement<G: ToolGeometry>(
     let inside = pos.iter().filter(|p| tool.query(s.to_tool(**p)).distance < -tol).count();
     if inside > 0 {
         return Err(Error::Scene(format!(
-            "{}: tool.position: {inside} particles lie inside the tool at t = 0; expected the tool clear of the \
+            "{}: {key}.position: {inside} particles lie inside the tool at t = 0; expected the tool clear of the \
              workpiece (move it back along its velocity)",
             scene.origin
         )));
@@ -176,7 +177,7 @@ pub fn check_engagement<G: ToolGeometry>(
     let end = scene.time.end;
     if !(1..=400).any(|k| at(end * k as f64 / 400.0) > 0) {
         return Err(Error::Scene(format!(
-            "{}: tool: the tool never meets the workpiece before time.end = {end:e} s; expected a position and \
+            "{}: {key}: the tool never meets the workpiece before time.end = {end:e} s; expected a position and \
              velocity that bring its edge into the material",
             scene.origin
         )));

@@ -207,7 +207,12 @@ pub const PRISM_TOOL: &str = "rake_angle = 0.0\nclearance_angle = 7.0\nlength = 
 /// corners (edge at the origin, rake face up to the top, the back, the flank at 7° back down to the edge),
 /// counter-clockwise seen from +z, extruded; the caps fanned, the sides split in two, all faces outward.
 pub fn prism_obj(z0: f64, z1: f64) -> String {
-    let (l, h) = (4.0e-4, 2.0e-4);
+    prism_obj_long(4.0e-4, z0, z1)
+}
+
+/// [`prism_obj`] with the outline `l` long behind the edge.
+pub fn prism_obj_long(l: f64, z0: f64, z1: f64) -> String {
+    let h = 2.0e-4;
     let flank_y = l * 7f64.to_radians().tan();
     // Counter-clockwise in the x–y plane: edge, rake top, top back, flank back.
     let ring = [[0.0, 0.0], [0.0, h], [-l, h], [-l, flank_y]];
@@ -245,4 +250,111 @@ pub fn cylinder_obj(r: f64, z0: f64, z1: f64, n: usize) -> String {
         s.push_str(&format!("f {c0} {b} {a}\nf {c1} {} {}\n", a + n, b + n));
     }
     s
+}
+
+/// [`drop_scene_3d`] under several tools: `tools` are the `[[tool]]` tables' own lines (the contact keys of the
+/// single-tool scene are appended to the last).
+pub fn drop_scene_3d_tools(speed: f64, slide: f64, tools: &[String]) -> String {
+    drop_scene_3d(speed, slide, &tools.join("\n[[tool]]\n")).replace("[tool]\n", "[[tool]]\n")
+}
+
+/// The `[[tool]]` lines of [`PRISM_TOOL`]'s prism as a mesh (`prism.obj` from z = −1 mm to 1 mm, written to
+/// `dir`) with its edge at x = `x`, resting, with `extra` lines.
+pub fn prism_mesh_tool(dir: &std::path::Path, x: f64, extra: &str) -> String {
+    let file = dir.join("prism.obj");
+    std::fs::write(&file, prism_obj(-1e-3, 1e-3)).expect("write the mesh");
+    format!(
+        "mesh = {{ file = {:?} }}\nposition = [{x:e}, 0.0, 0.0]\nvelocity = [0.0, 0.0, 0.0]\n{extra}",
+        file.display().to_string()
+    )
+}
+
+/// V0060 at Δx = 20 µm (as [`coarse_cut`]), 4 µs of cut, on one block, or on two equal blocks 1 mm apart in y,
+/// each cut by its own tool (`[[tool]]`, the second tool's depth measured on the upper block). The blocks' extents
+/// and fixed regions end between lattice rows, so that rounding cannot make the blocks differ by a row.
+pub fn twin_cut_scene(two: bool) -> String {
+    let block = |name: &str, y0: f64| {
+        format!(
+            r#"
+[[body]]
+name = "{name}"
+shape = "rectangle"
+lattice = "nodes"
+min = [0.0, {y0:e}]
+max = [1.0e-3, {:e}]
+[[boundary]]
+kind = "fixed"
+body = "{name}"
+min = [-1.0, {:e}]
+max = [1.0, {:e}]
+[[boundary]]
+kind = "fixed"
+body = "{name}"
+min = [-1.0e-9, {:e}]
+max = [1.0e-9, {:e}]
+[[boundary]]
+kind = "fixed"
+body = "{name}"
+min = [0.9999e-3, {:e}]
+max = [1.0, {:e}]
+"#,
+            y0 + 2.81e-4,
+            y0 - 1e-9,
+            y0 + 1e-9,
+            y0 - 1e-9,
+            y0 + 1.5e-4,
+            y0 - 1e-9,
+            y0 + 3.0e-4,
+        )
+    };
+    let tool = |body: &str| {
+        format!(
+            r#"
+[[tool]]
+rake_angle = 0.0
+clearance_angle = 7.0
+edge_radius = 33.0e-6
+length = 4.0e-4
+height = 4.0e-4
+position = [-3.6e-5]
+depth_of_cut = 0.9e-4
+body = "{body}"
+velocity = [6.355, 0.0]
+friction = 0.35
+"#
+        )
+    };
+    let mut text = String::from(
+        r#"
+name = "twin-cut"
+dim = 2
+[discretisation]
+dx = 2.0e-5
+h_over_dx = 1.5
+[material]
+name = "Ti6Al4V-V0060-DE-mu035"
+[physics]
+plasticity = true
+plastic_heating = true
+initial_temperature = 298.0
+[stabilisation]
+artificial_viscosity = { alpha = 1.0, beta = 1.0, eta = 0.1 }
+artificial_stress = { epsilon = 0.3, exponent = 4 }
+xsph = { epsilon = 0.5 }
+[time]
+end = 4.0e-6
+cfl = 0.5
+[output]
+every = 1.0e-6
+"#,
+    );
+    text += &block("lower", 0.0);
+    if two {
+        text += &block("upper", 1.0e-3);
+    }
+    text += &tool("lower");
+    if two {
+        text += &tool("upper");
+    }
+    text
 }

@@ -298,11 +298,10 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
         }
     }
 
-    // [tool]
-    let tool = match root.table("tool", "tool", "a table [tool]")? {
-        Some(t) => Some(tool(&t, doc, dim, dx, 2.0 * h_over_dx * dx, &physics, &bodies, switches)?),
-        None => None,
-    };
+    // [tool] or [[tool]]
+    let mut tools = tool::tools(&root, |t| tool(t, doc, dim, dx, 2.0 * h_over_dx * dx, &physics, &bodies, switches))?;
+    let more_tools = if tools.len() > 1 { tools.split_off(1) } else { Vec::new() };
+    let tool = tools.pop();
 
     // [experiment]
     let experiment = match root.table("experiment", "experiment", "a table [experiment] of measured observables")? {
@@ -332,6 +331,7 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
         output,
         physics,
         tool,
+        more_tools,
         experiment,
         analysis,
         model,

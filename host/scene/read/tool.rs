@@ -33,6 +33,37 @@ const TOOL_KEYS: &[&str] = &[
 /// The outline's keys, refused beside `mesh`.
 const OUTLINE_KEYS: [&str; 5] = ["rake_angle", "clearance_angle", "edge_radius", "length", "height"];
 
+/// `[tool]` (one tool, path `tool`) or `[[tool]]` (several, paths `tool.0`, `tool.1`, …), each read by `read`;
+/// several tools must be all parametric or all meshes, and only a lone tool may carry `[tool.thermal]`.
+pub(super) fn tools(root: &Tab<'_>, read: impl Fn(&Tab<'_>) -> Result<Tool>) -> Result<Vec<Tool>> {
+    let expected = "a table [tool], or [[tool]] tables (several tools)";
+    let Some(node) = root.get("tool") else { return Ok(Vec::new()) };
+    if let Val::Table(entries) = &node.val {
+        return Ok(vec![read(&Tab { doc: root.doc, path: "tool", node, entries })?]);
+    }
+    let tables = root.tables("tool", expected)?;
+    let paths: Vec<String> = (0..tables.len()).map(|i| format!("tool.{i}")).collect();
+    let mut tools: Vec<Tool> = Vec::with_capacity(tables.len());
+    for (&(node, entries), path) in tables.iter().zip(&paths) {
+        let t = Tab { doc: root.doc, path, node, entries };
+        if tables.len() > 1 && t.get("thermal").is_some() {
+            return Err(t.invalid("thermal", t.get("thermal"), "no [tool.thermal] with several tools (a lone tool's)"));
+        }
+        let tool = read(&t)?;
+        if let Some(first) = tools.first()
+            && tool.mesh.is_some() != first.mesh.is_some()
+        {
+            let e = "every tool of one kind: all meshes, or all parametric outlines, as the first [[tool]]";
+            return Err(t.invalid("mesh", t.get("mesh").or(Some(node)), e));
+        }
+        tools.push(tool);
+    }
+    if tools.is_empty() {
+        return Err(root.invalid("tool", Some(node), expected));
+    }
+    Ok(tools)
+}
+
 /// `[tool]`, read in steps: the shape (the outline, or in 3D a mesh), where and how the tool moves, the contact
 /// law, the thermal tool, then the checks that need several of them.
 #[allow(clippy::too_many_arguments)]

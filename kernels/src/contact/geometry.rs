@@ -53,33 +53,34 @@ impl ToolGeometry for Tool2d {
     }
 }
 
-/// How a contact pass receives its tool: the parametric tool through a pointer to its one copy in device (or host)
-/// memory, the mesh tool by value (its grid's scalars and the pointers to its arrays). `VARIANT` is the pass
-/// table's variant number of the contact entry (kernels/src/pass/table.rs): 0 the parametric tool, 1 the mesh.
+/// How a contact pass receives its tools: a pointer to an array of `count` tools in device (or host) memory, the
+/// parametric tools' `Tool2d`s or the mesh tools' `MeshTool`s (each its grid's scalars and the addresses of its
+/// arrays). `VARIANT` is the pass table's variant number of the contact entry (kernels/src/pass/table.rs): 0 the
+/// parametric tool, 1 the mesh.
 pub trait ToolArg: Copy {
     type Geometry: ToolGeometry;
     const VARIANT: u32;
-    /// The tool's shape.
+    /// Tool k's shape.
     ///
     /// # Safety
-    /// A pointer argument points at a live tool.
-    unsafe fn geometry(&self) -> &Self::Geometry;
+    /// The pointer points at an array of live tools longer than k.
+    unsafe fn geometry(&self, k: usize) -> &Self::Geometry;
 }
 
 impl ToolArg for *const Tool2d {
     type Geometry = Tool2d;
     const VARIANT: u32 = 0;
     #[inline(always)]
-    unsafe fn geometry(&self) -> &Tool2d {
-        unsafe { &**self }
+    unsafe fn geometry(&self, k: usize) -> &Tool2d {
+        unsafe { &*self.add(k) }
     }
 }
 
-impl ToolArg for MeshTool<'static> {
+impl ToolArg for *const MeshTool<'static> {
     type Geometry = MeshTool<'static>;
     const VARIANT: u32 = 1;
     #[inline(always)]
-    unsafe fn geometry(&self) -> &Self {
-        self
+    unsafe fn geometry(&self, k: usize) -> &MeshTool<'static> {
+        unsafe { &*self.add(k) }
     }
 }

@@ -26,7 +26,7 @@
 //! Usui wear rate Ẇ = Ψ exp(−ξ/T) p |v_t| with p = |f_c|/A is an optional output; the theses print exp(+ξ/T),
 //! Usui's law has the minus sign (roethlin erratum 16).
 
-use super::geometry::ToolGeometry;
+use super::geometry::{ToolArg, ToolGeometry};
 use super::motion::ToolState;
 use crate::real::Real;
 use crate::sph::params::flags;
@@ -182,12 +182,14 @@ pub struct ContactResult<const D: usize> {
     pub heating: f64,
     /// Usui wear rate [m/s] (0 without contact or with wear off).
     pub wear: f64,
+    /// The particle lies inside the tool (the forces may still be zero: a damper that would pull it in).
+    pub touching: bool,
 }
 
 impl<const D: usize> Default for ContactResult<D> {
     #[inline(always)]
     fn default() -> Self {
-        ContactResult { normal: [0.0; D], friction: [0.0; D], heating: 0.0, wear: 0.0 }
+        ContactResult { normal: [0.0; D], friction: [0.0; D], heating: 0.0, wear: 0.0, touching: false }
     }
 }
 
@@ -286,7 +288,7 @@ pub fn contact_force<const D: usize, G: ToolGeometry>(
     } else {
         0.0
     };
-    ContactResult { normal, friction, heating, wear }
+    ContactResult { normal, friction, heating, wear, touching: true }
 }
 
 /// Per-particle arrays of the contact pass (sorted order). Optional arrays are null when their physics is off.
@@ -310,19 +312,31 @@ pub struct ContactArrays<R: Real, V> {
     pub wear: *mut f64,
 }
 
-/// The contact pass for sorted particle i against the tool of shape `g` in the motion `s`: writes its normal and
-/// friction forces, heats it and records its wear rate. Fixed and thermal-only particles carry no contact force.
+/// The tools of a contact pass: `count` ≥ 1 rigid tools, tool k with its law's constants `params[k]`, its shape
+/// `tools.geometry(k)` and its motion this step `states[k]`. `owner` (null with one tool) holds, per particle, the
+/// tool its friction history `friction` belongs to: the last tool it touched.
+#[repr(C)]
+#[derive(Clone, Copy)]
+pub struct ToolSet<T> {
+    pub tools: T,
+    pub params: *const ContactParams,
+    pub states: *const ToolState,
+    pub owner: *mut u32,
+    pub count: u32,
+    pub _pad: u32,
+}
+
+/// The contact pass for sorted particle i against the tools of `set`: writes its normal and friction forces, heats
+/// it and records its wear rate. Fixed and thermal-only particles carry no contact force. With several tools the
+/// first tool (in the scene's order) the particle lies inside takes it, with the friction history if it owned it,
+/// else none (rigid tools do not overlap where particles are; a particle between two tools at once is pushed by
+/// the first); one tool gives the bits of a single-tool pass.
 ///
 /// # Safety
-/// All non-null arrays hold at least i + 1 particles; `materials` covers every body index.
+/// All non-null arrays hold at least i + 1 particles; `materials` covers every body index; `set`'s arrays hold
+/// `count` entries.
 #[inline(always)]
-pub unsafe fn contact_particle<R: Real, V: Vector<R>, G: ToolGeometry>(
-    c: &ContactParams,
-    g: &G,
-    s: &ToolState,
-    a: &ContactArrays<R, V>,
-    i: usize,
-) {
+pub unsafe fn contact_particle<R: Real, V: Vector<R>, T: ToolArg>(set: &ToolSet<T>, a: &ContactArrays<R, V>, i: usize) {
     unsafe {
         let fl = *a.flags.add(i);
         let kind = fl & flags::KIND_MASK;
@@ -341,23 +355,70 @@ pub unsafe fn contact_particle<R: Real, V: Vector<R>, G: ToolGeometry>(
             (*a.materials.add((fl >> flags::BODY_SHIFT) as usize)).specific_heat
         };
         let sy = if a.yield_stress.is_null() { 0.0 } else { *a.yield_stress.add(i) };
-        let (m, rho) = ((*a.mass.add(i)).to_f64(), (*a.rho.add(i)).to_f64());
-        let (heating, wear) = if V::DIM == 2 {
-            let (x, v) = (load::<R, V, 2>(a.pos, i), load::<R, V, 2>(a.vel, i));
-            let r = contact_force::<2, G>(c, g, s, x, v, load::<R, V, 2>(a.friction, i), m, rho, temp, cp, sy);
-            store(a, i, r.normal, r.friction);
-            (r.heating, r.wear)
+        let p = ParticleIn { m: (*a.mass.add(i)).to_f64(), rho: (*a.rho.add(i)).to_f64(), temp, cp, sy };
+        let (heating, wear, melt) = if V::DIM == 2 {
+            particle_tools::<R, V, T, 2>(set, a, i, &p)
         } else {
-            let (x, v) = (load::<R, V, 3>(a.pos, i), load::<R, V, 3>(a.vel, i));
-            let r = contact_force::<3, G>(c, g, s, x, v, load::<R, V, 3>(a.friction, i), m, rho, temp, cp, sy);
-            store(a, i, r.normal, r.friction);
-            (r.heating, r.wear)
+            particle_tools::<R, V, T, 3>(set, a, i, &p)
         };
         if heating > 0.0 && !a.temp.is_null() && fl & flags::FIXED_TEMPERATURE == 0 {
-            *a.temp.add(i) = crate::material::heated_temperature(temp, heating, c.melt);
+            *a.temp.add(i) = crate::material::heated_temperature(temp, heating, melt);
         }
         if !a.wear.is_null() {
             *a.wear.add(i) = wear;
+        }
+    }
+}
+
+/// A particle's scalars the contact law reads: mass, density, temperature, specific heat and current yield stress.
+struct ParticleIn {
+    m: f64,
+    rho: f64,
+    temp: f64,
+    cp: f64,
+    sy: f64,
+}
+
+/// Particle i against the tools in order until one touches it (the last one's answer, no contact, otherwise):
+/// stores the forces and the owner; returns the heating, the wear rate and the melt cap of the tool that answered.
+///
+/// # Safety
+/// As [`contact_particle`].
+#[inline(always)]
+unsafe fn particle_tools<R: Real, V: Vector<R>, T: ToolArg, const D: usize>(
+    set: &ToolSet<T>,
+    a: &ContactArrays<R, V>,
+    i: usize,
+    p: &ParticleIn,
+) -> (f64, f64, f64) {
+    unsafe {
+        let (x, v) = (load::<R, V, D>(a.pos, i), load::<R, V, D>(a.vel, i));
+        let own = if set.owner.is_null() { 0 } else { *set.owner.add(i) };
+        let mut k = 0;
+        loop {
+            let c = &*set.params.add(k);
+            let f_old = if own as usize == k { load::<R, V, D>(a.friction, i) } else { [0.0; D] };
+            let r = contact_force::<D, T::Geometry>(
+                c,
+                set.tools.geometry(k),
+                &*set.states.add(k),
+                x,
+                v,
+                f_old,
+                p.m,
+                p.rho,
+                p.temp,
+                p.cp,
+                p.sy,
+            );
+            if r.touching || k + 1 >= set.count as usize {
+                store(a, i, r.normal, r.friction);
+                if r.touching && !set.owner.is_null() {
+                    *set.owner.add(i) = k as u32;
+                }
+                return (r.heating, r.wear, c.melt);
+            }
+            k += 1;
         }
     }
 }

@@ -4,8 +4,8 @@
 use super::ModelEntry;
 use super::launch::{Grid, Pass};
 use super::table::{entry_index, model_variant};
-use crate::contact::Tool2d;
-use crate::contact::penalty::{ContactArrays, ContactParams, contact_particle};
+use crate::contact::penalty::{ContactArrays, ContactParams, ToolSet, contact_particle};
+use crate::contact::{Tool2d, ToolState};
 use crate::damage::DamageParams;
 use crate::material::FlowStress;
 use crate::real::Real;
@@ -125,8 +125,9 @@ pub struct FinishPlasticArgs<R: Real, D: Dim, M> {
     pub damage_mass: *const R,
     /// The contact pass's parameters; null: no contact pass.
     pub contact: *const ContactParams,
-    /// The tool's shape (with `contact`).
+    /// The tool's shape and its motion this step (with `contact`).
     pub contact_tool: *const Tool2d,
+    pub contact_state: *const ToolState,
     /// The particles' own masses.
     pub mass: *const R,
     pub normal: *mut D::Vec<R>,
@@ -188,13 +189,15 @@ impl<R: Real, D: TensorOps<R>, M: FlowStress + Copy> FinishPlasticArgs<R, D, M> 
                     yield_stress: self.contact_yield,
                     wear: self.wear,
                 };
-                contact_particle::<R, D::Vec<R>, Tool2d>(
-                    &*self.contact,
-                    &*self.contact_tool,
-                    &(*self.scalars).tool,
-                    &ca,
-                    i,
-                );
+                let set = ToolSet {
+                    tools: self.contact_tool,
+                    params: self.contact,
+                    states: self.contact_state,
+                    owner: core::ptr::null_mut(),
+                    count: 1,
+                    _pad: 0,
+                };
+                contact_particle::<R, D::Vec<R>, *const Tool2d>(&set, &ca, i);
             }
         }
     }

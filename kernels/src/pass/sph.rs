@@ -6,7 +6,7 @@ use super::ModelEntry;
 use super::launch::{Grid, Pass};
 use super::table::{entry_index, model_variant, prepare_variant};
 use crate::contact::ToolArg;
-use crate::contact::penalty::{ContactArrays, ContactParams, contact_particle};
+use crate::contact::penalty::{ContactArrays, ToolSet, contact_particle};
 use crate::damage::DamageParams;
 use crate::material::FlowStress;
 use crate::neighbour::{GridParams, Neighbours};
@@ -19,7 +19,6 @@ use crate::sph::heat::{HeatArrays, HeatParams, ThermalMaterial};
 use crate::sph::interact::{PrepassArrays, PrepassDamage, prepare_store};
 use crate::sph::params::SphParams;
 use crate::sph::plastic::{PlasticArrays, PlasticConsts, plastic_particle};
-use crate::sph::step::StepScalars;
 use crate::vector::Dim;
 use core::marker::PhantomData;
 
@@ -255,17 +254,15 @@ impl<R: Real, D: TensorOps<R>, M: FlowStress + ModelEntry + Copy, const DMG: boo
     }
 }
 
-/// The tool's contact pass (`contact::penalty::contact_particle`) with the tool `T`: the parametric tool (its
-/// outline in 2D, the prism of the outline along z in 3D) or, in 3D, a triangle mesh ([`ToolArg`]).
+/// The tools' contact pass (`contact::penalty::contact_particle`) with the tools `T`: parametric tools (the
+/// outline in 2D, the prism of the outline along z in 3D) or, in 3D, triangle meshes ([`ToolArg`]).
 #[repr(C)]
 #[derive(Clone, Copy)]
 pub struct ContactArgs<R: Real, D: Dim, T: ToolArg> {
     pub n: u32,
-    pub params: *const ContactParams,
-    /// The tool's shape.
-    pub tool: T,
-    /// The step's scalars (the tool's state).
-    pub scalars: *const StepScalars,
+    pub _pad: u32,
+    /// The tools: their shapes, constants, this step's motions and the particles' owners.
+    pub set: ToolSet<T>,
     pub pos: *const D::Vec<R>,
     pub vel: *const D::Vec<R>,
     pub mass: *const R,
@@ -286,7 +283,7 @@ impl<R: Real, D: Dim, T: ToolArg> ContactArgs<R, D, T> {
     /// Particle i's contact forces.
     ///
     /// # Safety
-    /// i < n; every non-null array holds n particles; `params`, the tool and `scalars` point at live values.
+    /// i < n; every non-null array holds n particles; the tool set's arrays hold its `count` live entries.
     #[inline(always)]
     pub unsafe fn particle(&self, i: usize) {
         let a = ContactArrays::<R, D::Vec<R>> {
@@ -302,15 +299,7 @@ impl<R: Real, D: Dim, T: ToolArg> ContactArgs<R, D, T> {
             yield_stress: self.yield_stress,
             wear: self.wear,
         };
-        unsafe {
-            contact_particle::<R, D::Vec<R>, T::Geometry>(
-                &*self.params,
-                self.tool.geometry(),
-                &(*self.scalars).tool,
-                &a,
-                i,
-            )
-        }
+        unsafe { contact_particle::<R, D::Vec<R>, T>(&self.set, &a, i) }
     }
 }
 

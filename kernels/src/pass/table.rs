@@ -113,7 +113,7 @@ macro_rules! contact_tool {
         *const $crate::contact::Tool2d
     };
     (mesh) => {
-        $crate::contact::MeshTool<'static>
+        *const $crate::contact::MeshTool<'static>
     };
 }
 

@@ -11,7 +11,6 @@
 //! value, so that a step captured once in a CUDA graph replays with each step's values.
 
 use super::integrate::{advance_compensated, advance_sym, advance_vec};
-use crate::contact::ToolState;
 use crate::real::Real;
 
 /// The scalars of one step, written by the host before the step runs.
@@ -20,8 +19,6 @@ use crate::real::Real;
 pub struct StepScalars {
     /// The length of this step Δt [s].
     pub dt: f64,
-    /// The tool at the end of the step (zero without a tool).
-    pub tool: ToolState,
     /// Nonzero when this step rebuilds the cell list and reorders the particles: written by the host (0, or 1
     /// to force a rebuild), set to 1 by the predictor when a particle moved beyond the grid's skin. The
     /// rebuild's kernels run only when it is set (a captured step holds every launch; the flag decides).
