@@ -862,6 +862,21 @@ fn ensemble_members_equal_solo_runs_and_cpu() {
     let _ = std::fs::remove_dir_all(root);
 }
 
+/// `scene` run on the CPU and then on the GPU into `dir`/`tag`-0 and -1: each run's final state and forces.csv text.
+fn cpu_and_gpu_runs(scene: &swarf::scene::Scene, dir: &std::path::Path, tag: &str) -> Vec<(Vec<u64>, String)> {
+    use swarf::backend::{AnyBackend, BackendChoice};
+    [BackendChoice::Cpu, BackendChoice::Gpu]
+        .into_iter()
+        .enumerate()
+        .map(|(k, choice)| {
+            let any = AnyBackend::select(choice).expect("backend").0;
+            let out = dir.join(format!("{tag}-{k}"));
+            let (last, _) = final_state(&any, scene, &swarf::run::RunOptions::quiet(out.clone()));
+            (last, std::fs::read_to_string(out.join("forces.csv")).expect("forces.csv"))
+        })
+        .collect()
+}
+
 /// Issue 24 on the GPU: the contact pass in 3D, with the parametric tool's prism (`swarf_contact_3d_*`) and with the
 /// same prism as a triangle mesh (`swarf_contact_mesh_3d_*`, its grid's arrays in device memory), gives the CPU's
 /// run bit for bit: tests/tool_3d.rs's block dropped at 10 m/s (sliding at 2 m/s) onto the tool's top face, in f64
@@ -869,8 +884,6 @@ fn ensemble_members_equal_solo_runs_and_cpu() {
 #[test]
 fn tool_3d_runs_equal_cpu() {
     let Some(_) = gpu() else { return };
-    use swarf::backend::{AnyBackend, BackendChoice};
-    use swarf::run::RunOptions;
     use swarf::scene::Scene;
     let dir = std::env::temp_dir().join(format!("swarf-gpu-tool3d-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("folder");
@@ -885,13 +898,7 @@ fn tool_3d_runs_equal_cpu() {
             let text = common::scenes::drop_scene_3d(10.0, 2.0, &tool)
                 .replace("dim = 3", &format!("dim = 3\nprecision = \"{precision}\""));
             let scene = Scene::from_str(&text, "drop3d.toml", &[]).expect("scene");
-            let mut runs = Vec::new();
-            for (k, choice) in [BackendChoice::Cpu, BackendChoice::Gpu].into_iter().enumerate() {
-                let any = AnyBackend::select(choice).expect("backend").0;
-                let out = dir.join(format!("{what}-{precision}-{k}"));
-                let (last, _) = final_state(&any, &scene, &RunOptions::quiet(out.clone()));
-                runs.push((last, std::fs::read_to_string(out.join("forces.csv")).expect("forces.csv")));
-            }
+            let runs = cpu_and_gpu_runs(&scene, &dir, &format!("{what}-{precision}"));
             let contacts = runs[0].1.lines().skip(1).filter(|l| l.split(',').nth(4).is_some_and(|c| c != "0")).count();
             eprintln!(
                 "3D {what} tool, {precision}: {contacts} force samples in contact; final state bitwise equal: {}, \
@@ -914,8 +921,6 @@ fn tool_3d_runs_equal_cpu() {
 #[test]
 fn several_tools_equal_cpu() {
     let Some(_) = gpu() else { return };
-    use swarf::backend::{AnyBackend, BackendChoice};
-    use swarf::run::RunOptions;
     use swarf::scene::Scene;
     let dir = std::env::temp_dir().join(format!("swarf-gpu-tools-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("folder");
@@ -928,13 +933,7 @@ fn several_tools_equal_cpu() {
         for precision in ["f64", "f32"] {
             let text = text.replacen("dim = ", &format!("precision = \"{precision}\"\ndim = "), 1);
             let scene = Scene::from_str(&text, "tools.toml", &[]).expect("scene");
-            let mut runs = Vec::new();
-            for (k, choice) in [BackendChoice::Cpu, BackendChoice::Gpu].into_iter().enumerate() {
-                let any = AnyBackend::select(choice).expect("backend").0;
-                let out = dir.join(format!("{}-{precision}-{k}", what.replace(' ', "-")));
-                let (last, _) = final_state(&any, &scene, &RunOptions::quiet(out.clone()));
-                runs.push((last, std::fs::read_to_string(out.join("forces.csv")).expect("forces.csv")));
-            }
+            let runs = cpu_and_gpu_runs(&scene, &dir, &format!("{}-{precision}", what.replace(' ', "-")));
             let second =
                 runs[0].1.lines().skip(1).filter(|l| l.split(',').next_back().is_some_and(|c| c != "0")).count();
             eprintln!(

@@ -521,18 +521,22 @@ pub fn contact_args<B: Backend, R: Real, D: Dim, E: Dim, T: ToolArg>(
     if D::D != E::D {
         return Err(Error::Length { op: "contact (a mesh tool is 3D)", expected: E::D, got: D::D });
     }
-    if states.count != tools.count || (tools.count > 1) != owner.is_some() {
-        return Err(Error::Length { op: "contact (tool states and owners)", expected: tools.count, got: states.count });
+    if states.count != tools.count() || (tools.count() > 1) != owner.is_some() {
+        return Err(Error::Length {
+            op: "contact (tool states and owners)",
+            expected: tools.count(),
+            got: states.count,
+        });
     }
     Ok(ContactArgs {
         n: count(n)?,
         _pad: 0,
         set: ToolSet {
             tools: shapes,
-            params: input(b, "contact parameters", tools.count, &tools.params)?,
+            params: input(b, "contact parameters", tools.count(), &tools.params)?,
             states: states_ptr(b, states)?,
             owner: output_opt(b, "contact owner", n, owner)?,
-            count: count(tools.count)?,
+            count: count(tools.count())?,
             _pad: 0,
         },
         pos: input(b, "pos", n, a.pos)?.cast(),

@@ -400,15 +400,15 @@ pub trait Passes: Backend {
         }
         match &tools.shapes {
             DeviceShapes::Prism(t) => {
-                check_len("tool shapes", tools.count, t.len())?;
+                check_len("tool shapes", tools.count(), t.len())?;
                 let t = self.address(t) as *const Tool2d;
                 let a = args::contact_args::<_, R, D, D, _>(self, n, tools, t, &states, owner, a)?;
                 // SAFETY: the builder checked the lengths, the bodies are checked above.
                 unsafe { self.launch::<Contact<R, D, *const Tool2d>>(&a) }
             }
             DeviceShapes::Mesh { meshes, views } => {
-                check_len("mesh tools", tools.count, meshes.len())?;
-                check_len("mesh tool views", tools.count * size_of::<MeshTool>() / 8, views.len())?;
+                check_len("mesh tools", tools.count(), meshes.len())?;
+                check_len("mesh tool views", tools.count() * size_of::<MeshTool>() / 8, views.len())?;
                 let t = self.address(views) as *const MeshTool<'static>;
                 let a = args::contact_args::<_, R, D, Dim3, _>(self, n, tools, t, &states, owner, a)?;
                 // SAFETY: the builder checked the lengths and that the scene is 3D; the meshes' buffers, which

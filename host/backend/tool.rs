@@ -75,11 +75,10 @@ pub enum DeviceShapes<B: Backend> {
     Mesh { meshes: Vec<DeviceMesh<B>>, views: B::Buf<u64> },
 }
 
-/// A run's tools on the backend: their contact constants and shapes, `count` of each.
+/// A run's tools on the backend: their contact constants and shapes, one of each per tool.
 pub struct DeviceTools<B: Backend> {
     pub params: B::Buf<ContactParams>,
     pub shapes: DeviceShapes<B>,
-    pub count: usize,
 }
 
 // The `MeshTool` array is uploaded as whole 8-byte words.
@@ -118,7 +117,12 @@ impl<B: Backend> DeviceTools<B> {
                 DeviceShapes::Mesh { views: b.upload(words, "mesh tools")?, meshes }
             }
         };
-        Ok(DeviceTools { params: b.upload(params, "contact parameters")?, shapes, count: params.len() })
+        Ok(DeviceTools { params: b.upload(params, "contact parameters")?, shapes })
+    }
+
+    /// How many tools.
+    pub fn count(&self) -> usize {
+        self.params.len()
     }
 
     /// The parametric tools' array, if the tools are parametric.

@@ -659,7 +659,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
     /// cutting runs), not in one of its own.
     fn fused_contact(&self) -> bool {
         self.fuse_contact
-            && self.contact.as_ref().is_some_and(|c| c.tools.count == 1 && c.tools.prisms().is_some())
+            && self.contact.as_ref().is_some_and(|c| c.tools.count() == 1 && c.tools.prisms().is_some())
             && self.plastic.is_some()
             && D::D == 2
     }
@@ -1073,7 +1073,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             b.contact::<R, D>(
                 n,
                 &c.tools,
-                ToolStatesAt { buf: &c.states, index: j, count: c.tools.count },
+                ToolStatesAt { buf: &c.states, index: j, count: c.tools.count() },
                 c.owner.as_mut().map(|o| &mut o.cur),
                 ContactInputs {
                     pos: &p.pos.cur,
@@ -1134,11 +1134,10 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         let wear = c.wear.as_ref().map(|w| b.read(w)).transpose()?;
         let mut samples = vec![ContactSample::default(); c.motions.len()];
         let mut sums = vec![(0.0, 0.0, 0.0); c.motions.len()];
-        let refs: Vec<[f64; 3]> = c
-            .motions
+        let refs: Vec<[f64; 3]> = self
+            .tool_states()
             .iter()
-            .map(|m| {
-                let st = m.state_at(self.time, c.nominal_dt, c.nominal_dt);
+            .map(|st| {
                 let o = st.offset;
                 if st.rotating != 0 { std::array::from_fn(|k| o[k] + st.centre[k]) } else { o }
             })
@@ -1201,18 +1200,20 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
     /// The tool as the contact pass sees it at the current time, with the run's nominal step (its translation and,
     /// for a rotating tool, its centre, angular velocity and rotation), with a tool.
     pub fn tool_state(&self) -> Option<ToolState> {
-        self.contact.as_ref().map(|c| c.motions[0].state_at(self.time, c.nominal_dt, c.nominal_dt))
+        self.tool_states().first().copied()
+    }
+
+    /// Every tool as [`Solver::tool_state`] gives the first, in the scene's order; empty without a tool.
+    pub fn tool_states(&self) -> Vec<ToolState> {
+        let Some(c) = &self.contact else { return Vec::new() };
+        c.motions.iter().map(|m| m.state_at(self.time, c.nominal_dt, c.nominal_dt)).collect()
     }
 
     /// Each tool's picture in the world at the current time (the outline at z = 0, or a mesh's surface), in the
     /// scene's order; empty without a tool.
     pub fn tool_pictures(&self) -> Vec<crate::tool::Picture> {
         let Some(c) = &self.contact else { return Vec::new() };
-        c.pictures
-            .iter()
-            .zip(&c.motions)
-            .map(|(p, m)| p.in_world(&m.state_at(self.time, c.nominal_dt, c.nominal_dt)))
-            .collect()
+        c.pictures.iter().zip(self.tool_states()).map(|(p, s)| p.in_world(&s)).collect()
     }
 
     /// Where the first tool's frame origin is at the current time (its translation; z = 0 in 2D), with a tool.
