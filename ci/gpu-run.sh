@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine tool3d tools24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
+# ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine tool3d tools24 cspm24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -319,6 +319,85 @@ PY
                 done
             }
             run tools24 tools24 ;;
+        cspm24) # issue 24, the CSPM correction (docs/3d.md, "CSPM"): (1) bench step, f64, 256 steps, two rounds
+                # (SWARF_CSPM24_AB_ROUNDS): the 2D V0060 and the single grain with this build and each packed earlier
+                # one (the cost of the new entries' neighbour on the default path), and the single grain with CSPM;
+                # (2) whole runs at CFL 0.3, each bounded by SWARF_CSPM24_S s (default 150; SIGINT keeps what was
+                # written), SWARF_CSPM24_CASES picks: a-plain, c-cspm, d-cspm-as (the single grain in Röthlin's
+                # configurations A, C = CSPM, D = CSPM + AS, thesis §7.6.2.1), pic-a/pic-d (A and D with a state
+                # table near their end, thinned to a slab |z| < 6 µm for a side view of the chip), grain-a-d,
+                # grain-b-d, grain-c-d (the multi-grain patterns in configuration D; grain-a-a ... in A), all at CFL
+                # SWARF_CSPM24_CFL (default 0.3); mean forces over 2-10 µs;
+                # every run's summary, forces and log in cspm24-runs.tgz, rewritten as each run ends
+            cspm24() {
+                local d=/tmp/cspm24 lim=${SWARF_CSPM24_S:-150} b sc round name
+                rm -rf $d; mkdir -p $d
+                cp -r cases/3d/tools $d/
+                sed 's/^xsph = { epsilon = 0.5 }/xsph = { epsilon = 0.5 }\ncspm = {}/' cases/3d/single-grain.toml \
+                    > $d/single-grain-cspm.toml
+                for round in ${SWARF_CSPM24_AB_ROUNDS-1 2}; do
+                    for b in swarf $(cd "$here" && ls swarf-* 2>/dev/null | grep -v '\.gz$'); do
+                        for sc in cases/cutting/v0060.toml cases/3d/single-grain.toml $d/single-grain-cspm.toml; do
+                            echo "== $b: $sc, bench step, round $round"
+                            "$here/$b" --backend gpu bench step --precision f64 --step-count 256 --scenes "$sc" \
+                                || echo "($b cannot run $sc)"
+                        done
+                    done
+                done
+                local cspm=(--set 'stabilisation.cspm={}' --set 'stabilisation.artificial_stress={}')
+                for name in ${SWARF_CSPM24_CASES:-a-plain c-cspm d-cspm-as}; do
+                    local c=cases/3d/single-grain.toml set=(--set time.cfl=${SWARF_CSPM24_CFL:-0.3})
+                    case $name in
+                        c-cspm) set+=(--set 'stabilisation.cspm={}') ;;
+                        d-cspm-as) set+=("${cspm[@]}") ;;
+                        pic-a) set+=(--state-at 35000) ;;
+                        pic-d) set+=("${cspm[@]}" --state-at 39000) ;;
+                        grain-?-d) c=cases/3d/multi-grain-${name:6:1}.toml
+                                   set+=("${cspm[@]}" --set output.every=2.9e-6) ;;
+                        grain-?-a) c=cases/3d/multi-grain-${name:6:1}.toml; set+=(--set output.every=2.9e-6) ;;
+                    esac
+                    local t0; t0=$(date +%s.%N)
+                    timeout -s INT -k 20 "$lim" "$here/swarf" --backend gpu run "$c" "${set[@]}" --quiet \
+                        --out "$d/$name" < /dev/null
+                    echo "== $name rc=$? wall $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { print b - a }') s"
+                    tail -n 2 "$d/$name/run.log" 2>/dev/null
+                    python3 - "$d/$name/forces.csv" <<'PY'
+import csv, sys
+try:
+    rows = list(csv.reader(open(sys.argv[1])))
+except OSError:
+    sys.exit(0)
+head, rows = rows[0], [list(map(float, r)) for r in rows[1:]]
+w = [r for r in rows if 2e-6 <= r[0] <= 1e-5]
+if w:
+    for k, c in enumerate(head):
+        if c.startswith(("fx_", "fy_", "fz_", "contacts")):
+            print("mean 2-10 us %-14s %.6g" % (c, sum(r[k] for r in w) / len(w)))
+print("samples", len(rows), "last t", rows[-1][0] if rows else None)
+PY
+                    local f
+                    for f in $d/$name/states/state_*.csv; do
+                        [ -e "$f" ] || continue
+                        python3 - "$f" "$d/$name/pic-$name.csv" <<'PY'
+import csv, sys
+src, dst = sys.argv[1], sys.argv[2]
+r = csv.reader(open(src))
+head = next(r)
+cols = [c for c in ("x", "y", "z", "eps_pl", "temperature") if c in head]
+ix = [head.index(c) for c in cols]
+iz = head.index("z")
+with open(dst, "w") as o:
+    o.write(",".join(cols) + "\n")
+    for row in r:
+        if abs(float(row[iz])) < 6.0e-6:
+            o.write(",".join("%.4g" % float(row[k]) for k in ix) + "\n")
+PY
+                    done
+                    tar czf "$out/cspm24-runs.tgz" -C $d --exclude='*/frame_*.vtu' --exclude='*/tool*_*.vtp' \
+                        --exclude='*/states' --exclude='*/energy.csv' --exclude=tools --exclude='*.png' .
+                done
+            }
+            run cspm24 cspm24 ;;
         damage25|damage25fine) # issue 25 item 5 (docs/damage.md, "Scenes"). damage25: the CT specimen with the mask, without
                   # it and with load reversal; the SHTB, classic JC and JC-GG (fracture strain and diameter by
                   # `swarf neck`); V0060 with damage at 10 and 5 µm; Ducobu at 9.3 µm, 4 flow models × damage on/off

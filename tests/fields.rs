@@ -46,7 +46,7 @@ fn check_scene<R: Real, D: TensorOps<R>>(scene: &Scene, what: &str) -> Vec<When>
 }
 
 /// Every scene in f64, f32 and mixed precision (the scenes accept each), and a cut with the current-yield friction
-/// cap and the wear rate (no scene file turns them on). Every condition of the registry holds in at least one of
+/// cap and the wear rate, a damaged cut and the disk with CSPM (no scene file turns them on). Every condition of the registry holds in at least one of
 /// them, so every entry's size and condition is compared with an allocation.
 #[test]
 fn memory_estimate_equals_the_bytes_allocated_for_every_scene() {
@@ -69,6 +69,8 @@ fn memory_estimate_equals_the_bytes_allocated_for_every_scene() {
             .chain(["damage.D5=0.0".to_string(), "damage.mask=true".to_string()])
             .collect();
     scenes.push(("cases/cutting/v0060.toml".into(), damage));
+    // CSPM (issue 24): the correction buffer.
+    scenes.push(("cases/disk-rotation.toml".into(), vec!["stabilisation.cspm={}".to_string()]));
     let mut covered = BTreeSet::new();
     let mut runs = 0;
     for (path, overrides) in &scenes {

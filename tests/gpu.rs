@@ -950,6 +950,26 @@ fn several_tools_equal_cpu() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// V0060 extruded by 8 layers on a periodic z domain (cases/3d/orthogonal-v0060.toml at Δx = 20 µm, 6 120
+/// particles), `end` seconds of cut, five frames, with `extra` overrides.
+fn periodic_cut(end: f64, extra: &[String]) -> swarf::scene::Scene {
+    let ov: Vec<String> = [
+        "discretisation.dx=2.0e-5",
+        "discretisation.period_z=1.6e-4",
+        "body.0.max=[1.0e-3,2.8e-4,1.4e-4]",
+        "boundary.2.max=[1.0e-9,1.4e-4,1.0]",
+        "boundary.3.min=[0.9999e-3,-1.0,-1.0]",
+        "tool.position=[-3.6e-5]",
+        "tool.depth_of_cut=0.9e-4",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .chain([format!("time.end={end:e}"), format!("output.every={:e}", end / 5.0)])
+    .chain(extra.iter().cloned())
+    .collect();
+    swarf::scene::Scene::load("cases/3d/orthogonal-v0060.toml", &ov).expect("scene")
+}
+
 /// Issue 24 on the GPU: the periodic z domain (the wrapped stencil rows and nearest-image pairs in every neighbour
 /// pass) with the plane-strain condition gives the CPU's run bit for bit: V0060 extruded by 8 layers
 /// (cases/3d/orthogonal-v0060.toml at Δx = 20 µm, 6 120 particles), 1 µs of cut, f64 and f32.
@@ -958,24 +978,8 @@ fn periodic_plane_strain_cut_equals_cpu() {
     let Some(_) = gpu() else { return };
     use swarf::backend::{AnyBackend, BackendChoice};
     use swarf::run::RunOptions;
-    use swarf::scene::Scene;
     for precision in ["f64", "f32"] {
-        let ov: Vec<String> = [
-            "discretisation.dx=2.0e-5",
-            "discretisation.period_z=1.6e-4",
-            "body.0.max=[1.0e-3,2.8e-4,1.4e-4]",
-            "boundary.2.max=[1.0e-9,1.4e-4,1.0]",
-            "boundary.3.min=[0.9999e-3,-1.0,-1.0]",
-            "tool.position=[-3.6e-5]",
-            "tool.depth_of_cut=0.9e-4",
-            "time.end=1.0e-6",
-            "output.every=2.0e-7",
-        ]
-        .iter()
-        .map(|s| s.to_string())
-        .chain(std::iter::once(format!("precision=\"{precision}\"")))
-        .collect();
-        let scene = Scene::load("cases/3d/orthogonal-v0060.toml", &ov).expect("scene");
+        let scene = periodic_cut(1.0e-6, &[format!("precision=\"{precision}\"")]);
         let mut runs = Vec::new();
         for (k, choice) in [BackendChoice::Cpu, BackendChoice::Gpu].into_iter().enumerate() {
             let any = AnyBackend::select(choice).expect("backend").0;
@@ -992,4 +996,57 @@ fn periodic_plane_strain_cut_equals_cpu() {
         assert!(runs[0].1 == runs[1].1, "{precision}: GPU forces.csv differs from the CPU's");
         assert!(runs[0].0 == runs[1].0, "{precision}: GPU final state differs from the CPU's");
     }
+}
+
+/// Issue 24 on the GPU: the CSPM kernel-gradient correction (`swarf_sph_correction_*` and the `_cspm` pair
+/// entries) gives the CPU's run bit for bit: the spinning rubber disk (cases/disk-rotation.toml, 2D, AV, 0.01 s),
+/// f64 and f32; the extruded V0060 cut on a periodic z domain (3D, plasticity, contact, nearest-image pairs in the
+/// correction's own walk, 0.5 µs), f64 and f32; and the block dropped on a triangle-mesh tool (3D), f64.
+#[test]
+fn cspm_runs_equal_cpu() {
+    let Some(_) = gpu() else { return };
+    use swarf::backend::{AnyBackend, BackendChoice};
+    use swarf::scene::Scene;
+    let dir = std::env::temp_dir().join(format!("swarf-gpu-cspm-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("folder");
+    let cspm = "stabilisation.cspm={}".to_string();
+    for precision in ["f64", "f32"] {
+        let ov = [cspm.clone(), "time.cfl=0.4".into(), "time.end=0.01".into(), format!("precision=\"{precision}\"")];
+        let scene = Scene::load("cases/disk-rotation.toml", &ov).expect("scene");
+        let runs: Vec<_> = [BackendChoice::Cpu, BackendChoice::Gpu]
+            .into_iter()
+            .enumerate()
+            .map(|(k, c)| {
+                let any = AnyBackend::select(c).expect("backend").0;
+                final_state(&any, &scene, &swarf::run::RunOptions::quiet(dir.join(format!("disk-{precision}-{k}")))).0
+            })
+            .collect();
+        eprintln!("CSPM disk, {precision}: final state bitwise equal: {}", runs[0] == runs[1]);
+        assert!(runs[0] == runs[1], "disk {precision}: GPU final state differs from the CPU's");
+        let scene = periodic_cut(5.0e-7, &[cspm.clone(), format!("precision=\"{precision}\"")]);
+        let runs = cpu_and_gpu_runs(&scene, &dir, &format!("cut-{precision}"));
+        eprintln!(
+            "CSPM periodic extruded cut, {precision}: final state bitwise equal: {}, forces.csv equal: {}",
+            runs[0].0 == runs[1].0,
+            runs[0].1 == runs[1].1
+        );
+        assert!(runs[0].1 == runs[1].1, "cut {precision}: GPU forces.csv differs from the CPU's");
+        assert!(runs[0].0 == runs[1].0, "cut {precision}: GPU final state differs from the CPU's");
+    }
+    let tool = common::scenes::prism_mesh_tool(&dir, -2.4e-4, "");
+    let text = common::scenes::drop_scene_3d_tools(10.0, 2.0, &[tool]).replacen(
+        "[time]",
+        "[stabilisation.cspm]\n\n[time]\ncfl = 0.3",
+        1,
+    );
+    let scene = Scene::from_str(&text, "drop-cspm.toml", &[]).expect("scene");
+    assert!(scene.stabilisation.cspm.is_some(), "the drop scene takes the CSPM table");
+    let runs = cpu_and_gpu_runs(&scene, &dir, "drop");
+    eprintln!(
+        "CSPM mesh drop: final state bitwise equal: {}, forces.csv equal: {}",
+        runs[0].0 == runs[1].0,
+        runs[0].1 == runs[1].1
+    );
+    assert!(runs[0].1 == runs[1].1 && runs[0].0 == runs[1].0, "mesh drop: GPU run differs from the CPU's");
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -111,9 +111,9 @@ fn default_register_caps_mark_the_2d_neighbour_kernels_and_the_plastic_corrector
             neighbour_2d += (has && is_2d_neighbour) as usize;
             plastic += (has && is_plastic) as usize;
         }
-        // 2 precisions × (8 plain + 8 fused stabiliser variants) × without and with damage + Brookshaw and PSE
-        // conduction in 2 precisions.
-        assert_eq!(neighbour_2d, 68, "{target}: 2D neighbour entries capped");
+        // 2 precisions × (8 plain + 8 fused stabiliser variants) × (plain, with damage, with CSPM) + Brookshaw and
+        // PSE conduction in 2 precisions.
+        assert_eq!(neighbour_2d, 100, "{target}: 2D neighbour entries capped");
         assert!(plastic >= 4, "{target}: only {plastic} plastic entries capped");
         assert_eq!(register_caps(ptx, Some(0), Some(0)), *ptx, "{target}: caps 0 must leave the PTX as built");
     }
@@ -153,9 +153,9 @@ fn entry_params(ptx: &str) -> Vec<(String, Vec<(usize, usize)>)> {
 fn argument_structs_match_the_entries_parameter_blocks() {
     use swarf::kernels::material::*;
     use swarf::kernels::pass::{
-        ContactArgs, DensityArgs, FinishArgs, FinishPlasticArgs, GatherArgs, GatherFieldsArgs, HashArgs, HashCountArgs,
-        HeatArgs, NeighbourListArgs, PlasticArgs, PredictArgs, PrepareArgs, RatesArgs, ScanApplyArgs, ScanReduceArgs,
-        ScatterArgs, SortArgs, VerletArgs, ZeroArgs,
+        ContactArgs, CorrectionArgs, DensityArgs, FinishArgs, FinishPlasticArgs, GatherArgs, GatherFieldsArgs,
+        HashArgs, HashCountArgs, HeatArgs, NeighbourListArgs, PlasticArgs, PredictArgs, PrepareArgs, RatesArgs,
+        ScanApplyArgs, ScanReduceArgs, ScatterArgs, SortArgs, VerletArgs, ZeroArgs,
     };
     use swarf::kernels::{Dim2, Dim3};
     fn block<T>() -> Vec<(usize, usize)> {
@@ -220,6 +220,8 @@ fn argument_structs_match_the_entries_parameter_blocks() {
             Some(by_variant!(variant, HeatArgs))
         } else if name == format!("swarf_density_{variant}") {
             Some(by_variant!(variant, DensityArgs))
+        } else if name == format!("swarf_sph_correction_{variant}") {
+            Some(by_variant!(variant, CorrectionArgs))
         } else if name == format!("swarf_step_predict_{variant}") || name == format!("swarf_step_predict_{variant}_dmg")
         {
             Some(by_variant!(variant, PredictArgs))
@@ -247,14 +249,14 @@ fn argument_structs_match_the_entries_parameter_blocks() {
             checked += 1;
         }
         assert_eq!(checked, loaded.len(), "{target}: every loaded entry checked");
-        // 4 variants × (8 stabiliser combinations × plain and fused × without and with damage + the elastic
-        // corrector + one plastic corrector and one plastic pass per flow-stress model without and with damage +
-        // density, 4 pre-passes and the predictor each without and with damage, 2 conductions + hash, hash-count,
-        // neighbour list, Verlet list) + the contact with the parametric tool in 2D and 3D and with a mesh tool in 3D,
+        // 4 variants × (8 stabiliser combinations × plain and fused × without damage, with damage and with the
+        // CSPM correction + the elastic corrector + one plastic corrector and one plastic pass per flow-stress model
+        // without and with damage + density, 4 pre-passes and the predictor each without and with damage, 2
+        // conductions + hash, hash-count, neighbour list, Verlet list, the correction) + the contact with the parametric tool in 2D and 3D and with a mesh tool in 3D,
         // each in 2 precisions + 9
         // neighbour entries without variants (zero, scatter, sort, 3 gathers, gather_fields, 2 scans).
         let models = swarf::kernels::pass::FLOW_MODEL_TAGS.len();
-        assert_eq!(checked, 4 * (32 + 1 + 4 * models + 13 + 4) + 6 + 9, "{target}: entries checked");
+        assert_eq!(checked, 4 * (48 + 1 + 4 * models + 13 + 5) + 6 + 9, "{target}: entries checked");
     }
 }
 
@@ -355,6 +357,10 @@ fn every_pass_names_its_own_entry() {
             check!(Density<$r, $d>, $name);
             position += 1;
         };
+        (correction, $name:expr, $r:ident, $d:ident) => {
+            check!(CorrectionPass<$r, $d>, $name);
+            position += 1;
+        };
         (predict, $name:expr, $r:ident, $d:ident, $dmg:literal) => {
             check!(Predict<$r, $d, $dmg>, $name);
             position += 1;
@@ -375,8 +381,9 @@ fn every_pass_names_its_own_entry() {
             check!(Prepare<$r, $d, $av, $as, $dmg>, $name);
             position += 1;
         };
-        (rates, $name:expr, $r:ident, $d:ident, $av:literal, $as:literal, $xs:literal, $heat:literal, $dmg:literal) => {
-            check!(RatesPass<$r, $d, $av, $as, $xs, $heat, $dmg>, $name);
+        (rates, $name:expr, $r:ident, $d:ident, $av:literal, $as:literal, $xs:literal, $heat:literal, $dmg:literal,
+            $cs:literal) => {
+            check!(RatesPass<$r, $d, $av, $as, $xs, $heat, $dmg, $cs>, $name);
             position += 1;
         };
         (plastic, $name:expr, $r:ident, $d:ident, $t:ident, $tag:ident, $dmg:literal) => {

@@ -304,3 +304,27 @@ fn closest_contact_pair_none_ties_and_lengths() {
     let err = min_pair_distances(&pos, &[true; 4], 1.0, &initial, &[1, 2, 3]).expect_err("3 ids for 4 particles");
     assert!(matches!(err, swarf::Error::Length { expected: 4, got: 3, .. }), "{err:?}");
 }
+
+/// Particles ejected far from the rest (an unstable run) do not make the contact search build a grid over the whole
+/// span: a 40 × 40 × 10 lattice of spacing 1 and a pair 0.4 apart 10⁶ away give the pair's distance, exactly, where
+/// the bounding box alone asked for about 10¹⁸ cells and was refused (the multi-grain runs at CFL 0.5 stopped
+/// answering on such grids; `analysis::search_box`).
+#[test]
+fn ejected_particles_do_not_blow_up_the_contact_search() {
+    let mut pos: Vec<[f64; 3]> = Vec::new();
+    for i in 0..40 {
+        for j in 0..40 {
+            for k in 0..10 {
+                pos.push([i as f64, j as f64, k as f64]);
+            }
+        }
+    }
+    pos.push([1.0e6, 1.0e6, 1.0e6]);
+    pos.push([1.0e6 + 0.4, 1.0e6, 1.0e6]);
+    let include = vec![true; pos.len()];
+    let id: Vec<u32> = (0..pos.len() as u32).collect();
+    let t0 = std::time::Instant::now();
+    let (all, _) = min_pair_distances(&pos, &include, 2.5, &pos, &id).expect("the search runs");
+    eprintln!("{} particles, 2 of them 1e6 away: closest pair {all:?} in {:?}", pos.len(), t0.elapsed());
+    assert!((all.expect("a pair") - 0.4).abs() < 1e-9, "closest pair {all:?}, expected 0.4");
+}

@@ -13,9 +13,10 @@ use crate::kernels::contact::{ToolArg, ToolState};
 use crate::kernels::damage::DamageParams;
 use crate::kernels::neighbour::GridParams;
 use crate::kernels::pass::{
-    ContactArgs, DensityArgs, FinishArgs, FinishPlasticArgs, HashArgs, HeatArgs, NeighbourListArgs, PlasticArgs,
-    PredictArgs, PrepareArgs, RatesArgs, StepPtrs, VerletArgs,
+    ContactArgs, CorrectionArgs, DensityArgs, FinishArgs, FinishPlasticArgs, HashArgs, HeatArgs, NeighbourListArgs,
+    PlasticArgs, PredictArgs, PrepareArgs, RatesArgs, StepPtrs, VerletArgs,
 };
+use crate::kernels::sph::correction::CorrectionArrays;
 use crate::kernels::sph::heat::HeatParams;
 use crate::kernels::sph::interact::{Arrays, PrepassDamage};
 use crate::kernels::sph::plastic::PlasticConsts;
@@ -118,6 +119,7 @@ pub fn rates_args<B: Backend, R: Real, D: Dim>(
             normal: input_opt(b, "contact normal", n, i.contact.map(|c| c.0))?,
             friction: input_opt(b, "contact friction", n, i.contact.map(|c| c.1))?,
             mask: input_opt(b, "damage mask", n, i.mask)?,
+            correction: input_opt(b, "cspm correction", n, i.correction)?,
         },
         pos_t: output(b, "pos_t", n, out.pos)?,
         vel_t: output(b, "vel_t", n, out.vel)?,
@@ -128,6 +130,46 @@ pub fn rates_args<B: Backend, R: Real, D: Dim>(
         temp,
         materials,
         temp_t,
+    })
+}
+
+/// The correction pass's arguments ([`super::Passes::sph_correction`]).
+#[allow(clippy::too_many_arguments)]
+pub fn correction_args<B: Backend, R: Real, D: Dim>(
+    b: &B,
+    n: usize,
+    lanes: u32,
+    params: &SphParams<R>,
+    min_det: R,
+    grid: &B::Buf<GridParams>,
+    starts: &B::Buf<u32>,
+    list: Option<&B::Buf<u32>>,
+    i: &SphInputs<'_, B, R, D>,
+    out: &mut B::Buf<D::Sym<R>>,
+) -> Result<CorrectionArgs<R, D>> {
+    Ok(CorrectionArgs {
+        n: u32::try_from(n).map_err(|_| Error::Length {
+            op: "sph_correction particles",
+            expected: u32::MAX as usize,
+            got: n,
+        })?,
+        lanes,
+        // The GPU backend sets the block order at the launch (`Pass::order`).
+        reverse: 0,
+        _pad: 0,
+        kernel: params.kernel,
+        min_r2: params.min_r2,
+        min_det,
+        grid: input(b, "sph_correction grid", 1, grid)?,
+        starts: b.address(starts) as *const u32,
+        list: input_opt(b, "sph_correction list", 0, list)?,
+        arrays: CorrectionArrays {
+            pos: input(b, "pos", n, i.pos)?,
+            mass: input(b, "mass", n, i.mass)?,
+            vol: input(b, "vol", n, i.vol)?,
+            flags: input(b, "flags", n, i.flags)?,
+        },
+        out: output(b, "cspm correction", n, out)?,
     })
 }
 

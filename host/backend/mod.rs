@@ -189,6 +189,8 @@ pub struct SphInputs<'a, B: Backend, R: Real, D: Dim> {
     pub contact: Option<ContactForces<'a, B, R, D>>,
     /// The damage's interaction mask of the pre-pass (present iff the run models damage).
     pub mask: Option<&'a B::Buf<f64>>,
+    /// The kernel-gradient correction B⁻¹ of [`passes::Passes::sph_correction`] (present iff CSPM is on).
+    pub correction: Option<&'a B::Buf<D::Sym<R>>>,
 }
 
 /// The normal and friction force buffers of the contact pass.

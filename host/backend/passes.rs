@@ -14,7 +14,8 @@ use super::{
 use crate::kernels::contact::{MeshTool, Tool2d};
 use crate::kernels::neighbour::GridParams;
 use crate::kernels::pass::{
-    Contact, Density, Finish, FinishPlastic, Hash, Heat, NeighbourList, Plastic, Predict, Prepare, RatesPass, Verlet,
+    Contact, CorrectionPass, Density, Finish, FinishPlastic, Hash, Heat, NeighbourList, Plastic, Predict, Prepare,
+    RatesPass, Verlet,
 };
 use crate::kernels::sph::heat::HeatParams;
 use crate::kernels::sph::params::flags::BODY_SHIFT;
@@ -245,14 +246,50 @@ pub trait Passes: Backend {
         if let Some(h) = &heat {
             check_bodies(self, "sph_rates (fused conduction)", n, h.input.flags, h.input.materials.len())?;
         }
-        let (fused, dmg) = (heat.is_some(), input.mask.is_some());
+        let (fused, dmg, cs) = (heat.is_some(), input.mask.is_some(), input.correction.is_some());
         let a = args::rates_args(self, n, lanes, stab, params, grid, starts, list, input, out, dissipation, heat)?;
-        with_bools!(AV = stab.viscosity, AS = stab.stress, XS = stab.xsph, HEAT = fused, DMG = dmg; {
-            // SAFETY: the builder checked that every array holds n sorted particles (the mask where `DMG`), the
-            // cells and the list are checked above against the grid, and each particle's rates are written by its
-            // own thread only.
-            unsafe { self.launch::<RatesPass<R, D, AV, AS, XS, HEAT, DMG>>(&a) }
+        if dmg && cs {
+            return Err(Error::Length { op: "sph_rates (CSPM has no damage entries)", expected: 0, got: 1 });
+        }
+        with_bools!(AV = stab.viscosity, AS = stab.stress, XS = stab.xsph, HEAT = fused; {
+            // SAFETY: the builder checked that every array holds n sorted particles (the mask where `DMG`, the
+            // correction where `CS`), the cells and the list are checked above against the grid, and each
+            // particle's rates are written by its own thread only.
+            unsafe {
+                if dmg {
+                    self.launch::<RatesPass<R, D, AV, AS, XS, HEAT, true, false>>(&a)
+                } else if cs {
+                    self.launch::<RatesPass<R, D, AV, AS, XS, HEAT, false, true>>(&a)
+                } else {
+                    self.launch::<RatesPass<R, D, AV, AS, XS, HEAT, false, false>>(&a)
+                }
+            }
         })
+    }
+
+    /// The CSPM kernel-gradient correction (`sph::correction`): B_i⁻¹ of every sorted particle into `out` (the
+    /// identity where det B ≤ `min_det`), from the positions, mechanical masses, pre-pass volumes and flags of
+    /// `input`, each summed by `lanes` lanes as the pair interaction's; [`Passes::sph_rates`] with
+    /// `input.correction` then applies it.
+    #[allow(clippy::too_many_arguments)]
+    fn sph_correction<R: Real, D: TensorOps<R>>(
+        &self,
+        n: usize,
+        lanes: u32,
+        params: &SphParams<R>,
+        min_det: R,
+        grid: &Self::Buf<GridParams>,
+        starts: &Self::Buf<u32>,
+        list: Option<&Self::Buf<u32>>,
+        input: &SphInputs<'_, Self, R, D>,
+        out: &mut Self::Buf<D::Sym<R>>,
+    ) -> Result<()> {
+        check_lanes(lanes)?;
+        check_cells(self, "sph_correction cells", n, grid, starts, list)?;
+        let a = args::correction_args(self, n, lanes, params, min_det, grid, starts, list, input, out)?;
+        // SAFETY: the builder checked the lengths, the cells and the list are checked above; each particle's
+        // correction is written by its own thread only.
+        unsafe { self.launch::<CorrectionPass<R, D>>(&a) }
     }
 
     /// Conduction rates Ṫ (`sph::heat::heat_rate`), Brookshaw or (`pse`) PSE; `grid` has stencil 2 for

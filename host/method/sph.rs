@@ -203,6 +203,7 @@ pub fn setup_with<R: Real, D: TensorOps<R>>(scene: &Scene, tuning: &Tuning) -> R
         viscosity: st.artificial_viscosity.as_ref().map(|a| (a.alpha, a.beta, a.eta)),
         stress: st.artificial_stress.as_ref().map(|a| (a.epsilon, a.exponent)),
         xsph: st.xsph.as_ref().map(|x| x.epsilon),
+        cspm: st.cspm.as_ref().map(|c| c.min_determinant),
     };
     let elastic = scene.material.elastic();
     let dx = scene.discretisation.dx;

@@ -68,10 +68,12 @@ pub enum When {
     ArtificialStress,
     /// Mixed precision: the positions' low parts.
     Compensated,
+    /// The CSPM kernel-gradient correction on.
+    Cspm,
 }
 
 impl When {
-    pub const ALL: [When; 13] = [
+    pub const ALL: [When; 14] = [
         When::Always,
         When::Temperature,
         When::Conduction,
@@ -85,6 +87,7 @@ impl When {
         When::Viscosity,
         When::ArtificialStress,
         When::Compensated,
+        When::Cspm,
     ];
 
     pub fn holds<R: Real, D: TensorOps<R>>(self, s: &Setup<R, D>) -> bool {
@@ -104,6 +107,7 @@ impl When {
             When::Viscosity => s.stabilisers.switches().viscosity,
             When::ArtificialStress => s.stabilisers.switches().stress,
             When::Compensated => s.pos_lo.is_some(),
+            When::Cspm => s.stabilisers.cspm.is_some(),
         }
     }
 }
@@ -359,6 +363,8 @@ registry! {
     "art": D::Sym<R> = buf [.art?] if ArtificialStress, scratch;
     "sound": R = buf [.sound?] if Viscosity, scratch;
     "vol": R = buf [.vol] if Always, scratch;
+    /// The CSPM correction B⁻¹, rewritten by each step's correction pass.
+    "cspm_correction": D::Sym<R> = buf [.correction?.buf] if Cspm, scratch;
     "viscous_dissipation_rate": R = buf [.dissipation?.1] if Viscosity, scratch;
     /// σ_y after the plastic update, for the current-yield friction cap.
     "yield_stress": f64 = buf [.contact?.yield_stress?] if CurrentCap, scratch;

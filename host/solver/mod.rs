@@ -149,6 +149,12 @@ struct ThermalState<B: Backend> {
     grid_pse: B::Buf<GridParams>,
 }
 
+/// The CSPM correction B⁻¹ per particle (`kernels::sph::correction`) and det B below which it is the identity.
+struct Correction<B: Backend, R: Real, D: Dim> {
+    buf: B::Buf<D::Sym<R>>,
+    min_det: R,
+}
+
 struct PlasticState<B: Backend> {
     eps: Field<B, f64>,
     rate: Field<B, f64>,
@@ -264,6 +270,8 @@ pub struct Solver<B: Backend, R: Real, D: TensorOps<R>> {
     /// V = m/ρ of the pre-pass with the full masses, read by the interaction and the conduction instead of a
     /// division per pair.
     vol: B::Buf<R>,
+    /// The CSPM correction of the step's correction pass (with CSPM).
+    correction: Option<Correction<B, R, D>>,
     pub cells: CellList<B>,
     /// Each particle's predicted position when the cell list was last built (sorted order), for the skin test.
     pos_ref: B::Buf<D::Vec<R>>,
@@ -609,6 +617,12 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             art: if When::ArtificialStress.holds(setup) { Some(b.alloc(n, "artificial stress")?) } else { None },
             sound: if When::Viscosity.holds(setup) { Some(b.alloc(n, "sound speed")?) } else { None },
             vol: b.alloc(n, "particle volume")?,
+            correction: match setup.stabilisers.cspm {
+                Some(min_det) => {
+                    Some(Correction { buf: b.alloc(n, "CSPM correction")?, min_det: R::from_f64(min_det) })
+                }
+                None => None,
+            },
             cells: CellList::new(b, setup.grid, n)?,
             pos_ref: b.alloc(n, "cell-list reference positions")?,
             force_rebuild: true,
@@ -944,7 +958,22 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             bc_vel: &self.bc_vel,
             contact: self.contact.as_ref().map(|c| (&c.normal.cur, &c.friction.cur)),
             mask: self.damage.as_ref().map(|d| &d.mask),
+            correction: None,
         };
+        if let Some(Correction { buf: out, min_det }) = self.correction.as_mut() {
+            b.sph_correction::<R, D>(
+                n,
+                self.lanes,
+                &self.host_params,
+                *min_det,
+                &self.cells.grid_buf,
+                &self.cells.starts,
+                self.cells.list.as_ref(),
+                &input,
+                out,
+            )?;
+        }
+        let input = SphInputs { correction: self.correction.as_ref().map(|c| &c.buf), ..input };
         let r = &mut self.rates;
         let heat = match (fused, self.temp.as_ref(), self.thermal.as_mut()) {
             (true, Some(t), Some(th)) => th.temp_t.as_mut().map(|tt| FusedHeat {

@@ -11,12 +11,14 @@ pub struct StabiliserSettings {
     pub viscosity: Option<(f64, f64, f64)>,
     pub stress: Option<(f64, u32)>,
     pub xsph: Option<f64>,
+    /// The CSPM kernel-gradient correction's smallest determinant (`kernels::sph::correction`); None: off.
+    pub cspm: Option<f64>,
 }
 
 impl StabiliserSettings {
     /// All three on with the theses' constants: α = β = 1, η = 0.1; ε_s = 0.3, n = 4; ε_X = 0.5.
     pub fn theses() -> Self {
-        StabiliserSettings { viscosity: Some((1.0, 1.0, 0.1)), stress: Some((0.3, 4)), xsph: Some(0.5) }
+        StabiliserSettings { viscosity: Some((1.0, 1.0, 0.1)), stress: Some((0.3, 4)), xsph: Some(0.5), cspm: None }
     }
 
     pub fn switches(&self) -> Stabilisers {

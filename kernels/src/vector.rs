@@ -62,6 +62,9 @@ vec_type!(V3f64, f64, 4, 3, 16);
 /// (xx, xy, xz, yy, yz, zz) (roethlin-solver.md §2.3, §5.1).
 pub trait SymTensor<R: Real>: Pod + Default + Send + Sync + core::fmt::Debug {
     const COMPONENTS: usize;
+    /// The stored components (2D: xx, xy, yy, zz; 3D: xx, xy, xz, yy, yz, zz).
+    fn components(&self) -> &[R];
+    fn components_mut(&mut self) -> &mut [R];
 }
 
 macro_rules! sym_type {
@@ -71,6 +74,14 @@ macro_rules! sym_type {
         pub struct $name(pub [$r; $n]);
         impl SymTensor<$r> for $name {
             const COMPONENTS: usize = $n;
+            #[inline(always)]
+            fn components(&self) -> &[$r] {
+                &self.0
+            }
+            #[inline(always)]
+            fn components_mut(&mut self) -> &mut [$r] {
+                &mut self.0
+            }
         }
     };
 }

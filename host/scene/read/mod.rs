@@ -316,6 +316,13 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
         Some(t) => damage(&t, dim, &material, &physics)?,
         None => None,
     };
+    if damage.is_some()
+        && stabilisation.cspm.is_some()
+        && let Some(st) = root.table("stabilisation", "stabilisation", "")?
+    {
+        let e = "no CSPM with [damage] (the corrected gradient has no interaction mask): enabled = false";
+        return Err(st.invalid("cspm", st.get("cspm"), e));
+    }
 
     Ok(Scene {
         origin: doc.file.clone(),
@@ -736,12 +743,12 @@ fn boundaries(root: &Tab<'_>, dim: usize, bodies: &[Body]) -> Result<Vec<Boundar
     Ok(boundaries)
 }
 
-/// `[stabilisation]`: artificial viscosity, artificial stress and XSPH, each with its defaults.
+/// `[stabilisation]`: artificial viscosity, artificial stress, XSPH and the CSPM correction, each with its defaults.
 fn stabilisation(root: &Tab<'_>) -> Result<Stabilisation> {
     let mut stabilisation = Stabilisation::default();
-    let stab_expected = "a table [stabilisation] with artificial_viscosity, artificial_stress and/or xsph";
+    let stab_expected = "a table [stabilisation] with artificial_viscosity, artificial_stress, xsph and/or cspm";
     if let Some(st) = root.table("stabilisation", "stabilisation", stab_expected)? {
-        st.check_keys(&["artificial_viscosity", "artificial_stress", "xsph"], &[], "")?;
+        st.check_keys(&["artificial_viscosity", "artificial_stress", "xsph", "cspm"], &[], "")?;
         let e = "a table { alpha, beta, eta, enabled }";
         if let Some(t) = st.table("artificial_viscosity", "stabilisation.artificial_viscosity", e)? {
             t.check_keys(&["alpha", "beta", "eta", "enabled"], &[], "")?;
@@ -773,6 +780,17 @@ fn stabilisation(root: &Tab<'_>) -> Result<Stabilisation> {
             };
             if t.boolean("enabled", "true or false")?.unwrap_or(true) {
                 stabilisation.xsph = Some(x);
+            }
+        }
+        if let Some(t) = st.table("cspm", "stabilisation.cspm", "a table { min_determinant, enabled }")? {
+            t.check_keys(&["min_determinant", "enabled"], &[], "")?;
+            let c = Cspm {
+                min_determinant: t
+                    .number("min_determinant", "a value in [0, 1)", |x| (0.0..1.0).contains(&x))?
+                    .unwrap_or(1e-8),
+            };
+            if t.boolean("enabled", "true or false")?.unwrap_or(true) {
+                stabilisation.cspm = Some(c);
             }
         }
     }

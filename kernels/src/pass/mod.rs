@@ -6,6 +6,7 @@
 //! the per-particle loads and stores. tests/ptx.rs checks each entry's parameter block against
 //! `size_of`/`align_of` of its struct.
 
+pub mod correction;
 pub mod finish;
 pub mod launch;
 pub mod models;
@@ -15,6 +16,7 @@ pub mod rates;
 pub mod sph;
 pub mod table;
 
+pub use correction::{CorrectionArgs, CorrectionPass};
 pub use finish::{Finish, FinishArgs, FinishPlastic, FinishPlasticArgs, StepPtrs};
 pub use launch::{Grid, Pass};
 pub use models::{FLOW_MODEL_TAGS, ModelEntry};

@@ -87,16 +87,32 @@ impl<R: Real, D: Dim> RatesArgs<R, D> {
 /// The pair interaction pass (`swarf_sph_rates_*`; with `HEAT` the fused conduction, `swarf_sph_rates_heat_*`),
 /// with the viscosity (`AV`), the artificial stress (`AS`) and XSPH (`XS`), `lanes` threads per particle on the
 /// GPU (the CPU sums the lanes' shares in the same order: `sph::lanes`); with `DMG` the damage's interaction mask
-/// (`swarf_sph_rates_*_dmg`, `arrays.mask` set).
-pub struct RatesPass<R, D, const AV: bool, const AS: bool, const XS: bool, const HEAT: bool, const DMG: bool>(
-    PhantomData<(R, D)>,
-);
+/// (`swarf_sph_rates_*_dmg`, `arrays.mask` set); with `CS` the corrected kernel gradient (`swarf_sph_rates_*_cspm`,
+/// `arrays.correction` set by the correction pass).
+pub struct RatesPass<
+    R,
+    D,
+    const AV: bool,
+    const AS: bool,
+    const XS: bool,
+    const HEAT: bool,
+    const DMG: bool,
+    const CS: bool,
+>(PhantomData<(R, D)>);
 
-impl<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XS: bool, const HEAT: bool, const DMG: bool> Pass
-    for RatesPass<R, D, AV, AS, XS, HEAT, DMG>
+impl<
+    R: Real,
+    D: TensorOps<R>,
+    const AV: bool,
+    const AS: bool,
+    const XS: bool,
+    const HEAT: bool,
+    const DMG: bool,
+    const CS: bool,
+> Pass for RatesPass<R, D, AV, AS, XS, HEAT, DMG, CS>
 {
     type Args = RatesArgs<R, D>;
-    const ENTRY: usize = entry_index("rates", D::D, size_of::<R>(), rates_variant(AV, AS, XS, HEAT, DMG));
+    const ENTRY: usize = entry_index("rates", D::D, size_of::<R>(), rates_variant(AV, AS, XS, HEAT, DMG, CS));
     const GRID: Grid = Grid::Pair;
     fn particles(a: &Self::Args) -> usize {
         a.n as usize
@@ -111,7 +127,7 @@ impl<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XS: bool, c
         unsafe {
             let (arr, nb) = (a.arrays, a.neighbours());
             let o = if HEAT {
-                let (o, tt) = rates_heat::<R, D, AV, AS, XS, DMG>(
+                let (o, tt) = rates_heat::<R, D, AV, AS, XS, DMG, CS>(
                     &a.params,
                     &a.hp,
                     &nb,
@@ -123,7 +139,7 @@ impl<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XS: bool, c
                 *a.temp_t.add(i) = tt;
                 o
             } else {
-                rates::<R, D, AV, AS, XS, DMG>(&a.params, &nb, &arr, i as u32, a.lanes)
+                rates::<R, D, AV, AS, XS, DMG, CS>(&a.params, &nb, &arr, i as u32, a.lanes)
             };
             a.store(i, &o);
         }

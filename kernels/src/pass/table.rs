@@ -10,10 +10,12 @@
 ///   variants, written by hand in `ptx`;
 /// - `contact` (R, D, the tool: `prism`, the parametric tool, in 2D and 3D; `mesh`, a triangle mesh, in 3D);
 ///   `density`, `finish`, `hash`, `hash_count`, `neighbour_list`, `verlet_build` (R, D);
+/// - `correction` (R, D): the kernel-gradient correction B⁻¹ (`sph::correction`);
 /// - `heat` (R, D, PSE); `predict` (R, D, DMG); `prepare` (R, D, AV, AS, DMG); `rates` (R, D, AV, AS, XSPH, fused
-///   conduction, DMG). DMG: the damage's degradation and interaction mask (docs/damage.md), entries of their own
-///   (`_dmg` ending the name, so that prefixes such as the register caps' see them as their plain twins) so that a
-///   run without damage runs the code it ran before;
+///   conduction, DMG, CSPM). DMG: the damage's degradation and interaction mask (docs/damage.md), entries of their
+///   own (`_dmg` ending the name, so that prefixes such as the register caps' see them as their plain twins) so
+///   that a run without damage runs the code it ran before; CSPM (`_cspm`): the corrected kernel gradient, without
+///   damage (the scene refuses both at once);
 /// - `plastic`, `finish_plastic` (R, D, flow model type, its tag, DMG): one per model of [`for_each_flow_model!`],
 ///   without and with the damage's update after the return.
 ///
@@ -47,6 +49,7 @@ macro_rules! for_each_entry {
         $cb!(neighbour_list, concat!("swarf_neighbour_list_", $v), $r, $d);
         $cb!(verlet_build, concat!("swarf_verlet_build_", $v), $r, $d);
         $cb!(density, concat!("swarf_density_", $v), $r, $d);
+        $cb!(correction, concat!("swarf_sph_correction_", $v), $r, $d);
         $cb!(predict, concat!("swarf_step_predict_", $v), $r, $d, false);
         $cb!(predict, concat!("swarf_step_predict_", $v, "_dmg"), $r, $d, true);
         $cb!(finish, concat!("swarf_step_finish_", $v), $r, $d);
@@ -67,11 +70,18 @@ macro_rules! for_each_entry {
     };
     (@rates $cb:ident, $r:ident, $d:ident, $v:literal, $(($s:ident, $av:literal, $as:literal, $xs:literal)),*) => {
         $(
-            $cb!(rates, concat!("swarf_sph_rates_", $v, "_", stringify!($s)), $r, $d, $av, $as, $xs, false, false);
-            $cb!(rates, concat!("swarf_sph_rates_heat_", $v, "_", stringify!($s)), $r, $d, $av, $as, $xs, true, false);
-            $cb!(rates, concat!("swarf_sph_rates_", $v, "_", stringify!($s), "_dmg"), $r, $d, $av, $as, $xs, false, true);
+            $cb!(rates, concat!("swarf_sph_rates_", $v, "_", stringify!($s)), $r, $d, $av, $as, $xs, false, false,
+                false);
+            $cb!(rates, concat!("swarf_sph_rates_heat_", $v, "_", stringify!($s)), $r, $d, $av, $as, $xs, true, false,
+                false);
+            $cb!(rates, concat!("swarf_sph_rates_", $v, "_", stringify!($s), "_dmg"), $r, $d, $av, $as, $xs, false, true,
+                false);
             $cb!(rates, concat!("swarf_sph_rates_heat_", $v, "_", stringify!($s), "_dmg"), $r, $d, $av, $as, $xs, true,
-                true);
+                true, false);
+            $cb!(rates, concat!("swarf_sph_rates_", $v, "_", stringify!($s), "_cspm"), $r, $d, $av, $as, $xs, false,
+                false, true);
+            $cb!(rates, concat!("swarf_sph_rates_heat_", $v, "_", stringify!($s), "_cspm"), $r, $d, $av, $as, $xs, true,
+                false, true);
         )*
     };
     (@model_entries $cb:ident, $r:ident, $d:ident, $v:literal; $(($t:ident, $tag:ident)),* $(,)?) => {
@@ -159,9 +169,9 @@ pub const fn prepare_variant(av: bool, r#as: bool, dmg: bool) -> u32 {
     4 * dmg as u32 + 2 * av as u32 + r#as as u32
 }
 
-/// The variant number of a rates entry (AV, AS, XSPH, fused conduction, DMG).
-pub const fn rates_variant(av: bool, r#as: bool, xs: bool, heat: bool, dmg: bool) -> u32 {
-    16 * dmg as u32 + 8 * heat as u32 + 4 * av as u32 + 2 * r#as as u32 + xs as u32
+/// The variant number of a rates entry (AV, AS, XSPH, fused conduction, DMG, CSPM).
+pub const fn rates_variant(av: bool, r#as: bool, xs: bool, heat: bool, dmg: bool, cspm: bool) -> u32 {
+    32 * cspm as u32 + 16 * dmg as u32 + 8 * heat as u32 + 4 * av as u32 + 2 * r#as as u32 + xs as u32
 }
 
 /// The variant number of a plastic or plastic-corrector entry (the flow model's index, DMG).
@@ -201,8 +211,9 @@ pub const ENTRY_KEYS: [EntryKey; ENTRY_COUNT] = {
         (prepare, $name:expr, $r:ident, $d:ident, $av:literal, $as:literal, $dmg:literal) => {
             key!(@at prepare, $r, $d, prepare_variant($av, $as, $dmg));
         };
-        (rates, $name:expr, $r:ident, $d:ident, $av:literal, $as:literal, $xs:literal, $heat:literal, $dmg:literal) => {
-            key!(@at rates, $r, $d, rates_variant($av, $as, $xs, $heat, $dmg));
+        (rates, $name:expr, $r:ident, $d:ident, $av:literal, $as:literal, $xs:literal, $heat:literal, $dmg:literal,
+            $cs:literal) => {
+            key!(@at rates, $r, $d, rates_variant($av, $as, $xs, $heat, $dmg, $cs));
         };
         ($kind:ident, $name:expr, $r:ident, $d:ident, $t:ident, $tag:ident, $dmg:literal) => {
             key!(@at $kind, $r, $d, model_variant(<crate::material::$t as ModelEntry>::INDEX, $dmg));

@@ -17,8 +17,10 @@ macro_rules! density_entry {
 
 use super::intrinsics::{graph_set_conditional, shfl_xor};
 use crate::pass::{
-    ContactArgs, DensityArgs, FinishArgs, FinishPlasticArgs, HeatArgs, PlasticArgs, PredictArgs, PrepareArgs, RatesArgs,
+    ContactArgs, CorrectionArgs, DensityArgs, FinishArgs, FinishPlasticArgs, HeatArgs, PlasticArgs, PredictArgs,
+    PrepareArgs, RatesArgs,
 };
+use crate::sph::correction::{CorrectionSum, correction_finish, correction_share};
 use crate::sph::heat::{heat_finish, heat_sum};
 use crate::sph::interact::{HeatPairSums, PairSums, finish_rates, pair_sums, pair_sums_heat};
 use crate::sph::lanes::{LaneSum, clamp_lanes};
@@ -48,7 +50,7 @@ macro_rules! prepare_entry {
 /// the same walk also sums the Brookshaw conduction (sph::interact::pair_sums_heat) and writes Ṫ to `temp_t`
 /// (`heat_vol`, `temp`, `materials`, `hp` are its inputs; the plain entries ignore them).
 macro_rules! rates_entry {
-    ($sym:expr, $r:ty, $d:ty, $av:literal, $as:literal, $xs:literal, $heat:literal, $dmg:literal) => {
+    ($sym:expr, $r:ty, $d:ty, $av:literal, $as:literal, $xs:literal, $heat:literal, $dmg:literal, $cs:literal) => {
         #[unsafe(export_name = $sym)]
         pub unsafe extern "ptx-kernel" fn entry(args: RatesArgs<$r, $d>) {
             let RatesArgs { n, lanes, reverse, params, hp, .. } = args;
@@ -63,7 +65,7 @@ macro_rules! rates_entry {
             unsafe {
                 let (mech, heat) = if $heat {
                     let s = if live {
-                        pair_sums_heat::<$r, $d, $av, $as, $xs, $dmg>(&params, &hp, &nb, &a, &h, i, lane, lanes)
+                        pair_sums_heat::<$r, $d, $av, $as, $xs, $dmg, $cs>(&params, &hp, &nb, &a, &h, i, lane, lanes)
                     } else {
                         HeatPairSums::default()
                     };
@@ -71,7 +73,7 @@ macro_rules! rates_entry {
                     (s.mech, s.heat)
                 } else {
                     let s = if live {
-                        pair_sums::<$r, $d, $av, $as, $xs, $dmg>(&params, &nb, &a, i, lane, lanes)
+                        pair_sums::<$r, $d, $av, $as, $xs, $dmg, $cs>(&params, &nb, &a, i, lane, lanes)
                     } else {
                         PairSums::default()
                     };
@@ -84,6 +86,31 @@ macro_rules! rates_entry {
                         *args.temp_t.add(i as usize) = heat_finish(&hp, &h, i, heat);
                     }
                 }
+            }
+        }
+    };
+}
+
+/// The kernel-gradient correction: B_i⁻¹ of every sorted particle (sph::correction), `lanes` threads per particle
+/// summing their shares, combined by the butterfly as in the pair interaction; the first lane inverts and stores.
+macro_rules! correction_entry {
+    ($sym:expr, $r:ty, $d:ty) => {
+        #[unsafe(export_name = $sym)]
+        pub unsafe extern "ptx-kernel" fn entry(args: CorrectionArgs<$r, $d>) {
+            let t = ordered_index(args.reverse);
+            let lanes = clamp_lanes(args.lanes);
+            let (i, lane) = (t / lanes, t % lanes);
+            let nb = unsafe { args.neighbours() };
+            // Every lane takes part in the shuffles, also past the last particle.
+            let live = i < args.n;
+            let s = if live {
+                unsafe { correction_share::<$r, $d>(&args.kernel, args.min_r2, &nb, &args.arrays, i, lane, lanes) }
+            } else {
+                CorrectionSum::default()
+            };
+            let s = butterfly(s, lanes);
+            if live && lane == 0 {
+                unsafe { *args.out.add(i as usize) = correction_finish::<$r, $d>(&s, args.min_det) };
             }
         }
     };
@@ -235,6 +262,11 @@ macro_rules! contact_entry {
 /// The SPH entries of the pass table (pass::table), each in its own anonymous scope: its exported name is the
 /// table's.
 macro_rules! sph_entry {
+    (correction, $sym:expr, $r:ident, $d:ident) => {
+        const _: () = {
+            correction_entry!($sym, $r, $d);
+        };
+    };
     (density, $sym:expr, $r:ident, $d:ident) => {
         const _: () = {
             density_entry!($sym, $r, $d);
@@ -265,9 +297,10 @@ macro_rules! sph_entry {
             prepare_entry!($sym, $r, $d, $av, $as, $dmg);
         };
     };
-    (rates, $sym:expr, $r:ident, $d:ident, $av:literal, $as:literal, $xs:literal, $heat:literal, $dmg:literal) => {
+    (rates, $sym:expr, $r:ident, $d:ident, $av:literal, $as:literal, $xs:literal, $heat:literal, $dmg:literal,
+        $cs:literal) => {
         const _: () = {
-            rates_entry!($sym, $r, $d, $av, $as, $xs, $heat, $dmg);
+            rates_entry!($sym, $r, $d, $av, $as, $xs, $heat, $dmg, $cs);
         };
     };
     (plastic, $sym:expr, $r:ident, $d:ident, $t:ident, $tag:ident, $dmg:literal) => {

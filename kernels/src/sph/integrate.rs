@@ -21,9 +21,7 @@ pub fn advance_vec<R: Real, V: Vector<R>>(y0: &V, c: R, yt: &V) -> V {
 #[inline(always)]
 pub fn advance_sym<R: Real, S: SymTensor<R>>(y0: &S, c: R, yt: &S) -> S {
     let mut out = *y0;
-    // SAFETY: SymTensor types are repr(C) arrays of R.
-    let o = unsafe { core::slice::from_raw_parts_mut(&mut out as *mut S as *mut R, S::COMPONENTS) };
-    let t = unsafe { core::slice::from_raw_parts(yt as *const S as *const R, S::COMPONENTS) };
+    let (o, t) = (out.components_mut(), yt.components());
     let mut k = 0;
     while k < o.len() && k < t.len() {
         o[k] += c * t[k];

@@ -84,9 +84,7 @@ pub fn prepare<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool>(
 #[inline(always)]
 pub fn scale_sym<R: Real, S: SymTensor<R>>(s: &S, m: R) -> S {
     let mut o = *s;
-    // SAFETY: SymTensor types are repr(C) arrays of R (`vector::sym_type`), COMPONENTS long, without padding.
-    let c = unsafe { core::slice::from_raw_parts_mut(&mut o as *mut S as *mut R, S::COMPONENTS) };
-    for x in c.iter_mut() {
+    for x in o.components_mut() {
         *x *= m;
     }
     o
@@ -247,6 +245,8 @@ pub struct Arrays<R: Real, D: Dim> {
     /// The damage's interaction mask F_j of the pre-pass (`damage::mask_value`: 1, 0 or `damage::DELETED`); null
     /// without damage (every F_j = 1).
     pub mask: *const f64,
+    /// The kernel-gradient correction B_i⁻¹ (`sph::correction`); null unless the CSPM entries run.
+    pub correction: *const D::Sym<R>,
 }
 
 #[inline(always)]
@@ -318,10 +318,15 @@ struct Own<R: Real, D: TensorOps<R>> {
     sig: D::Sym<R>,
     art: D::Sym<R>,
     c: R,
+    /// B_i⁻¹ (with CSPM only).
+    corr: D::Sym<R>,
 }
 
 #[inline(always)]
-unsafe fn own<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool>(a: &Arrays<R, D>, i: u32) -> Own<R, D> {
+unsafe fn own<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const CS: bool>(
+    a: &Arrays<R, D>,
+    i: u32,
+) -> Own<R, D> {
     let iu = i as usize;
     unsafe {
         Own {
@@ -332,6 +337,7 @@ unsafe fn own<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool>(a: &Arra
             sig: *a.sig.add(iu),
             art: if AS { *a.art.add(iu) } else { Default::default() },
             c: if AV { *a.sound.add(iu) } else { R::ZERO },
+            corr: if CS { *a.correction.add(iu) } else { Default::default() },
         }
     }
 }
@@ -435,6 +441,7 @@ unsafe fn add_pair<
     const AS: bool,
     const XSPH: bool,
     const DMG: bool,
+    const CS: bool,
     const PER: bool,
 >(
     p: &SphParams<R>,
@@ -448,9 +455,9 @@ unsafe fn add_pair<
     let (q, p) = (unsafe { partner::<R, D, AV, AS>(a, j) }, pair_params::<R, AV, AS>(p));
     if let Some(g) = geometry::<R, D, PER>(&p, per, o, i, j, &q.x) {
         if DMG {
-            unsafe { masked_pair_term::<R, D, AV, AS, XSPH>(&p, a, o, q, &g, j, sums) }
+            unsafe { masked_pair_term::<R, D, AV, AS, XSPH, CS>(&p, a, o, q, &g, j, sums) }
         } else {
-            pair_term::<R, D, AV, AS, XSPH>(&p, o, &q, &g, sums)
+            pair_term::<R, D, AV, AS, XSPH, CS>(&p, o, &q, &g, sums)
         }
     }
 }
@@ -464,7 +471,14 @@ unsafe fn add_pair<
 /// # Safety
 /// `a.mask` holds j + 1 elements.
 #[inline(always)]
-unsafe fn masked_pair_term<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool>(
+unsafe fn masked_pair_term<
+    R: Real,
+    D: TensorOps<R>,
+    const AV: bool,
+    const AS: bool,
+    const XSPH: bool,
+    const CS: bool,
+>(
     p: &SphParams<R>,
     a: &Arrays<R, D>,
     o: &Own<R, D>,
@@ -475,18 +489,18 @@ unsafe fn masked_pair_term<R: Real, D: TensorOps<R>, const AV: bool, const AS: b
 ) {
     let f = unsafe { *a.mask.add(j as usize) };
     if f > 0.0 {
-        pair_term::<R, D, AV, AS, XSPH>(p, o, &q, g, sums)
+        pair_term::<R, D, AV, AS, XSPH, CS>(p, o, &q, g, sums)
     } else if f == 0.0 {
         let q = Partner { v: Default::default(), sig: Default::default(), ..q };
         // Without the viscosity's terms: Π_ij F_j = 0 (its dissipation is then 0 as well).
-        pair_term::<R, D, false, AS, XSPH>(p, o, &q, g, sums)
+        pair_term::<R, D, false, AS, XSPH, CS>(p, o, &q, g, sums)
     }
 }
 
 /// The momentum, velocity-gradient, XSPH and dissipation terms of pair (i, j) with j's data `q` and the pair's
-/// geometry `g`.
+/// geometry `g`; with `CS` the kernel gradient is the corrected B_i⁻¹ ∇W_ij (`sph::correction`).
 #[inline(always)]
-fn pair_term<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool>(
+fn pair_term<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool, const CS: bool>(
     p: &SphParams<R>,
     o: &Own<R, D>,
     q: &Partner<R, D>,
@@ -502,6 +516,7 @@ fn pair_term<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSP
             let f = g.dw;
             D::Vec::<R>::new([f * xij.get(0), f * xij.get(1), f * xij.get(2)])
         };
+        let gw = if CS { D::sym_apply(&o.corr, &gw) } else { gw };
         let mj = q.m;
         if mj == R::ZERO {
             return;
@@ -583,7 +598,15 @@ pub fn power<R: Real>(x: R, n: u32) -> R {
 /// # Safety
 /// As [`rates`]; `lane < lanes`.
 #[inline(always)]
-pub unsafe fn pair_sums<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool, const DMG: bool>(
+pub unsafe fn pair_sums<
+    R: Real,
+    D: TensorOps<R>,
+    const AV: bool,
+    const AS: bool,
+    const XSPH: bool,
+    const DMG: bool,
+    const CS: bool,
+>(
     p: &SphParams<R>,
     nb: &Neighbours,
     a: &Arrays<R, D>,
@@ -592,7 +615,7 @@ pub unsafe fn pair_sums<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool
     lanes: u32,
 ) -> PairSums<R, D> {
     unsafe {
-        let o = own::<R, D, AV, AS>(a, i);
+        let o = own::<R, D, AV, AS, CS>(a, i);
         if !o.mech {
             return PairSums::default();
         }
@@ -601,11 +624,11 @@ pub unsafe fn pair_sums<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool
         // instruction.
         if per.on {
             lane_share::<R, D::Vec<R>, _, _>(nb, &o.x, i, lane, lanes, |j, s| {
-                add_pair::<R, D, AV, AS, XSPH, DMG, true>(p, &per, a, &o, i, j, s)
+                add_pair::<R, D, AV, AS, XSPH, DMG, CS, true>(p, &per, a, &o, i, j, s)
             })
         } else {
             lane_share::<R, D::Vec<R>, _, _>(nb, &o.x, i, lane, lanes, |j, s| {
-                add_pair::<R, D, AV, AS, XSPH, DMG, false>(p, &per, a, &o, i, j, s)
+                add_pair::<R, D, AV, AS, XSPH, DMG, CS, false>(p, &per, a, &o, i, j, s)
             })
         }
     }
@@ -648,6 +671,7 @@ pub unsafe fn pair_sums_heat<
     const AS: bool,
     const XSPH: bool,
     const DMG: bool,
+    const CS: bool,
 >(
     p: &SphParams<R>,
     hp: &HeatParams,
@@ -659,7 +683,7 @@ pub unsafe fn pair_sums_heat<
     lanes: u32,
 ) -> HeatPairSums<R, D> {
     unsafe {
-        let o = own::<R, D, AV, AS>(a, i);
+        let o = own::<R, D, AV, AS, CS>(a, i);
         let ho = heat_own(h, i);
         if !o.mech && ho.is_none() {
             return HeatPairSums::default();
@@ -667,11 +691,11 @@ pub unsafe fn pair_sums_heat<
         let per = Period::<R>::of::<D>(nb.grid);
         if per.on {
             lane_share::<R, D::Vec<R>, _, _>(nb, &o.x, i, lane, lanes, |j, s: &mut HeatPairSums<R, D>| {
-                heat_and_pair::<R, D, AV, AS, XSPH, DMG, true>(p, hp, &per, a, h, &o, ho.as_ref(), i, j, s)
+                heat_and_pair::<R, D, AV, AS, XSPH, DMG, CS, true>(p, hp, &per, a, h, &o, ho.as_ref(), i, j, s)
             })
         } else {
             lane_share::<R, D::Vec<R>, _, _>(nb, &o.x, i, lane, lanes, |j, s: &mut HeatPairSums<R, D>| {
-                heat_and_pair::<R, D, AV, AS, XSPH, DMG, false>(p, hp, &per, a, h, &o, ho.as_ref(), i, j, s)
+                heat_and_pair::<R, D, AV, AS, XSPH, DMG, CS, false>(p, hp, &per, a, h, &o, ho.as_ref(), i, j, s)
             })
         }
     }
@@ -687,6 +711,7 @@ unsafe fn heat_and_pair<
     const AS: bool,
     const XSPH: bool,
     const DMG: bool,
+    const CS: bool,
     const PER: bool,
 >(
     p: &SphParams<R>,
@@ -712,9 +737,9 @@ unsafe fn heat_and_pair<
     }
     if o.mech {
         if DMG {
-            unsafe { masked_pair_term::<R, D, AV, AS, XSPH>(&p, a, o, q, &g, j, &mut s.mech) };
+            unsafe { masked_pair_term::<R, D, AV, AS, XSPH, CS>(&p, a, o, q, &g, j, &mut s.mech) };
         } else {
-            pair_term::<R, D, AV, AS, XSPH>(&p, o, &q, &g, &mut s.mech);
+            pair_term::<R, D, AV, AS, XSPH, CS>(&p, o, &q, &g, &mut s.mech);
         }
     }
 }
@@ -733,6 +758,7 @@ pub unsafe fn rates_heat<
     const AS: bool,
     const XSPH: bool,
     const DMG: bool,
+    const CS: bool,
 >(
     p: &SphParams<R>,
     hp: &HeatParams,
@@ -743,7 +769,7 @@ pub unsafe fn rates_heat<
     lanes: u32,
 ) -> (Rates<R, D>, f64) {
     unsafe {
-        let o = own::<R, D, AV, AS>(a, i);
+        let o = own::<R, D, AV, AS, CS>(a, i);
         let ho = heat_own(h, i);
         let sums = if !o.mech && ho.is_none() {
             HeatPairSums::default()
@@ -751,11 +777,11 @@ pub unsafe fn rates_heat<
             let per = Period::<R>::of::<D>(nb.grid);
             if per.on {
                 all_lanes::<R, D::Vec<R>, _, _>(nb, &o.x, i, lanes, |j, s: &mut HeatPairSums<R, D>| {
-                    heat_and_pair::<R, D, AV, AS, XSPH, DMG, true>(p, hp, &per, a, h, &o, ho.as_ref(), i, j, s)
+                    heat_and_pair::<R, D, AV, AS, XSPH, DMG, CS, true>(p, hp, &per, a, h, &o, ho.as_ref(), i, j, s)
                 })
             } else {
                 all_lanes::<R, D::Vec<R>, _, _>(nb, &o.x, i, lanes, |j, s: &mut HeatPairSums<R, D>| {
-                    heat_and_pair::<R, D, AV, AS, XSPH, DMG, false>(p, hp, &per, a, h, &o, ho.as_ref(), i, j, s)
+                    heat_and_pair::<R, D, AV, AS, XSPH, DMG, CS, false>(p, hp, &per, a, h, &o, ho.as_ref(), i, j, s)
                 })
             }
         };
@@ -827,7 +853,15 @@ pub unsafe fn finish_rates<R: Real, D: TensorOps<R>, const XSPH: bool, const DMG
 /// All arrays hold the sorted particles of the cell list (and Verlet list) `nb`; `i` is in range; `art` and `sound`
 /// are valid when AS and AV are on.
 #[inline(always)]
-pub unsafe fn rates<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const XSPH: bool, const DMG: bool>(
+pub unsafe fn rates<
+    R: Real,
+    D: TensorOps<R>,
+    const AV: bool,
+    const AS: bool,
+    const XSPH: bool,
+    const DMG: bool,
+    const CS: bool,
+>(
     p: &SphParams<R>,
     nb: &Neighbours,
     a: &Arrays<R, D>,
@@ -835,16 +869,16 @@ pub unsafe fn rates<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, co
     lanes: u32,
 ) -> Rates<R, D> {
     unsafe {
-        let o = own::<R, D, AV, AS>(a, i);
+        let o = own::<R, D, AV, AS, CS>(a, i);
         let sums = if o.mech {
             let per = Period::<R>::of::<D>(nb.grid);
             if per.on {
                 all_lanes::<R, D::Vec<R>, _, _>(nb, &o.x, i, lanes, |j, s| {
-                    add_pair::<R, D, AV, AS, XSPH, DMG, true>(p, &per, a, &o, i, j, s)
+                    add_pair::<R, D, AV, AS, XSPH, DMG, CS, true>(p, &per, a, &o, i, j, s)
                 })
             } else {
                 all_lanes::<R, D::Vec<R>, _, _>(nb, &o.x, i, lanes, |j, s| {
-                    add_pair::<R, D, AV, AS, XSPH, DMG, false>(p, &per, a, &o, i, j, s)
+                    add_pair::<R, D, AV, AS, XSPH, DMG, CS, false>(p, &per, a, &o, i, j, s)
                 })
             }
         } else {

@@ -44,8 +44,7 @@ pub mod return_flags {
 /// return map and back.
 #[inline(always)]
 fn to6<R: Real, S: SymTensor<R>>(s: &S) -> [f64; 6] {
-    // SAFETY: SymTensor types are repr(C) arrays of R.
-    let c = unsafe { core::slice::from_raw_parts(s as *const S as *const R, S::COMPONENTS) };
+    let c = s.components();
     if S::COMPONENTS == 4 {
         [c[0].to_f64(), c[1].to_f64(), 0.0, c[2].to_f64(), 0.0, c[3].to_f64()]
     } else {
@@ -61,8 +60,7 @@ fn to6<R: Real, S: SymTensor<R>>(s: &S) -> [f64; 6] {
 
 #[inline(always)]
 fn from6<R: Real, S: SymTensor<R>>(v: &[f64; 6], s: &mut S) {
-    // SAFETY: as above.
-    let c = unsafe { core::slice::from_raw_parts_mut(s as *mut S as *mut R, S::COMPONENTS) };
+    let c = s.components_mut();
     if S::COMPONENTS == 4 {
         let m = [v[0], v[1], v[3], v[5]];
         let mut k = 0;

@@ -37,19 +37,24 @@ pub trait TensorOps<R: Real>: Dim {
     fn artificial_stress(s: &Self::Sym<R>, p: R, rho: R, eps: R) -> Self::Sym<R>;
     /// S : S (all components, including S_zz in plane strain).
     fn double_dot(s: &Self::Sym<R>) -> R;
+    /// s += w · (x ⊗ x) (in-plane in 2D).
+    fn sym_outer_add(s: &mut Self::Sym<R>, w: R, x: &Self::Vec<R>);
+    /// s · v (in-plane in 2D).
+    fn sym_apply(s: &Self::Sym<R>, v: &Self::Vec<R>) -> Self::Vec<R>;
+    /// s⁻¹ where det s > `min_det`, else the identity (also for a non-finite s; in 2D of the in-plane block, with
+    /// zz = 1).
+    fn sym_inverse_or_identity(s: &Self::Sym<R>, min_det: R) -> Self::Sym<R>;
 }
 
 #[inline(always)]
 fn sym<R: Real, S: SymTensor<R>>(s: &S) -> &[R] {
-    // SAFETY: every SymTensor is a repr(C) array of R (vector.rs).
-    unsafe { core::slice::from_raw_parts(s as *const S as *const R, S::COMPONENTS) }
+    s.components()
 }
 
 #[inline(always)]
 fn sym_from<R: Real, S: SymTensor<R>, const N: usize>(c: [R; N]) -> S {
     let mut s = S::default();
-    // SAFETY: as above, and N == S::COMPONENTS at every call site.
-    let d = unsafe { core::slice::from_raw_parts_mut(&mut s as *mut S as *mut R, S::COMPONENTS) };
+    let d = s.components_mut();
     let mut k = 0;
     while k < N && k < d.len() {
         d[k] = c[k];
@@ -144,6 +149,34 @@ impl<R: Real> TensorOps<R> for Dim2 {
     fn double_dot(s: &R::S2) -> R {
         let s = sym::<R, _>(s);
         s[0] * s[0] + s[2] * s[2] + s[3] * s[3] + R::from_f64(2.0) * s[1] * s[1]
+    }
+
+    #[inline(always)]
+    fn sym_outer_add(s: &mut R::S2, w: R, x: &R::V2) {
+        let (wx, y) = (w * x.get(0), x.get(1));
+        let c = s.components_mut();
+        c[0] += wx * x.get(0);
+        c[1] += wx * y;
+        c[2] += w * y * y;
+    }
+
+    #[inline(always)]
+    fn sym_apply(s: &R::S2, v: &R::V2) -> R::V2 {
+        let s = sym::<R, _>(s);
+        let (x, y) = (v.get(0), v.get(1));
+        vec2(s[0] * x + s[1] * y, s[1] * x + s[2] * y)
+    }
+
+    #[inline(always)]
+    fn sym_inverse_or_identity(s: &R::S2, min_det: R) -> R::S2 {
+        let s = sym::<R, _>(s);
+        let det = s[0] * s[2] - s[1] * s[1];
+        if det > min_det {
+            let k = R::ONE / det;
+            sym_from::<R, R::S2, 4>([s[2] * k, -s[1] * k, s[0] * k, R::ONE])
+        } else {
+            sym_from::<R, R::S2, 4>([R::ONE, R::ZERO, R::ONE, R::ONE])
+        }
     }
 }
 
@@ -267,5 +300,49 @@ impl<R: Real> TensorOps<R> for Dim3 {
         let s = sym::<R, _>(s);
         let two = R::from_f64(2.0);
         s[0] * s[0] + s[3] * s[3] + s[5] * s[5] + two * (s[1] * s[1] + s[2] * s[2] + s[4] * s[4])
+    }
+
+    #[inline(always)]
+    fn sym_outer_add(s: &mut R::S3, w: R, x: &R::V3) {
+        let c = s.components_mut();
+        let mut a = 0;
+        while a < 3 {
+            let wa = w * x.get(a);
+            let mut b = a;
+            while b < 3 {
+                c[S3[a][b]] += wa * x.get(b);
+                b += 1;
+            }
+            a += 1;
+        }
+    }
+
+    #[inline(always)]
+    fn sym_apply(s: &R::S3, v: &R::V3) -> R::V3 {
+        let s = sym::<R, _>(s);
+        let (x, y, z) = (v.get(0), v.get(1), v.get(2));
+        R::V3::new([s[0] * x + s[1] * y + s[2] * z, s[1] * x + s[3] * y + s[4] * z, s[2] * x + s[4] * y + s[5] * z])
+    }
+
+    #[inline(always)]
+    fn sym_inverse_or_identity(s: &R::S3, min_det: R) -> R::S3 {
+        let s = sym::<R, _>(s);
+        let (a, b, c, d, e, f) = (s[0], s[1], s[2], s[3], s[4], s[5]);
+        // Cofactors of the symmetric matrix [[a, b, c], [b, d, e], [c, e, f]].
+        let (cxx, cxy, cxz) = (d * f - e * e, c * e - b * f, b * e - c * d);
+        let det = a * cxx + b * cxy + c * cxz;
+        if det > min_det {
+            let k = R::ONE / det;
+            sym_from::<R, R::S3, 6>([
+                cxx * k,
+                cxy * k,
+                cxz * k,
+                (a * f - c * c) * k,
+                (b * c - a * e) * k,
+                (a * d - b * b) * k,
+            ])
+        } else {
+            sym_from::<R, R::S3, 6>([R::ONE, R::ZERO, R::ZERO, R::ONE, R::ZERO, R::ONE])
+        }
     }
 }
