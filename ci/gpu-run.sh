@@ -29,6 +29,26 @@ cut() { # a cutting run on the GPU: out-name, scene, extra args; prints its summ
     echo "== $name"; cat "/tmp/swarf-cut/$name/summary.json"; tail -n 3 "/tmp/swarf-cut/$name/run.log"
     awk 'NR == 1 || NR % 10 == 0' "/tmp/swarf-cut/$name/forces.csv"
 }
+force_means() { # forces.csv [t0 t1]: each force and contact column's mean over t0..t1 s (default: the last quarter)
+    python3 - "$@" <<'PY'
+import csv, sys
+try:
+    rows = list(csv.reader(open(sys.argv[1])))
+except OSError:
+    sys.exit(0)
+head, rows = rows[0], [list(map(float, r)) for r in rows[1:]]
+if len(sys.argv) > 3:
+    t0, t1 = float(sys.argv[2]), float(sys.argv[3])
+    w, label = [r for r in rows if t0 <= r[0] <= t1], "mean %g-%g s" % (t0, t1)
+else:
+    w, label = rows[3 * len(rows) // 4:], "mean last quarter"
+if w:
+    for k, c in enumerate(head):
+        if c.startswith(("fc_", "ff_", "fx_", "fy_", "fz_", "contacts")):
+            print("%s %-14s %.6g" % (label, c, sum(r[k] for r in w) / len(w)))
+print("samples", len(rows), "last t", rows[-1][0] if rows else None)
+PY
+}
 from_dirs() { # the checkpoints of fromcut/abfrom (made once per machine): prints their folders, comma separated
     local d=/tmp/swarf-from; mkdir -p $d
     # A carried 6k state (carry150k/ref6k.tgz, made by an earlier build), so that builds compare on one state.
@@ -273,26 +293,15 @@ for p in $parts; do
                     mkdir -p "$out/runs/$name"
                     cp "$d/$name"/{summary.json,forces.csv,run.log,energy.csv} "$out/runs/$name/" 2>/dev/null
                     python3 - "$d/$name" <<'PY'
-import csv, json, sys
-d = sys.argv[1]
+import json, sys
 try:
-    s = json.load(open(d + "/summary.json"))
+    s = json.load(open(sys.argv[1] + "/summary.json"))
     for b in s.get("bodies", []):
         print("body", b["name"], "extent_m", b["extent_m"], "min_m", b["min_m"], "radius_xy_max_m", b.get("radius_xy_max_m"))
 except (OSError, ValueError) as e:
     print("no summary:", e)
-try:
-    rows = list(csv.reader(open(d + "/forces.csv")))
-except OSError:
-    sys.exit(0)
-head, rows = rows[0], [list(map(float, r)) for r in rows[1:]]
-if rows:
-    q = rows[3 * len(rows) // 4:]
-    for k, c in enumerate(head):
-        if c.startswith(("fc_", "ff_", "fx_", "fy_", "fz_", "contacts")):
-            print("mean last quarter %-14s %.6g" % (c, sum(r[k] for r in q) / len(q)))
-    print("samples", len(rows), "last t", rows[-1][0])
 PY
+                    force_means "$d/$name/forces.csv"
                 done
                 tar czf "$out/tools24.tgz" -C $d --exclude='*/frame_*.vtu' --exclude='*/tool*_*.vtp' --exclude='*/states' .
                 # Pictures' data: the state tables of grain-b and taylor-wall (--state-at), thinned to x, y, z, the
@@ -361,20 +370,7 @@ PY
                         --out "$d/$name" < /dev/null
                     echo "== $name rc=$? wall $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { print b - a }') s"
                     tail -n 2 "$d/$name/run.log" 2>/dev/null
-                    python3 - "$d/$name/forces.csv" <<'PY'
-import csv, sys
-try:
-    rows = list(csv.reader(open(sys.argv[1])))
-except OSError:
-    sys.exit(0)
-head, rows = rows[0], [list(map(float, r)) for r in rows[1:]]
-w = [r for r in rows if 2e-6 <= r[0] <= 1e-5]
-if w:
-    for k, c in enumerate(head):
-        if c.startswith(("fx_", "fy_", "fz_", "contacts")):
-            print("mean 2-10 us %-14s %.6g" % (c, sum(r[k] for r in w) / len(w)))
-print("samples", len(rows), "last t", rows[-1][0] if rows else None)
-PY
+                    force_means "$d/$name/forces.csv" 2e-6 1e-5
                     local f
                     for f in $d/$name/states/state_*.csv; do
                         [ -e "$f" ] || continue

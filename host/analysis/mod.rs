@@ -67,7 +67,7 @@ fn for_each_close_pair(pos: &[[f64; 3]], radius: f64, mut f: impl FnMut(usize, u
     }
     let b = CpuBackend::new();
     let p: Vec<V3f64> = pos.iter().map(|x| V3f64([x[0], x[1], x[2], 0.0])).collect();
-    let (lo, hi, cell) = search_box(pos, GridParams::cell_for(radius, 2));
+    let (lo, hi, cell) = search_box(&p, GridParams::cell_for(radius, 2));
     let grid = grid_with_cell(lo, hi, 3, cell, 2)?;
     let mut cl = CellList::new(&b, grid, p.len())?;
     cl.build::<f64, Dim3>(&b, &p)?;
@@ -91,22 +91,21 @@ fn cell_count(lo: &[f64; 3], hi: &[f64; 3], cell: f64) -> f64 {
     (0..3).map(|k| ((hi[k] - lo[k]) / cell).floor() + 1.0).product()
 }
 
-/// The box and cell of the pair search over `pos` with cells of at least `cell`: the bounding box of the finite
+/// The box and cell of the pair search over `p` with cells of at least `cell`: the bounding box of the finite
 /// positions, unless that would take more than [`CELLS_PER_POINT`] cells per point (and a million): then, per axis,
 /// the range between the `f` and 1 − `f` quantiles of the positions for the smallest `f` of 0.1 %, 1 %, 5 % and 25 %
 /// that fits, its cell grown where none does. Particles outside the box are clamped into its boundary cells, which
 /// keeps the search exact (docs/neighbour-search.md). An unstable run ejects a few particles far from the rest, and
 /// the bounding box alone then made every output step build a grid of billions of cells: the multi-grain runs at
 /// CFL 0.5 stopped answering (issue 24; tests/stability_solids.rs, `ejected_particles_do_not_blow_up_the_contact_search`).
-fn search_box(pos: &[[f64; 3]], cell: f64) -> ([f64; 3], [f64; 3], f64) {
-    let budget = CELLS_PER_POINT * pos.len() as f64 + f64::from(1u32 << 20);
-    let p: Vec<V3f64> = pos.iter().map(|x| V3f64([x[0], x[1], x[2], 0.0])).collect();
-    let (lo, hi) = bounding_box::<f64, V3f64>(&p);
+fn search_box(p: &[V3f64], cell: f64) -> ([f64; 3], [f64; 3], f64) {
+    let budget = CELLS_PER_POINT * p.len() as f64 + f64::from(1u32 << 20);
+    let (lo, hi) = bounding_box::<f64, V3f64>(p);
     if cell_count(&lo, &hi, cell) <= budget {
         return (lo, hi, cell);
     }
     let mut axes: Vec<Vec<f64>> =
-        (0..3).map(|k| pos.iter().map(|x| x[k]).filter(|x| x.is_finite()).collect()).collect();
+        (0..3).map(|k| p.iter().map(|x| x.0[k]).filter(|x| x.is_finite()).collect()).collect();
     for a in &mut axes {
         a.sort_unstable_by(f64::total_cmp);
     }

@@ -148,11 +148,7 @@ pub fn correction_args<B: Backend, R: Real, D: Dim>(
     out: &mut B::Buf<D::Sym<R>>,
 ) -> Result<CorrectionArgs<R, D>> {
     Ok(CorrectionArgs {
-        n: u32::try_from(n).map_err(|_| Error::Length {
-            op: "sph_correction particles",
-            expected: u32::MAX as usize,
-            got: n,
-        })?,
+        n: count(n)?,
         lanes,
         // The GPU backend sets the block order at the launch (`Pass::order`).
         reverse: 0,
