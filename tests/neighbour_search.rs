@@ -1,6 +1,7 @@
-//! Neighbour search on the CPU backend against an O(N²) brute force (roethlin-solver.md AT-50, AT-51): the set
-//! of pairs within the support radius must be identical, for 10⁵ particles uniform, clustered and on a lattice
-//! with particles exactly on cell faces, in 2D and 3D, with both grid layouts (cell h / ±2, cell 2h / ±1).
+//! Neighbour search on the CPU backend against a grid-free brute force (sweep and prune on x,
+//! `common::brute_force`; roethlin-solver.md AT-50, AT-51): the set of pairs within the support radius must be
+//! identical, for 10⁵ particles uniform, clustered and on a lattice with particles exactly on cell faces, in 2D and
+//! 3D, with both grid layouts (cell h / ±2, cell 2h / ±1).
 
 mod common;
 
@@ -277,7 +278,7 @@ fn displaced<R: Real, D: Dim>(
 /// The skin (docs/neighbour-search.md, "Skin"): a cell list built on positions X0 over cells sized for the support
 /// plus the skin s still finds every pair within the support after each particle has moved up to s, because the
 /// search takes the stencil around each particle's current position and every partner is at most s from where it
-/// was binned. Checked against the O(N²) search on the moved positions, with displacements drawn up to 0.999 s in
+/// was binned. Checked against the grid-free search on the moved positions, with displacements drawn up to 0.999 s in
 /// random directions and a quarter of the particles moved almost exactly s; 2D and 3D, f32 and f64.
 fn stale_list_is_exact_within_the_skin<R: Real, D: Dim>(n: usize, seed: u64) {
     use swarf::backend::Backend;
@@ -386,7 +387,7 @@ fn listed_pairs<R: Real, D: Dim>(
 
 /// The Verlet list (docs/neighbour-search.md, "Verlet list"): built on the binned positions X0 with the radius
 /// 2h + s, it still holds every pair within the support after each particle has moved up to s/2 (the list's
-/// `rebuild_distance`), because both ends of a pair move. Checked against the O(N²) search on the moved positions
+/// `rebuild_distance`), because both ends of a pair move. Checked against the grid-free search on the moved positions
 /// (displacements up to 0.999 s/2, a quarter at almost exactly s/2), 2D and 3D, f32 and f64; with a capacity of 3
 /// nearly every particle overflows and walks the stencil, with the same pairs. Moving up to 0.999 s instead (what
 /// the cell list alone allows) loses pairs, which shows that the check can fail.

@@ -5,6 +5,7 @@
 mod common;
 
 use common::*;
+use rayon::prelude::*;
 use swarf::backend::CpuBackend;
 use swarf::kernels::{Dim3, Real, Vector};
 use swarf::scene::Scene;
@@ -18,6 +19,7 @@ fn brute_force_periodic(pos: &[swarf::kernels::vector::V3f64], support2: f64, pe
         (a.get(0) - b.get(0)).powi(2) + (a.get(1) - b.get(1)).powi(2) + dz * dz
     };
     (0..pos.len())
+        .into_par_iter()
         .map(|i| (0..pos.len()).filter(|&j| j != i && d2(&pos[i], &pos[j]) < support2).map(|j| j as u32).collect())
         .collect()
 }

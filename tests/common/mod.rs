@@ -1,4 +1,4 @@
-//! Particle sets and the O(N²) reference shared by the neighbour-search tests (CPU and GPU).
+//! Particle sets and the grid-free brute-force reference shared by the neighbour-search tests (CPU and GPU).
 #![allow(dead_code)]
 
 pub mod scenes;
@@ -48,19 +48,36 @@ pub fn lattice<R: Real, D: Dim>(per_side: usize, dx: f64, seed: u64) -> Vec<D::V
     v
 }
 
-/// Sorted neighbour lists (j ≠ i with |x_ij|² < support2, evaluated exactly as the kernels do) by O(N²) search.
+/// Sorted neighbour lists (j ≠ i with |x_ij|² < support2, evaluated exactly as the kernels do, `Vector::dist2`),
+/// found without any grid: sweep and prune on x. The finite particles are sorted by x, and each tests the sorted
+/// particles on either side of it until fl(Δx)² ≥ support2. That stop loses no pair: fl(Δx)² is `dist2`'s first
+/// term and the others only add non-negative terms under monotone rounding, so `dist2` ≥ fl(Δx)²; and fl(Δx)²
+/// grows monotonically along the sorted order. The same predicate as an O(N²) double loop, at a fraction of its
+/// cost (10⁵ particles: a strip of about 2·support of the box instead of all of it).
 pub fn brute_force<R: Real, V: Vector<R>>(pos: &[V], support2: R) -> Vec<Vec<u32>> {
-    let finite: Vec<bool> = pos.iter().map(|p| (0..V::DIM).all(|k| p.get(k).is_finite())).collect();
-    (0..pos.len())
+    let mut order: Vec<usize> = (0..pos.len()).filter(|&i| (0..V::DIM).all(|k| pos[i].get(k).is_finite())).collect();
+    order.sort_by(|&a, &b| pos[a].get(0).to_f64().total_cmp(&pos[b].get(0).to_f64()));
+    let near = |r: usize, s: usize| {
+        let d = pos[order[r]].get(0) - pos[order[s]].get(0);
+        d * d < support2
+    };
+    let found: Vec<Vec<u32>> = (0..order.len())
         .into_par_iter()
-        .map(|i| {
-            if !finite[i] {
-                return Vec::new();
-            }
-            let pi = pos[i];
-            (0..pos.len()).filter(|&j| j != i && finite[j] && pi.dist2(&pos[j]) < support2).map(|j| j as u32).collect()
+        .map(|r| {
+            let pi = pos[order[r]];
+            let up = (r + 1..order.len()).take_while(|&s| near(r, s));
+            let down = (0..r).rev().take_while(|&s| near(r, s));
+            let mut l: Vec<u32> =
+                up.chain(down).map(|s| order[s]).filter(|&j| pi.dist2(&pos[j]) < support2).map(|j| j as u32).collect();
+            l.sort_unstable();
+            l
         })
-        .collect()
+        .collect();
+    let mut lists = vec![Vec::new(); pos.len()];
+    for (r, l) in found.into_iter().enumerate() {
+        lists[order[r]] = l;
+    }
+    lists
 }
 
 /// Neighbour lists from the cell list on backend `b`, mapped back to the input indices and sorted. Also
