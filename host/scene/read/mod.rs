@@ -5,7 +5,9 @@ use super::doc::{Doc, Entry, Node, Val, show};
 use super::error::SceneError;
 use super::*;
 
+mod damage;
 mod tool;
+use damage::damage;
 use tool::tool;
 
 type Result<T> = std::result::Result<T, SceneError>;
@@ -344,142 +346,6 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
         model,
         damage,
     })
-}
-
-/// `[damage]`: the model and its constants (the library material's `[damage]` unless given here), G_f, the mask,
-/// deletion and the pre-cracks; `None` for `enabled = false` (every key still checked, as the stabilisers').
-fn damage(t: &Tab<'_>, dim: usize, material: &Material, physics: &Physics) -> Result<Option<Damage>> {
-    use crate::material::DAMAGE_MODEL_NAMES;
-    const D_KEYS: [&str; 8] = ["D1", "D2", "D3", "D4", "D5", "D6", "D7", "D8"];
-    let mut keys = vec![
-        "model",
-        "mask",
-        "delete",
-        "fracture_energy",
-        "fracture_toughness",
-        "reference_strain_rate",
-        "reference_temperature",
-        "melt_temperature",
-        "pre_crack",
-        "enabled",
-    ];
-    keys.extend_from_slice(&D_KEYS);
-    t.check_keys(&keys, &[], "")?;
-    let enabled = t.boolean("enabled", "true or false")?.unwrap_or(true);
-    if enabled && !physics.plasticity {
-        return Err(t.invalid(
-            "model",
-            t.get("model"),
-            "no [damage] without plasticity (damage grows with the plastic strain: a material with [flow_stress])",
-        ));
-    }
-    let lib = material.library.as_ref().and_then(|m| m.damage);
-    let names =
-        format!("one of: {}", DAMAGE_MODEL_NAMES.iter().map(|n| format!("\"{n}\"")).collect::<Vec<_>>().join(", "));
-    let model = match t.string("model", &names, |s| DAMAGE_MODEL_NAMES.contains(&s))? {
-        Some(m) => m.to_string(),
-        None => match lib {
-            Some(l) => l.model_name().to_string(),
-            None => {
-                return Err(t.invalid("model", None, format!("{names} (the material has no [damage] constants)")));
-            }
-        },
-    };
-    let count = match model.as_str() {
-        "jc" => 5,
-        "jc_gg" => 8,
-        _ => 2,
-    };
-    // The library's constants apply only to the library's own model.
-    let lib_same = lib.filter(|l| l.model_name() == model);
-    let mut constants = [0.0; 8];
-    for (k, key) in D_KEYS.iter().enumerate() {
-        let given = t.number(key, "a finite number", any)?;
-        if k >= count {
-            if given.is_some() {
-                return Err(t.invalid(key, t.get(key), format!("no {key} for model \"{model}\" ({count} constants)")));
-            }
-            continue;
-        }
-        constants[k] = match (given, lib_same) {
-            (Some(v), _) => v,
-            (None, Some(l)) => l.d[k],
-            (None, None) => {
-                return Err(t.invalid(
-                    key,
-                    None,
-                    format!("a number: model \"{model}\" needs D1..D{count} (the material gives none for it)"),
-                ));
-            }
-        };
-    }
-    let thermal = material.library.as_ref().and_then(|m| m.thermal);
-    let rate = t.number("reference_strain_rate", "a strain rate in 1/s > 0", positive)?;
-    let reference_strain_rate = rate.or(lib_same.map(|l| l.reference_strain_rate)).unwrap_or(1.0);
-    let t_ref = t.number("reference_temperature", "a temperature in K >= 0", non_negative)?;
-    let reference_temperature = t_ref
-        .or(lib_same.map(|l| l.reference_temperature))
-        .or(thermal.and_then(|th| th.reference_temperature))
-        .unwrap_or(physics.initial_temperature);
-    let melt_expected = format!("a temperature in K above the reference temperature {reference_temperature} K");
-    let melt = t.number("melt_temperature", &melt_expected, |x| x > reference_temperature)?;
-    let melt_temperature =
-        match melt.or(lib_same.map(|l| l.melt_temperature)).or(thermal.and_then(|th| th.melt_temperature)) {
-            Some(m) if m > reference_temperature => m,
-            _ if model == "rice_tracey" => reference_temperature + 1.0,
-            _ => return Err(t.invalid("melt_temperature", None, melt_expected)),
-        };
-    let gf = t.number("fracture_energy", "a fracture energy G_f in J/m^2 > 0", positive)?;
-    let k1c = t.number("fracture_toughness", "a fracture toughness K_1C in Pa m^0.5 > 0", positive)?;
-    let fracture_energy = match (gf, k1c) {
-        (Some(_), Some(_)) => {
-            return Err(t.invalid(
-                "fracture_toughness",
-                t.get("fracture_toughness"),
-                "either fracture_energy or fracture_toughness, not both",
-            ));
-        }
-        (Some(g), None) => g,
-        (None, Some(k)) => {
-            swarf_kernels::damage::fracture_energy_from_toughness(k, material.youngs_modulus, material.poisson_ratio)
-        }
-        (None, None) => lib.and_then(|l| l.fracture_energy).unwrap_or(0.0),
-    };
-    let mask = t.boolean("mask", "true or false")?.unwrap_or(false);
-    let delete = t.boolean("delete", "true or false")?.unwrap_or(false);
-    let crack_tables = t.tables("pre_crack", "[[damage.pre_crack]] tables with min and max")?;
-    let paths: Vec<String> = (0..crack_tables.len()).map(|i| format!("damage.pre_crack.{i}")).collect();
-    let mut pre_cracks = Vec::new();
-    for (i, &(node, entries)) in crack_tables.iter().enumerate() {
-        let c = Tab { doc: t.doc, path: &paths[i], node, entries };
-        c.check_keys(&["min", "max", "damage", "omega"], &[], "")?;
-        let e = point_text("a point", dim, "m");
-        let min = c.required("min", &e, c.vector("min", dim, &e)?)?;
-        let e_max = format!("{} >= min on every axis", point_text("a point", dim, "m"));
-        let max = c.required("max", &e_max, c.vector("max", dim, &e_max)?)?;
-        if (0..dim).any(|k| max[k] < min[k]) {
-            return Err(c.invalid("max", c.get("max"), e_max));
-        }
-        let full = swarf_kernels::damage::FULL_DAMAGE;
-        let d_expected = format!("a damage D in [0, {full}] (−ln 0.01: full damage)");
-        let damage = c.number("damage", &d_expected, |x| (0.0..=full).contains(&x))?.unwrap_or(full);
-        let omega = c.number("omega", "an initiation ω in [0, 1]", |x| (0.0..=1.0).contains(&x))?.unwrap_or(1.0);
-        if damage > 0.0 && omega < 1.0 {
-            return Err(c.invalid("omega", c.get("omega"), "1 where damage > 0 (evolution starts at initiation)"));
-        }
-        pre_cracks.push(PreCrack { min, max, damage, omega });
-    }
-    Ok(enabled.then_some(Damage {
-        model,
-        constants,
-        reference_strain_rate,
-        reference_temperature,
-        melt_temperature,
-        fracture_energy,
-        mask,
-        delete,
-        pre_cracks,
-    }))
 }
 
 /// `model` (optional, default `"swarf"`): `"swarf"`, `"mfree_iwf"` or a list of the original code's switches

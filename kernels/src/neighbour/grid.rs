@@ -60,6 +60,13 @@ pub fn dist2_f64<R: Real, V: Vector<R>>(a: &V, b: &V) -> f64 {
     d2
 }
 
+/// A z difference d reduced to its nearest periodic image, d − P ⌊d/P + ½⌋ (inv = 1/P), in the precision of d:
+/// the one formula of the pair tests, the Verlet list and the pair terms.
+#[inline(always)]
+pub fn nearest_image<R: Real>(d: R, p: R, inv: R) -> R {
+    d - p * (d * inv + R::from_f64(0.5)).floor()
+}
+
 /// A grid's z period in the run's precision, read once per particle before its pair loop, so that the loop can be
 /// unswitched on it (`on` false: the plain loop, instruction for instruction).
 #[derive(Clone, Copy)]
@@ -69,6 +76,21 @@ pub struct Period<R: Real> {
     p: R,
     inv: R,
 }
+
+/// `$body` compiled twice, with the const `$c` true where the period `$per` is on and false elsewhere: the pair
+/// loops unswitched on the period, so that a run without one runs its plain loop, instruction for instruction.
+macro_rules! unswitch_period {
+    ($per:expr, $c:ident => $body:expr) => {
+        if $per.on {
+            const $c: bool = true;
+            $body
+        } else {
+            const $c: bool = false;
+            $body
+        }
+    };
+}
+pub(crate) use unswitch_period;
 
 impl<R: Real> Period<R> {
     /// The period of `grid` for a run of dimension `D` (off in 2D, whatever the grid says).
@@ -81,8 +103,7 @@ impl<R: Real> Period<R> {
     /// a − b with z reduced to the nearest image, d_z − P ⌊d_z/P + ½⌋ (as [`GridParams::displacement`]).
     #[inline(always)]
     pub fn displacement<V: Vector<R>>(&self, a: &V, b: &V) -> V {
-        let dz = a.get(2) - b.get(2);
-        V::new([a.get(0) - b.get(0), a.get(1) - b.get(1), dz - self.p * (dz * self.inv + R::from_f64(0.5)).floor()])
+        V::new([a.get(0) - b.get(0), a.get(1) - b.get(1), nearest_image(a.get(2) - b.get(2), self.p, self.inv)])
     }
 }
 
@@ -99,8 +120,7 @@ impl GridParams {
             k += 1;
         }
         if V::DIM == 3 && self.period > 0.0 {
-            let (p, inv) = (R::from_f64(self.period), R::from_f64(self.inv_period));
-            d[2] = d[2] - p * (d[2] * inv + R::from_f64(0.5)).floor();
+            d[2] = nearest_image(d[2], R::from_f64(self.period), R::from_f64(self.inv_period));
         }
         V::new(d)
     }
@@ -123,7 +143,7 @@ impl GridParams {
         while k < 3 {
             let mut d = a.get(k).to_f64() - b.get(k).to_f64();
             if k == 2 {
-                d -= self.period * floor_f64(d * self.inv_period + 0.5);
+                d = nearest_image(d, self.period, self.inv_period);
             }
             d2 += d * d;
             k += 1;

@@ -17,7 +17,7 @@ use super::params::flags;
 use super::tensor::TensorOps;
 use crate::load::read;
 use crate::neighbour::Neighbours;
-use crate::neighbour::grid::Period;
+use crate::neighbour::grid::{Period, unswitch_period};
 use crate::real::Real;
 use crate::sph::kernel::CubicSpline;
 use crate::vector::{Dim, SymTensor, Vector};
@@ -124,15 +124,11 @@ pub unsafe fn correction_share<R: Real, D: TensorOps<R>>(
         }
         let xi = *a.pos.add(i as usize);
         let per = Period::<R>::of::<D>(nb.grid);
-        if per.on {
+        unswitch_period!(per, PER =>
             lane_share::<R, D::Vec<R>, _, _>(nb, &xi, i, lane, lanes, |j, s| {
-                add_pair::<R, D, true>(k, min_r2, &per, a, &xi, i, j, s)
+                add_pair::<R, D, PER>(k, min_r2, &per, a, &xi, i, j, s)
             })
-        } else {
-            lane_share::<R, D::Vec<R>, _, _>(nb, &xi, i, lane, lanes, |j, s| {
-                add_pair::<R, D, false>(k, min_r2, &per, a, &xi, i, j, s)
-            })
-        }
+        )
     }
 }
 
@@ -164,15 +160,11 @@ pub unsafe fn correction<R: Real, D: TensorOps<R>>(
         } else {
             let xi = *a.pos.add(i as usize);
             let per = Period::<R>::of::<D>(nb.grid);
-            if per.on {
+            unswitch_period!(per, PER =>
                 all_lanes::<R, D::Vec<R>, _, _>(nb, &xi, i, lanes, |j, s| {
-                    add_pair::<R, D, true>(k, min_r2, &per, a, &xi, i, j, s)
+                    add_pair::<R, D, PER>(k, min_r2, &per, a, &xi, i, j, s)
                 })
-            } else {
-                all_lanes::<R, D::Vec<R>, _, _>(nb, &xi, i, lanes, |j, s| {
-                    add_pair::<R, D, false>(k, min_r2, &per, a, &xi, i, j, s)
-                })
-            }
+            )
         };
         correction_finish(&s, min_det)
     }

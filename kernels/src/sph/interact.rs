@@ -23,7 +23,7 @@ use super::params::{SphParams, flags};
 use super::tensor::TensorOps;
 use crate::load::read;
 use crate::neighbour::Neighbours;
-use crate::neighbour::grid::Period;
+use crate::neighbour::grid::{Period, unswitch_period};
 use crate::real::Real;
 use crate::vector::{Dim, SymTensor, Vector};
 
@@ -622,15 +622,11 @@ pub unsafe fn pair_sums<
         let per = Period::<R>::of::<D>(nb.grid);
         // The loop unswitched on the period: a run without one runs the loop it ran before, instruction for
         // instruction.
-        if per.on {
+        unswitch_period!(per, PER =>
             lane_share::<R, D::Vec<R>, _, _>(nb, &o.x, i, lane, lanes, |j, s| {
-                add_pair::<R, D, AV, AS, XSPH, DMG, CS, true>(p, &per, a, &o, i, j, s)
+                add_pair::<R, D, AV, AS, XSPH, DMG, CS, PER>(p, &per, a, &o, i, j, s)
             })
-        } else {
-            lane_share::<R, D::Vec<R>, _, _>(nb, &o.x, i, lane, lanes, |j, s| {
-                add_pair::<R, D, AV, AS, XSPH, DMG, CS, false>(p, &per, a, &o, i, j, s)
-            })
-        }
+        )
     }
 }
 
@@ -689,15 +685,11 @@ pub unsafe fn pair_sums_heat<
             return HeatPairSums::default();
         }
         let per = Period::<R>::of::<D>(nb.grid);
-        if per.on {
+        unswitch_period!(per, PER =>
             lane_share::<R, D::Vec<R>, _, _>(nb, &o.x, i, lane, lanes, |j, s: &mut HeatPairSums<R, D>| {
-                heat_and_pair::<R, D, AV, AS, XSPH, DMG, CS, true>(p, hp, &per, a, h, &o, ho.as_ref(), i, j, s)
+                heat_and_pair::<R, D, AV, AS, XSPH, DMG, CS, PER>(p, hp, &per, a, h, &o, ho.as_ref(), i, j, s)
             })
-        } else {
-            lane_share::<R, D::Vec<R>, _, _>(nb, &o.x, i, lane, lanes, |j, s: &mut HeatPairSums<R, D>| {
-                heat_and_pair::<R, D, AV, AS, XSPH, DMG, CS, false>(p, hp, &per, a, h, &o, ho.as_ref(), i, j, s)
-            })
-        }
+        )
     }
 }
 
@@ -775,15 +767,11 @@ pub unsafe fn rates_heat<
             HeatPairSums::default()
         } else {
             let per = Period::<R>::of::<D>(nb.grid);
-            if per.on {
+            unswitch_period!(per, PER =>
                 all_lanes::<R, D::Vec<R>, _, _>(nb, &o.x, i, lanes, |j, s: &mut HeatPairSums<R, D>| {
-                    heat_and_pair::<R, D, AV, AS, XSPH, DMG, CS, true>(p, hp, &per, a, h, &o, ho.as_ref(), i, j, s)
+                    heat_and_pair::<R, D, AV, AS, XSPH, DMG, CS, PER>(p, hp, &per, a, h, &o, ho.as_ref(), i, j, s)
                 })
-            } else {
-                all_lanes::<R, D::Vec<R>, _, _>(nb, &o.x, i, lanes, |j, s: &mut HeatPairSums<R, D>| {
-                    heat_and_pair::<R, D, AV, AS, XSPH, DMG, CS, false>(p, hp, &per, a, h, &o, ho.as_ref(), i, j, s)
-                })
-            }
+            )
         };
         (finish_rates::<R, D, XSPH, DMG>(p, a, i, &sums.mech), heat_finish(hp, h, i, sums.heat))
     }
@@ -872,15 +860,11 @@ pub unsafe fn rates<
         let o = own::<R, D, AV, AS, CS>(a, i);
         let sums = if o.mech {
             let per = Period::<R>::of::<D>(nb.grid);
-            if per.on {
+            unswitch_period!(per, PER =>
                 all_lanes::<R, D::Vec<R>, _, _>(nb, &o.x, i, lanes, |j, s| {
-                    add_pair::<R, D, AV, AS, XSPH, DMG, CS, true>(p, &per, a, &o, i, j, s)
+                    add_pair::<R, D, AV, AS, XSPH, DMG, CS, PER>(p, &per, a, &o, i, j, s)
                 })
-            } else {
-                all_lanes::<R, D::Vec<R>, _, _>(nb, &o.x, i, lanes, |j, s| {
-                    add_pair::<R, D, AV, AS, XSPH, DMG, CS, false>(p, &per, a, &o, i, j, s)
-                })
-            }
+            )
         } else {
             PairSums::default()
         };
