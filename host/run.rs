@@ -155,8 +155,9 @@ pub fn resume_scene(dir: &Path) -> Result<(Scene, Vec<String>)> {
     Ok((r.scene, r.overrides))
 }
 
-/// Writes the scene's text (`scene.toml`) and the library materials it names (`materials/<name>.toml`, the
-/// files' text) into the run folder, so that the folder holds every value it ran and resumes from anywhere.
+/// Writes the scene's text (`scene.toml`), the library materials it names (`materials/<name>.toml`, the files'
+/// text) and its tools' mesh files (`meshes/`) into the run folder, so that the folder holds every value it ran and
+/// resumes from anywhere.
 fn record_inputs(scene: &Scene, dir: &Path) -> Result<()> {
     let text = match std::fs::read(&scene.origin) {
         Ok(t) => Some(t),
@@ -166,6 +167,7 @@ fn record_inputs(scene: &Scene, dir: &Path) -> Result<()> {
         let copy = dir.join("scene.toml");
         crate::output::write_atomic(&copy, &text).map_err(|e| io_err(&copy, e))?;
     }
+    record_meshes(scene, dir)?;
     let materials = scene.library_materials();
     if materials.is_empty() {
         return Ok(());
@@ -175,6 +177,25 @@ fn record_inputs(scene: &Scene, dir: &Path) -> Result<()> {
     for m in materials {
         let path = folder.join(format!("{}.toml", m.name));
         crate::output::write_atomic(&path, m.text.as_bytes()).map_err(|e| io_err(&path, e))?;
+    }
+    Ok(())
+}
+
+/// Copies every mesh file the scene's tools read into `meshes/` of the run folder
+/// ([`crate::scene::recorded_mesh_name`]), where a resumed run finds them ([`crate::scene::mesh_file_path`]).
+fn record_meshes(scene: &Scene, dir: &Path) -> Result<()> {
+    let meshes: Vec<&str> =
+        scene.tool.iter().chain(&scene.more_tools).filter_map(|t| t.mesh.as_ref()).map(|m| m.file.as_str()).collect();
+    if meshes.is_empty() {
+        return Ok(());
+    }
+    let folder = dir.join(crate::scene::RECORDED_MESHES);
+    std::fs::create_dir_all(&folder).map_err(|e| io_err(&folder, e))?;
+    for file in meshes {
+        let src = crate::scene::mesh_file_path(&scene.origin, file);
+        let bytes = std::fs::read(&src).map_err(|e| io_err(&src, e))?;
+        let copy = folder.join(crate::scene::recorded_mesh_name(file));
+        crate::output::write_atomic(&copy, &bytes).map_err(|e| io_err(&copy, e))?;
     }
     Ok(())
 }

@@ -51,6 +51,37 @@ pub use model::{Model, ModelSwitches, Switch};
 
 /// The default of `time.max_steps`: the most steps a run takes unless its scene allows more.
 pub const DEFAULT_MAX_STEPS: f64 = 1e9;
+
+/// The folder of a run folder that holds copies of its scene's mesh files (`run::record_inputs`), so that the run
+/// folder resumes from anywhere, as its `materials/` does for the library materials.
+pub const RECORDED_MESHES: &str = "meshes";
+
+/// The name under [`RECORDED_MESHES`] of the mesh file a scene names `file`: the name spelled flat (each path
+/// separator `__`, each `..` `up`, a drive's `:` `_`), so that every relative or absolute name has one file there.
+pub fn recorded_mesh_name(file: &str) -> String {
+    file.replace("..", "up").replace(['/', '\\'], "__").replace(':', "_")
+}
+
+/// Where a scene file `scene_file` finds the mesh file it names `file`: relative to the scene file's folder (as
+/// given, when the scene has no file or the name is absolute); where that file does not exist, the copy a run
+/// folder recorded beside its `scene.toml` ([`RECORDED_MESHES`]), when there is one.
+pub fn mesh_file_path(scene_file: &str, file: &str) -> std::path::PathBuf {
+    let (scene, name) = (std::path::Path::new(scene_file), std::path::Path::new(file));
+    let given = match scene.parent() {
+        Some(dir) if name.is_relative() && scene.is_file() => dir.join(name),
+        _ => name.to_path_buf(),
+    };
+    if given.is_file() {
+        return given;
+    }
+    match scene.parent() {
+        Some(dir) if scene.is_file() => {
+            let recorded = dir.join(RECORDED_MESHES).join(recorded_mesh_name(file));
+            if recorded.is_file() { recorded } else { given }
+        }
+        _ => given,
+    }
+}
 pub use generate::{Bc, ParticleSet};
 
 /// A validated scene. Vectors and points are stored with three components; in 2D the third is 0.

@@ -231,14 +231,9 @@ fn tool_mesh(t: &Tab<'_>, doc: &Doc, dim: usize, support: f64) -> Result<Option<
     }))
 }
 
-/// A mesh file named in a scene: relative to the scene file's folder (as given, when the scene has no file or
-/// the name is absolute).
+/// A mesh file named in a scene ([`super::super::mesh_file_path`]).
 fn mesh_path(doc: &Doc, file: &str) -> std::path::PathBuf {
-    let name = std::path::Path::new(file);
-    match std::path::Path::new(&doc.file).parent() {
-        Some(dir) if name.is_relative() && std::path::Path::new(&doc.file).is_file() => dir.join(name),
-        _ => name.to_path_buf(),
-    }
+    super::super::mesh_file_path(&doc.file, file)
 }
 
 /// The tool's outline as the file gives it (angles in degrees).
