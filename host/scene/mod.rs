@@ -67,20 +67,15 @@ pub fn recorded_mesh_name(file: &str) -> String {
 /// folder recorded beside its `scene.toml` ([`RECORDED_MESHES`]), when there is one.
 pub fn mesh_file_path(scene_file: &str, file: &str) -> std::path::PathBuf {
     let (scene, name) = (std::path::Path::new(scene_file), std::path::Path::new(file));
-    let given = match scene.parent() {
-        Some(dir) if name.is_relative() && scene.is_file() => dir.join(name),
+    let dir = scene.parent().filter(|_| scene.is_file());
+    let given = match dir {
+        Some(d) if name.is_relative() => d.join(name),
         _ => name.to_path_buf(),
     };
     if given.is_file() {
         return given;
     }
-    match scene.parent() {
-        Some(dir) if scene.is_file() => {
-            let recorded = dir.join(RECORDED_MESHES).join(recorded_mesh_name(file));
-            if recorded.is_file() { recorded } else { given }
-        }
-        _ => given,
-    }
+    dir.map(|d| d.join(RECORDED_MESHES).join(recorded_mesh_name(file))).filter(|r| r.is_file()).unwrap_or(given)
 }
 pub use generate::{Bc, ParticleSet};
 

@@ -160,13 +160,7 @@ fn pre_cracks(t: &Tab<'_>, dim: usize) -> Result<Vec<PreCrack>> {
     for (i, &(node, entries)) in crack_tables.iter().enumerate() {
         let c = Tab { doc: t.doc, path: &paths[i], node, entries };
         c.check_keys(&["min", "max", "damage", "omega"], &[], "")?;
-        let e = point_text("a point", dim, "m");
-        let min = c.required("min", &e, c.vector("min", dim, &e)?)?;
-        let e_max = format!("{} >= min on every axis", point_text("a point", dim, "m"));
-        let max = c.required("max", &e_max, c.vector("max", dim, &e_max)?)?;
-        if (0..dim).any(|k| max[k] < min[k]) {
-            return Err(c.invalid("max", c.get("max"), e_max));
-        }
+        let (min, max) = c.min_max(dim)?;
         let full = swarf_kernels::damage::FULL_DAMAGE;
         let d_expected = format!("a damage D in [0, {full}] (−ln 0.01: full damage)");
         let damage = c.number("damage", &d_expected, |x| (0.0..=full).contains(&x))?.unwrap_or(full);

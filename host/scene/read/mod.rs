@@ -135,6 +135,18 @@ impl<'a> Tab<'a> {
 
     /// An array of exactly `n` finite numbers (for a key with units, each also a string with a unit), padded
     /// with zeros to three.
+    /// The required keys `min` and `max` of a box (points in m, `max` ≥ `min` on every axis).
+    fn min_max(&self, dim: usize) -> Result<([f64; 3], [f64; 3])> {
+        let e = point_text("a point", dim, "m");
+        let min = self.required("min", &e, self.vector("min", dim, &e)?)?;
+        let e_max = format!("{e} >= min on every axis");
+        let max = self.required("max", &e_max, self.vector("max", dim, &e_max)?)?;
+        if (0..dim).any(|k| max[k] < min[k]) {
+            return Err(self.invalid("max", self.get("max"), e_max));
+        }
+        Ok((min, max))
+    }
+
     fn vector(&self, k: &str, n: usize, expected: &str) -> Result<Option<[f64; 3]>> {
         let Some(node) = self.get(k) else { return Ok(None) };
         let quantity = super::units::quantity(&self.key(k));
@@ -875,13 +887,7 @@ fn boundary(t: &Tab<'_>, dim: usize, bodies: &[Body]) -> Result<Boundary> {
     {
         return Err(t.invalid("temperature", Some(v), "no temperature unless kind = \"temperature\""));
     }
-    let e = point_text("a point", dim, "m");
-    let min = t.required("min", &e, t.vector("min", dim, &e)?)?;
-    let e_max = format!("{} >= min on every axis", point_text("a point", dim, "m"));
-    let max = t.required("max", &e_max, t.vector("max", dim, &e_max)?)?;
-    if (0..dim).any(|k| max[k] < min[k]) {
-        return Err(t.invalid("max", t.get("max"), e_max));
-    }
+    let (min, max) = t.min_max(dim)?;
     let kind = if kind == "fixed" || kind == "plane_strain" {
         if let Some(v) = t.get("velocity") {
             return Err(t.invalid(

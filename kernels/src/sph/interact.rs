@@ -620,8 +620,6 @@ pub unsafe fn pair_sums<
             return PairSums::default();
         }
         let per = Period::<R>::of::<D>(nb.grid);
-        // The loop unswitched on the period: a run without one runs the loop it ran before, instruction for
-        // instruction.
         unswitch_period!(per, PER =>
             lane_share::<R, D::Vec<R>, _, _>(nb, &o.x, i, lane, lanes, |j, s| {
                 add_pair::<R, D, AV, AS, XSPH, DMG, CS, PER>(p, &per, a, &o, i, j, s)
