@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine tool3d tools24 cspm24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
+# ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine tool3d tools24 cspm24 nonfinite24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -507,6 +507,19 @@ PY
                 --out /tmp/contactlong --quiet
             cat /tmp/contactlong/sweep.md
             tar czf "$out/contactlong.tgz" --exclude='*.vtu' --exclude='*.png' -C /tmp contactlong ;;
+        nonfinite24) # issue 24 (docs/3d.md): the JC micro-milling run folder carried in gpu-pack/jcrun[.tgz] (CPU checkpoint at
+                     # step 253 862) resumed with this build and with each packed earlier one (swarf-<name>), each
+                     # within SWARF_NONFINITE_LIMIT s (default 240): the CPU reaches non-finite at step 255 356;
+                     # the wall time to its report, or the limit
+              [ -e "$here/jcrun.tgz" ] && [ ! -d "$here/jcrun" ] && tar xzf "$here/jcrun.tgz" -C "$here"
+              for b in "$here"/swarf "$here"/swarf-*; do
+                  [ -x "$b" ] && [ -d "$here/jcrun" ] || continue
+                  n=$(basename "$b"); d=/tmp/nonfinite24/$n
+                  rm -rf "$d"; mkdir -p /tmp/nonfinite24; cp -r "$here/jcrun" "$d"
+                  run "nonfinite24-$n" timeout -s INT -k 20 "${SWARF_NONFINITE_LIMIT:-240}" \
+                      "$b" --backend gpu run --resume "$d" --accept-changes --quiet
+                  tail -n 4 "$d/run.log" >> "$out/nonfinite24-$n.log"
+              done ;;
         tests) run test-gpu "$here/test-gpu" --test-threads=1 --nocapture
                run test-ptx "$here/test-ptx" ;;
         regs) # issue 7: the register cap of the neighbour kernels (SWARF_MAXNREG) against the compiler's choice

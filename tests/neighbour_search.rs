@@ -201,9 +201,39 @@ fn non_finite_positions_are_excluded() {
     let nc = grid.n_cells as usize;
     assert_eq!((s.starts[nc + 1] - s.starts[nc]) as usize, bad.len(), "void bucket size");
     let tail: Vec<u32> = s.sorted.id[n - bad.len()..].to_vec();
+    // In input order on the CPU (its count is sequential); the GPU leaves the void bucket in arrival order.
     assert_eq!(tail, bad.map(|i| i as u32).to_vec(), "non-finite particles sort to the end, in input order");
     for &i in &bad {
         assert_eq!(s.keys[i], grid.n_cells);
+    }
+}
+
+/// The per-cell sort the GPU runs after its atomic scatter (`kernels::neighbour::sort::sort_cell`: insertion sort
+/// up to `INSERTION_MAX`, heap sort above) orders any slice ascending, as `slice::sort` does: shuffled, reversed
+/// and already sorted slices of every size around the switch and up to a 27 000-particle cell, with repeated
+/// values, inside a larger array whose other elements it must not touch.
+#[test]
+fn per_cell_sort_orders_any_slice() {
+    use swarf::kernels::neighbour::sort::{INSERTION_MAX, sort_cell};
+    let mut rng = swarf::rng::SplitMix64::new(41);
+    let m = INSERTION_MAX as usize;
+    let sizes = (0..=2 * m + 3).chain([100, 1000, 4097, 27_000]);
+    for k in sizes {
+        let shuffled: Vec<u32> = (0..k).map(|_| (rng.next_u64() % (k as u64 + 1) * 3) as u32).collect();
+        let reversed: Vec<u32> = (0..k as u32).rev().collect();
+        let sorted: Vec<u32> = (0..k as u32).collect();
+        for (what, cell) in [("shuffled", shuffled), ("reversed", reversed), ("sorted", sorted)] {
+            let mut v = vec![u32::MAX; 5];
+            v.extend(&cell);
+            v.extend([7, 7, 7]);
+            let a = 5u32;
+            // SAFETY: v[a .. a + k] is in bounds.
+            unsafe { sort_cell(v.as_mut_ptr(), a, a + k as u32) };
+            let mut expect = cell.clone();
+            expect.sort();
+            assert_eq!(&v[5..5 + k], &expect[..], "{what} cell of {k}");
+            assert_eq!((&v[..5], &v[5 + k..]), (&[u32::MAX; 5][..], &[7, 7, 7][..]), "{what} cell of {k}: outside");
+        }
     }
 }
 

@@ -228,6 +228,7 @@ impl Backend for CpuBackend {
         {
             return Ok(());
         }
+        let sorted = c.sorted_buckets();
         if let Some(r) = c.rebuilds {
             check("bin_cells rebuilds", 1, r.len())?;
             r[0] += 1;
@@ -239,7 +240,7 @@ impl Backend for CpuBackend {
         count_cells(n, c.keys, c.starts, c.slots)?;
         self.exclusive_scan(c.n_buckets + 1, c.starts, c.scan)?;
         scatter(n, c.keys, c.slots, c.starts, c.perm)?;
-        sort_cells(c.n_buckets, c.starts, c.perm)
+        sort_cells(sorted, c.starts, c.perm)
     }
 
     fn exclusive_scan(&self, n: usize, data: &mut Vec<u32>, _levels: &mut [Vec<u32>]) -> Result<()> {
@@ -284,7 +285,8 @@ fn scatter(n: usize, keys: &[u32], slots: &[u32], starts: &[u32], perm: &mut [u3
 }
 
 /// Sorts each bucket's slice perm[starts[c] .. starts[c+1]] ascending, c < n_buckets (the GPU's twin; a no-op
-/// after the sequential count, kept so that both build the same way).
+/// after the sequential count, kept so that both build the same way; `CellBuffers::sorted_buckets` leaves out
+/// the void bucket, which the GPU's atomic scatter leaves in arrival order).
 fn sort_cells(n_buckets: usize, starts: &[u32], perm: &mut [u32]) -> Result<()> {
     check("sort_cells starts", n_buckets + 1, starts.len())?;
     let total = starts[n_buckets] as usize;

@@ -851,7 +851,7 @@ impl Backend for CudaBackend {
             Some(s) => self.gate(s)?,
             None => 0,
         };
-        let buckets = c.n_buckets + 1;
+        let (buckets, sorted) = (c.n_buckets + 1, c.sorted_buckets());
         let zero = ZeroArgs {
             gate: g as *const u32,
             n: buckets as u32,
@@ -871,6 +871,6 @@ impl Backend for CudaBackend {
         self.launch_pass_strided(&self.k.0[hash_count::<R, D>()], n, &args)?;
         self.scan_gated(g, buckets, c.starts, c.scan)?;
         self.scatter_gated(g, n, c.keys, c.slots, c.starts, c.perm)?;
-        self.sort_gated(g, c.n_buckets, c.starts, c.perm)
+        self.sort_gated(g, sorted, c.starts, c.perm)
     }
 }

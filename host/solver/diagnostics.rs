@@ -43,11 +43,20 @@ pub struct Diagnostics {
     pub damaged_volume: f64,
     /// Volume of the particles where damage has initiated (ω ≥ 1) (NaN without damage).
     pub initiated_volume: f64,
-    /// First non-finite value: (particle id, field).
+    /// A non-finite value: (particle id, field), of the smallest id that has one ([`Diagnostics::note_non_finite`]).
     pub non_finite: Option<(u32, &'static str)>,
 }
 
 impl Diagnostics {
+    /// Notes a non-finite `field` of particle `id`, keeping the smallest id (the first field noted for it): the
+    /// report does not depend on the particles' order, which the void bucket of non-finite positions leaves
+    /// arbitrary on a GPU (`backend::CellBuffers::sorted_buckets`).
+    pub fn note_non_finite(&mut self, id: u32, field: &'static str) {
+        if self.non_finite.is_none_or(|(first, _)| id < first) {
+            self.non_finite = Some((id, field));
+        }
+    }
+
     pub fn total(&self) -> f64 {
         self.kinetic + self.elastic
     }
@@ -88,9 +97,7 @@ pub fn compute<R: Real, D: TensorOps<R>>(
             ("stress", bytemuck::cast_slice::<_, R>(std::slice::from_ref(&p.stress[i])).iter().all(|s| s.is_finite())),
         ];
         if let Some((field, _)) = vals.iter().find(|(_, ok)| !ok) {
-            if d.non_finite.is_none() {
-                d.non_finite = Some((p.id[i], field));
-            }
+            d.note_non_finite(p.id[i], field);
             continue;
         }
         // The tool's thermal-only particles carry no mechanics (roethlin-solver.md §5.6).
@@ -115,24 +122,27 @@ pub fn compute<R: Real, D: TensorOps<R>>(
     d
 }
 
-/// Adds the maxima of temperature and plastic strain (where modelled) and reports the first non-finite one.
+/// Adds the maxima of temperature and plastic strain (where modelled) and reports a non-finite one.
 pub fn internal(d: &mut Diagnostics, id: &[u32], temp: Option<&[f64]>, eps: Option<&[f64]>) {
-    for (field, values, max) in
-        [("temperature", temp, &mut d.temperature_max), ("plastic strain", eps, &mut d.plastic_strain_max)]
-    {
-        if let Some(v) = values {
-            *max = f64::NEG_INFINITY;
-            for (i, x) in v.iter().enumerate() {
-                if !x.is_finite() {
-                    if d.non_finite.is_none() {
-                        d.non_finite = Some((id[i], field));
-                    }
-                } else if *x > *max {
-                    *max = *x;
-                }
-            }
+    if let Some(v) = temp {
+        d.temperature_max = finite_max(d, id, "temperature", v);
+    }
+    if let Some(v) = eps {
+        d.plastic_strain_max = finite_max(d, id, "plastic strain", v);
+    }
+}
+
+/// The largest finite value of a per-particle `field` (−∞ when none), noting its non-finite ones.
+fn finite_max(d: &mut Diagnostics, id: &[u32], field: &'static str, v: &[f64]) -> f64 {
+    let mut max = f64::NEG_INFINITY;
+    for (i, x) in v.iter().enumerate() {
+        if !x.is_finite() {
+            d.note_non_finite(id[i], field);
+        } else if *x > max {
+            max = *x;
         }
     }
+    max
 }
 
 /// Adds the dissipated energies Σ m_i w_i of the per-particle specific plastic work and viscous dissipation
@@ -161,9 +171,7 @@ pub fn damaged<R: Real, D: TensorOps<R>>(
     let (mut full, mut initiated) = (0.0, 0.0);
     for i in 0..p.len() {
         if !(omega[i].is_finite() && damage[i].is_finite()) {
-            if d.non_finite.is_none() {
-                d.non_finite = Some((p.id[i], "damage"));
-            }
+            d.note_non_finite(p.id[i], "damage");
             continue;
         }
         if p.flags[i] & crate::kernels::sph::params::flags::THERMAL_ONLY != 0 {
