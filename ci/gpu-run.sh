@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine tool3d tools24 cspm24 nonfinite24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
+# ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine tool3d tools24 cspm24 nonfinite24 mill24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -519,6 +519,28 @@ PY
                   run "nonfinite24-$n" timeout -s INT -k 20 "${SWARF_NONFINITE_LIMIT:-240}" \
                       "$b" --backend gpu run --resume "$d" --accept-changes --quiet
                   tail -n 4 "$d/run.log" >> "$out/nonfinite24-$n.log"
+              done ;;
+        mill24) # issue 24 (docs/3d.md): the micro-milling scene (cases/3d/micro-milling.toml) with JC and with SCGL, one
+                # after the other, at CFL SWARF_MILL_CFL (default: the scene's), each resumed from a carried folder
+                # gpu-pack/mill-<model>.tgz where there is one; interrupted (checkpoint written) at SWARF_MILL_DEADLINE
+                # s after this part began (default 540). Returns each run's forces, log tail and summary, and an
+                # unfinished run's folder without frames as mill-<model>.tgz (carry it to go on)
+              t0=$(date +%s)
+              for m in JC SCGL; do
+                  d=/tmp/mill24/$m; mkdir -p /tmp/mill24
+                  [ -e "$here/mill-$m.tgz" ] && [ ! -d "$d" ] && tar xzf "$here/mill-$m.tgz" -C /tmp/mill24
+                  left=$(( ${SWARF_MILL_DEADLINE:-540} - ($(date +%s) - t0) ))
+                  [ $left -gt 10 ] || break
+                  if [ -f "$d/checkpoint.bin" ]; then args=(run --resume "$d" --quiet)
+                  else args=(run cases/3d/micro-milling.toml --quiet --out "$d" --set "material.name=\"OFHC-Cu-$m\""
+                             ${SWARF_MILL_CFL:+--set time.cfl=$SWARF_MILL_CFL})
+                  fi
+                  run "mill24-$m" timeout -s INT -k 30 $left "$here/swarf" --backend gpu "${args[@]}"
+                  cp "$d/forces.csv" "$out/mill24-$m-forces.csv"
+                  { tail -n 6 "$d/run.log"; cat "$d/summary.json" 2>/dev/null; } >> "$out/mill24-$m.log"
+                  if [ ! -f "$d/summary.json" ] && grep -q "interrupted" "$d/run.log"; then
+                      tar czf "$out/mill-$m.tgz" -C /tmp/mill24 --exclude='*.vtu' --exclude='*.vtp' "$m"
+                  fi
               done ;;
         tests) run test-gpu "$here/test-gpu" --test-threads=1 --nocapture
                run test-ptx "$here/test-ptx" ;;

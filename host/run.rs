@@ -656,8 +656,9 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
         b.synchronize()?;
         let body: Vec<u32> = j.host.flags.iter().map(|f| f >> flags::BODY_SHIFT).collect();
         let wall = self.t0.elapsed().as_secs_f64();
-        // A resting tool (a rigid wall, a target dropped onto) cuts nothing: forces.csv only, no cutting analysis.
-        let moving = scene.tool.as_ref().is_some_and(|t| t.velocity.iter().any(|v| *v != 0.0));
+        // A resting tool (a rigid wall, a target dropped onto) cuts nothing, and a rotating one (a milling cutter, a
+        // wheel) makes no steady orthogonal cut: forces.csv only, no cutting analysis.
+        let moving = scene.tool.as_ref().is_some_and(|t| t.velocity.iter().any(|v| *v != 0.0) && t.rotation.is_none());
         let cutting = self.cut.as_ref().filter(|_| moving).map(|c| c.analysis());
         if let (Some(a), false) = (&cutting, opts.quiet) {
             eprintln!("{}", cutting_line(a));

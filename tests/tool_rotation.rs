@@ -112,3 +112,31 @@ fn a_rotating_thermal_tool_is_refused() {
     };
     assert_has(&msg, &[file, "tool.rotation", "no rotation with [tool.thermal]"]);
 }
+
+/// A rotating tool makes no steady orthogonal cut: its run writes forces.csv and no cutting analysis
+/// (summary.json's `cutting` is null), where the same tool translating without the rotation gets one.
+#[test]
+fn a_rotating_tool_gets_no_cutting_analysis() {
+    use swarf::backend::{AnyBackend, BackendChoice};
+    let moving = drop_scene(20.0, 0.1, 0.35, 0.0)
+        .replacen("velocity = [0.0, 0.0]\ncontact", "velocity = [1.0, 0.0]\ncontact", 1)
+        .replacen("end = 1.2e-6", "end = 6.0e-7", 1);
+    let spinning = moving.replacen(
+        "contact_stiffness =",
+        "rotation = { axis = [0.0, 0.0, 1.0], centre = [-1.0e-4, 5.0e-5, 0.0], rpm = 1000.0 }\ncontact_stiffness =",
+        1,
+    );
+    assert_ne!(moving, spinning, "the rotation was not added");
+    let b = AnyBackend::select(BackendChoice::Cpu).expect("cpu").0;
+    for (tag, text, analysed) in [("translating", &moving, true), ("rotating", &spinning, false)] {
+        let scene = Scene::from_str(text, FILE, &[]).expect("scene");
+        let dir = std::env::temp_dir().join(format!("swarf-test-rotation-{tag}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        swarf::run::run(&b, &scene, &swarf::run::RunOptions::quiet(dir.clone())).expect("run");
+        let text = std::fs::read_to_string(dir.join("summary.json")).expect("summary.json");
+        let summary: serde_json::Value = serde_json::from_str(&text).expect("json");
+        assert_eq!(summary["cutting"].is_object(), analysed, "{tag}: cutting = {}", summary["cutting"]);
+        assert!(dir.join("forces.csv").is_file(), "{tag}: no forces.csv");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
