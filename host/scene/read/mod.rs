@@ -255,22 +255,8 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
     let model = model(&root, dim)?;
     let switches = model.switches();
 
-    // [discretisation]
-    let disc_expected = "a table [discretisation] with dx (and h_over_dx, skin_over_h, verlet_list)";
-    let disc =
-        root.required("discretisation", disc_expected, root.table("discretisation", "discretisation", disc_expected)?)?;
-    disc.check_keys(&["dx", "h_over_dx", "skin_over_h", "verlet_list", "period_z"], &[], "")?;
-    let dx_expected = "a positive lattice spacing in m";
-    let dx = disc.required("dx", dx_expected, disc.number("dx", dx_expected, positive)?)?;
-    let h_over_dx = disc.number("h_over_dx", "a ratio h/dx in [1, 3]", |x| (1.0..=3.0).contains(&x))?.unwrap_or(1.7);
-    let skin_over_h = disc
-        .number("skin_over_h", "a cell-list skin in units of h, in [0, 1]", |x| (0.0..=1.0).contains(&x))?
-        .unwrap_or(0.1);
-    let verlet_list = disc.boolean("verlet_list", "true or false")?.unwrap_or(true);
-    let period_z = disc.number("period_z", "a positive period in m (3D only)", positive)?;
-    if period_z.is_some() && dim != 3 {
-        return Err(disc.invalid("period_z", disc.get("period_z"), "no period_z in 2D (a 3D scene's z period)"));
-    }
+    let (disc, discretisation) = discretisation(&root, dim)?;
+    let (dx, h_over_dx) = (discretisation.dx, discretisation.h_over_dx);
 
     // [material]
     let material = material(&root, doc)?;
@@ -287,30 +273,8 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
     // [stabilisation]
     let stabilisation = stabilisation(&root)?;
 
-    // [time]
-    let time_expected = "a table [time] with end (and cfl, dt)";
-    let t = root.required("time", time_expected, root.table("time", "time", time_expected)?)?;
-    t.check_keys(&["end", "cfl", "dt", "max_steps"], &[], "")?;
-    let e = "a positive time in seconds";
-    let end = t.required("end", e, t.number("end", e, positive)?)?;
-    let cfl = t.number("cfl", "a CFL number in (0, 1]", |x| x > 0.0 && x <= 1.0)?.unwrap_or(0.5);
-    let dt = t.number("dt", "a positive time step in seconds", positive)?;
-    let max_steps = t.number("max_steps", "a step count >= 1", |x| x >= 1.0)?.unwrap_or(super::DEFAULT_MAX_STEPS);
-    let time = Time { end, cfl, dt, max_steps };
-
-    // [output]
-    let mut output = Output { every: end / 50.0, vtu_encoding: Default::default() };
-    if let Some(o) = root.table("output", "output", "a table [output] with every, vtu_encoding")? {
-        o.check_keys(&["every", "vtu_encoding"], &[], "")?;
-        if let Some(every) = o.number("every", "a positive time in seconds", positive)? {
-            output.every = every;
-        }
-        use crate::output::vtu::Encoding;
-        let e = "\"raw\" or \"base64-zlib\"";
-        if let Some(name) = o.string("vtu_encoding", e, |s| Encoding::from_name(s).is_some())? {
-            output.vtu_encoding = Encoding::from_name(name).unwrap_or_default();
-        }
-    }
+    let time = time(&root)?;
+    let output = output(&root, time.end)?;
 
     // [tool] or [[tool]]
     let mut tools = tool::tools(&root, |t| tool(t, doc, dim, dx, 2.0 * h_over_dx * dx, &physics, &bodies, switches))?;
@@ -343,7 +307,7 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
         name: name.to_string(),
         dim,
         precision,
-        discretisation: Discretisation { dx, h_over_dx, skin_over_h, verlet_list, period_z },
+        discretisation,
         material,
         bodies,
         boundaries,
@@ -358,6 +322,56 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
         model,
         damage,
     })
+}
+
+/// `[discretisation]` (required): its table (the bodies read their spacing from it) and its values.
+fn discretisation<'a>(root: &Tab<'a>, dim: usize) -> Result<(Tab<'a>, Discretisation)> {
+    let disc_expected = "a table [discretisation] with dx (and h_over_dx, skin_over_h, verlet_list)";
+    let disc =
+        root.required("discretisation", disc_expected, root.table("discretisation", "discretisation", disc_expected)?)?;
+    disc.check_keys(&["dx", "h_over_dx", "skin_over_h", "verlet_list", "period_z"], &[], "")?;
+    let dx_expected = "a positive lattice spacing in m";
+    let dx = disc.required("dx", dx_expected, disc.number("dx", dx_expected, positive)?)?;
+    let h_over_dx = disc.number("h_over_dx", "a ratio h/dx in [1, 3]", |x| (1.0..=3.0).contains(&x))?.unwrap_or(1.7);
+    let skin_over_h = disc
+        .number("skin_over_h", "a cell-list skin in units of h, in [0, 1]", |x| (0.0..=1.0).contains(&x))?
+        .unwrap_or(0.1);
+    let verlet_list = disc.boolean("verlet_list", "true or false")?.unwrap_or(true);
+    let period_z = disc.number("period_z", "a positive period in m (3D only)", positive)?;
+    if period_z.is_some() && dim != 3 {
+        return Err(disc.invalid("period_z", disc.get("period_z"), "no period_z in 2D (a 3D scene's z period)"));
+    }
+    Ok((disc, Discretisation { dx, h_over_dx, skin_over_h, verlet_list, period_z }))
+}
+
+/// `[time]` (required): end, and the optional cfl, dt and max_steps.
+fn time(root: &Tab<'_>) -> Result<Time> {
+    let time_expected = "a table [time] with end (and cfl, dt)";
+    let t = root.required("time", time_expected, root.table("time", "time", time_expected)?)?;
+    t.check_keys(&["end", "cfl", "dt", "max_steps"], &[], "")?;
+    let e = "a positive time in seconds";
+    let end = t.required("end", e, t.number("end", e, positive)?)?;
+    let cfl = t.number("cfl", "a CFL number in (0, 1]", |x| x > 0.0 && x <= 1.0)?.unwrap_or(0.5);
+    let dt = t.number("dt", "a positive time step in seconds", positive)?;
+    let max_steps = t.number("max_steps", "a step count >= 1", |x| x >= 1.0)?.unwrap_or(super::DEFAULT_MAX_STEPS);
+    Ok(Time { end, cfl, dt, max_steps })
+}
+
+/// `[output]` (optional): every (default end/50) and vtu_encoding.
+fn output(root: &Tab<'_>, end: f64) -> Result<Output> {
+    let mut output = Output { every: end / 50.0, vtu_encoding: Default::default() };
+    if let Some(o) = root.table("output", "output", "a table [output] with every, vtu_encoding")? {
+        o.check_keys(&["every", "vtu_encoding"], &[], "")?;
+        if let Some(every) = o.number("every", "a positive time in seconds", positive)? {
+            output.every = every;
+        }
+        use crate::output::vtu::Encoding;
+        let e = "\"raw\" or \"base64-zlib\"";
+        if let Some(name) = o.string("vtu_encoding", e, |s| Encoding::from_name(s).is_some())? {
+            output.vtu_encoding = Encoding::from_name(name).unwrap_or_default();
+        }
+    }
+    Ok(output)
 }
 
 /// `model` (optional, default `"swarf"`): `"swarf"`, `"mfree_iwf"` or a list of the original code's switches
