@@ -7,6 +7,8 @@
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
+# The tests and scenes read cases/ relative to the repository root: run from there whatever the caller's folder.
+[ -d "$here/../cases" ] && cd "$here/.."
 out=${OUT:-$PWD/gpu-logs}
 mkdir -p "$out"
 parts=${*:-info tests bench rings plasticity runs criterion}
