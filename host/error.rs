@@ -31,9 +31,14 @@ pub enum Error {
     /// An output file could not be written (the message names the path).
     #[error("output: {0}")]
     Output(String),
-    /// The run produced a non-finite value; the last good frame was written before it.
-    #[error("non-finite {field} at particle {id}, t = {time:e} s, step {step}; the last good frame is kept")]
-    NonFinite { id: u32, field: &'static str, time: f64, step: u64 },
+    /// The run produced a non-finite value; the last good frame was written before it. `flagged`: the steps
+    /// (first, last) of the batch in which the predictor first saw a non-finite position, where it did (a
+    /// batch's flags are read once, after it).
+    #[error(
+        "non-finite {field} at particle {id}, t = {time:e} s, step {step}{}; the last good frame is kept",
+        flagged_steps(.flagged)
+    )]
+    NonFinite { id: u32, field: &'static str, time: f64, step: u64, flagged: Option<(u64, u64)> },
     /// The largest speed grew so much that the stable time step collapsed: a numerical blow-up.
     #[error(
         "unstable: |v|max = {vmax:.3e} m/s needs dt = {dt:.3e} s, below 1 % of the initial {dt0:.3e} s (t = {time:e} s, step {step}); the last good frame is kept"
@@ -56,4 +61,13 @@ pub enum Error {
     Tuning(#[from] crate::tuning::TuningError),
     #[error("{0}")]
     Io(#[from] std::io::Error),
+}
+
+/// The part of [`Error::NonFinite`]'s message that says where a position first went non-finite.
+fn flagged_steps(flagged: &Option<(u64, u64)>) -> String {
+    match flagged {
+        Some((a, b)) if a == b => format!(" (a position first went non-finite at step {a})"),
+        Some((a, b)) => format!(" (a position first went non-finite in steps {a} to {b})"),
+        None => String::new(),
+    }
 }

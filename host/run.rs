@@ -290,6 +290,8 @@ struct Run<'a, B: Backend, M: Method<B>> {
     batch: usize,
     /// The next entry of `opts.state_at` to write.
     next_state: usize,
+    /// The steps (first, last) of the batch whose predictor flagged a non-finite position (for the report).
+    flagged: Option<(u64, u64)>,
     /// The progress line's state (a terminal or a log).
     progress_out: crate::output::progress::Progress,
 }
@@ -390,6 +392,7 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
             last_ckpt: Instant::now(),
             batch: GRAPH_BATCH,
             next_state: 0,
+            flagged: None,
             progress_out: crate::output::progress::Progress::new(std::io::IsTerminal::is_terminal(&std::io::stderr())),
         })
     }
@@ -527,7 +530,7 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
         let out = self.method.output(b)?;
         let (time, steps) = (self.method.time(), self.method.steps());
         if let Some((id, field)) = out.diagnostics.non_finite {
-            return Err(Error::NonFinite { id, field, time, step: steps });
+            return Err(Error::NonFinite { id, field, time, step: steps, flagged: self.flagged });
         }
         let mut stop_early = false;
         if let Some(c) = self.cut.as_mut() {
@@ -752,12 +755,14 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
             None => self.batch,
         };
         let full = full_steps(t, dt, self.next_out, end, self.cut.as_ref().map(|c| c.next()), max);
+        let first = self.method.steps() + 1;
         if full > 0 {
             self.method.advance(b, dt, full)?;
         } else {
             self.method.step(b, dt.min(end - t).min(self.next_out - t).max(1e-12 * dt))?;
         }
         if self.method.non_finite_seen(b)? {
+            self.flagged = Some((first, self.method.steps()));
             self.next_out = self.method.time();
             return Ok(());
         }

@@ -383,3 +383,26 @@ fn predictor_flags_a_non_finite_position() {
     assert!(sv.non_finite_seen(&b).expect("flags"), "the NaN position was not flagged");
     assert_eq!(sv.cell_rebuilds(&b).expect("rebuilds"), rebuilds + 1, "the NaN particle did not trigger a rebuild");
 }
+
+/// A run that blows up reports the batch in which a position first went non-finite: the coarse V0060 cut with
+/// its tool at 3 km/s (about half the sound speed, far beyond what the penalty contact holds; the ensemble's
+/// failing member). The error names the steps (first, last) of that batch, the last being the step it stops
+/// at, and the run folder keeps its earlier frames.
+#[test]
+fn a_blow_up_reports_the_batch_that_went_non_finite() {
+    let scene = common::scenes::coarse_cut(&["tool.velocity=[3000.0,0.0]"]);
+    let dir = std::env::temp_dir().join(format!("swarf-test-blowup-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let b = AnyBackend::select(BackendChoice::Cpu).expect("cpu").0;
+    let err = run(&b, &scene, &RunOptions { frames: true, ..RunOptions::quiet(dir.clone()) }).expect_err("it blows up");
+    let msg = err.to_string();
+    match err {
+        swarf::Error::NonFinite { step, flagged: Some((first, last)), .. } => {
+            assert!(first <= last && last == step, "flagged steps {first}..{last}, stopped at {step}");
+            assert!(msg.contains("first went non-finite"), "{msg}");
+        }
+        other => panic!("expected a non-finite stop flagged by the predictor, got: {other}"),
+    }
+    assert!(dir.join("particles.pvd").is_file(), "no frames kept: {msg}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
