@@ -317,8 +317,8 @@ pub struct CellBuffers<'a, B: Backend> {
 impl<B: Backend> CellBuffers<'_, B> {
     /// The buckets whose slices the per-cell sort orders: the cells, not the void bucket after them. Its particles
     /// (non-finite positions) are nobody's neighbour, and the run stops after the batch that made them, so their
-    /// order is never used; sorting it cost one GPU thread O(k²), later O(k log k), per step for k such particles
-    /// (the JC micro-milling run did not return from its batch after its blow-up: docs/3d.md).
+    /// order is never used. Sorting it cost one GPU thread O(k²) per step for k such particles (O(k log k) with
+    /// the heap sort): the JC micro-milling run did not return from its batch after its blow-up (docs/3d.md).
     pub fn sorted_buckets(&self) -> usize {
         self.n_buckets - 1
     }
