@@ -661,15 +661,16 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
         let wall = self.t0.elapsed().as_secs_f64();
         // A resting tool (a rigid wall, a target dropped onto) cuts nothing, and a rotating one (a milling cutter, a
         // wheel) makes no steady orthogonal cut: forces.csv only, no cutting analysis.
-        let moving = scene.tool.as_ref().is_some_and(|t| t.velocity.iter().any(|v| *v != 0.0) && t.rotation.is_none());
-        let cutting = self.cut.as_ref().filter(|_| moving).map(|c| c.analysis());
+        let orthogonal =
+            scene.tool.as_ref().is_some_and(|t| t.velocity.iter().any(|v| *v != 0.0) && t.rotation.is_none());
+        let cutting = self.cut.as_ref().filter(|_| orthogonal).map(|c| c.analysis());
         if let (Some(a), false) = (&cutting, opts.quiet) {
             eprintln!("{}", cutting_line(a));
         }
         if let Some(a) = &cutting {
             self.log.line(&cutting_line(a))?;
         }
-        let chip = self.cut.as_ref().filter(|_| moving).and_then(|c| last_chip(c, scene, &j));
+        let chip = self.cut.as_ref().filter(|_| orthogonal).and_then(|c| last_chip(c, scene, &j));
         if let Some(c) = &chip {
             let line = crate::cutting::chip_report::line(c);
             if !opts.quiet {

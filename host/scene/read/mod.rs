@@ -133,8 +133,6 @@ impl<'a> Tab<'a> {
         }
     }
 
-    /// An array of exactly `n` finite numbers (for a key with units, each also a string with a unit), padded
-    /// with zeros to three.
     /// The required keys `min` and `max` of a box (points in m, `max` ≥ `min` on every axis).
     fn min_max(&self, dim: usize) -> Result<([f64; 3], [f64; 3])> {
         let e = point_text("a point", dim, "m");
@@ -147,6 +145,8 @@ impl<'a> Tab<'a> {
         Ok((min, max))
     }
 
+    /// An array of exactly `n` finite numbers (for a key with units, each also a string with a unit), padded
+    /// with zeros to three.
     fn vector(&self, k: &str, n: usize, expected: &str) -> Result<Option<[f64; 3]>> {
         let Some(node) = self.get(k) else { return Ok(None) };
         let quantity = super::units::quantity(&self.key(k));
