@@ -544,6 +544,34 @@ PY
                       tar czf "$out/mill-$m.tgz" -C /tmp/mill24 --exclude='*.vtu' --exclude='*.vtp' "$m"
                   fi
               done ;;
+        blank24) # issue 24 (docs/3d.md "Blanking"): the single grain (cases/3d/single-grain.toml, CFL SWARF_BLANK_CFL,
+                 # default 0.3) whole, without and with a box 200 µm behind to 40 µm ahead of the workpiece's front,
+                 # moving with the grain; wall times side by side, run.log tails and the force means over 2-10 µs;
+                 # then the default V0060 cut and the reference cuts' step (bench step) with this build and each
+                 # packed earlier one (swarf-<name>), for the cost of the active count on runs without blanking
+              for v in plain blanked; do
+                  set=(--set "time.cfl=${SWARF_BLANK_CFL:-0.3}")
+                  [ $v = blanked ] && set+=(--set 'blanking.min=[-2.0e-4,-1.0,-1.0]' --set 'blanking.max=[4.0e-5,1.0,1.0]')
+                  run "blank24-$v" "$here/swarf" --backend gpu run cases/3d/single-grain.toml --quiet \
+                      --out "/tmp/blank24/$v" "${set[@]}"
+                  { tail -n 5 "/tmp/blank24/$v/run.log"; force_means "/tmp/blank24/$v/forces.csv" 2e-6 1e-5; } \
+                      >> "$out/blank24-$v.log"
+                  cp "/tmp/blank24/$v/forces.csv" "$out/blank24-$v-forces.csv"
+              done
+              blankab() {
+                  local b others; others=$(cd "$here" && ls swarf-* 2>/dev/null | grep -v '\.gz$')
+                  for b in swarf $others swarf $others; do
+                      echo "== $b"
+                      "$here/$b" --backend gpu bench step --precision both --step-count 2048 \
+                          --scenes cases/cutting/reference-cut.toml,cases/cutting/reference-cut-150k.toml || return 1
+                      local t0=$(date +%s%N)
+                      "$here/$b" --backend gpu run cases/cutting/v0060.toml --quiet --out "/tmp/blankab-$b" || return 1
+                      echo "v0060 whole: $(( ($(date +%s%N) - t0) / 1000000 )) ms"
+                      grep -o '"fc_n_per_mm":[^,]*\|"ff_n_per_mm":[^,]*' "/tmp/blankab-$b/summary.json" | head -2
+                      rm -rf "/tmp/blankab-$b"
+                  done
+              }
+              run blank24-ab blankab ;;
         tests) run test-gpu "$here/test-gpu" --test-threads=1 --nocapture
                run test-ptx "$here/test-ptx" ;;
         regs) # issue 7: the register cap of the neighbour kernels (SWARF_MAXNREG) against the compiler's choice

@@ -1,7 +1,7 @@
 //! The cell list: hash, counting sort by cell, cell starts, on any backend. The permutation it produces is the
 //! stable sort of the particles by cell key, identical on every backend (docs/neighbour-search.md).
 
-use crate::backend::{Backend, CellBuffers, Passes, ScalarsAt, scan_levels};
+use crate::backend::{Backend, CellBuffers, Count, Passes, ScalarsAt, scan_levels};
 use crate::kernels::neighbour::GridParams;
 use crate::kernels::{Dim, Real};
 use crate::{Error, Result};
@@ -13,7 +13,9 @@ pub struct CellList<B: Backend> {
     pub keys: B::Buf<u32>,
     slots: B::Buf<u32>,
     /// Prefix array: bucket c holds sorted particles starts[c] .. starts[c + 1]; buckets are the n_cells cells
-    /// and the void bucket (non-finite positions), so it has n_cells + 2 entries.
+    /// and the void bucket (non-finite positions), so it has n_cells + 2 entries; with blanking the n_cells cells
+    /// of the active particles, the n_cells of the blanked ones and the void bucket (2 n_cells + 2 entries), and
+    /// starts[n_cells] counts the active particles (`GridParams::key_blanked`).
     pub starts: B::Buf<u32>,
     /// perm[i] = the old index of the particle that sorts to position i.
     pub perm: B::Buf<u32>,
@@ -24,12 +26,19 @@ pub struct CellList<B: Backend> {
     /// capacity.
     pub list: Option<B::Buf<u32>>,
     n: usize,
+    /// Whether the hash blanks the particles outside the step's blanking box.
+    blanking: bool,
 }
 
 impl<B: Backend> CellList<B> {
     /// A cell list for n particles; with `grid.list_capacity` > 0 also the Verlet list's buffer, its rows n long.
-    pub fn new(b: &B, mut grid: GridParams, n: usize) -> Result<Self> {
-        let buckets = grid.n_cells as usize + 2;
+    pub fn new(b: &B, grid: GridParams, n: usize) -> Result<Self> {
+        Self::with_blanking(b, grid, n, false)
+    }
+
+    /// [`CellList::new`], with `blanking` the buckets of the blanked particles.
+    pub fn with_blanking(b: &B, mut grid: GridParams, n: usize, blanking: bool) -> Result<Self> {
+        let buckets = buckets(&grid, blanking) + 1;
         let list = if grid.list_capacity > 0 {
             grid.list_stride = u32::try_from(n).map_err(|_| Error::Grid(format!("{n} particles exceed u32")))?;
             Some(b.alloc(grid.list_words(), "Verlet list")?)
@@ -43,12 +52,42 @@ impl<B: Backend> CellList<B> {
             grid_buf: b.upload(&[grid], "grid")?,
             keys: b.alloc(n, "cell keys")?,
             slots: b.alloc(n, "cell slots")?,
-            starts: b.alloc(buckets, "cell starts")?,
+            starts: if blanking {
+                // Before the first build every particle counts as active (the first step's predictor runs them
+                // all, as without blanking; their rates are zero, so the ones the build then freezes keep their
+                // initial state).
+                let mut st = vec![0u32; buckets];
+                st[grid.n_cells as usize] =
+                    u32::try_from(n).map_err(|_| Error::Grid(format!("{n} particles exceed u32")))?;
+                b.upload(&st, "cell starts")?
+            } else {
+                b.alloc(buckets, "cell starts")?
+            },
             perm: b.alloc(n, "permutation")?,
             scan: scan_levels(b, buckets)?,
             rebuilds: b.alloc(1, "rebuild count")?,
             n,
+            blanking,
         })
+    }
+
+    /// The particles the per-particle passes run over: all, or with blanking the active ones (the count the last
+    /// build left in starts[n_cells]).
+    pub fn count(&self) -> Count<'_, B> {
+        Count { n: self.n, active: self.blanking.then_some((&self.starts, self.grid.n_cells as usize)) }
+    }
+
+    /// How many particles the last build left active (sorted first): all n without blanking.
+    pub fn active_count(&self, b: &B) -> Result<usize> {
+        if !self.blanking {
+            return Ok(self.n);
+        }
+        Ok((b.read_one(&self.starts, self.grid.n_cells as usize)? as usize).min(self.n))
+    }
+
+    /// Whether the hash blanks particles.
+    pub fn blanking(&self) -> bool {
+        self.blanking
     }
 
     pub fn len(&self) -> usize {
@@ -62,15 +101,35 @@ impl<B: Backend> CellList<B> {
     /// Hashes `pos`, sorts by cell and fills `starts` and `perm`. The caller then reorders every particle field
     /// through `perm` (`state::Particles::reorder`).
     pub fn build<R: Real, D: Dim>(&mut self, b: &B, pos: &B::Buf<D::Vec<R>>) -> Result<()> {
-        self.bin::<R, D>(b, pos, None)
+        if self.blanking {
+            return Err(Error::Grid("a blanking cell list needs its box".into()));
+        }
+        self.bin::<R, D>(b, pos, None, None)
+    }
+
+    /// [`CellList::build`] of a blanking cell list, with the box of the step scalars `blank`.
+    pub fn build_blanked<R: Real, D: Dim>(
+        &mut self,
+        b: &B,
+        pos: &B::Buf<D::Vec<R>>,
+        blank: ScalarsAt<'_, B>,
+    ) -> Result<()> {
+        self.bin::<R, D>(b, pos, None, Some(blank))
     }
 
     /// The counting sort of [`CellList::build`] and [`CellList::rebuild`] (gated, and counted in `rebuilds`).
-    fn bin<R: Real, D: Dim>(&mut self, b: &B, pos: &B::Buf<D::Vec<R>>, gate: Option<ScalarsAt<'_, B>>) -> Result<()> {
+    fn bin<R: Real, D: Dim>(
+        &mut self,
+        b: &B,
+        pos: &B::Buf<D::Vec<R>>,
+        gate: Option<ScalarsAt<'_, B>>,
+        blank: Option<ScalarsAt<'_, B>>,
+    ) -> Result<()> {
         let counted = gate.is_some();
         let cells = CellBuffers {
             grid: &self.grid_buf,
-            n_buckets: self.grid.n_cells as usize + 1,
+            n_buckets: buckets(&self.grid, self.blanking),
+            blank: if self.blanking { blank } else { None },
             keys: &mut self.keys,
             slots: &mut self.slots,
             starts: &mut self.starts,
@@ -91,7 +150,11 @@ impl<B: Backend> CellList<B> {
         gate: Option<ScalarsAt<'_, B>>,
     ) -> Result<()> {
         match self.list.as_mut() {
-            Some(list) => b.verlet_build::<R, D>(self.n, gate, &self.grid_buf, &self.starts, pos, list),
+            Some(list) => {
+                let count =
+                    Count { n: self.n, active: self.blanking.then_some((&self.starts, self.grid.n_cells as usize)) };
+                b.verlet_build::<R, D>(count, gate, &self.grid_buf, &self.starts, pos, list)
+            }
             None => Ok(()),
         }
     }
@@ -100,7 +163,9 @@ impl<B: Backend> CellList<B> {
     /// (by the host, or by the predictor's skin test); every launch is submitted either way, so that a captured
     /// step replays with each step's decision.
     pub fn rebuild<R: Real, D: Dim>(&mut self, b: &B, pos: &B::Buf<D::Vec<R>>, gate: ScalarsAt<'_, B>) -> Result<()> {
-        self.bin::<R, D>(b, pos, Some(gate))
+        // The step's own scalars hold its blanking box.
+        let blank = ScalarsAt { buf: gate.buf, index: gate.index };
+        self.bin::<R, D>(b, pos, Some(gate), Some(blank))
     }
 }
 
@@ -141,6 +206,12 @@ impl<B: Backend> CellList<B> {
         }
         Ok((second, off, b.read(&list)?))
     }
+}
+
+/// The buckets of a cell list: the grid's cells and the void bucket, with blanking the cells twice
+/// (`GridParams::key_blanked`).
+pub fn buckets(grid: &GridParams, blanking: bool) -> usize {
+    grid.n_cells as usize * if blanking { 2 } else { 1 } + 1
 }
 
 /// The Verlet list's capacity per particle for a grid and the lattice spacing Δx: twice the count of a lattice of

@@ -417,8 +417,10 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
         if h.dt < MIN_DT_FRACTION * dt0 {
             return Err(bad(format!("header: dt = {:e} s: expected at least {:e} s (1 % of the scene's)", h.dt, dt0)));
         }
-        self.method.load_state(self.b, &blobs)?;
+        // The clock first: the state's time decides the tool's ramp, the load reversals' signs and the blanking's
+        // box that `load_state` restores.
         self.method.set_clock(h.time, h.steps);
+        self.method.load_state(self.b, &blobs)?;
         // An accepted change of the scene (--accept-changes) may have lowered the stable step.
         self.dt = h.dt.min(dt0);
         self.rebuilds0 = h.rebuilds;

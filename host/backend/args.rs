@@ -11,10 +11,10 @@ use super::{
 use crate::kernels::contact::penalty::ToolSet;
 use crate::kernels::contact::{ToolArg, ToolState};
 use crate::kernels::damage::DamageParams;
-use crate::kernels::neighbour::GridParams;
+use crate::kernels::neighbour::{BlankBox, GridParams};
 use crate::kernels::pass::{
     ContactArgs, CorrectionArgs, DensityArgs, FinishArgs, FinishPlasticArgs, HashArgs, HeatArgs, NeighbourListArgs,
-    PlasticArgs, PredictArgs, PrepareArgs, RatesArgs, StepPtrs, VerletArgs,
+    PlasticArgs, PredictArgs, PrepareArgs, RatesArgs, Span, StepPtrs, VerletArgs,
 };
 use crate::kernels::sph::correction::CorrectionArrays;
 use crate::kernels::sph::heat::HeatParams;
@@ -91,11 +91,7 @@ pub fn rates_args<B: Backend, R: Real, D: Dim>(
         None => (HeatParams::default(), null(), null(), null(), std::ptr::null_mut()),
     };
     Ok(RatesArgs {
-        n: u32::try_from(n).map_err(|_| Error::Length {
-            op: "sph_rates particles",
-            expected: u32::MAX as usize,
-            got: n,
-        })?,
+        n: Span::all(count(n)?),
         lanes,
         // The GPU backend sets the block order at the launch (`Pass::order`).
         reverse: 0,
@@ -148,7 +144,7 @@ pub fn correction_args<B: Backend, R: Real, D: Dim>(
     out: &mut B::Buf<D::Sym<R>>,
 ) -> Result<CorrectionArgs<R, D>> {
     Ok(CorrectionArgs {
-        n: count(n)?,
+        n: Span::all(count(n)?),
         lanes,
         // The GPU backend sets the block order at the launch (`Pass::order`).
         reverse: 0,
@@ -234,7 +230,7 @@ pub fn finish_args<B: Backend, R: Real, D: Dim>(
     s: &ScalarsAt<'_, B>,
     f: StepFields<'_, B, R, D>,
 ) -> Result<FinishArgs<R, D>> {
-    Ok(FinishArgs { n: count(n)?, scalars: scalars_ptr(b, s)?, step: step_ptrs(b, n, f)? })
+    Ok(FinishArgs { n: Span::all(count(n)?), scalars: scalars_ptr(b, s)?, step: step_ptrs(b, n, f)? })
 }
 
 /// The arguments of the corrector with the plastic update of `model` (the kernel type of `p.model`) and, with
@@ -257,7 +253,7 @@ pub fn finish_plastic_args<B: Backend, R: Real, D: Dim, M>(
     }
     let yield_stress = output_opt(b, "yield_stress", n, p.yield_stress)?;
     let mut a = FinishPlasticArgs {
-        n: count(n)?,
+        n: Span::all(count(n)?),
         reverse: 0,
         scalars: scalars_ptr(b, s)?,
         model,
@@ -329,6 +325,17 @@ fn prepass_damage<B: Backend>(b: &B, n: usize, d: Option<PrepassDamageBufs<'_, B
     })
 }
 
+/// A pass's particles as the kernels take them: the count, and with blanking the address of the active count
+/// (checked to lie in its buffer).
+pub fn span<B: Backend>(b: &B, c: &super::Count<'_, B>) -> Result<Span> {
+    let mut s = Span::all(count(c.n)?);
+    if let Some((buf, index)) = c.active {
+        check_len("active count", index + 1, buf.len())?;
+        s.active = (b.address(buf) as *const u32).wrapping_add(index);
+    }
+    Ok(s)
+}
+
 /// A particle count as the kernels take it.
 fn count(n: usize) -> Result<u32> {
     u32::try_from(n).map_err(|_| Error::Length {
@@ -359,7 +366,7 @@ pub fn density_args<B: Backend, R: Real, D: Dim>(
     rho: &mut B::Buf<R>,
 ) -> Result<DensityArgs<R, D>> {
     Ok(DensityArgs {
-        n: count(n)?,
+        n: Span::all(count(n)?),
         pos: input(b, "density pos", n, pos)?,
         mass: input(b, "density mass", n, mass)?,
         grid: input(b, "density grid", 1, grid)?,
@@ -394,7 +401,7 @@ pub fn prepare_args<B: Backend, R: Real, D: Dim>(
     let (art, sound) = stabiliser_outputs(b, n, stab, q.art, q.sound, "sph_prepare (stabiliser buffer missing)")?;
     Ok(PrepareArgs {
         gate: gate_ptr(b, gate)?,
-        n: count(n)?,
+        n: Span::all(count(n)?),
         params: input(b, "sph_prepare params", 1, q.params)?,
         rho: input(b, "sph_prepare rho", n, q.rho)?,
         mass: input(b, "sph_prepare mass", n, q.mass)?,
@@ -449,7 +456,7 @@ pub fn heat_args<B: Backend, R: Real, D: Dim>(
         return Err(Error::Length { op: "heat_rates (PSE reaches beyond the Verlet list)", expected: 0, got: 1 });
     }
     Ok(HeatArgs {
-        n: count(n)?,
+        n: Span::all(count(n)?),
         lanes,
         hp: *hp,
         params: *params,
@@ -481,7 +488,7 @@ pub fn predict_args<B: Backend, R: Real, D: Dim>(
     // The predictor reads neither (its entry passed them null before the struct).
     (step.diss, step.diss_t, step.pos_lo) = (std::ptr::null_mut(), null(), std::ptr::null_mut());
     let mut a = PredictArgs {
-        n: count(n)?,
+        n: Span::all(count(n)?),
         scalars,
         grid: input(b, "step_predict grid", 1, skin.grid)?,
         step,
@@ -524,7 +531,7 @@ pub fn plastic_args<B: Backend, R: Real, D: Dim, M>(
         None => (null(), std::ptr::null_mut(), std::ptr::null_mut(), null()),
     };
     Ok(PlasticArgs {
-        n: count(n)?,
+        n: Span::all(count(n)?),
         model,
         consts,
         stress: output(b, "stress", n, a.stress)?,
@@ -567,8 +574,7 @@ pub fn contact_args<B: Backend, R: Real, D: Dim, E: Dim, T: ToolArg>(
         });
     }
     Ok(ContactArgs {
-        n: count(n)?,
-        _pad: 0,
+        n: Span::all(count(n)?),
         set: ToolSet {
             tools: shapes,
             params: input(b, "contact parameters", tools.count(), &tools.params)?,
@@ -591,18 +597,33 @@ pub fn contact_args<B: Backend, R: Real, D: Dim, E: Dim, T: ToolArg>(
     })
 }
 
-/// The hash pass's arguments ([`super::Passes::hash`]).
+/// The address of the blanking box in a step's scalars (null: no blanking).
+pub fn blank_ptr<B: Backend>(b: &B, s: Option<&ScalarsAt<'_, B>>) -> Result<*const BlankBox> {
+    match s {
+        None => Ok(null()),
+        Some(s) => {
+            // Entry `index` exists (checked); the field lies inside it. Byte arithmetic: the address may be the
+            // device's.
+            let base = scalars_ptr(b, s)? as *const u8;
+            Ok(base.wrapping_add(std::mem::offset_of!(StepScalars, blank)) as *const BlankBox)
+        }
+    }
+}
+
+/// The hash pass's arguments ([`super::Passes::hash`]), with the blanking box of `blank`'s scalars.
 pub fn hash_args<B: Backend, R: Real, D: Dim>(
     b: &B,
     n: usize,
     pos: &B::Buf<D::Vec<R>>,
     grid: &B::Buf<GridParams>,
+    blank: Option<&ScalarsAt<'_, B>>,
     keys: &mut B::Buf<u32>,
 ) -> Result<HashArgs<R, D>> {
     Ok(HashArgs {
         n: count(n)?,
         pos: input(b, "hash pos", n, pos)?,
         grid: input(b, "hash grid", 1, grid)?,
+        blank: blank_ptr(b, blank)?,
         keys: output(b, "hash keys", n, keys)?,
     })
 }
@@ -626,7 +647,7 @@ pub fn neighbour_list_args<B: Backend, R: Real, D: Dim>(
         Some(o) => (input(b, "neighbour_list offsets", n + 1, o)?, output(b, "neighbour_list list", 0, list)?),
     };
     Ok(NeighbourListArgs {
-        n: count(n)?,
+        n: Span::all(count(n)?),
         pos: input(b, "neighbour_list pos", n, pos)?,
         grid: input(b, "neighbour_list grid", 1, grid)?,
         starts: b.address(starts) as *const u32,
@@ -649,7 +670,7 @@ pub fn verlet_args<B: Backend, R: Real, D: Dim>(
 ) -> Result<VerletArgs<R, D>> {
     Ok(VerletArgs {
         gate: gate_ptr(b, gate)?,
-        n: count(n)?,
+        n: Span::all(count(n)?),
         grid: input(b, "verlet_build grid", 1, grid)?,
         starts: b.address(starts) as *const u32,
         pos: input(b, "verlet_build pos", n, pos)?,

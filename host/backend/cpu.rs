@@ -132,6 +132,11 @@ impl Backend for CpuBackend {
         Ok(buf.clone())
     }
 
+    fn read_one<T: Element>(&self, buf: &Vec<T>, i: usize) -> Result<T> {
+        check("read_one", i + 1, buf.len())?;
+        Ok(buf[i])
+    }
+
     fn fill_zero<T: Element>(&self, buf: &mut Vec<T>, n: usize) -> Result<()> {
         check("fill_zero", n, buf.len())?;
         buf[..n].fill(T::zeroed());
@@ -205,7 +210,10 @@ impl Backend for CpuBackend {
             return Ok(());
         }
         let a = Shared(*args);
-        let flags = (0..P::particles(args))
+        let active = P::active(args);
+        // SAFETY: a non-null count points at the live cell starts (the caller's contract, `args::span`).
+        let n = if active.is_null() { P::particles(args) } else { P::particles(args).min(unsafe { *active } as usize) };
+        let flags = (0..n)
             .into_par_iter()
             // SAFETY: the caller's contract (live buffers of the pass's sizes); each particle's twin writes only
             // that particle's entries.
@@ -234,7 +242,7 @@ impl Backend for CpuBackend {
             r[0] += 1;
         }
         self.fill_zero(c.starts, c.n_buckets + 1)?;
-        let h = super::args::hash_args::<_, R, D>(self, n, pos, c.grid, c.keys)?;
+        let h = super::args::hash_args::<_, R, D>(self, n, pos, c.grid, c.blank.as_ref(), c.keys)?;
         // SAFETY: `hash_args` checked the lengths.
         unsafe { self.launch::<crate::kernels::pass::Hash<R, D>>(&h)? };
         count_cells(n, c.keys, c.starts, c.slots)?;

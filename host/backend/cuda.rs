@@ -645,6 +645,18 @@ impl Backend for CudaBackend {
         Ok(out)
     }
 
+    fn read_one<T: Element>(&self, buf: &CudaBuf<T>, i: usize) -> Result<T> {
+        if i >= buf.len {
+            return Err(Error::Length { op: "read_one", expected: i + 1, got: buf.len });
+        }
+        let mut out = [T::zeroed()];
+        let bytes: &mut [u8] = bytemuck::cast_slice_mut(&mut out);
+        let at = i * size_of::<T>();
+        self.stream.memcpy_dtoh(&buf.raw.slice(at..at + bytes.len()), bytes).map_err(cuda("copy to host"))?;
+        self.stream.synchronize().map_err(cuda("synchronize"))?;
+        Ok(out[0])
+    }
+
     fn fill_zero<T: Element>(&self, buf: &mut CudaBuf<T>, n: usize) -> Result<()> {
         if n > buf.len {
             return Err(Error::Length { op: "fill_zero", expected: n, got: buf.len });
@@ -864,6 +876,7 @@ impl Backend for CudaBackend {
             n: n as u32,
             pos: self.input(pos),
             grid: self.input(c.grid),
+            blank: super::args::blank_ptr(self, c.blank.as_ref())?,
             keys: self.output(c.keys),
             counts: self.output(c.starts),
             slots: self.output(c.slots),

@@ -54,7 +54,7 @@ pub struct DeviceInfo {
 }
 
 pub trait Backend: Sized + Send + Sync {
-    type Buf<T: Element>: Buffer<T>;
+    type Buf<T: Element>: Buffer<T> + 'static;
     /// A captured sequence of launches (CUDA graph); `()` where the backend has none.
     type Graph;
 
@@ -68,6 +68,8 @@ pub trait Backend: Sized + Send + Sync {
     fn write<T: Element>(&self, buf: &mut Self::Buf<T>, data: &[T]) -> Result<()>;
     /// A host copy of the whole buffer (waits for pending work).
     fn read<T: Element>(&self, buf: &Self::Buf<T>) -> Result<Vec<T>>;
+    /// A host copy of element `i` (waits for pending work).
+    fn read_one<T: Element>(&self, buf: &Self::Buf<T>, i: usize) -> Result<T>;
     /// Zeroes the first `n` elements.
     fn fill_zero<T: Element>(&self, buf: &mut Self::Buf<T>, n: usize) -> Result<()>;
     /// Waits until all submitted work is done.
@@ -250,6 +252,28 @@ pub struct PrepassDamageBufs<'a, B: Backend> {
     pub flags: u32,
 }
 
+/// The particles a per-particle pass runs over (`kernels::pass::Span`): the first n, or with blanking the first
+/// `buf[index]` of them, the cell starts' entry n_cells (the count of unblanked particles, which the cell list
+/// sorts first; docs/3d.md, "Blanking"), read where the pass runs. A plain count converts into it.
+pub struct Count<'a, B: Backend> {
+    pub n: usize,
+    pub active: Option<(&'a B::Buf<u32>, usize)>,
+}
+
+impl<B: Backend> Clone for Count<'_, B> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<B: Backend> Copy for Count<'_, B> {}
+
+impl<B: Backend> From<usize> for Count<'_, B> {
+    fn from(n: usize) -> Self {
+        Count { n, active: None }
+    }
+}
+
 /// Where a step's scalars are: entry `index` of `buf`.
 pub struct ScalarsAt<'a, B: Backend> {
     pub buf: &'a B::Buf<StepScalars>,
@@ -302,8 +326,11 @@ pub struct SkinTest<'a, B: Backend, R: Real, D: Dim> {
 /// The buffers of a cell list's build (`neighbour::CellList`).
 pub struct CellBuffers<'a, B: Backend> {
     pub grid: &'a B::Buf<GridParams>,
-    /// The grid's cells plus the void bucket.
+    /// The grid's cells plus the void bucket; with blanking the grid's cells twice (the active particles', the
+    /// blanked ones') and then the void bucket (`GridParams::key_blanked`).
     pub n_buckets: usize,
+    /// The step scalars whose blanking box the hash applies (None: no blanking).
+    pub blank: Option<ScalarsAt<'a, B>>,
     pub keys: &'a mut B::Buf<u32>,
     pub slots: &'a mut B::Buf<u32>,
     /// Counts, then (scanned) the cell starts: n_buckets + 1 entries.

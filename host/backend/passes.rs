@@ -8,7 +8,7 @@
 use super::args::{self, PrepareBufs, check_len};
 use super::tool::{DeviceShapes, DeviceTools};
 use super::{
-    Backend, Buffer, ContactInputs, FieldsMut, FusedContact, FusedHeat, FusedPrepare, HeatInputs, PlasticInputs,
+    Backend, Buffer, ContactInputs, Count, FieldsMut, FusedContact, FusedHeat, FusedPrepare, HeatInputs, PlasticInputs,
     PlasticPass, PrepassDamageBufs, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields, ToolStatesAt,
 };
 use crate::kernels::contact::{MeshTool, Tool2d};
@@ -142,7 +142,7 @@ pub trait Passes: Backend {
         grid: &Self::Buf<GridParams>,
         keys: &mut Self::Buf<u32>,
     ) -> Result<()> {
-        let a = args::hash_args::<_, R, D>(self, n, pos, grid, keys)?;
+        let a = args::hash_args::<_, R, D>(self, n, pos, grid, None, keys)?;
         // SAFETY: `hash_args` checked every length the pass touches.
         unsafe { self.launch::<Hash<R, D>>(&a) }
     }
@@ -150,9 +150,9 @@ pub trait Passes: Backend {
     /// Neighbour lists (j ≠ i, |x_ij|² < support2) of sorted particles in CSR form: counts[i] always, and the
     /// indices at list[offsets[i]..] when `offsets` is given (the exclusive scan of a counting pass).
     #[allow(clippy::too_many_arguments)]
-    fn neighbour_list<R: Real, D: Dim>(
+    fn neighbour_list<'c, R: Real, D: Dim>(
         &self,
-        n: usize,
+        n: impl Into<Count<'c, Self>>,
         pos: &Self::Buf<D::Vec<R>>,
         grid: &Self::Buf<GridParams>,
         starts: &Self::Buf<u32>,
@@ -161,12 +161,15 @@ pub trait Passes: Backend {
         counts: &mut Self::Buf<u32>,
         list: &mut Self::Buf<u32>,
     ) -> Result<()> {
+        let count: Count<'c, Self> = n.into();
+        let n = count.n;
         check_cells(self, "neighbour_list starts", n, grid, starts, None)?;
         if let Some(off) = offsets.and_then(|o| self.host_slice(o)) {
             check_len("neighbour_list offsets", n + 1, off.len())?;
             check_len("neighbour_list list", off[n] as usize, list.len())?;
         }
-        let a = args::neighbour_list_args::<_, R, D>(self, n, pos, grid, starts, support2, offsets, counts, list)?;
+        let mut a = args::neighbour_list_args::<_, R, D>(self, n, pos, grid, starts, support2, offsets, counts, list)?;
+        a.n = args::span(self, &count)?;
         // SAFETY: the builder checked the lengths, the rows against the list above where the host can read them;
         // row i is list[off[i] .. off[i + 1]], disjoint from every other row.
         unsafe { self.launch::<NeighbourList<R, D>>(&a) }
@@ -174,9 +177,9 @@ pub trait Passes: Backend {
 
     /// ρ_i = Σ_j m_j W(|x_ij|) over sorted particles (`sph::density::density_sum`).
     #[allow(clippy::too_many_arguments)]
-    fn density<R: Real, D: Dim>(
+    fn density<'c, R: Real, D: Dim>(
         &self,
-        n: usize,
+        n: impl Into<Count<'c, Self>>,
         pos: &Self::Buf<D::Vec<R>>,
         mass: &Self::Buf<R>,
         grid: &Self::Buf<GridParams>,
@@ -184,8 +187,11 @@ pub trait Passes: Backend {
         kernel: &Self::Buf<CubicSpline<R>>,
         rho: &mut Self::Buf<R>,
     ) -> Result<()> {
+        let count: Count<'c, Self> = n.into();
+        let n = count.n;
         check_cells(self, "density starts", n, grid, starts, None)?;
-        let a = args::density_args::<_, R, D>(self, n, pos, mass, grid, starts, kernel, rho)?;
+        let mut a = args::density_args::<_, R, D>(self, n, pos, mass, grid, starts, kernel, rho)?;
+        a.n = args::span(self, &count)?;
         // SAFETY: the builder checked the lengths; pos/mass are the sorted particles of this cell list.
         unsafe { self.launch::<Density<R, D>>(&a) }
     }
@@ -195,9 +201,9 @@ pub trait Passes: Backend {
     /// included: they conduct); `temp` is given when the EOS has thermal expansion. With `gate` it runs only when
     /// the step's rebuild flag is set (the predictor ran the pre-pass; a rebuild's reorder needs it again).
     #[allow(clippy::too_many_arguments)]
-    fn sph_prepare<R: Real, D: TensorOps<R>>(
+    fn sph_prepare<'c, R: Real, D: TensorOps<R>>(
         &self,
-        n: usize,
+        n: impl Into<Count<'c, Self>>,
         stab: Stabilisers,
         params: &Self::Buf<SphParams<R>>,
         rho: &Self::Buf<R>,
@@ -211,9 +217,12 @@ pub trait Passes: Backend {
         gate: Option<ScalarsAt<'_, Self>>,
         damage: Option<PrepassDamageBufs<'_, Self>>,
     ) -> Result<()> {
+        let count: Count<'c, Self> = n.into();
+        let n = count.n;
         let dmg = damage.is_some();
         let q = PrepareBufs::<_, R, D> { params, rho, mass, stress, sig, art, sound, vol, temp, damage };
-        let a = args::prepare_args(self, n, stab, q, gate.as_ref())?;
+        let mut a = args::prepare_args(self, n, stab, q, gate.as_ref())?;
+        a.n = args::span(self, &count)?;
         with_bools!(AV = stab.viscosity, AS = stab.stress, DMG = dmg; {
             // SAFETY: the builder checked the lengths and that the stabilisers' and the damage's buffers exist
             // where they are on.
@@ -227,9 +236,9 @@ pub trait Passes: Backend {
     /// [`Passes::heat_rates`] on this cell list. With `list` (built by [`Passes::verlet_build`] on this cell
     /// list) the pair loops read it instead of walking the stencil.
     #[allow(clippy::too_many_arguments)]
-    fn sph_rates<R: Real, D: TensorOps<R>>(
+    fn sph_rates<'c, R: Real, D: TensorOps<R>>(
         &self,
-        n: usize,
+        n: impl Into<Count<'c, Self>>,
         lanes: u32,
         stab: Stabilisers,
         params: &SphParams<R>,
@@ -241,13 +250,16 @@ pub trait Passes: Backend {
         dissipation: Option<&mut Self::Buf<R>>,
         heat: Option<FusedHeat<'_, Self, R, D>>,
     ) -> Result<()> {
+        let count: Count<'c, Self> = n.into();
+        let n = count.n;
         check_lanes(lanes)?;
         check_cells(self, "sph_rates cells", n, grid, starts, list)?;
         if let Some(h) = &heat {
             check_bodies(self, "sph_rates (fused conduction)", n, h.input.flags, h.input.materials.len())?;
         }
         let (fused, dmg, cs) = (heat.is_some(), input.mask.is_some(), input.correction.is_some());
-        let a = args::rates_args(self, n, lanes, stab, params, grid, starts, list, input, out, dissipation, heat)?;
+        let mut a = args::rates_args(self, n, lanes, stab, params, grid, starts, list, input, out, dissipation, heat)?;
+        a.n = args::span(self, &count)?;
         if dmg && cs {
             return Err(Error::Length { op: "sph_rates (CSPM has no damage entries)", expected: 0, got: 1 });
         }
@@ -272,9 +284,9 @@ pub trait Passes: Backend {
     /// `input`, each summed by `lanes` lanes as the pair interaction's; [`Passes::sph_rates`] with
     /// `input.correction` then applies it.
     #[allow(clippy::too_many_arguments)]
-    fn sph_correction<R: Real, D: TensorOps<R>>(
+    fn sph_correction<'c, R: Real, D: TensorOps<R>>(
         &self,
-        n: usize,
+        n: impl Into<Count<'c, Self>>,
         lanes: u32,
         params: &SphParams<R>,
         min_det: R,
@@ -284,9 +296,12 @@ pub trait Passes: Backend {
         input: &SphInputs<'_, Self, R, D>,
         out: &mut Self::Buf<D::Sym<R>>,
     ) -> Result<()> {
+        let count: Count<'c, Self> = n.into();
+        let n = count.n;
         check_lanes(lanes)?;
         check_cells(self, "sph_correction cells", n, grid, starts, list)?;
-        let a = args::correction_args(self, n, lanes, params, min_det, grid, starts, list, input, out)?;
+        let mut a = args::correction_args(self, n, lanes, params, min_det, grid, starts, list, input, out)?;
+        a.n = args::span(self, &count)?;
         // SAFETY: the builder checked the lengths, the cells and the list are checked above; each particle's
         // correction is written by its own thread only.
         unsafe { self.launch::<CorrectionPass<R, D>>(&a) }
@@ -295,9 +310,9 @@ pub trait Passes: Backend {
     /// Conduction rates Ṫ (`sph::heat::heat_rate`), Brookshaw or (`pse`) PSE; `grid` has stencil 2 for
     /// Brookshaw and 3 for PSE; `list` the Verlet list of `grid` (Brookshaw only: PSE reaches farther).
     #[allow(clippy::too_many_arguments)]
-    fn heat_rates<R: Real, D: Dim>(
+    fn heat_rates<'c, R: Real, D: Dim>(
         &self,
-        n: usize,
+        n: impl Into<Count<'c, Self>>,
         lanes: u32,
         pse: bool,
         hp: &HeatParams,
@@ -308,10 +323,13 @@ pub trait Passes: Backend {
         input: &HeatInputs<'_, Self, R, D>,
         temp_t: &mut Self::Buf<f64>,
     ) -> Result<()> {
+        let count: Count<'c, Self> = n.into();
+        let n = count.n;
         check_lanes(lanes)?;
         check_cells(self, "heat_rates cells", n, grid, starts, list)?;
         check_bodies(self, "heat_rates materials", n, input.flags, input.materials.len())?;
-        let a = args::heat_args(self, n, lanes, pse, hp, params, grid, starts, list, input, temp_t)?;
+        let mut a = args::heat_args(self, n, lanes, pse, hp, params, grid, starts, list, input, temp_t)?;
+        a.n = args::span(self, &count)?;
         with_bools!(PSE = pse; {
             // SAFETY: the builder checked the lengths, the cells and bodies are checked above.
             unsafe { self.launch::<Heat<R, D, PSE>>(&a) }
@@ -323,16 +341,19 @@ pub trait Passes: Backend {
     /// cell list binned it (`GridParams::beyond_skin`) sets the step's rebuild flag.
     /// With `prepare`, each particle's pre-pass follows its prediction in the same pass
     /// (`sph::interact::prepare_particle`; the same results as [`Passes::sph_prepare`] after the predictor).
-    fn step_predict<R: Real, D: TensorOps<R>>(
+    fn step_predict<'c, R: Real, D: TensorOps<R>>(
         &self,
-        n: usize,
+        n: impl Into<Count<'c, Self>>,
         s: ScalarsMut<'_, Self>,
         f: StepFields<'_, Self, R, D>,
         skin: SkinTest<'_, Self, R, D>,
         prepare: Option<FusedPrepare<'_, Self, R, D>>,
     ) -> Result<()> {
+        let count: Count<'c, Self> = n.into();
+        let n = count.n;
         let dmg = prepare.as_ref().is_some_and(|q| q.damage.is_some());
-        let a = args::predict_args(self, n, s, f, skin, prepare)?;
+        let mut a = args::predict_args(self, n, s, f, skin, prepare)?;
+        a.n = args::span(self, &count)?;
         with_bools!(DMG = dmg; {
             // SAFETY: the builder checked the lengths (the damage's where `DMG`) and the scalars' index.
             unsafe { self.launch::<Predict<R, D, DMG>>(&a) }
@@ -341,17 +362,20 @@ pub trait Passes: Backend {
 
     /// The Verlet list (`neighbour::verlet::verlet_row`) of the n sorted particles at `pos` on the cell list
     /// `grid`/`starts`, into `list` (`GridParams::list_words` entries); with a gate, only when that step rebuilds.
-    fn verlet_build<R: Real, D: Dim>(
+    fn verlet_build<'c, R: Real, D: Dim>(
         &self,
-        n: usize,
+        n: impl Into<Count<'c, Self>>,
         gate: Option<ScalarsAt<'_, Self>>,
         grid: &Self::Buf<GridParams>,
         starts: &Self::Buf<u32>,
         pos: &Self::Buf<D::Vec<R>>,
         list: &mut Self::Buf<u32>,
     ) -> Result<()> {
+        let count: Count<'c, Self> = n.into();
+        let n = count.n;
         check_cells(self, "verlet_build cells", n, grid, starts, Some(list))?;
-        let a = args::verlet_args::<_, R, D>(self, n, gate.as_ref(), grid, starts, pos, list)?;
+        let mut a = args::verlet_args::<_, R, D>(self, n, gate.as_ref(), grid, starts, pos, list)?;
+        a.n = args::span(self, &count)?;
         // SAFETY: the builder checked the lengths, the list's layout is checked above where the host can read the
         // grid (the caller sizes it from the grid it uploads); thread i writes only row i.
         unsafe { self.launch::<Verlet<R, D>>(&a) }
@@ -361,14 +385,16 @@ pub trait Passes: Backend {
     /// same particle when `plastic` is given (`sph::plastic::plastic_particle`), and then by the tool's contact
     /// pass of the same particle when `contact` is given (`contact::penalty::contact_particle`, 2D; needs
     /// `plastic`): the same results as [`Passes::contact`] after the corrector, without a pass of its own.
-    fn step_finish<R: Real, D: TensorOps<R>>(
+    fn step_finish<'c, R: Real, D: TensorOps<R>>(
         &self,
-        n: usize,
+        n: impl Into<Count<'c, Self>>,
         s: ScalarsAt<'_, Self>,
         f: StepFields<'_, Self, R, D>,
         plastic: Option<PlasticPass<'_, Self, R>>,
         contact: Option<FusedContact<'_, Self, R, D>>,
     ) -> Result<()> {
+        let count: Count<'c, Self> = n.into();
+        let n = count.n;
         if contact.is_some() && (plastic.is_none() || D::D != 2) {
             return Err(Error::Length {
                 op: "step_finish (the fused contact needs plasticity, 2D)",
@@ -377,7 +403,8 @@ pub trait Passes: Backend {
             });
         }
         let Some(p) = plastic else {
-            let a = args::finish_args(self, n, &s, f)?;
+            let mut a = args::finish_args(self, n, &s, f)?;
+            a.n = args::span(self, &count)?;
             // SAFETY: the builder checked the lengths.
             return unsafe { self.launch::<Finish<R, D>>(&a) };
         };
@@ -390,7 +417,8 @@ pub trait Passes: Backend {
         }
         let (model, dmg) = (p.model, p.damage.is_some());
         with_model!(model, M, m => {
-            let a = args::finish_plastic_args::<_, R, D, M>(self, n, &s, f, p, *m, contact)?;
+            let mut a = args::finish_plastic_args::<_, R, D, M>(self, n, &s, f, p, *m, contact)?;
+            a.n = args::span(self, &count)?;
             with_bools!(DMG = dmg; {
                 // SAFETY: the builder checked the lengths (the damage's where `DMG`), the bodies are checked above.
                 unsafe { self.launch::<FinishPlastic<R, D, M, DMG>>(&a) }
@@ -400,20 +428,23 @@ pub trait Passes: Backend {
 
     /// The plastic update of every particle (`sph::plastic::plastic_particle`) with the flow-stress `model` (its
     /// parameters go to the GPU by value, with the launch).
-    fn plastic_step<R: Real, D: TensorOps<R>>(
+    fn plastic_step<'c, R: Real, D: TensorOps<R>>(
         &self,
-        n: usize,
+        n: impl Into<Count<'c, Self>>,
         model: &FlowModel,
         c: PlasticConsts,
         a: PlasticInputs<'_, Self, R, D>,
     ) -> Result<()> {
+        let count: Count<'c, Self> = n.into();
+        let n = count.n;
         check_len("flags", n, a.flags.len())?;
         if c.taylor_quinney > 0.0 {
             check_bodies(self, "plastic_step materials", n, a.flags, a.materials.map_or(0, |m| m.len()))?;
         }
         let dmg = a.damage.is_some();
         with_model!(model, M, m => {
-            let a = args::plastic_args::<_, R, D, M>(self, n, *m, c, a)?;
+            let mut a = args::plastic_args::<_, R, D, M>(self, n, *m, c, a)?;
+            a.n = args::span(self, &count)?;
             with_bools!(DMG = dmg; {
                 // SAFETY: the builder checked the lengths (the damage's where `DMG`), the bodies are checked above.
                 unsafe { self.launch::<Plastic<R, D, M, DMG>>(&a) }
@@ -423,14 +454,16 @@ pub trait Passes: Backend {
 
     /// The contact pass with the rigid tools (`contact::penalty::contact_particle`): parametric tools in 2D or 3D,
     /// mesh tools in 3D; `owner` (several tools only) keeps the tool each particle's friction history belongs to.
-    fn contact<R: Real, D: Dim>(
+    fn contact<'c, R: Real, D: Dim>(
         &self,
-        n: usize,
+        n: impl Into<Count<'c, Self>>,
         tools: &DeviceTools<Self>,
         states: ToolStatesAt<'_, Self>,
         owner: Option<&mut Self::Buf<u32>>,
         a: ContactInputs<'_, Self, R, D>,
     ) -> Result<()> {
+        let count: Count<'c, Self> = n.into();
+        let n = count.n;
         check_len("flags", n, a.flags.len())?;
         if let Some(m) = a.materials {
             check_bodies(self, "contact materials", n, a.flags, m.len())?;
@@ -439,7 +472,8 @@ pub trait Passes: Backend {
             DeviceShapes::Prism(t) => {
                 check_len("tool shapes", tools.count(), t.len())?;
                 let t = self.address(t) as *const Tool2d;
-                let a = args::contact_args::<_, R, D, D, _>(self, n, tools, t, &states, owner, a)?;
+                let mut a = args::contact_args::<_, R, D, D, _>(self, n, tools, t, &states, owner, a)?;
+                a.n = args::span(self, &count)?;
                 // SAFETY: the builder checked the lengths, the bodies are checked above.
                 unsafe { self.launch::<Contact<R, D, *const Tool2d>>(&a) }
             }
@@ -447,7 +481,8 @@ pub trait Passes: Backend {
                 check_len("mesh tools", tools.count(), meshes.len())?;
                 check_len("mesh tool views", tools.count() * size_of::<MeshTool>() / 8, views.len())?;
                 let t = self.address(views) as *const MeshTool<'static>;
-                let a = args::contact_args::<_, R, D, Dim3, _>(self, n, tools, t, &states, owner, a)?;
+                let mut a = args::contact_args::<_, R, D, Dim3, _>(self, n, tools, t, &states, owner, a)?;
+                a.n = args::span(self, &count)?;
                 // SAFETY: the builder checked the lengths and that the scene is 3D; the meshes' buffers, which
                 // the views point into, are live.
                 unsafe { self.launch::<Contact<R, Dim3, *const MeshTool<'static>>>(&a) }

@@ -11,6 +11,7 @@ use crate::kernels::sph::params::flags;
 use crate::kernels::{Real, Vector};
 use crate::material::FlowModel;
 use crate::scene::{Bc, Conduction, ParticleSet, Precision, Scene, Switch};
+use crate::solver::blanking::Blanking;
 use crate::solver::diagnostics::compute;
 use crate::solver::params::{StabiliserSettings, cfl_time_step, sph_params};
 use crate::solver::{ContactSetup, DamageSetup, PlasticSetup, Solver, ThermalSetup, ToolSetup};
@@ -239,6 +240,7 @@ pub fn setup_with<R: Real, D: TensorOps<R>>(scene: &Scene, tuning: &Tuning) -> R
     let damage = damage_setup(scene, &particles.flags, &pos);
     let expands = ph.thermal_expansion > 0.0;
     let temperature = if thermal.is_some() || plastic.is_some() || expands { Some(temperature) } else { None };
+    let blanking = blanking(scene, &grid, h, &pos)?;
     Ok(Setup {
         particles,
         pos_lo,
@@ -256,9 +258,33 @@ pub fn setup_with<R: Real, D: TensorOps<R>>(scene: &Scene, tuning: &Tuning) -> R
         plastic,
         damage,
         contact,
+        blanking,
         warnings,
         tuning: tuning.clone(),
     })
+}
+
+/// The run's blanking (None without `[blanking]`): the scene's box, jumping by the cell list's skin (h where the
+/// list has none). A box that holds no particle at t = 0 is refused.
+fn blanking(
+    scene: &Scene,
+    grid: &crate::kernels::neighbour::GridParams,
+    h: f64,
+    pos: &[[f64; 3]],
+) -> Result<Option<Blanking>> {
+    let Some(b) = &scene.blanking else { return Ok(None) };
+    let bl =
+        Blanking { min: b.min, max: b.max, velocity: b.velocity, step: if grid.skin > 0.0 { grid.skin } else { h } };
+    let first = bl.box_at(0.0);
+    let inside = |p: &[f64; 3]| (0..scene.dim).all(|k| p[k] >= first.lo[k] && p[k] <= first.hi[k]);
+    if !pos.iter().any(inside) {
+        return Err(Error::Scene(format!(
+            "{}: blanking.min, blanking.max: the box holds no particle at t = 0; expected a box around the tool's \
+             path that holds part of the workpiece",
+            scene.origin
+        )));
+    }
+    Ok(Some(bl))
 }
 
 /// The damage of `scene` (None without `[damage]`): its constants for the kernels (`kernels::damage`) and the
@@ -547,7 +573,13 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Method<B> for Solver<B, R, D> {
     fn output(&self, b: &B) -> Result<Output<R, D>> {
         let host = self.download(b)?;
         // The registry's frame fields are the internal variables: read once, used for both.
-        let fields = self.download_frame_fields(b)?;
+        let mut fields = self.download_frame_fields(b)?;
+        if self.cells.blanking() {
+            // The frozen particles, sorted after the active ones.
+            let active = self.cells.active_count(b)?;
+            let values = (0..host.len()).map(|i| if i < active { 0.0 } else { 1.0 }).collect();
+            fields.push(crate::solver::fields::FrameField { name: "blanked", components: 1, values });
+        }
         let field = |name: &str| fields.iter().find(|f| f.name == name).map(|f| f.values.clone());
         let (temp, eps, rate) = (field("temperature"), field("plastic_strain"), field("plastic_strain_rate"));
         let mut d = compute(&host, &self.host_params, self.time, self.steps, temp.as_deref());

@@ -129,6 +129,23 @@ pub struct Scene {
     /// off, so the scenes without it record what they recorded before.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub damage: Option<Damage>,
+    /// `[blanking]` (optional): only the particles inside a box moving with the tool are integrated; the rest are
+    /// frozen and skipped (docs/3d.md, "Blanking"). Absent from `summary.json` when off.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub blanking: Option<Blanking>,
+}
+
+/// `[blanking]`: the active box [min, max] at t = 0, moving at `velocity` (roethlin-solver.md §7.6.3; the original
+/// code's `src/blanking.cpp`). Particles outside it are frozen: not integrated, nobody's neighbour, their state
+/// kept. The box advances in jumps of the cell list's skin, each of which rebuilds the cell list, so a particle
+/// the box reaches is active within one skin of its travel (docs/3d.md, "Blanking").
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Blanking {
+    /// `min`, `max` (required) [m]: the box's corners at t = 0.
+    pub min: [f64; 3],
+    pub max: [f64; 3],
+    /// `velocity` (optional, default the first tool's translation velocity, else zero) [m/s].
+    pub velocity: [f64; 3],
 }
 
 /// `[damage]`: ductile damage (`swarf_kernels::damage`, docs/damage.md), its constants from the library material's
@@ -885,6 +902,11 @@ impl Scene {
             on.push(format!("CSPM (min det {})", num(c.min_determinant)));
         }
         let _ = writeln!(s, "stabilisation  {}", if on.is_empty() { "none".to_string() } else { on.join(", ") });
+        if let Some(b) = &self.blanking {
+            let v = b.velocity;
+            let _ =
+                writeln!(s, "blanking       box {} .. {} at t = 0, moving at {} m/s", pt(&b.min), pt(&b.max), pt(&v));
+        }
         let step = match self.time.dt {
             Some(dt) => format!("fixed dt = {} s", num(dt)),
             None => format!("cfl {}", num(self.time.cfl)),

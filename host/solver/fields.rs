@@ -394,7 +394,7 @@ fn scan_words(n: usize) -> usize {
 /// table, the step scalars, and the thermal and contact blocks (the law's constants, the tool's shape) where modelled.
 pub fn fixed_bytes<R: Real, D: TensorOps<R>>(s: &Setup<R, D>) -> usize {
     let n = s.particles.len();
-    let buckets = s.grid.n_cells as usize + 2;
+    let buckets = crate::neighbour::buckets(&s.grid, s.blanking.is_some()) + 1;
     let cells = (buckets + scan_words(buckets) + 1) * 4 + size_of::<GridParams>() + 4 * s.grid.list_rows() * n;
     let table = s.bc_velocities.len().max(1) * size_of::<<D as Dim>::Vec<R>>();
     let run = size_of::<SphParams<R>>() + table + GRAPH_STEPS * size_of::<StepScalars>();

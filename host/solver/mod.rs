@@ -18,6 +18,7 @@
 //! The rates are not reordered: the predictor consumes them in the order the corrector left, and the interaction
 //! rewrites them. Buffers of a stabiliser that is off are not allocated.
 
+pub mod blanking;
 pub mod diagnostics;
 pub mod fields;
 pub mod params;
@@ -121,6 +122,8 @@ pub struct Setup<R: Real, D: TensorOps<R>> {
     /// Damage (needs plasticity); None: no damage, the code path of an undamaged run.
     pub damage: Option<DamageSetup>,
     pub contact: Option<ContactSetup>,
+    /// The blanking's moving box (None: every particle is integrated).
+    pub blanking: Option<blanking::Blanking>,
     /// Input that runs but whose result is not meaningful (`scene::degenerate_input_warnings`).
     pub warnings: Vec<String>,
     /// The tuning switches the solver takes its lanes, graphs and fusions from.
@@ -278,6 +281,8 @@ pub struct Solver<B: Backend, R: Real, D: TensorOps<R>> {
     /// The next step rebuilds the cell list whatever the skin test says (the first step, a restored state
     /// without its reference positions).
     force_rebuild: bool,
+    /// The blanking's box and the jumps it had made by the last step whose scalars were written.
+    blanking: Option<(blanking::Blanking, i64)>,
     params: B::Buf<SphParams<R>>,
     pub host_params: SphParams<R>,
     bc_vel: B::Buf<D::Vec<R>>,
@@ -623,9 +628,10 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                 }
                 None => None,
             },
-            cells: CellList::new(b, setup.grid, n)?,
+            cells: CellList::with_blanking(b, setup.grid, n, setup.blanking.is_some())?,
             pos_ref: b.alloc(n, "cell-list reference positions")?,
             force_rebuild: true,
+            blanking: setup.blanking.map(|bl| (bl, 0)),
             params: b.upload(&[setup.params], "SPH parameters")?,
             host_params: setup.params,
             bc_vel: b.upload(&table, "boundary velocities")?,
@@ -801,6 +807,19 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         if let Some(first) = self.host_scalars.first_mut() {
             first.rebuild = std::mem::take(&mut self.force_rebuild) as u32;
         }
+        if let Some((bl, jumps)) = self.blanking.as_mut() {
+            // Each step's box at its end, on the host's time line; a step at which the box jumps rebuilds.
+            let mut t = self.time;
+            for s in self.host_scalars[..count].iter_mut() {
+                t += dt;
+                s.blank = bl.box_at(t);
+                let j = bl.jumps(t);
+                if j != *jumps {
+                    s.rebuild = 1;
+                    *jumps = j;
+                }
+            }
+        }
         if let Some(c) = self.contact.as_mut() {
             let k = c.motions.len();
             let mut t = self.time;
@@ -877,7 +896,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
 
     /// The predictor, with the pre-pass fused where [`Solver::fused_prepare`].
     fn predict(&mut self, b: &B, j: usize) -> Result<()> {
-        let (n, fuse_prepare) = (self.n, self.fused_prepare());
+        let (n, fuse_prepare) = (self.cells.count(), self.fused_prepare());
         let (p, s) = (&mut self.particles, &mut self.start);
         let r = &self.rates;
         let (_, conduction) = thermal_views(self.thermal.as_mut());
@@ -914,7 +933,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
 
     /// The pre-pass (σ/ρ², the stabilisers, the volumes).
     fn prepare(&mut self, b: &B, j: usize) -> Result<()> {
-        let (n, fuse_prepare) = (self.n, self.fused_prepare());
+        let (n, fuse_prepare) = (self.cells.count(), self.fused_prepare());
         let p = &mut self.particles;
         b.sph_prepare::<R, D>(
             n,
@@ -942,7 +961,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
 
     /// The pair interaction, with the conduction fused where [`Solver::fused_conduction`].
     fn interact(&mut self, b: &B) -> Result<()> {
-        let (n, fused) = (self.n, self.fused_conduction());
+        let (n, fused) = (self.cells.count(), self.fused_conduction());
         let p = &mut self.particles;
         let input = SphInputs::<B, R, D> {
             pos: &p.pos.cur,
@@ -1001,7 +1020,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
 
     /// The conduction pass where it is not fused into the pair interaction.
     fn conduction(&mut self, b: &B) -> Result<()> {
-        let (n, fused) = (self.n, self.fused_conduction());
+        let (n, fused) = (self.cells.count(), self.fused_conduction());
         let p = &mut self.particles;
         if fused {
             return Ok(());
@@ -1029,7 +1048,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
 
     /// The corrector, with the plastic update and the fused contact where they are on.
     fn correct(&mut self, b: &B, j: usize) -> Result<()> {
-        let (n, fuse_contact) = (self.n, self.fused_contact());
+        let (n, fuse_contact) = (self.cells.count(), self.fused_contact());
         let (p, s) = (&mut self.particles, &mut self.start);
         let (materials, conduction) = thermal_views(self.thermal.as_mut());
         let (yield_stress, contact) = match self.contact.as_mut() {
@@ -1092,7 +1111,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
 
     /// The tool's contact pass where it is not fused into the corrector.
     fn contact_pass(&mut self, b: &B, j: usize) -> Result<()> {
-        let (n, fuse_contact) = (self.n, self.fused_contact());
+        let (n, fuse_contact) = (self.cells.count(), self.fused_contact());
         let p = &mut self.particles;
         if fuse_contact {
             return Ok(());
@@ -1172,7 +1191,8 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             })
             .collect();
         let norm = |v: &D::Vec<R>| (0..D::D).map(|k| v.get(k).to_f64().powi(2)).sum::<f64>().sqrt();
-        for i in 0..self.n {
+        // Blanked particles (sorted last) keep the contact forces of their last active step: not summed.
+        for i in 0..self.cells.active_count(b)? {
             let k = owner.as_ref().map_or(0, |o| o[i] as usize);
             let (Some(s), Some(sum), Some(p)) = (samples.get_mut(k), sums.get_mut(k), refs.get(k)) else { continue };
             // Components past the dimension read as zero (`Vector::get`).
@@ -1322,7 +1342,17 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         // again on the binned positions gives the same cells and the identity permutation, and the run goes on
         // bit for bit. A state saved without them rebuilds at the next step.
         if s.iter().any(|(name, _)| name == "pos_ref") {
-            self.cells.build::<R, D>(b, &self.pos_ref)?;
+            match self.blanking.as_mut() {
+                // The box of the last rebuild is the box now: every jump rebuilt.
+                Some((bl, jumps)) => {
+                    *jumps = bl.jumps(self.time);
+                    self.host_scalars[0] = StepScalars { blank: bl.box_at(self.time), ..Default::default() };
+                    b.write(&mut self.scalars, &self.host_scalars[..1])?;
+                    let blank = ScalarsAt { buf: &self.scalars, index: 0 };
+                    self.cells.build_blanked::<R, D>(b, &self.pos_ref, blank)?;
+                }
+                None => self.cells.build::<R, D>(b, &self.pos_ref)?,
+            }
             self.cells.build_list::<R, D>(b, &self.pos_ref, None)?;
             self.force_rebuild = false;
         } else {

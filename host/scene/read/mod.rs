@@ -32,6 +32,7 @@ const ROOT_KEYS: &[&str] = &[
     "analysis",
     "model",
     "damage",
+    "blanking",
 ];
 const BODY_KEYS: &[&str] = &["name", "shape", "velocity", "angular_velocity", "lattice", "material", "temperature"];
 const SHAPES: &[(&str, &[&str])] = &[
@@ -302,6 +303,8 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
         return Err(st.invalid("cspm", st.get("cspm"), e));
     }
 
+    let blanking = blanking(&root, dim, tool.as_ref())?;
+
     Ok(Scene {
         origin: doc.file.clone(),
         name: name.to_string(),
@@ -321,7 +324,24 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
         analysis,
         model,
         damage,
+        blanking,
     })
+}
+
+/// `[blanking]` (optional): `min`, `max` (the active box at t = 0, points in m) and `velocity` (m/s; default the
+/// first tool's translation velocity, else zero).
+fn blanking(root: &Tab<'_>, dim: usize, tool: Option<&super::Tool>) -> Result<Option<super::Blanking>> {
+    let Some(t) = root.table("blanking", "blanking", "a table [blanking] with min, max and velocity")? else {
+        return Ok(None);
+    };
+    t.check_keys(&["min", "max", "velocity"], &[], "")?;
+    let (min, max) = t.min_max(dim)?;
+    let e = point_text("a velocity", dim, "m/s");
+    let velocity = match t.vector("velocity", dim, &e)? {
+        Some(v) => v,
+        None => tool.map_or([0.0; 3], |tl| tl.velocity),
+    };
+    Ok(Some(super::Blanking { min, max, velocity }))
 }
 
 /// `[discretisation]` (required): its table (the bodies read their spacing from it) and its values.

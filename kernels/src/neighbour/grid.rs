@@ -41,6 +41,40 @@ pub struct GridParams {
     pub list_stride: u32,
 }
 
+/// The blanking's active box [lo, hi] at one step (roethlin-solver.md §7.6.3; the original code's
+/// `src/blanking.cpp`): particles outside it are frozen. `on` 0: no blanking.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct BlankBox {
+    pub lo: [f64; 3],
+    pub hi: [f64; 3],
+    pub on: u32,
+    pub _pad: u32,
+}
+
+impl BlankBox {
+    /// Whether a particle at `p` is blanked: blanking on and p outside [lo, hi] (compared in f64, positions widen
+    /// exactly; a non-finite position is never blanked, so that it reaches the void bucket and stops the run).
+    #[inline(always)]
+    pub fn blanks<R: Real, V: Vector<R>>(&self, p: &V) -> bool {
+        if self.on == 0 {
+            return false;
+        }
+        let mut k = 0;
+        while k < V::DIM {
+            let x = p.get(k).to_f64();
+            // SAFETY: k < DIM <= 3.
+            let (lo, hi) = unsafe { (*self.lo.get_unchecked(k), *self.hi.get_unchecked(k)) };
+            // NaN compares false: not outside.
+            if x < lo || x > hi {
+                return true;
+            }
+            k += 1;
+        }
+        false
+    }
+}
+
 /// Relative enlargement of the cell over (support radius)/stencil. The pair test r² < (2h)² is evaluated in the
 /// run's precision (f32 or f64) and the cell coordinate in f64; the margin covers both roundings, so that every
 /// pair the test accepts lies within the stencil (proof in docs/neighbour-search.md).
@@ -230,6 +264,26 @@ impl GridParams {
             return self.n_cells;
         }
         (c[2] * self.dims[1] + c[1]) * self.dims[0] + c[0]
+    }
+
+    /// The cell-list key of a position with blanking (docs/3d.md, "Blanking"): the buckets are the n_cells cells of
+    /// the active particles, then the n_cells cells of the blanked ones (key n_cells + cell), then the void
+    /// bucket (2 n_cells). Blanked particles thus sort after every active one, cell by cell (so that their order
+    /// is fixed by the same per-cell sort), no neighbour walk lists them, and `starts[n_cells]` counts the active
+    /// ones. A null `blank` (no blanking): [`GridParams::key`].
+    ///
+    /// # Safety
+    /// A non-null `blank` points at a live box.
+    #[inline(always)]
+    pub unsafe fn key_blanked<R: Real, V: Vector<R>>(&self, p: &V, blank: *const BlankBox) -> u32 {
+        let k = self.key(p);
+        if blank.is_null() {
+            return k;
+        }
+        if k == self.n_cells {
+            return 2 * self.n_cells;
+        }
+        if unsafe { (*blank).blanks(p) } { self.n_cells + k } else { k }
     }
 
     /// Cell coordinates of a position; `[u32::MAX; 3]` if a component is non-finite.

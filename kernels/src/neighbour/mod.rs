@@ -11,7 +11,7 @@ pub mod search;
 pub mod sort;
 pub mod verlet;
 
-pub use grid::GridParams;
+pub use grid::{BlankBox, GridParams};
 pub use reorder::GatherField;
 pub use search::{for_each_neighbour, for_each_neighbour_strided};
 pub use verlet::{Neighbours, for_each_candidate, for_each_candidate_strided};

@@ -1,7 +1,7 @@
 //! The kernel-gradient correction's arguments (`sph::correction`: B_i⁻¹ of every sorted particle, before the pair
 //! interaction that applies it).
 
-use super::launch::{Grid, Pass};
+use super::launch::{Grid, Pass, Span};
 use super::table::entry_index;
 use crate::neighbour::{GridParams, Neighbours};
 use crate::real::Real;
@@ -15,7 +15,7 @@ use core::marker::PhantomData;
 #[repr(C)]
 #[derive(Clone, Copy)]
 pub struct CorrectionArgs<R: Real, D: Dim> {
-    pub n: u32,
+    pub n: Span,
     /// Lanes per particle (1, 2, 4 or 8; `sph::lanes::clamp_lanes`), as the pair interaction's.
     pub lanes: u32,
     /// Blocks in reverse order (`ptx::ordered_index`; the GPU's only, no bit depends on it).
@@ -54,7 +54,10 @@ impl<R: Real, D: TensorOps<R>> Pass for CorrectionPass<R, D> {
     const ENTRY: usize = entry_index("correction", D::D, size_of::<R>(), 0);
     const GRID: Grid = Grid::Pair;
     fn particles(a: &Self::Args) -> usize {
-        a.n as usize
+        a.n.n as usize
+    }
+    fn active(a: &Self::Args) -> *const u32 {
+        a.n.active
     }
     fn lanes(a: &Self::Args) -> u32 {
         a.lanes

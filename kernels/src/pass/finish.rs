@@ -2,7 +2,7 @@
 //! particle (`sph::plastic::plastic_particle`) and the tool's contact pass (`contact::penalty::contact_particle`).
 
 use super::ModelEntry;
-use super::launch::{Grid, Pass};
+use super::launch::{Grid, Pass, Span};
 use super::table::{entry_index, model_variant};
 use crate::contact::penalty::{ContactArrays, ContactParams, ToolSet, contact_particle};
 use crate::contact::{Tool2d, ToolState};
@@ -74,7 +74,7 @@ impl<R: Real, D: Dim> StepPtrs<R, D> {
 #[repr(C)]
 #[derive(Clone, Copy)]
 pub struct FinishArgs<R: Real, D: Dim> {
-    pub n: u32,
+    pub n: Span,
     /// The step's scalars (Δt).
     pub scalars: *const StepScalars,
     pub step: StepPtrs<R, D>,
@@ -97,7 +97,7 @@ impl<R: Real, D: Dim> FinishArgs<R, D> {
 #[repr(C)]
 #[derive(Clone, Copy)]
 pub struct FinishPlasticArgs<R: Real, D: Dim, M> {
-    pub n: u32,
+    pub n: Span,
     /// Blocks in reverse order (`ptx::ordered_index`; the GPU's only, no bit depends on it).
     pub reverse: u32,
     /// The step's scalars (Δt, the tool's state).
@@ -219,7 +219,10 @@ impl<R: Real, D: TensorOps<R>, M: FlowStress + ModelEntry + Copy, const DMG: boo
     const ENTRY: usize = entry_index("finish_plastic", D::D, size_of::<R>(), model_variant(M::INDEX, DMG));
     const GRID: Grid = Grid::Plastic;
     fn particles(a: &Self::Args) -> usize {
-        a.n as usize
+        a.n.n as usize
+    }
+    fn active(a: &Self::Args) -> *const u32 {
+        a.n.active
     }
     fn order(a: &mut Self::Args) -> Option<&mut u32> {
         Some(&mut a.reverse)

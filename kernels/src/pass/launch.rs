@@ -19,6 +19,69 @@ pub enum Grid {
     Strided,
 }
 
+/// The particles a per-particle pass covers: the first `n`, or with blanking only the first `*active` of them,
+/// the unblanked particles, which the cell list sorts before the blanked ones (`active` points at the cell starts'
+/// entry `n_cells`, docs/3d.md "Blanking"). The count is read where the pass runs (in every GPU thread, by the CPU
+/// before its loop), so that a captured step needs no read by the host. Null `active`: all `n`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct Span {
+    pub n: u32,
+    pub _pad: u32,
+    pub active: *const u32,
+}
+
+impl Span {
+    /// All n particles.
+    pub const fn all(n: u32) -> Self {
+        Span { n, _pad: 0, active: core::ptr::null() }
+    }
+
+    /// Whether particle i is one the pass runs: i < n and, with blanking, i < *active.
+    ///
+    /// # Safety
+    /// A non-null `active` points at a live count.
+    #[inline(always)]
+    pub unsafe fn live(&self, i: u32) -> bool {
+        i < self.n && (self.active.is_null() || i < unsafe { *self.active })
+    }
+
+    /// How many particles the pass runs: min(n, *active), n without blanking.
+    ///
+    /// # Safety
+    /// As [`Span::live`].
+    #[inline(always)]
+    pub unsafe fn limit(&self) -> u32 {
+        if self.active.is_null() { self.n } else { unsafe { (*self.active).min(self.n) } }
+    }
+}
+
+/// A pass's particle count: a plain count (every particle: the hash, the gathers) or a [`Span`].
+pub trait Particles {
+    /// The upper bound: the launch's particle count.
+    fn upper(&self) -> usize;
+    /// The blanking's count of active particles (null: none).
+    fn active(&self) -> *const u32;
+}
+
+impl Particles for u32 {
+    fn upper(&self) -> usize {
+        *self as usize
+    }
+    fn active(&self) -> *const u32 {
+        core::ptr::null()
+    }
+}
+
+impl Particles for Span {
+    fn upper(&self) -> usize {
+        self.n as usize
+    }
+    fn active(&self) -> *const u32 {
+        self.active
+    }
+}
+
 /// A pass of the table: its argument struct, its entry, its thread layout and its CPU twin.
 pub trait Pass {
     /// The argument struct, passed by value to the entry.
@@ -29,6 +92,12 @@ pub trait Pass {
 
     /// The particles the launch covers.
     fn particles(a: &Self::Args) -> usize;
+
+    /// The blanking's count of active particles, a bound below [`Pass::particles`] that the pass reads where it
+    /// runs (null: none; [`Span`]). The CPU reads it once before the loop, the GPU in every thread.
+    fn active(_a: &Self::Args) -> *const u32 {
+        core::ptr::null()
+    }
 
     /// Threads per particle ([`Grid::Pair`]).
     fn lanes(_a: &Self::Args) -> u32 {
@@ -71,7 +140,10 @@ macro_rules! simple_pass {
             const ENTRY: usize = $entry;
             const GRID: $crate::pass::launch::Grid = $grid;
             fn particles(a: &Self::Args) -> usize {
-                a.n as usize
+                $crate::pass::launch::Particles::upper(&a.n)
+            }
+            fn active(a: &Self::Args) -> *const u32 {
+                $crate::pass::launch::Particles::active(&a.n)
             }
             unsafe fn particle(a: &Self::Args, i: usize) -> u32 {
                 unsafe { a.particle(i) };

@@ -18,7 +18,7 @@ pub mod table;
 
 pub use correction::{CorrectionArgs, CorrectionPass};
 pub use finish::{Finish, FinishArgs, FinishPlastic, FinishPlasticArgs, StepPtrs};
-pub use launch::{Grid, Pass};
+pub use launch::{Grid, Particles, Pass, Span};
 pub use models::{FLOW_MODEL_TAGS, ModelEntry};
 pub use neighbour::{
     GatherArgs, GatherFieldsArgs, Hash, HashArgs, HashCountArgs, NeighbourList, NeighbourListArgs, ScanApplyArgs,

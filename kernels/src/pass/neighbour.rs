@@ -2,22 +2,24 @@
 //! reorder, the Verlet list and the CSR neighbour list. The gated ones carry the step's rebuild flag (`gate`;
 //! null: always run).
 
-use super::launch::{Grid, Pass};
+use super::launch::{Grid, Pass, Span};
 use super::table::entry_index;
 use crate::neighbour::search::neighbour_row;
 use crate::neighbour::verlet::verlet_row;
-use crate::neighbour::{GatherField, GridParams};
+use crate::neighbour::{BlankBox, GatherField, GridParams};
 use crate::real::Real;
 use crate::vector::Dim;
 use core::marker::PhantomData;
 
-/// keys[i] = cell key of pos[i] (`GridParams::key`).
+/// keys[i] = cell key of pos[i] (`GridParams::key_blanked`).
 #[repr(C)]
 #[derive(Clone, Copy)]
 pub struct HashArgs<R: Real, D: Dim> {
     pub n: u32,
     pub pos: *const D::Vec<R>,
     pub grid: *const GridParams,
+    /// The blanking's box (null: no blanking).
+    pub blank: *const BlankBox,
     pub keys: *mut u32,
 }
 
@@ -28,7 +30,7 @@ impl<R: Real, D: Dim> HashArgs<R, D> {
     /// i < n; `pos` and `keys` hold n particles; `grid` points at the grid.
     #[inline(always)]
     pub unsafe fn particle(&self, i: usize) {
-        unsafe { *self.keys.add(i) = (*self.grid).key::<R, D::Vec<R>>(&*self.pos.add(i)) }
+        unsafe { *self.keys.add(i) = (*self.grid).key_blanked::<R, D::Vec<R>>(&*self.pos.add(i), self.blank) }
     }
 }
 
@@ -37,7 +39,7 @@ pub struct Hash<R, D>(PhantomData<(R, D)>);
 crate::simple_pass!(Hash<R, D>, HashArgs<R, D>, entry_index("hash", D::D, size_of::<R>(), 0), Grid::Particles,
     [R: Real, D: Dim]);
 
-/// The counting pass of a gated rebuild: keys[i] = cell key of pos[i], slots[i] = its arrival order in the cell,
+/// The counting pass of a gated rebuild: keys[i] = cell key of pos[i] (`GridParams::key_blanked`), slots[i] = its arrival order in the cell,
 /// counts[cell] += 1 (counts zeroed before).
 #[repr(C)]
 #[derive(Clone, Copy)]
@@ -46,6 +48,8 @@ pub struct HashCountArgs<R: Real, D: Dim> {
     pub n: u32,
     pub pos: *const D::Vec<R>,
     pub grid: *const GridParams,
+    /// The blanking's box (null: no blanking).
+    pub blank: *const BlankBox,
     pub keys: *mut u32,
     pub counts: *mut u32,
     pub slots: *mut u32,
@@ -56,7 +60,7 @@ pub struct HashCountArgs<R: Real, D: Dim> {
 #[repr(C)]
 #[derive(Clone, Copy)]
 pub struct NeighbourListArgs<R: Real, D: Dim> {
-    pub n: u32,
+    pub n: Span,
     pub pos: *const D::Vec<R>,
     pub grid: *const GridParams,
     pub starts: *const u32,
@@ -98,7 +102,7 @@ crate::simple_pass!(NeighbourList<R, D>, NeighbourListArgs<R, D>,
 #[derive(Clone, Copy)]
 pub struct VerletArgs<R: Real, D: Dim> {
     pub gate: *const u32,
-    pub n: u32,
+    pub n: Span,
     pub grid: *const GridParams,
     pub starts: *const u32,
     pub pos: *const D::Vec<R>,
@@ -124,7 +128,10 @@ impl<R: Real, D: Dim> Pass for Verlet<R, D> {
     const ENTRY: usize = entry_index("verlet_build", D::D, size_of::<R>(), 0);
     const GRID: Grid = Grid::Strided;
     fn particles(a: &Self::Args) -> usize {
-        a.n as usize
+        a.n.n as usize
+    }
+    fn active(a: &Self::Args) -> *const u32 {
+        a.n.active
     }
     fn gate(a: &Self::Args) -> *const u32 {
         a.gate

@@ -2,7 +2,7 @@
 //! the pre-pass of the predicted particle (`sph::interact::prepare_particle`).
 
 use super::StepPtrs;
-use super::launch::{Grid, Pass};
+use super::launch::{Grid, Pass, Span};
 use super::table::entry_index;
 use crate::neighbour::GridParams;
 use crate::real::Real;
@@ -18,7 +18,7 @@ use core::marker::PhantomData;
 #[repr(C)]
 #[derive(Clone, Copy)]
 pub struct PredictArgs<R: Real, D: Dim> {
-    pub n: u32,
+    pub n: Span,
     /// The step's scalars: Δt in, the rebuild and non-finite flags out.
     pub scalars: *mut StepScalars,
     /// The cell list the skin test measures against.
@@ -58,6 +58,16 @@ impl<R: Real, D: TensorOps<R>> PredictArgs<R, D> {
             x
         }
     }
+
+    /// Whether particle i, predicted to `x`, makes the step rebuild the cell list: it moved beyond the skin
+    /// (`GridParams::beyond_skin`, which a non-finite position is) or it left the blanking's box.
+    ///
+    /// # Safety
+    /// i < n; `grid`, `pos_ref` and `scalars` are live.
+    #[inline(always)]
+    pub unsafe fn rebuilds(&self, i: usize, x: &D::Vec<R>) -> bool {
+        unsafe { (*self.grid).beyond_skin::<R, D::Vec<R>>(x, &*self.pos_ref.add(i)) || (*self.scalars).blank.blanks(x) }
+    }
 }
 
 /// The predictor pass (`swarf_step_predict_*`). Its CPU twin flags a particle beyond the skin ([`BEYOND_SKIN`])
@@ -66,7 +76,7 @@ impl<R: Real, D: TensorOps<R>> PredictArgs<R, D> {
 /// (`swarf_step_predict_*_dmg`).
 pub struct Predict<R, D, const DMG: bool>(PhantomData<(R, D)>);
 
-/// A predicted particle left the skin of the cell list.
+/// A predicted particle left the skin of the cell list or the blanking's box.
 pub const BEYOND_SKIN: u32 = 1;
 /// A predicted position is not finite.
 pub const NON_FINITE: u32 = 2;
@@ -76,12 +86,15 @@ impl<R: Real, D: TensorOps<R>, const DMG: bool> Pass for Predict<R, D, DMG> {
     const ENTRY: usize = entry_index("predict", D::D, size_of::<R>(), DMG as u32);
     const GRID: Grid = Grid::Particles;
     fn particles(a: &Self::Args) -> usize {
-        a.n as usize
+        a.n.n as usize
+    }
+    fn active(a: &Self::Args) -> *const u32 {
+        a.n.active
     }
     unsafe fn particle(a: &Self::Args, i: usize) -> u32 {
         unsafe {
             let x = a.particle::<DMG>(i);
-            let beyond = (*a.grid).beyond_skin::<R, D::Vec<R>>(&x, &*a.pos_ref.add(i));
+            let beyond = a.rebuilds(i, &x);
             let finite = is_finite_vec::<R, D::Vec<R>>(&x);
             ((beyond as u32) * BEYOND_SKIN) | ((!finite as u32) * NON_FINITE)
         }

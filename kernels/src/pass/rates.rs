@@ -1,7 +1,7 @@
 //! The pair interaction's arguments (`sph::interact::rates`, fused with the Brookshaw conduction in
 //! `sph::interact::rates_heat`).
 
-use super::launch::{Grid, Pass};
+use super::launch::{Grid, Pass, Span};
 use super::table::{entry_index, rates_variant};
 use crate::neighbour::{GridParams, Neighbours};
 use crate::real::Real;
@@ -16,7 +16,7 @@ use core::marker::PhantomData;
 #[repr(C)]
 #[derive(Clone, Copy)]
 pub struct RatesArgs<R: Real, D: Dim> {
-    pub n: u32,
+    pub n: Span,
     /// Lanes per particle (1, 2, 4 or 8; `sph::lanes::clamp_lanes`).
     pub lanes: u32,
     /// Blocks in reverse order (`ptx::ordered_index`; the GPU's only, no bit depends on it).
@@ -115,7 +115,10 @@ impl<
     const ENTRY: usize = entry_index("rates", D::D, size_of::<R>(), rates_variant(AV, AS, XS, HEAT, DMG, CS));
     const GRID: Grid = Grid::Pair;
     fn particles(a: &Self::Args) -> usize {
-        a.n as usize
+        a.n.n as usize
+    }
+    fn active(a: &Self::Args) -> *const u32 {
+        a.n.active
     }
     fn lanes(a: &Self::Args) -> u32 {
         a.lanes

@@ -3,7 +3,7 @@
 //! `PredictArgs`).
 
 use super::ModelEntry;
-use super::launch::{Grid, Pass};
+use super::launch::{Grid, Pass, Span};
 use super::table::{entry_index, model_variant, prepare_variant};
 use crate::contact::ToolArg;
 use crate::contact::penalty::{ContactArrays, ToolSet, contact_particle};
@@ -26,7 +26,7 @@ use core::marker::PhantomData;
 #[repr(C)]
 #[derive(Clone, Copy)]
 pub struct DensityArgs<R: Real, D: Dim> {
-    pub n: u32,
+    pub n: Span,
     pub pos: *const D::Vec<R>,
     pub mass: *const R,
     pub grid: *const GridParams,
@@ -61,7 +61,7 @@ crate::simple_pass!(Density<R, D>, DensityArgs<R, D>, entry_index("density", D::
 pub struct PrepareArgs<R: Real, D: Dim> {
     /// The step's rebuild flag (`StepScalars::rebuild`; the GPU's gate: the CPU reads it before the loop).
     pub gate: *const u32,
-    pub n: u32,
+    pub n: Span,
     pub params: *const SphParams<R>,
     pub rho: *const R,
     pub mass: *const R,
@@ -105,7 +105,10 @@ impl<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const DMG: bool> 
     const ENTRY: usize = entry_index("prepare", D::D, size_of::<R>(), prepare_variant(AV, AS, DMG));
     const GRID: Grid = Grid::Particles;
     fn particles(a: &Self::Args) -> usize {
-        a.n as usize
+        a.n.n as usize
+    }
+    fn active(a: &Self::Args) -> *const u32 {
+        a.n.active
     }
     fn gate(a: &Self::Args) -> *const u32 {
         a.gate
@@ -120,7 +123,7 @@ impl<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const DMG: bool> 
 #[repr(C)]
 #[derive(Clone, Copy)]
 pub struct HeatArgs<R: Real, D: Dim> {
-    pub n: u32,
+    pub n: Span,
     /// Lanes per particle (1, 2, 4 or 8; `sph::lanes::clamp_lanes`).
     pub lanes: u32,
     pub hp: HeatParams,
@@ -172,7 +175,10 @@ impl<R: Real, D: Dim, const PSE: bool> Pass for Heat<R, D, PSE> {
     const ENTRY: usize = entry_index("heat", D::D, size_of::<R>(), PSE as u32);
     const GRID: Grid = Grid::Pair;
     fn particles(a: &Self::Args) -> usize {
-        a.n as usize
+        a.n.n as usize
+    }
+    fn active(a: &Self::Args) -> *const u32 {
+        a.n.active
     }
     fn lanes(a: &Self::Args) -> u32 {
         a.lanes
@@ -190,7 +196,7 @@ impl<R: Real, D: Dim, const PSE: bool> Pass for Heat<R, D, PSE> {
 #[repr(C)]
 #[derive(Clone, Copy)]
 pub struct PlasticArgs<R: Real, D: Dim, M> {
-    pub n: u32,
+    pub n: Span,
     pub model: M,
     pub consts: PlasticConsts,
     pub stress: *mut D::Sym<R>,
@@ -246,7 +252,10 @@ impl<R: Real, D: TensorOps<R>, M: FlowStress + ModelEntry + Copy, const DMG: boo
     const ENTRY: usize = entry_index("plastic", D::D, size_of::<R>(), model_variant(M::INDEX, DMG));
     const GRID: Grid = Grid::Plastic;
     fn particles(a: &Self::Args) -> usize {
-        a.n as usize
+        a.n.n as usize
+    }
+    fn active(a: &Self::Args) -> *const u32 {
+        a.n.active
     }
     unsafe fn particle(a: &Self::Args, i: usize) -> u32 {
         unsafe { a.particle::<DMG>(&a.model, i) };
@@ -259,8 +268,7 @@ impl<R: Real, D: TensorOps<R>, M: FlowStress + ModelEntry + Copy, const DMG: boo
 #[repr(C)]
 #[derive(Clone, Copy)]
 pub struct ContactArgs<R: Real, D: Dim, T: ToolArg> {
-    pub n: u32,
-    pub _pad: u32,
+    pub n: Span,
     /// The tools: their shapes, constants, this step's motions and the particles' owners.
     pub set: ToolSet<T>,
     pub pos: *const D::Vec<R>,

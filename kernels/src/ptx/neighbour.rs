@@ -39,7 +39,8 @@ macro_rules! per_vector {
                     return;
                 }
                 let mut i = global_index();
-                while i < args.n {
+                let n = unsafe { args.n.limit() };
+                while i < n {
                     unsafe { args.particle(i as usize) };
                     i += grid_threads();
                 }
@@ -52,14 +53,14 @@ macro_rules! per_vector {
             /// in the cell, counts[cell] += 1 (counts zeroed before), when the gate is open.
             #[unsafe(export_name = $sym)]
             pub unsafe extern "ptx-kernel" fn entry(args: HashCountArgs<$r, $d>) {
-                let HashCountArgs { gate, n, pos, grid, keys, counts, slots } = args;
+                let HashCountArgs { gate, n, pos, grid, blank, keys, counts, slots } = args;
                 if !unsafe { open(gate) } {
                     return;
                 }
                 let mut i = global_index();
                 while i < n {
                     unsafe {
-                        let k = (*grid).key::<$r, Vec_<$r, $d>>(&*pos.add(i as usize));
+                        let k = (*grid).key_blanked::<$r, Vec_<$r, $d>>(&*pos.add(i as usize), blank);
                         *keys.add(i as usize) = k;
                         *slots.add(i as usize) = atomic_add_u32(counts.add(k as usize), 1);
                     }
@@ -87,7 +88,7 @@ macro_rules! per_vector {
             #[unsafe(export_name = $sym)]
             pub unsafe extern "ptx-kernel" fn entry(args: NeighbourListArgs<$r, $d>) {
                 let i = global_index();
-                if i < args.n {
+                if unsafe { args.n.live(i) } {
                     unsafe { args.particle(i as usize) };
                 }
             }

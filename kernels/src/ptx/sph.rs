@@ -8,7 +8,7 @@ macro_rules! density_entry {
         #[unsafe(export_name = $sym)]
         pub unsafe extern "ptx-kernel" fn entry(args: DensityArgs<$r, $d>) {
             let i = global_index();
-            if i < args.n {
+            if unsafe { args.n.live(i) } {
                 unsafe { args.particle(i as usize) };
             }
         }
@@ -37,7 +37,7 @@ macro_rules! prepare_entry {
         #[unsafe(export_name = $sym)]
         pub unsafe extern "ptx-kernel" fn entry(args: PrepareArgs<$r, $d>) {
             let i = global_index() as usize;
-            if i < args.n as usize && unsafe { super::neighbour::open(args.gate) } {
+            if unsafe { args.n.live(i as u32) && super::neighbour::open(args.gate) } {
                 unsafe { args.particle::<$av, $as, $dmg>(i) };
             }
         }
@@ -61,7 +61,7 @@ macro_rules! rates_entry {
             let h = args.heat_arrays();
             let nb = unsafe { args.neighbours() };
             // Every lane takes part in the shuffles, also past the last particle.
-            let live = i < n;
+            let live = unsafe { n.live(i) };
             unsafe {
                 let (mech, heat) = if $heat {
                     let s = if live {
@@ -102,7 +102,7 @@ macro_rules! correction_entry {
             let (i, lane) = (t / lanes, t % lanes);
             let nb = unsafe { args.neighbours() };
             // Every lane takes part in the shuffles, also past the last particle.
-            let live = i < args.n;
+            let live = unsafe { args.n.live(i) };
             let s = if live {
                 unsafe { correction_share::<$r, $d>(&args.kernel, args.min_r2, &nb, &args.arrays, i, lane, lanes) }
             } else {
@@ -134,7 +134,8 @@ fn shuffle_xor<T: LaneSum>(x: &T, mask: u32) -> T {
 }
 
 /// The predictor (sph::step::predict_particle) with the skin test of the predicted position against where the
-/// cell list binned it (`GridParams::beyond_skin`): a particle beyond the skin sets the step's rebuild flag (every
+/// cell list binned it (`GridParams::beyond_skin`) and the blanking's box (`PredictArgs::rebuilds`): a particle beyond
+/// the skin or outside the box sets the step's rebuild flag (every
 /// such thread stores the same 1). With a non-null `sig` the same thread then runs the pre-pass of the predicted
 /// particle (sph::interact::prepare_particle; `params` by value, `art`/`sound` null where off), so that a step that
 /// does not rebuild needs no pre-pass launch. In a captured step `condition` is the handle of the IF node that
@@ -145,16 +146,17 @@ macro_rules! predict_entry {
         #[unsafe(export_name = $sym)]
         pub unsafe extern "ptx-kernel" fn entry(args: PredictArgs<$r, $d>) {
             let i = global_index();
-            if i < args.n {
-                let (scalars, condition) = (args.scalars, args.condition);
+            let (scalars, condition) = (args.scalars, args.condition);
+            let flag = unsafe { core::ptr::addr_of_mut!((*scalars).rebuild) };
+            // A rebuild the host asked for (thread 0 also when blanking left no particle active; a thread that set
+            // the flag before this read set the node too).
+            if i == 0 && condition != 0 && unsafe { core::ptr::read_volatile(flag) } != 0 {
+                unsafe { graph_set_conditional(condition, 1) };
+            }
+            if unsafe { args.n.live(i) } {
                 unsafe {
                     let x = args.particle::<$dmg>(i as usize);
-                    let flag = core::ptr::addr_of_mut!((*scalars).rebuild);
-                    // A rebuild the host asked for (read before any thread of this launch sets the flag).
-                    if i == 0 && condition != 0 && core::ptr::read_volatile(flag) != 0 {
-                        graph_set_conditional(condition, 1);
-                    }
-                    if (*args.grid).beyond_skin::<$r, Vec_<$r, $d>>(&x, &*args.pos_ref.add(i as usize)) {
+                    if args.rebuilds(i as usize, &x) {
                         core::ptr::write_volatile(flag, 1);
                         if condition != 0 {
                             graph_set_conditional(condition, 1);
@@ -175,7 +177,7 @@ macro_rules! finish_entry {
         #[unsafe(export_name = $sym)]
         pub unsafe extern "ptx-kernel" fn entry(args: FinishArgs<$r, $d>) {
             let i = global_index();
-            if i < args.n {
+            if unsafe { args.n.live(i) } {
                 unsafe { args.particle(i as usize) };
             }
         }
@@ -193,7 +195,7 @@ macro_rules! finish_plastic_entry {
         #[unsafe(export_name = $sym)]
         pub unsafe extern "ptx-kernel" fn entry(args: FinishPlasticArgs<$r, $d, $m>) {
             let i = ordered_index(args.reverse);
-            if i < args.n {
+            if unsafe { args.n.live(i) } {
                 // The model alone goes to the flow-stress functions (a local copy, as the by-value parameter was).
                 let model = args.model;
                 unsafe { args.particle::<$dmg>(&model, i as usize) };
@@ -213,7 +215,7 @@ macro_rules! heat_entry {
             let a = args.arrays();
             let nb = unsafe { args.neighbours() };
             // Every lane takes part in the shuffles, also past the last particle.
-            let live = i < args.n;
+            let live = unsafe { args.n.live(i) };
             unsafe {
                 let mut sum = if live {
                     heat_sum::<$r, Vec_<$r, $d>, $pse>(&args.hp, &args.params.kernel, &nb, &a, i, lane, lanes)
@@ -236,7 +238,7 @@ macro_rules! plastic_entry {
         #[unsafe(export_name = $sym)]
         pub unsafe extern "ptx-kernel" fn entry(args: PlasticArgs<$r, $d, $m>) {
             let i = global_index() as usize;
-            if i < args.n as usize {
+            if unsafe { args.n.live(i as u32) } {
                 // The model alone goes to the flow-stress functions (a local copy, as the by-value parameter was).
                 let model = args.model;
                 unsafe { args.particle::<$dmg>(&model, i) };
@@ -252,7 +254,7 @@ macro_rules! contact_entry {
         #[unsafe(export_name = $sym)]
         pub unsafe extern "ptx-kernel" fn entry(args: ContactArgs<$r, $d, crate::contact_tool!($tool)>) {
             let i = global_index() as usize;
-            if i < args.n as usize {
+            if unsafe { args.n.live(i as u32) } {
                 unsafe { args.particle(i) };
             }
         }

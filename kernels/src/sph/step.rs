@@ -26,6 +26,9 @@ pub struct StepScalars {
     /// Set to 1 by the predictor when a predicted position is non-finite, so that the run loop stops within one
     /// batch (it reads the flags after each batch) instead of at its next output.
     pub non_finite: u32,
+    /// The blanking's active box at this step's end (`on` 0: no blanking; docs/3d.md, "Blanking"): the predictor
+    /// asks for a rebuild when an active particle leaves it, the rebuild's hash freezes the particles outside it.
+    pub blank: crate::neighbour::BlankBox,
 }
 
 /// Whether every component of a position is finite.
