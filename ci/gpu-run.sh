@@ -545,19 +545,21 @@ PY
                   fi
               done ;;
         blank24) # issue 24 (docs/3d.md "Blanking"): the single grain (cases/3d/single-grain.toml, CFL SWARF_BLANK_CFL,
-                 # default 0.3) whole, without and with a box 200 µm behind to 40 µm ahead of the workpiece's front,
-                 # moving with the grain; wall times side by side, run.log tails and the force means over 2-10 µs;
+                 # default 0.3) whole, without and with a growing box from 200 µm behind to 40 µm into the workpiece,
+                 # its front moving with the grain; wall times side by side, run.log tails and the force means over 2-10 µs;
                  # then the default V0060 cut and the reference cuts' step (bench step) with this build and each
                  # packed earlier one (swarf-<name>), for the cost of the active count on runs without blanking
               for v in plain blanked; do
                   set=(--set "time.cfl=${SWARF_BLANK_CFL:-0.3}")
-                  [ $v = blanked ] && set+=(--set 'blanking.min=[-2.0e-4,-1.0,-1.0]' --set 'blanking.max=[4.0e-5,1.0,1.0]')
+                  [ $v = blanked ] && set+=(--set 'blanking.min=[-2.0e-4,-1.0,-1.0]' --set 'blanking.max=[4.0e-5,1.0,1.0]'
+                                            --set blanking.grow=true)
                   run "blank24-$v" "$here/swarf" --backend gpu run cases/3d/single-grain.toml --quiet \
                       --out "/tmp/blank24/$v" "${set[@]}"
                   { tail -n 5 "/tmp/blank24/$v/run.log"; force_means "/tmp/blank24/$v/forces.csv" 2e-6 1e-5; } \
                       >> "$out/blank24-$v.log"
                   cp "/tmp/blank24/$v/forces.csv" "$out/blank24-$v-forces.csv"
               done
+              [ -n "${SWARF_BLANK_NO_AB:-}" ] && continue
               blankab() {
                   local b others; others=$(cd "$here" && ls swarf-* 2>/dev/null | grep -v '\.gz$')
                   for b in swarf $others swarf $others; do

@@ -200,3 +200,39 @@ fn a_blanked_run_resumes_bit_for_bit() {
     let _ = std::fs::remove_dir_all(&a);
     let _ = std::fs::remove_dir_all(&b);
 }
+
+/// A translating box freezes what its rear face leaves behind; a growing one (`grow = true`) holds its rear face:
+/// the coarse cut with a box from x = 0 to 0.3 mm moving with the tool (25.4 µm in 4 µs) marks the particles the
+/// rear passed (x < 25 µm) blanked at the end, and with `grow` none of them.
+#[test]
+fn a_growing_box_keeps_what_it_has_passed() {
+    for grow in [false, true] {
+        let dir = scratch(&format!("grow-{grow}"));
+        let g = format!("blanking.grow={grow}");
+        let scene = cut(&["blanking.min=[0.0,-1.0e-3]", "blanking.max=[0.3e-3,1.0e-3]", &g]);
+        let opts = RunOptions { frames: true, ..RunOptions::quiet(dir.clone()) };
+        run_observed(&common::test_backend(), &scene, &opts, None).expect("run");
+        let mut vtu: Vec<PathBuf> = std::fs::read_dir(&dir)
+            .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|x| x == "vtu"))
+            .collect();
+        vtu.sort();
+        let frame = swarf::output::vtu::read(vtu.last().expect("a frame")).expect("frame");
+        let blanked = frame.point_data.iter().find(|(n, _, _)| n == "blanked").and_then(|(_, _, v)| v.floats());
+        let (blanked, points) = (blanked.expect("blanked"), frame.points.floats().expect("points"));
+        // The rear passed x = 6.355 m/s · 4 µs = 25.4 µm less one skin at most: the columns x = 0 and 20 µm.
+        let behind = (0..blanked.len()).filter(|&k| points[3 * k] < 2.1e-5 && points[3 * k + 1] < 1.0e-4).count();
+        let frozen_behind = (0..blanked.len())
+            .filter(|&k| points[3 * k] < 2.1e-5 && points[3 * k + 1] < 1.0e-4 && blanked[k] == 1.0)
+            .count();
+        eprintln!("grow = {grow}: {frozen_behind} of the {behind} particles behind the rear's path blanked");
+        assert!(behind > 0);
+        if grow {
+            assert_eq!(frozen_behind, 0, "a growing box froze particles behind it");
+        } else {
+            assert_eq!(frozen_behind, behind, "the translating box's rear must freeze what it passed");
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

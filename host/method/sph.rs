@@ -273,8 +273,13 @@ fn blanking(
     pos: &[[f64; 3]],
 ) -> Result<Option<Blanking>> {
     let Some(b) = &scene.blanking else { return Ok(None) };
-    let bl =
-        Blanking { min: b.min, max: b.max, velocity: b.velocity, step: if grid.skin > 0.0 { grid.skin } else { h } };
+    let bl = Blanking {
+        min: b.min,
+        max: b.max,
+        velocity: b.velocity,
+        step: if grid.skin > 0.0 { grid.skin } else { h },
+        grow: b.grow,
+    };
     let first = bl.box_at(0.0);
     let inside = |p: &[f64; 3]| (0..scene.dim).all(|k| p[k] >= first.lo[k] && p[k] <= first.hi[k]);
     if !pos.iter().any(inside) {

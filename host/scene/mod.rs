@@ -146,6 +146,9 @@ pub struct Blanking {
     pub max: [f64; 3],
     /// `velocity` (optional, default the first tool's translation velocity, else zero) [m/s].
     pub velocity: [f64; 3],
+    /// `grow` (optional, default false): the rear faces stay put and only the front ones move (the original code's
+    /// box with one face held), so the box never leaves behind material it has worked.
+    pub grow: bool,
 }
 
 /// `[damage]`: ductile damage (`swarf_kernels::damage`, docs/damage.md), its constants from the library material's

@@ -16,6 +16,9 @@ pub struct Blanking {
     pub velocity: [f64; 3],
     /// The travel between two jumps [m] (the cell list's skin).
     pub step: f64,
+    /// The rear faces stay put (a growing box, as the original code's box with one face held): on each axis the
+    /// face the box moves away from.
+    pub grow: bool,
 }
 
 impl Blanking {
@@ -25,13 +28,15 @@ impl Blanking {
         if speed > 0.0 && self.step > 0.0 { (t * speed / self.step).floor() as i64 } else { 0 }
     }
 
-    /// The box at time t: moved by v · (jumps · step / |v|), the time of its last jump.
+    /// The box at time t: moved by v · (jumps · step / |v|), the time of its last jump; growing, only its front
+    /// faces move.
     pub fn box_at(&self, t: f64) -> BlankBox {
         let speed = self.velocity.iter().map(|v| v * v).sum::<f64>().sqrt();
         let moved = if speed > 0.0 { self.jumps(t) as f64 * self.step / speed } else { 0.0 };
+        let shift = |k: usize, front: bool| if self.grow && !front { 0.0 } else { self.velocity[k] * moved };
         BlankBox {
-            lo: std::array::from_fn(|k| self.min[k] + self.velocity[k] * moved),
-            hi: std::array::from_fn(|k| self.max[k] + self.velocity[k] * moved),
+            lo: std::array::from_fn(|k| self.min[k] + shift(k, self.velocity[k] < 0.0)),
+            hi: std::array::from_fn(|k| self.max[k] + shift(k, self.velocity[k] > 0.0)),
             on: 1,
             _pad: 0,
         }

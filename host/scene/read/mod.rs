@@ -328,20 +328,21 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
     })
 }
 
-/// `[blanking]` (optional): `min`, `max` (the active box at t = 0, points in m) and `velocity` (m/s; default the
-/// first tool's translation velocity, else zero).
+/// `[blanking]` (optional): `min`, `max` (the active box at t = 0, points in m), `velocity` (m/s; default the
+/// first tool's translation velocity, else zero) and `grow` (the rear faces stay put).
 fn blanking(root: &Tab<'_>, dim: usize, tool: Option<&super::Tool>) -> Result<Option<super::Blanking>> {
     let Some(t) = root.table("blanking", "blanking", "a table [blanking] with min, max and velocity")? else {
         return Ok(None);
     };
-    t.check_keys(&["min", "max", "velocity"], &[], "")?;
+    t.check_keys(&["min", "max", "velocity", "grow"], &[], "")?;
     let (min, max) = t.min_max(dim)?;
     let e = point_text("a velocity", dim, "m/s");
     let velocity = match t.vector("velocity", dim, &e)? {
         Some(v) => v,
         None => tool.map_or([0.0; 3], |tl| tl.velocity),
     };
-    Ok(Some(super::Blanking { min, max, velocity }))
+    let grow = t.boolean("grow", "true or false")?.unwrap_or(false);
+    Ok(Some(super::Blanking { min, max, velocity, grow }))
 }
 
 /// `[discretisation]` (required): its table (the bodies read their spacing from it) and its values.
