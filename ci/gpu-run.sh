@@ -545,20 +545,29 @@ PY
                   fi
               done ;;
         blank24) # issue 24 (docs/3d.md "Blanking"): the single grain (cases/3d/single-grain.toml, CFL SWARF_BLANK_CFL,
-                 # default 0.3) whole, without and with a growing box from 200 µm behind to 40 µm into the workpiece,
-                 # its front moving with the grain; wall times side by side, run.log tails and the force means over 2-10 µs;
-                 # then the default V0060 cut and the reference cuts' step (bench step) with this build and each
-                 # packed earlier one (swarf-<name>), for the cost of the active count on runs without blanking
-              for v in plain blanked; do
+                 # default 0.3) whole: without blanking; with a box at rest that holds every particle (the same run,
+                 # bit for bit); and with a growing box from 200 µm behind the workpiece to SWARF_BLANK_FRONTS (µm into
+                 # it, default "40 115"), its front moving with the grain. Wall times side by side, run.log tails, the
+                 # force means over 2-10 µs; then (unless SWARF_BLANK_NO_AB) the default V0060 cut and the reference
+                 # cuts' step (bench step) with this build and each packed earlier one (swarf-<name>), for the cost
+                 # of the active count on runs without blanking
+              for v in plain all ${SWARF_BLANK_FRONTS:-40 115}; do
                   set=(--set "time.cfl=${SWARF_BLANK_CFL:-0.3}")
-                  [ $v = blanked ] && set+=(--set 'blanking.min=[-2.0e-4,-1.0,-1.0]' --set 'blanking.max=[4.0e-5,1.0,1.0]'
-                                            --set blanking.grow=true)
+                  case $v in
+                      plain) ;;
+                      all) set+=(--set 'blanking.min=[-1.0,-1.0,-1.0]' --set 'blanking.max=[1.0,1.0,1.0]'
+                                 --set 'blanking.velocity=[0.0,0.0,0.0]') ;;
+                      *) set+=(--set 'blanking.min=[-2.0e-4,-1.0,-1.0]' --set "blanking.max=[${v}.0e-6,1.0,1.0]"
+                               --set blanking.grow=true) ;;
+                  esac
                   run "blank24-$v" "$here/swarf" --backend gpu run cases/3d/single-grain.toml --quiet \
                       --out "/tmp/blank24/$v" "${set[@]}"
                   { tail -n 5 "/tmp/blank24/$v/run.log"; force_means "/tmp/blank24/$v/forces.csv" 2e-6 1e-5; } \
                       >> "$out/blank24-$v.log"
                   cp "/tmp/blank24/$v/forces.csv" "$out/blank24-$v-forces.csv"
               done
+              cmp -s /tmp/blank24/plain/forces.csv /tmp/blank24/all/forces.csv \
+                  && echo "forces.csv of plain and all: bitwise equal" || echo "forces.csv of plain and all: DIFFER"
               [ -n "${SWARF_BLANK_NO_AB:-}" ] && continue
               blankab() {
                   local b others; others=$(cd "$here" && ls swarf-* 2>/dev/null | grep -v '\.gz$')
@@ -574,6 +583,25 @@ PY
                   done
               }
               run blank24-ab blankab ;;
+        grain2m) # issue 24: the single grain at Röthlin's resolution (cases/3d/single-grain.toml at dx = 1.13 µm: about
+                 # 2 M particles, f64), blanked by a growing box (200 µm behind to SWARF_GRAIN_FRONT µm, default 115,
+                 # into the workpiece; CFL SWARF_GRAIN_CFL, default the scene's); first the
+                 # step's cost without blanking at t = 0 (bench step: ms/step, roofline); then the run, resumed from
+                 # /tmp/grain2m where a checkpoint is (the same warm machine), interrupted with a checkpoint at
+                 # SWARF_GRAIN_DEADLINE s (default 520); log tail, summary, force means over 2-10 µs
+              d=/tmp/grain2m
+              sed 's/^dx = 3.0e-6/dx = 1.13e-6/' cases/3d/single-grain.toml > cases/3d/single-grain-2m.toml
+              [ -f "$d/checkpoint.bin" ] || run grain2m-bench "$here/swarf" --backend gpu bench step --precision f64 \
+                  --step-count 64 --scenes cases/3d/single-grain-2m.toml
+              if [ -f "$d/checkpoint.bin" ]; then args=(run --resume "$d" --quiet)
+              else args=(run cases/3d/single-grain-2m.toml --quiet --out "$d" --set output.every=1.0e-6
+                         --set 'blanking.min=[-2.0e-4,-1.0,-1.0]' --set "blanking.max=[${SWARF_GRAIN_FRONT:-115}.0e-6,1.0,1.0]"
+                         --set blanking.grow=true ${SWARF_GRAIN_CFL:+--set time.cfl=$SWARF_GRAIN_CFL})
+              fi
+              run grain2m timeout -s INT -k 90 "${SWARF_GRAIN_DEADLINE:-520}" "$here/swarf" --backend gpu "${args[@]}"
+              { tail -n 8 "$d/run.log"; cat "$d/summary.json" 2>/dev/null; force_means "$d/forces.csv" 2e-6 1e-5; } \
+                  >> "$out/grain2m.log"
+              cp "$d/forces.csv" "$out/grain2m-forces.csv" ;;
         tests) run test-gpu "$here/test-gpu" --test-threads=1 --nocapture
                run test-ptx "$here/test-ptx" ;;
         regs) # issue 7: the register cap of the neighbour kernels (SWARF_MAXNREG) against the compiler's choice
