@@ -602,6 +602,15 @@ PY
               { tail -n 8 "$d/run.log"; cat "$d/summary.json" 2>/dev/null; force_means "$d/forces.csv" 2e-6 1e-5; } \
                   >> "$out/grain2m.log"
               cp "$d/forces.csv" "$out/grain2m-forces.csv" ;;
+        grain2mplain) # issue 24: the 2 M-particle single grain of grain2m without blanking, to SWARF_GRAIN_END s (default
+                      # 2.3e-6: past where the blanked runs went non-finite), CFL SWARF_GRAIN_CFL (default the scene's)
+              sed 's/^dx = 3.0e-6/dx = 1.13e-6/' cases/3d/single-grain.toml > cases/3d/single-grain-2m.toml
+              d=/tmp/grain2mplain; rm -rf "$d"
+              run grain2mplain timeout -s INT -k 90 "${SWARF_GRAIN_DEADLINE:-520}" "$here/swarf" --backend gpu run \
+                  cases/3d/single-grain-2m.toml --quiet --out "$d" --set output.every=5.0e-7 \
+                  --set "time.end=${SWARF_GRAIN_END:-2.3e-6}" ${SWARF_GRAIN_CFL:+--set time.cfl=$SWARF_GRAIN_CFL}
+              { tail -n 8 "$d/run.log"; force_means "$d/forces.csv" 1e-6 3e-6; } >> "$out/grain2mplain.log"
+              cp "$d/forces.csv" "$out/grain2mplain-forces.csv" ;;
         tests) run test-gpu "$here/test-gpu" --test-threads=1 --nocapture
                run test-ptx "$here/test-ptx" ;;
         regs) # issue 7: the register cap of the neighbour kernels (SWARF_MAXNREG) against the compiler's choice
