@@ -74,7 +74,7 @@ impl<B: Backend> CellList<B> {
     /// The particles the per-particle passes run over: all, or with blanking the active ones (the count the last
     /// build left in starts[n_cells]).
     pub fn count(&self) -> Count<'_, B> {
-        Count { n: self.n, active: self.blanking.then_some((&self.starts, self.grid.n_cells as usize)) }
+        span(self.n, self.blanking, &self.starts, &self.grid)
     }
 
     /// How many particles the last build left active (sorted first): all n without blanking.
@@ -151,8 +151,7 @@ impl<B: Backend> CellList<B> {
     ) -> Result<()> {
         match self.list.as_mut() {
             Some(list) => {
-                let count =
-                    Count { n: self.n, active: self.blanking.then_some((&self.starts, self.grid.n_cells as usize)) };
+                let count = span(self.n, self.blanking, &self.starts, &self.grid);
                 b.verlet_build::<R, D>(count, gate, &self.grid_buf, &self.starts, pos, list)
             }
             None => Ok(()),
@@ -206,6 +205,12 @@ impl<B: Backend> CellList<B> {
         }
         Ok((second, off, b.read(&list)?))
     }
+}
+
+/// The particles of a cell list's passes ([`CellList::count`]; a function of its fields, so that a caller holding
+/// another field mutably can build it).
+fn span<'a, B: Backend>(n: usize, blanking: bool, starts: &'a B::Buf<u32>, grid: &GridParams) -> Count<'a, B> {
+    Count { n, active: blanking.then_some((starts, grid.n_cells as usize)) }
 }
 
 /// The buckets of a cell list: the grid's cells and the void bucket, with blanking the cells twice
