@@ -742,10 +742,15 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         Ok(())
     }
 
-    /// The tool's prescribed velocity is being ramped up (steps then run one by one: the table is rewritten).
+    /// The tool's prescribed velocity is being ramped up, or its table entry does not yet hold the final velocity
+    /// (the last ramp step wrote its own midpoint's): steps then run one by one, the table is rewritten.
     fn ramping(&self) -> bool {
         self.contact.as_ref().is_some_and(|c| {
-            c.tool_velocity_index.is_some() && c.motions[0].ramp > 0.0 && self.time < c.motions[0].ramp
+            let m = &c.motions[0];
+            c.tool_velocity_index.is_some_and(|k| {
+                let final_held = (0..D::D).all(|i| c.bc_table[k].get(i) == R::from_f64(m.velocity[i]));
+                m.ramp > 0.0 && (self.time < m.ramp || !final_held)
+            })
         })
     }
 
@@ -756,7 +761,8 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         if let Some(c) = self.contact.as_mut()
             && let Some(k) = c.tool_velocity_index
         {
-            // The tool particles follow the ramp: their prescribed velocity at this step's midpoint.
+            // The tool particles follow the ramp: their prescribed velocity at this step's midpoint (the final
+            // velocity once the midpoint is past the ramp).
             let v = c.motions[0].velocity_at(self.time + 0.5 * dt);
             c.bc_table[k] = D::Vec::<R>::new(v.map(R::from_f64));
             b.write(&mut self.bc_vel, &c.bc_table)?;
