@@ -75,7 +75,8 @@ enum Cmd {
         /// The run folder (holds energy.csv).
         run: std::path::PathBuf,
     },
-    /// Draw PNG pictures of a 2D run's particles coloured by a field, with a colour bar and the tool (<run>/render/).
+    /// Draw PNG pictures of a run's particles coloured by a field, with a colour bar and (2D) the tool, a 3D run
+    /// seen along -z (<run>/render/).
     Render(RenderArgs),
     /// Run a scene over the cross product of --grid values (one run folder each); a table (sweep.csv, sweep.md)
     /// and plots (sweep-<key>.png) of each run's summary values against every swept key.
@@ -742,6 +743,34 @@ struct RenderArgs {
     /// Output folder (default <run>/render).
     #[arg(long)]
     out: Option<std::path::PathBuf>,
+    /// A 3D run: the axis it is seen along, from its positive side (the page shows (x, y) along z, (z, x) along y,
+    /// (y, z) along x).
+    #[arg(long, value_enum, default_value = "z")]
+    along: Axis,
+    /// A 3D run: draw only the particles with MIN <= coordinate <= MAX along --along (in m; default: all of them).
+    #[arg(long, value_name = "MIN,MAX", value_parser = parse_slab)]
+    slab: Option<(f64, f64)>,
+}
+
+/// An axis of a 3D run's picture.
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum Axis {
+    X,
+    Y,
+    Z,
+}
+
+/// `--slab MIN,MAX`: two finite numbers, MIN <= MAX.
+fn parse_slab(s: &str) -> std::result::Result<(f64, f64), String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|x| x.trim().parse::<f64>())
+        .collect::<std::result::Result<_, _>>()
+        .map_err(|e| format!("--slab {s}: expected ZMIN,ZMAX in m ({e})"))?;
+    match v[..] {
+        [a, b] if a.is_finite() && b.is_finite() && a <= b => Ok((a, b)),
+        _ => Err(format!("--slab {s}: expected two finite numbers MIN,MAX in m with MIN <= MAX")),
+    }
 }
 
 #[derive(clap::Args)]
@@ -774,7 +803,14 @@ struct SweepArgs {
 /// `swarf render`: pictures of a run folder's frames.
 fn cmd_render(a: &RenderArgs) -> Result<()> {
     let frames = swarf::render::Frames::parse(&a.frame).map_err(swarf::Error::Scene)?;
-    let opts = swarf::render::RenderOptions { run: a.run.clone(), field: a.field.clone(), frames, out: a.out.clone() };
+    let opts = swarf::render::RenderOptions {
+        run: a.run.clone(),
+        field: a.field.clone(),
+        frames,
+        out: a.out.clone(),
+        slab: a.slab,
+        along: a.along as usize,
+    };
     let done = swarf::render::render(&opts)?;
     for w in &done.warnings {
         eprintln!("warning: {w}");

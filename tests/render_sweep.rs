@@ -82,7 +82,8 @@ fn coloured(p: &[u8; 3]) -> bool {
 fn render_draws_a_cut_with_its_colour_bar_and_tool() {
     let dir = test_dir("cut");
     short_cut(&dir);
-    let opts = RenderOptions { run: dir.clone(), field: "T".into(), frames: Frames::Last, out: None };
+    let opts =
+        RenderOptions { run: dir.clone(), field: "T".into(), frames: Frames::Last, out: None, slab: None, along: 2 };
     let done = render(&opts).expect("render");
     assert!(done.warnings.is_empty(), "{:?}", done.warnings);
     assert_eq!(done.files, vec![dir.join("render").join("temperature_00004.png")]);
@@ -111,13 +112,21 @@ fn render_draws_a_cut_with_its_colour_bar_and_tool() {
 /// `--frame all` draws every frame of particles.pvd (5: t = 0, 1, 2, 3, 4 µs), each named by its entry; the
 /// short names resolve to the frame's arrays in display units (von Mises stress in MPa: the frame's Pa × 1e-6);
 /// refused: a field the frame lacks (the message names it and lists the fields with their short names), a frame
-/// beyond the last (naming the range), a 3D run (by its scene's dim, and by z ≠ 0 without a scene). A refusal
-/// writes no picture.
+/// beyond the last (naming the range), a slab for a 2D run, a slab holding no particle of a 3D run. A refusal
+/// writes no picture. A 3D run (by its scene's dim, and by z ≠ 0 without a scene) is drawn seen along −z: all its
+/// particles, or those of the slab.
 #[test]
 fn render_all_frames_fields_and_refusals() {
     let dir = test_dir("frames");
     short_cut(&dir);
-    let opts = RenderOptions { run: dir.clone(), field: "vmises".into(), frames: Frames::All, out: None };
+    let opts = RenderOptions {
+        run: dir.clone(),
+        field: "vmises".into(),
+        frames: Frames::All,
+        out: None,
+        slab: None,
+        along: 2,
+    };
     let done = render(&opts).expect("render all");
     let names: Vec<String> = done.files.iter().map(|f| f.file_name().unwrap().to_string_lossy().into_owned()).collect();
     assert_eq!(names, (0..5).map(|k| format!("von_mises_{k:05}.png")).collect::<Vec<_>>());
@@ -153,13 +162,25 @@ fn render_all_frames_fields_and_refusals() {
     let mut c = pvd::Collection::new(d3.join("particles.pvd"));
     c.push(0.0, "frame_00000.vtu").unwrap();
     c.write().unwrap();
-    let flat = RenderOptions { run: d3.clone(), field: "T".into(), frames: Frames::Last, out: None };
-    let e = render(&flat).expect_err("3D frames").to_string();
-    assert!(e.contains("2D runs only") && e.contains("z ≠ 0"), "{e}");
+    // Without a scene, z ≠ 0 makes it 3D: every particle, seen along −z; a slab keeps the particles in it; a slab
+    // with none is refused before anything is written, as is a slab for a 2D run.
+    let all =
+        RenderOptions { run: d3.clone(), field: "T".into(), frames: Frames::Last, out: None, slab: None, along: 2 };
+    let empty = RenderOptions { slab: Some((2e-3, 3e-3)), out: Some(d3.join("empty")), ..all.clone() };
+    let e = render(&empty).expect_err("an empty slab").to_string();
+    assert!(e.contains("--slab") && e.contains("no particle"), "{e}");
+    assert!(!d3.join("empty").exists());
+    assert_eq!(render(&all).expect("3D, all").drawn, vec![2]);
     std::fs::copy("cases/cylinders-3d.toml", d3.join("scene.toml")).unwrap();
-    let e = render(&flat).expect_err("a 3D scene").to_string();
-    assert!(e.contains("2D runs only") && e.contains("dim = 3"), "{e}");
-    assert!(!d3.join("render").exists());
+    let upper = RenderOptions { slab: Some((0.5e-3, 2e-3)), ..all.clone() };
+    let done = render(&upper).expect("3D, a slab");
+    assert_eq!(done.drawn, vec![1], "the slab holds the particle at z = 1 mm only");
+    let along_x = RenderOptions { along: 0, slab: Some((-0.5e-3, 0.5e-3)), out: Some(d3.join("x")), ..all.clone() };
+    assert_eq!(render(&along_x).expect("along x").drawn, vec![1], "the slab along x holds the particle at x = 0");
+    assert!(done.files[0].is_file());
+    let flat = RenderOptions { run: dir.clone(), slab: Some((0.0, 1.0)), ..all };
+    let e = render(&flat).expect_err("a slab for a 2D run").to_string();
+    assert!(e.contains("--slab") && e.contains("2D run"), "{e}");
 }
 
 /// The grid syntax: values split at top-level commas (a bracketed value keeps its commas); refused: no '=',

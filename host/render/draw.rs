@@ -39,6 +39,8 @@ pub struct Picture<'a> {
     pub tool: Option<&'a [[f64; 2]]>,
     /// The region shown, ((x0, x1), (y0, y1)) in m.
     pub view: ((f64, f64), (f64, f64)),
+    /// The page's horizontal and vertical axes, e.g. ("x", "y").
+    pub axes: (&'a str, &'a str),
     /// The particle spacing [m]: the squares' side.
     pub dx: f64,
 }
@@ -116,8 +118,8 @@ fn render(target: &Path, pic: &Picture, size: (u32, u32)) -> Result<(), String> 
         .map_err(|e| err(&e))?;
     let (x_fmt, y_fmt) = (tick_formatter((x0, x1)), tick_formatter((y0, y1)));
     cc.configure_mesh()
-        .x_desc("x (mm)")
-        .y_desc("y (mm)")
+        .x_desc(format!("{} (mm)", pic.axes.0))
+        .y_desc(format!("{} (mm)", pic.axes.1))
         .x_label_formatter(&x_fmt)
         .y_label_formatter(&y_fmt)
         .label_style(font)

@@ -1,5 +1,11 @@
-//! `swarf render <run folder>`: PNG pictures of a 2D run's frames without ParaView, the particles coloured by a
-//! field with a colour bar, the tool drawn where it was, and a title naming the scene, field, unit and time.
+//! `swarf render <run folder>`: PNG pictures of a run's frames without ParaView, the particles coloured by a
+//! field with a colour bar, the tool drawn where it was (2D), and a title naming the scene, field, unit and time.
+//!
+//! - **3D runs** are drawn as seen from the positive side of an axis (`--along`, default z) looking down it: along
+//!   z the page shows (x, y), along y (z, x), along x (y, z), each a right-handed view, not a mirror image. Only
+//!   the particles of a slab min ≤ coordinate ≤ max are drawn where `--slab` gives one (default: all), painted from
+//!   the lowest coordinate up, so that the surface facing the viewer (or the slab's upper face) is what shows. The
+//!   tool is not drawn (its mesh is beside each frame for ParaView).
 //!
 //! - **Frames** are read back from the run folder (`particles.pvd` and its `frame_*.vtu`, [`crate::output`]).
 //!   `--frame N` counts the PVD's entries from 0 (frame_0000N.vtu in a run that was not resumed), `last` is the
@@ -8,7 +14,7 @@
 //! - **The tool** is not in the frames: its outline is rebuilt from the run folder's `scene.toml` (with the
 //!   overrides its summary.json or checkpoint records) and placed by the run's own motion at the frame's time
 //!   ([`crate::tool::outline`]). A run folder whose scene cannot be read is drawn without the tool, with a warning.
-//! - **Refused:** a 3D run, a missing field (the message lists the fields the frame has), a frame that does not
+//! - **Refused:** a slab for a 2D run, a slab that holds no particle, a missing field (the message lists the fields the frame has), a frame that does not
 //!   exist, a folder without frames. Nothing is written then.
 //! - No animated GIF: plotters' GIF backend needs the `gif` crate, a dependency the project does not have; the
 //!   `all` frames are numbered PNGs that ffmpeg or ImageMagick turn into one.
@@ -60,6 +66,20 @@ pub struct RenderOptions {
     pub frames: Frames,
     /// Output folder (default `<run>/render`).
     pub out: Option<PathBuf>,
+    /// A 3D run's slab min ≤ coordinate ≤ max along `along` [m] (None: every particle).
+    pub slab: Option<(f64, f64)>,
+    /// The axis a 3D run is seen along (0, 1, 2: x, y, z), from its positive side.
+    pub along: usize,
+}
+
+/// The page's (horizontal, vertical) axes of a view along axis `along`, right-handed (page right × page up points
+/// at the viewer, along +`along`).
+pub fn page_axes(along: usize) -> (usize, usize) {
+    match along {
+        0 => (1, 2),
+        1 => (2, 0),
+        _ => (0, 1),
+    }
 }
 
 /// What was drawn.
@@ -68,6 +88,8 @@ pub struct Rendered {
     pub files: Vec<PathBuf>,
     /// E.g. the scene could not be read, so the tool is not drawn.
     pub warnings: Vec<String>,
+    /// The particles drawn in each picture.
+    pub drawn: Vec<usize>,
 }
 
 /// The run folder as `render` sees it: its frames (time, file) and its scene, if readable.
@@ -84,13 +106,9 @@ pub fn render(opts: &RenderOptions) -> Result<Rendered> {
     let run = open(&opts.run, &mut done.warnings)?;
     let picks = select(&run, opts)?;
     let (first_path, first) = read(&run, picks[0])?;
-    if let Some(s) = &run.scene
-        && s.dim != 2
-    {
-        return Err(refuse_3d(&opts.run, &format!("its scene.toml has dim = {}", s.dim)));
-    }
-    if planar(&first).is_none() {
-        return Err(refuse_3d(&first_path, "its particles have z ≠ 0"));
+    let dim3 = run.scene.as_ref().map_or_else(|| planar(&first).is_none(), |s| s.dim == 3);
+    if !dim3 && opts.slab.is_some() {
+        return Err(Error::Scene(format!("render: --slab: {} is a 2D run; a slab is for 3D runs", opts.run.display())));
     }
     let field = Field::resolve(&opts.field, &first, &first_path)?;
     // One colour scale for all frames drawn: the range over them (the first is already read).
@@ -105,17 +123,42 @@ pub fn render(opts: &RenderOptions) -> Result<Rendered> {
         range = (0.0, 0.0);
     }
     let out = opts.out.clone().unwrap_or_else(|| opts.run.join("render"));
-    std::fs::create_dir_all(&out).map_err(|e| Error::Output(format!("{}: {e}", out.display())))?;
+    let mut pictures = Vec::new();
     for &k in &picks {
         let (path, frame) = read(&run, k)?;
+        let view = if dim3 { Some((opts.along.min(2), opts.slab)) } else { None };
+        let (points, order) = projected(&frame, view).ok_or_else(|| refuse_planar(&path))?;
+        if points.is_empty() {
+            return Err(Error::Scene(format!(
+                "render: --slab {:?}: no particle of {} lies in it",
+                opts.slab,
+                path.display()
+            )));
+        }
+        pictures.push((k, path, frame, points, order));
+    }
+    std::fs::create_dir_all(&out).map_err(|e| Error::Output(format!("{}: {e}", out.display())))?;
+    for (k, path, frame, points, order) in pictures {
         let file = out.join(format!("{}_{k:05}.png", field.name));
-        picture(&run, &field, &path, &frame, run.frames[k].0, range, &file)?;
+        let shown = Shown { points: &points, order: &order, dim3, slab: opts.slab, along: opts.along.min(2) };
+        picture(&run, &field, &path, &frame, run.frames[k].0, range, &shown, &file)?;
+        done.drawn.push(points.len());
         done.files.push(file);
     }
     Ok(done)
 }
 
+/// The particles a picture shows: their (x, y) and their indices in the frame (painting order).
+struct Shown<'a> {
+    points: &'a [[f64; 2]],
+    order: &'a [usize],
+    dim3: bool,
+    slab: Option<(f64, f64)>,
+    along: usize,
+}
+
 /// Draws one frame to `file`.
+#[allow(clippy::too_many_arguments)]
 fn picture(
     run: &RunFolder,
     field: &Field,
@@ -123,29 +166,40 @@ fn picture(
     frame: &vtu::ReadFrame,
     pvd_time: f64,
     range: (f64, f64),
+    shown: &Shown<'_>,
     file: &Path,
 ) -> Result<()> {
-    let points = planar(frame).ok_or_else(|| refuse_3d(path, "its particles have z ≠ 0"))?;
-    let values = field.values(frame).ok_or_else(|| field::missing(&field.name, frame, path))?;
+    let all = field.values(frame).ok_or_else(|| field::missing(&field.name, frame, path))?;
+    let values: Vec<f64> = shown.order.iter().map(|&i| all[i]).collect();
+    let points = shown.points;
     let time = frame.time.unwrap_or(pvd_time);
-    let tool = match run.scene.as_ref().and_then(|s| s.tool.as_ref()) {
+    let tool = match run.scene.as_ref().and_then(|s| s.tool.as_ref()).filter(|_| !shown.dim3) {
         Some(t) => Some(crate::tool::outline::outline_at(t, time)?),
         None => None,
     };
     let (_, plot) = draw::layout(SIZE);
-    let view = draw::view(&points, tool.as_deref(), plot);
-    let dx = run.scene.as_ref().map_or_else(|| spacing(&points), |s| s.discretisation.dx);
+    let view = draw::view(points, tool.as_deref(), plot);
+    let dx = run.scene.as_ref().map_or_else(|| spacing(points), |s| s.discretisation.dx);
     let unit = if field.unit.is_empty() { String::new() } else { format!(" ({})", field.unit) };
-    let title = format!("{}: {}{unit}, t = {}", run.name, field.label, time_text(time));
+    const NAMES: [&str; 3] = ["x", "y", "z"];
+    let (h, v) = if shown.dim3 { page_axes(shown.along) } else { (0, 1) };
+    let a = NAMES[shown.along];
+    let seen = match (shown.dim3, shown.slab) {
+        (false, _) => String::new(),
+        (true, None) => format!(", seen along −{a}"),
+        (true, Some((lo, hi))) => format!(", {a} = {}..{} µm seen along −{a}", sig(lo * 1e6, 4), sig(hi * 1e6, 4)),
+    };
+    let title = format!("{}: {}{unit}, t = {}{seen}", run.name, field.label, time_text(time));
     let bar_label = format!("{}{unit}", field.label);
     let pic = draw::Picture {
         title: &title,
         bar_label: &bar_label,
-        points: &points,
+        points,
         values: &values,
         range,
         tool: tool.as_deref(),
         view,
+        axes: (NAMES[h], NAMES[v]),
         dx,
     };
     draw::draw(file, &pic, SIZE).map_err(|e| Error::Output(e.to_string()))
@@ -193,17 +247,37 @@ fn read(run: &RunFolder, k: usize) -> Result<(PathBuf, vtu::ReadFrame)> {
     Ok((path, frame))
 }
 
-fn refuse_3d(what: &Path, why: &str) -> Error {
+fn refuse_planar(what: &Path) -> Error {
     Error::Scene(format!(
-        "render draws 2D runs only; {} is 3D: {why} (open its particles.pvd in ParaView)",
+        "render: {} has particles with z ≠ 0 but its scene.toml says dim = 2 (open its particles.pvd in ParaView)",
         what.display()
     ))
 }
 
+/// The frame's particles as drawn: their page coordinates and their indices. `view` None: a 2D frame, (x, y)
+/// (None if any particle has z ≠ 0); Some((axis, slab)): a 3D frame seen along −axis ([`page_axes`]), the particles
+/// in the slab (all without one), lowest coordinate first.
+#[allow(clippy::type_complexity)]
+fn projected(frame: &vtu::ReadFrame, view: Option<(usize, Option<(f64, f64)>)>) -> Option<(Vec<[f64; 2]>, Vec<usize>)> {
+    let xyz = frame.points.floats()?;
+    let p: Vec<&[f64]> = xyz.chunks(3).collect();
+    let (along, (h, v)) = view.map_or((2, (0, 1)), |(a, _)| (a, page_axes(a)));
+    let mut order: Vec<usize> = match view {
+        None if p.iter().any(|q| q[2] != 0.0) => return None,
+        None => (0..p.len()).collect(),
+        Some((_, slab)) => {
+            (0..p.len()).filter(|&i| slab.is_none_or(|(a, b)| p[i][along] >= a && p[i][along] <= b)).collect()
+        }
+    };
+    if view.is_some() {
+        order.sort_by(|&i, &j| p[i][along].total_cmp(&p[j][along]));
+    }
+    Some((order.iter().map(|&i| [p[i][h], p[i][v]]).collect(), order))
+}
+
 /// The frame's positions in the plane; `None` if any particle has z ≠ 0 (a 3D frame).
 fn planar(frame: &vtu::ReadFrame) -> Option<Vec<[f64; 2]>> {
-    let xyz = frame.points.floats()?;
-    xyz.chunks(3).map(|p| (p[2] == 0.0).then_some([p[0], p[1]])).collect()
+    projected(frame, None).map(|(p, _)| p)
 }
 
 /// A particle spacing for a frame without its scene: the side of the bounding box's area per particle.
