@@ -611,6 +611,25 @@ PY
                   --set "time.end=${SWARF_GRAIN_END:-2.3e-6}" ${SWARF_GRAIN_CFL:+--set time.cfl=$SWARF_GRAIN_CFL}
               { tail -n 8 "$d/run.log"; force_means "$d/forces.csv" 1e-6 3e-6; } >> "$out/grain2mplain.log"
               cp "$d/forces.csv" "$out/grain2mplain-forces.csv" ;;
+        millpics) # issue 24 (docs/3d.md): the micro-milling scene with JC (cases/3d/micro-milling.toml) whole, then
+                  # pictures of its frames (swarf render): seen from above (--along y) at the first and second tooth
+                  # passes' force peaks (frames 47, 85: 188, 340 µs) and at the end, the equivalent plastic strain
+                  # and the temperature; and the mid-plane slab z = 45-55 µm seen along z at the end (the burr).
+                  # The PNGs come back in $OUT/millpics/
+              d=/tmp/millpics; rm -rf "$d"
+              run millpics timeout -s INT -k 30 "${SWARF_MILL_DEADLINE:-420}" "$here/swarf" --backend gpu run \
+                  cases/3d/micro-milling.toml --quiet --out "$d"
+              { tail -n 6 "$d/run.log"; cat "$d/summary.json" 2>/dev/null; } >> "$out/millpics.log"
+              cp "$d/forces.csv" "$out/millpics-forces.csv"
+              mkdir -p "$out/millpics"
+              for f in 47 85 last; do
+                  for fld in eps T; do
+                      "$here/swarf" render "$d" --field $fld --frame $f --along y --out "$out/millpics/top" \
+                          >> "$out/millpics.log" 2>&1
+                  done
+              done
+              "$here/swarf" render "$d" --field eps --frame last --along z --slab=4.5e-5,5.5e-5 \
+                  --out "$out/millpics/side" >> "$out/millpics.log" 2>&1 ;;
         tests) run test-gpu "$here/test-gpu" --test-threads=1 --nocapture
                run test-ptx "$here/test-ptx" ;;
         regs) # issue 7: the register cap of the neighbour kernels (SWARF_MAXNREG) against the compiler's choice
