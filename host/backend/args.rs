@@ -62,7 +62,7 @@ fn output_opt<B: Backend, T: Element>(
 #[allow(clippy::too_many_arguments)]
 pub fn rates_args<B: Backend, R: Real, D: Dim>(
     b: &B,
-    n: usize,
+    c: super::Count<'_, B>,
     lanes: u32,
     stab: Stabilisers,
     params: &SphParams<R>,
@@ -74,6 +74,7 @@ pub fn rates_args<B: Backend, R: Real, D: Dim>(
     dissipation: Option<&mut B::Buf<R>>,
     heat: Option<FusedHeat<'_, B, R, D>>,
 ) -> Result<RatesArgs<R, D>> {
+    let n = c.n;
     let art = if stab.stress { input(b, "sph_rates art", n, i.art.ok_or(missing("sph_rates art"))?)? } else { null() };
     let sound = if stab.viscosity {
         input(b, "sph_rates sound", n, i.sound.ok_or(missing("sph_rates sound"))?)?
@@ -91,7 +92,7 @@ pub fn rates_args<B: Backend, R: Real, D: Dim>(
         None => (HeatParams::default(), null(), null(), null(), std::ptr::null_mut()),
     };
     Ok(RatesArgs {
-        n: Span::all(count(n)?),
+        n: span(b, &c)?,
         lanes,
         // The GPU backend sets the block order at the launch (`Pass::order`).
         reverse: 0,
@@ -133,7 +134,7 @@ pub fn rates_args<B: Backend, R: Real, D: Dim>(
 #[allow(clippy::too_many_arguments)]
 pub fn correction_args<B: Backend, R: Real, D: Dim>(
     b: &B,
-    n: usize,
+    c: super::Count<'_, B>,
     lanes: u32,
     params: &SphParams<R>,
     min_det: R,
@@ -143,8 +144,9 @@ pub fn correction_args<B: Backend, R: Real, D: Dim>(
     i: &SphInputs<'_, B, R, D>,
     out: &mut B::Buf<D::Sym<R>>,
 ) -> Result<CorrectionArgs<R, D>> {
+    let n = c.n;
     Ok(CorrectionArgs {
-        n: Span::all(count(n)?),
+        n: span(b, &c)?,
         lanes,
         // The GPU backend sets the block order at the launch (`Pass::order`).
         reverse: 0,
@@ -226,11 +228,12 @@ pub fn step_ptrs<B: Backend, R: Real, D: Dim>(b: &B, n: usize, f: StepFields<'_,
 /// The corrector's arguments ([`super::Passes::step_finish`] without plasticity).
 pub fn finish_args<B: Backend, R: Real, D: Dim>(
     b: &B,
-    n: usize,
+    c: super::Count<'_, B>,
     s: &ScalarsAt<'_, B>,
     f: StepFields<'_, B, R, D>,
 ) -> Result<FinishArgs<R, D>> {
-    Ok(FinishArgs { n: Span::all(count(n)?), scalars: scalars_ptr(b, s)?, step: step_ptrs(b, n, f)? })
+    let n = c.n;
+    Ok(FinishArgs { n: span(b, &c)?, scalars: scalars_ptr(b, s)?, step: step_ptrs(b, n, f)? })
 }
 
 /// The arguments of the corrector with the plastic update of `model` (the kernel type of `p.model`) and, with
@@ -238,13 +241,14 @@ pub fn finish_args<B: Backend, R: Real, D: Dim>(
 #[allow(clippy::too_many_arguments)]
 pub fn finish_plastic_args<B: Backend, R: Real, D: Dim, M>(
     b: &B,
-    n: usize,
+    c: super::Count<'_, B>,
     s: &ScalarsAt<'_, B>,
     f: StepFields<'_, B, R, D>,
     p: PlasticPass<'_, B, R>,
     model: M,
     contact: Option<FusedContact<'_, B, R, D>>,
 ) -> Result<FinishPlasticArgs<R, D, M>> {
+    let n = c.n;
     if f.temp.is_none() {
         return Err(Error::Length { op: "step_finish (plasticity needs temperature)", expected: n, got: 0 });
     }
@@ -253,7 +257,7 @@ pub fn finish_plastic_args<B: Backend, R: Real, D: Dim, M>(
     }
     let yield_stress = output_opt(b, "yield_stress", n, p.yield_stress)?;
     let mut a = FinishPlasticArgs {
-        n: Span::all(count(n)?),
+        n: span(b, &c)?,
         reverse: 0,
         scalars: scalars_ptr(b, s)?,
         model,
@@ -327,7 +331,7 @@ fn prepass_damage<B: Backend>(b: &B, n: usize, d: Option<PrepassDamageBufs<'_, B
 
 /// A pass's particles as the kernels take them: the count, and with blanking the address of the active count
 /// (checked to lie in its buffer).
-pub fn span<B: Backend>(b: &B, c: &super::Count<'_, B>) -> Result<Span> {
+fn span<B: Backend>(b: &B, c: &super::Count<'_, B>) -> Result<Span> {
     let mut s = Span::all(count(c.n)?);
     if let Some((buf, index)) = c.active {
         check_len("active count", index + 1, buf.len())?;
@@ -357,7 +361,7 @@ pub fn gate_ptr<B: Backend>(b: &B, s: Option<&ScalarsAt<'_, B>>) -> Result<*cons
 #[allow(clippy::too_many_arguments)]
 pub fn density_args<B: Backend, R: Real, D: Dim>(
     b: &B,
-    n: usize,
+    c: super::Count<'_, B>,
     pos: &B::Buf<D::Vec<R>>,
     mass: &B::Buf<R>,
     grid: &B::Buf<GridParams>,
@@ -365,8 +369,9 @@ pub fn density_args<B: Backend, R: Real, D: Dim>(
     kernel: &B::Buf<CubicSpline<R>>,
     rho: &mut B::Buf<R>,
 ) -> Result<DensityArgs<R, D>> {
+    let n = c.n;
     Ok(DensityArgs {
-        n: Span::all(count(n)?),
+        n: span(b, &c)?,
         pos: input(b, "density pos", n, pos)?,
         mass: input(b, "density mass", n, mass)?,
         grid: input(b, "density grid", 1, grid)?,
@@ -393,15 +398,16 @@ pub struct PrepareBufs<'a, B: Backend, R: Real, D: Dim> {
 /// The pre-pass's arguments; the stabilisers' buffers must be given where they are on (null where off).
 pub fn prepare_args<B: Backend, R: Real, D: Dim>(
     b: &B,
-    n: usize,
+    c: super::Count<'_, B>,
     stab: Stabilisers,
     q: PrepareBufs<'_, B, R, D>,
     gate: Option<&ScalarsAt<'_, B>>,
 ) -> Result<PrepareArgs<R, D>> {
+    let n = c.n;
     let (art, sound) = stabiliser_outputs(b, n, stab, q.art, q.sound, "sph_prepare (stabiliser buffer missing)")?;
     Ok(PrepareArgs {
         gate: gate_ptr(b, gate)?,
-        n: Span::all(count(n)?),
+        n: span(b, &c)?,
         params: input(b, "sph_prepare params", 1, q.params)?,
         rho: input(b, "sph_prepare rho", n, q.rho)?,
         mass: input(b, "sph_prepare mass", n, q.mass)?,
@@ -441,7 +447,7 @@ fn stabiliser_outputs<B: Backend, R: Real, S: Element>(
 #[allow(clippy::too_many_arguments)]
 pub fn heat_args<B: Backend, R: Real, D: Dim>(
     b: &B,
-    n: usize,
+    c: super::Count<'_, B>,
     lanes: u32,
     pse: bool,
     hp: &HeatParams,
@@ -452,11 +458,12 @@ pub fn heat_args<B: Backend, R: Real, D: Dim>(
     i: &HeatInputs<'_, B, R, D>,
     temp_t: &mut B::Buf<f64>,
 ) -> Result<HeatArgs<R, D>> {
+    let n = c.n;
     if pse && list.is_some() {
         return Err(Error::Length { op: "heat_rates (PSE reaches beyond the Verlet list)", expected: 0, got: 1 });
     }
     Ok(HeatArgs {
-        n: Span::all(count(n)?),
+        n: span(b, &c)?,
         lanes,
         hp: *hp,
         params: *params,
@@ -476,19 +483,20 @@ pub fn heat_args<B: Backend, R: Real, D: Dim>(
 /// The predictor's arguments ([`super::Passes::step_predict`]), with the fused pre-pass where `prepare` is given.
 pub fn predict_args<B: Backend, R: Real, D: Dim>(
     b: &B,
-    n: usize,
+    c: super::Count<'_, B>,
     s: ScalarsMut<'_, B>,
     f: StepFields<'_, B, R, D>,
     skin: SkinTest<'_, B, R, D>,
     prepare: Option<FusedPrepare<'_, B, R, D>>,
 ) -> Result<PredictArgs<R, D>> {
+    let n = c.n;
     check_len("step scalars", s.index + 1, s.buf.len())?;
     let scalars = (b.address_mut(s.buf) as *mut StepScalars).wrapping_add(s.index);
     let mut step = step_ptrs(b, n, f)?;
     // The predictor reads neither (its entry passed them null before the struct).
     (step.diss, step.diss_t, step.pos_lo) = (std::ptr::null_mut(), null(), std::ptr::null_mut());
     let mut a = PredictArgs {
-        n: Span::all(count(n)?),
+        n: span(b, &c)?,
         scalars,
         grid: input(b, "step_predict grid", 1, skin.grid)?,
         step,
@@ -518,11 +526,12 @@ pub fn predict_args<B: Backend, R: Real, D: Dim>(
 /// host's `FlowModel`).
 pub fn plastic_args<B: Backend, R: Real, D: Dim, M>(
     b: &B,
-    n: usize,
+    c: super::Count<'_, B>,
     model: M,
     consts: PlasticConsts,
     a: PlasticInputs<'_, B, R, D>,
 ) -> Result<PlasticArgs<R, D, M>> {
+    let n = c.n;
     if consts.taylor_quinney > 0.0 && a.materials.is_none() {
         return Err(Error::Length { op: "plastic_step (thermal materials missing)", expected: 1, got: 0 });
     }
@@ -531,7 +540,7 @@ pub fn plastic_args<B: Backend, R: Real, D: Dim, M>(
         None => (null(), std::ptr::null_mut(), std::ptr::null_mut(), null()),
     };
     Ok(PlasticArgs {
-        n: Span::all(count(n)?),
+        n: span(b, &c)?,
         model,
         consts,
         stress: output(b, "stress", n, a.stress)?,
@@ -556,13 +565,14 @@ pub fn plastic_args<B: Backend, R: Real, D: Dim, M>(
 #[allow(clippy::too_many_arguments)]
 pub fn contact_args<B: Backend, R: Real, D: Dim, E: Dim, T: ToolArg>(
     b: &B,
-    n: usize,
+    c: super::Count<'_, B>,
     tools: &DeviceTools<B>,
     shapes: T,
     states: &ToolStatesAt<'_, B>,
     owner: Option<&mut B::Buf<u32>>,
     a: ContactInputs<'_, B, R, D>,
 ) -> Result<ContactArgs<R, E, T>> {
+    let n = c.n;
     if D::D != E::D {
         return Err(Error::Length { op: "contact (a mesh tool is 3D)", expected: E::D, got: D::D });
     }
@@ -574,7 +584,7 @@ pub fn contact_args<B: Backend, R: Real, D: Dim, E: Dim, T: ToolArg>(
         });
     }
     Ok(ContactArgs {
-        n: Span::all(count(n)?),
+        n: span(b, &c)?,
         set: ToolSet {
             tools: shapes,
             params: input(b, "contact parameters", tools.count(), &tools.params)?,
@@ -633,7 +643,7 @@ pub fn hash_args<B: Backend, R: Real, D: Dim>(
 #[allow(clippy::too_many_arguments)]
 pub fn neighbour_list_args<B: Backend, R: Real, D: Dim>(
     b: &B,
-    n: usize,
+    c: super::Count<'_, B>,
     pos: &B::Buf<D::Vec<R>>,
     grid: &B::Buf<GridParams>,
     starts: &B::Buf<u32>,
@@ -642,12 +652,13 @@ pub fn neighbour_list_args<B: Backend, R: Real, D: Dim>(
     counts: &mut B::Buf<u32>,
     list: &mut B::Buf<u32>,
 ) -> Result<NeighbourListArgs<R, D>> {
+    let n = c.n;
     let (offsets, list) = match offsets {
         None => (null(), std::ptr::null_mut()),
         Some(o) => (input(b, "neighbour_list offsets", n + 1, o)?, output(b, "neighbour_list list", 0, list)?),
     };
     Ok(NeighbourListArgs {
-        n: Span::all(count(n)?),
+        n: span(b, &c)?,
         pos: input(b, "neighbour_list pos", n, pos)?,
         grid: input(b, "neighbour_list grid", 1, grid)?,
         starts: b.address(starts) as *const u32,
@@ -661,16 +672,17 @@ pub fn neighbour_list_args<B: Backend, R: Real, D: Dim>(
 /// The Verlet list's arguments ([`super::Passes::verlet_build`]), gated where `gate` is given.
 pub fn verlet_args<B: Backend, R: Real, D: Dim>(
     b: &B,
-    n: usize,
+    c: super::Count<'_, B>,
     gate: Option<&ScalarsAt<'_, B>>,
     grid: &B::Buf<GridParams>,
     starts: &B::Buf<u32>,
     pos: &B::Buf<D::Vec<R>>,
     list: &mut B::Buf<u32>,
 ) -> Result<VerletArgs<R, D>> {
+    let n = c.n;
     Ok(VerletArgs {
         gate: gate_ptr(b, gate)?,
-        n: Span::all(count(n)?),
+        n: span(b, &c)?,
         grid: input(b, "verlet_build grid", 1, grid)?,
         starts: b.address(starts) as *const u32,
         pos: input(b, "verlet_build pos", n, pos)?,

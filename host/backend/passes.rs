@@ -168,8 +168,7 @@ pub trait Passes: Backend {
             check_len("neighbour_list offsets", n + 1, off.len())?;
             check_len("neighbour_list list", off[n] as usize, list.len())?;
         }
-        let mut a = args::neighbour_list_args::<_, R, D>(self, n, pos, grid, starts, support2, offsets, counts, list)?;
-        a.n = args::span(self, &count)?;
+        let a = args::neighbour_list_args::<_, R, D>(self, count, pos, grid, starts, support2, offsets, counts, list)?;
         // SAFETY: the builder checked the lengths, the rows against the list above where the host can read them;
         // row i is list[off[i] .. off[i + 1]], disjoint from every other row.
         unsafe { self.launch::<NeighbourList<R, D>>(&a) }
@@ -190,8 +189,7 @@ pub trait Passes: Backend {
         let count: Count<'c, Self> = n.into();
         let n = count.n;
         check_cells(self, "density starts", n, grid, starts, None)?;
-        let mut a = args::density_args::<_, R, D>(self, n, pos, mass, grid, starts, kernel, rho)?;
-        a.n = args::span(self, &count)?;
+        let a = args::density_args::<_, R, D>(self, count, pos, mass, grid, starts, kernel, rho)?;
         // SAFETY: the builder checked the lengths; pos/mass are the sorted particles of this cell list.
         unsafe { self.launch::<Density<R, D>>(&a) }
     }
@@ -218,11 +216,9 @@ pub trait Passes: Backend {
         damage: Option<PrepassDamageBufs<'_, Self>>,
     ) -> Result<()> {
         let count: Count<'c, Self> = n.into();
-        let n = count.n;
         let dmg = damage.is_some();
         let q = PrepareBufs::<_, R, D> { params, rho, mass, stress, sig, art, sound, vol, temp, damage };
-        let mut a = args::prepare_args(self, n, stab, q, gate.as_ref())?;
-        a.n = args::span(self, &count)?;
+        let a = args::prepare_args(self, count, stab, q, gate.as_ref())?;
         with_bools!(AV = stab.viscosity, AS = stab.stress, DMG = dmg; {
             // SAFETY: the builder checked the lengths and that the stabilisers' and the damage's buffers exist
             // where they are on.
@@ -258,8 +254,7 @@ pub trait Passes: Backend {
             check_bodies(self, "sph_rates (fused conduction)", n, h.input.flags, h.input.materials.len())?;
         }
         let (fused, dmg, cs) = (heat.is_some(), input.mask.is_some(), input.correction.is_some());
-        let mut a = args::rates_args(self, n, lanes, stab, params, grid, starts, list, input, out, dissipation, heat)?;
-        a.n = args::span(self, &count)?;
+        let a = args::rates_args(self, count, lanes, stab, params, grid, starts, list, input, out, dissipation, heat)?;
         if dmg && cs {
             return Err(Error::Length { op: "sph_rates (CSPM has no damage entries)", expected: 0, got: 1 });
         }
@@ -300,8 +295,7 @@ pub trait Passes: Backend {
         let n = count.n;
         check_lanes(lanes)?;
         check_cells(self, "sph_correction cells", n, grid, starts, list)?;
-        let mut a = args::correction_args(self, n, lanes, params, min_det, grid, starts, list, input, out)?;
-        a.n = args::span(self, &count)?;
+        let a = args::correction_args(self, count, lanes, params, min_det, grid, starts, list, input, out)?;
         // SAFETY: the builder checked the lengths, the cells and the list are checked above; each particle's
         // correction is written by its own thread only.
         unsafe { self.launch::<CorrectionPass<R, D>>(&a) }
@@ -328,8 +322,7 @@ pub trait Passes: Backend {
         check_lanes(lanes)?;
         check_cells(self, "heat_rates cells", n, grid, starts, list)?;
         check_bodies(self, "heat_rates materials", n, input.flags, input.materials.len())?;
-        let mut a = args::heat_args(self, n, lanes, pse, hp, params, grid, starts, list, input, temp_t)?;
-        a.n = args::span(self, &count)?;
+        let a = args::heat_args(self, count, lanes, pse, hp, params, grid, starts, list, input, temp_t)?;
         with_bools!(PSE = pse; {
             // SAFETY: the builder checked the lengths, the cells and bodies are checked above.
             unsafe { self.launch::<Heat<R, D, PSE>>(&a) }
@@ -350,10 +343,8 @@ pub trait Passes: Backend {
         prepare: Option<FusedPrepare<'_, Self, R, D>>,
     ) -> Result<()> {
         let count: Count<'c, Self> = n.into();
-        let n = count.n;
         let dmg = prepare.as_ref().is_some_and(|q| q.damage.is_some());
-        let mut a = args::predict_args(self, n, s, f, skin, prepare)?;
-        a.n = args::span(self, &count)?;
+        let a = args::predict_args(self, count, s, f, skin, prepare)?;
         with_bools!(DMG = dmg; {
             // SAFETY: the builder checked the lengths (the damage's where `DMG`) and the scalars' index.
             unsafe { self.launch::<Predict<R, D, DMG>>(&a) }
@@ -374,8 +365,7 @@ pub trait Passes: Backend {
         let count: Count<'c, Self> = n.into();
         let n = count.n;
         check_cells(self, "verlet_build cells", n, grid, starts, Some(list))?;
-        let mut a = args::verlet_args::<_, R, D>(self, n, gate.as_ref(), grid, starts, pos, list)?;
-        a.n = args::span(self, &count)?;
+        let a = args::verlet_args::<_, R, D>(self, count, gate.as_ref(), grid, starts, pos, list)?;
         // SAFETY: the builder checked the lengths, the list's layout is checked above where the host can read the
         // grid (the caller sizes it from the grid it uploads); thread i writes only row i.
         unsafe { self.launch::<Verlet<R, D>>(&a) }
@@ -403,8 +393,7 @@ pub trait Passes: Backend {
             });
         }
         let Some(p) = plastic else {
-            let mut a = args::finish_args(self, n, &s, f)?;
-            a.n = args::span(self, &count)?;
+            let a = args::finish_args(self, count, &s, f)?;
             // SAFETY: the builder checked the lengths.
             return unsafe { self.launch::<Finish<R, D>>(&a) };
         };
@@ -417,8 +406,7 @@ pub trait Passes: Backend {
         }
         let (model, dmg) = (p.model, p.damage.is_some());
         with_model!(model, M, m => {
-            let mut a = args::finish_plastic_args::<_, R, D, M>(self, n, &s, f, p, *m, contact)?;
-            a.n = args::span(self, &count)?;
+            let a = args::finish_plastic_args::<_, R, D, M>(self, count, &s, f, p, *m, contact)?;
             with_bools!(DMG = dmg; {
                 // SAFETY: the builder checked the lengths (the damage's where `DMG`), the bodies are checked above.
                 unsafe { self.launch::<FinishPlastic<R, D, M, DMG>>(&a) }
@@ -443,8 +431,7 @@ pub trait Passes: Backend {
         }
         let dmg = a.damage.is_some();
         with_model!(model, M, m => {
-            let mut a = args::plastic_args::<_, R, D, M>(self, n, *m, c, a)?;
-            a.n = args::span(self, &count)?;
+            let a = args::plastic_args::<_, R, D, M>(self, count, *m, c, a)?;
             with_bools!(DMG = dmg; {
                 // SAFETY: the builder checked the lengths (the damage's where `DMG`), the bodies are checked above.
                 unsafe { self.launch::<Plastic<R, D, M, DMG>>(&a) }
@@ -472,8 +459,7 @@ pub trait Passes: Backend {
             DeviceShapes::Prism(t) => {
                 check_len("tool shapes", tools.count(), t.len())?;
                 let t = self.address(t) as *const Tool2d;
-                let mut a = args::contact_args::<_, R, D, D, _>(self, n, tools, t, &states, owner, a)?;
-                a.n = args::span(self, &count)?;
+                let a = args::contact_args::<_, R, D, D, _>(self, count, tools, t, &states, owner, a)?;
                 // SAFETY: the builder checked the lengths, the bodies are checked above.
                 unsafe { self.launch::<Contact<R, D, *const Tool2d>>(&a) }
             }
@@ -481,8 +467,7 @@ pub trait Passes: Backend {
                 check_len("mesh tools", tools.count(), meshes.len())?;
                 check_len("mesh tool views", tools.count() * size_of::<MeshTool>() / 8, views.len())?;
                 let t = self.address(views) as *const MeshTool<'static>;
-                let mut a = args::contact_args::<_, R, D, Dim3, _>(self, n, tools, t, &states, owner, a)?;
-                a.n = args::span(self, &count)?;
+                let a = args::contact_args::<_, R, D, Dim3, _>(self, count, tools, t, &states, owner, a)?;
                 // SAFETY: the builder checked the lengths and that the scene is 3D; the meshes' buffers, which
                 // the views point into, are live.
                 unsafe { self.launch::<Contact<R, Dim3, *const MeshTool<'static>>>(&a) }
