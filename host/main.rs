@@ -766,7 +766,7 @@ fn parse_slab(s: &str) -> std::result::Result<(f64, f64), String> {
         .split(',')
         .map(|x| x.trim().parse::<f64>())
         .collect::<std::result::Result<_, _>>()
-        .map_err(|e| format!("--slab {s}: expected ZMIN,ZMAX in m ({e})"))?;
+        .map_err(|e| format!("--slab {s}: expected MIN,MAX in m ({e})"))?;
     match v[..] {
         [a, b] if a.is_finite() && b.is_finite() && a <= b => Ok((a, b)),
         _ => Err(format!("--slab {s}: expected two finite numbers MIN,MAX in m with MIN <= MAX")),

@@ -163,8 +163,7 @@ impl<B: Backend> CellList<B> {
     /// step replays with each step's decision.
     pub fn rebuild<R: Real, D: Dim>(&mut self, b: &B, pos: &B::Buf<D::Vec<R>>, gate: ScalarsAt<'_, B>) -> Result<()> {
         // The step's own scalars hold its blanking box.
-        let blank = ScalarsAt { buf: gate.buf, index: gate.index };
-        self.bin::<R, D>(b, pos, Some(gate), Some(blank))
+        self.bin::<R, D>(b, pos, Some(gate), Some(gate))
     }
 }
 

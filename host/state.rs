@@ -93,12 +93,11 @@ impl ReorderBatch {
         let too_many = |got| crate::Error::Length { op: "reorder batch (too many fields)", expected: MAX_REORDER, got };
         let gather = self.gather.get(..len).ok_or(too_many(len))?;
         let copy = self.copy.get(..copies).ok_or(too_many(copies))?;
-        let again = ScalarsAt { buf: gate.buf, index: gate.index };
         // SAFETY: every entry was staged from two distinct live buffers of at least n elements (a Field's pair,
         // or a snapshot's source and destination); the copies run after the gathers complete.
         unsafe {
             b.gather_fields(n, Some(perm), gather, Some(gate))?;
-            b.gather_fields(n, None, copy, Some(again))
+            b.gather_fields(n, None, copy, Some(gate))
         }
     }
 }

@@ -280,6 +280,14 @@ pub struct ScalarsAt<'a, B: Backend> {
     pub index: usize,
 }
 
+impl<B: Backend> Clone for ScalarsAt<'_, B> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<B: Backend> Copy for ScalarsAt<'_, B> {}
+
 /// Where a step's tool states are: `count` states (one per tool) from entry `index · count` of `buf`.
 pub struct ToolStatesAt<'a, B: Backend> {
     pub buf: &'a B::Buf<crate::kernels::contact::ToolState>,

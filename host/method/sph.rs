@@ -272,17 +272,11 @@ fn blanking(
     h: f64,
     pos: &[[f64; 3]],
 ) -> Result<Option<Blanking>> {
-    let Some(b) = &scene.blanking else { return Ok(None) };
-    let bl = Blanking {
-        min: b.min,
-        max: b.max,
-        velocity: b.velocity,
-        step: if grid.skin > 0.0 { grid.skin } else { h },
-        grow: b.grow,
-    };
+    let Some(b) = scene.blanking else { return Ok(None) };
+    let bl = Blanking { scene: b, step: if grid.skin > 0.0 { grid.skin } else { h } };
     let first = bl.box_at(0.0);
-    let inside = |p: &[f64; 3]| (0..scene.dim).all(|k| p[k] >= first.lo[k] && p[k] <= first.hi[k]);
-    if !pos.iter().any(inside) {
+    // 2D positions and boxes have z = 0.
+    if pos.iter().all(|p| first.blanks::<f64, crate::kernels::vector::V3f64>(&crate::kernels::vector::V3f64::new(*p))) {
         return Err(Error::Scene(format!(
             "{}: blanking.min, blanking.max: the box holds no particle at t = 0; expected a box around the tool's \
              path that holds part of the workpiece",

@@ -139,7 +139,7 @@ pub struct Scene {
 /// code's `src/blanking.cpp`). Particles outside it are frozen: not integrated, nobody's neighbour, their state
 /// kept. The box advances in jumps of the cell list's skin, each of which rebuilds the cell list, so a particle
 /// the box reaches is active within one skin of its travel (docs/3d.md, "Blanking").
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Blanking {
     /// `min`, `max` (required) [m]: the box's corners at t = 0.
     pub min: [f64; 3],

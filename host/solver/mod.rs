@@ -807,35 +807,31 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
     /// Writes the scalars of the next `count` steps of length `dt` (their Δt and the tool's state at each step's
     /// end, on the time line the host's `time += dt` makes).
     fn fill_scalars(&mut self, b: &B, dt: f64, count: usize) -> Result<()> {
-        for s in self.host_scalars[..count].iter_mut() {
-            *s = StepScalars { dt, ..Default::default() };
-        }
-        if let Some(first) = self.host_scalars.first_mut() {
-            first.rebuild = std::mem::take(&mut self.force_rebuild) as u32;
-        }
-        if let Some((bl, jumps)) = self.blanking.as_mut() {
-            // Each step's box at its end, on the host's time line; a step at which the box jumps rebuilds.
-            let mut t = self.time;
-            for s in self.host_scalars[..count].iter_mut() {
-                t += dt;
+        let force = std::mem::take(&mut self.force_rebuild);
+        let mut contact = self.contact.as_mut();
+        // Each step's end on the host's time line: its tool states, its blanking box (a step at which the box
+        // jumps rebuilds).
+        let mut t = self.time;
+        for (j, s) in self.host_scalars[..count].iter_mut().enumerate() {
+            t += dt;
+            *s = StepScalars { dt, rebuild: (j == 0 && force) as u32, ..Default::default() };
+            if let Some((bl, jumps)) = self.blanking.as_mut() {
                 s.blank = bl.box_at(t);
-                let j = bl.jumps(t);
-                if j != *jumps {
+                let now = bl.jumps(t);
+                if now != *jumps {
                     s.rebuild = 1;
-                    *jumps = j;
+                    *jumps = now;
+                }
+            }
+            if let Some(c) = contact.as_mut() {
+                let k = c.motions.len();
+                for (st, m) in c.host_states[j * k..(j + 1) * k].iter_mut().zip(&c.motions) {
+                    *st = m.state_at(t, dt.max(c.nominal_dt), dt);
                 }
             }
         }
-        if let Some(c) = self.contact.as_mut() {
-            let k = c.motions.len();
-            let mut t = self.time;
-            for step in c.host_states[..count * k].chunks_exact_mut(k) {
-                t += dt;
-                for (s, m) in step.iter_mut().zip(&c.motions) {
-                    *s = m.state_at(t, dt.max(c.nominal_dt), dt);
-                }
-            }
-            b.write(&mut c.states, &c.host_states[..count * k])?;
+        if let Some(c) = contact {
+            b.write(&mut c.states, &c.host_states[..count * c.motions.len()])?;
         }
         b.write(&mut self.scalars, &self.host_scalars[..count])
     }
