@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine tool3d tools24 cspm24 nonfinite24 mill24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
+# mpm26 ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine tool3d tools24 cspm24 nonfinite24 mill24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -611,6 +611,35 @@ PY
                   --set "time.end=${SWARF_GRAIN_END:-2.3e-6}" ${SWARF_GRAIN_CFL:+--set time.cfl=$SWARF_GRAIN_CFL}
               { tail -n 8 "$d/run.log"; force_means "$d/forces.csv" 1e-6 3e-6; } >> "$out/grain2mplain.log"
               cp "$d/forces.csv" "$out/grain2mplain-forces.csv" ;;
+        mpm26) # issue 26 (docs/mpm.md): Nairn's cut with MPM at the paper's resolution (15 particles through h):
+               # V1/V2 (rake 30°) and V3 (rake 15°) at h = SWARF_MPM_DEPTHS (default 0.25 0.5 0.75 1.0 1.5 mm), each
+               # run's summary line; the V15 bonds in f64 on the GPU. SWARF_MPM_SETS: further --set arguments.
+              mpm() { # name, scene, --set arguments...
+                  local name=$1 scene=$2; shift 2
+                  "$here/swarf" --backend gpu run "$scene" --force --out "/tmp/mpm/$name" "$@" ${SWARF_MPM_SETS:-} \
+                      2>&1 | grep -v "^mpm: t" | sed "s/^/$name: /"
+                  cp "/tmp/mpm/$name/forces.csv" "$out/mpm-$name-forces.csv" 2>/dev/null
+                  cp "/tmp/mpm/$name/summary.json" "$out/mpm-$name-summary.json" 2>/dev/null
+              }
+              mpm_all() {
+                  for m in 1 2; do mpm bond$m cases/mpm/bond-mode$m.toml; done
+                  # The step time with and without captured batches, one point each, side by side.
+                  SWARF_NO_GRAPHS=1 mpm plain-a30-h1.0 cases/mpm/nairn-cut.toml
+                  for a in ${SWARF_MPM_RAKES:-30 15}; do
+                      for h in ${SWARF_MPM_DEPTHS:-0.25 0.5 0.75 1.0 1.5}; do
+                          mpm "a$a-h$h" cases/mpm/nairn-cut.toml --set "cut.depth=${h}e-3" --set "cut.rake=$a"
+                      done
+                  done
+                  # V5 (the transition at 30°) and V12 (PIC damping off at h = 0.9 mm), unless SWARF_MPM_SHORT.
+                  [ -n "${SWARF_MPM_SHORT:-}" ] && return
+                  for h in 2.0 2.5 3.0; do
+                      mpm "a30-h$h" cases/mpm/nairn-cut.toml --set "cut.depth=${h}e-3"
+                  done
+                  for pic in 1.0 0.0; do
+                      mpm "a30-h0.9-pic$pic" cases/mpm/nairn-cut.toml --set cut.depth=0.9e-3 --set "damping.pic=$pic"
+                  done
+              }
+              run mpm26 mpm_all ;;
         millpics) # issue 24 (docs/3d.md): the micro-milling scene with JC (cases/3d/micro-milling.toml) whole, then
                   # pictures of its frames (swarf render): seen from above (--along y) at the first and second tooth
                   # passes' force peaks (frames 47, 85: 188, 340 µs) and at the end, the equivalent plastic strain

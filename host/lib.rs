@@ -19,6 +19,7 @@ pub mod info;
 pub mod material;
 pub mod mesh;
 pub mod method;
+pub mod mpm;
 pub mod neighbour;
 pub mod output;
 pub mod plot;

@@ -533,8 +533,70 @@ fn load_scene(path: Option<&std::path::Path>, set: &[String]) -> Result<swarf::s
     }
 }
 
+/// The MPM scene at `path`, when the file says `method = "mpm"`.
+fn mpm_scene(path: Option<&std::path::Path>, set: &[String]) -> Result<Option<swarf::scene::mpm::MpmScene>> {
+    let Some(p) = path else { return Ok(None) };
+    let text = std::fs::read_to_string(p).map_err(|e| swarf::Error::Scene(format!("{}: {e}", p.display())))?;
+    let scene_err = |e: swarf::scene::SceneError| swarf::Error::Scene(e.to_string());
+    if swarf::scene::mpm::method_of(&text, &p.display().to_string()).map_err(scene_err)? != "mpm" {
+        return Ok(None);
+    }
+    swarf::scene::mpm::MpmScene::load(p, set).map(Some).map_err(scene_err)
+}
+
+/// `swarf run` of an MPM scene (no checkpoints yet: docs/mpm.md).
+fn cmd_run_mpm(backend: BackendChoice, a: &RunArgs, scene: swarf::scene::mpm::MpmScene) -> Result<()> {
+    let mut scene = scene;
+    if let Some(p) = a.precision {
+        scene.precision = p.precision();
+    }
+    let out = a.out.clone().unwrap_or_else(|| std::path::PathBuf::from("runs").join(&scene.name));
+    let (any, line) = AnyBackend::select(backend)?;
+    if !a.quiet {
+        eprintln!("{line}");
+    }
+    let cleared = swarf::run_folder::prepare(&out, a.force)?;
+    if cleared > 0 && !a.quiet {
+        eprintln!("--force: cleared {} ({cleared} entries of an earlier run)", out.display());
+    }
+    let opts = swarf::mpm::run::MpmRunOptions { out_dir: out.clone(), frames: true, quiet: a.quiet };
+    let r = swarf::mpm::run::run(&any, &scene, &opts)?;
+    if !a.quiet {
+        println!(
+            "{}: {} particles ({} specimen), {} nodes, {} steps of {:.3e} s in {:.1} s ({:.4} ms/step) on {}",
+            r.name, r.particles, r.specimen, r.nodes, r.steps, r.dt, r.wall_s, r.ms_per_step, r.backend
+        );
+        if let Some(st) = r.steady {
+            println!(
+                "steady ({:.3e}..{:.3e} s): F_c = {:.5e} N/m (CoV {:.2} %), F_t = {:.5e} N/m; touching model (Eq. 14, \
+                 rubbing {:.4e} N/m): {:.5e} N/m",
+                st.from,
+                st.to,
+                st.fc,
+                100.0 * st.fc_cov,
+                st.ft,
+                st.rubbing,
+                st.touching_model
+            );
+        }
+        if let Some(e) = r.released {
+            println!(
+                "released: work {:.5e} J/m - kinetic {:.5e} - strain {:.5e} over {:.4e} m = {:.5e} J/m^2",
+                e.work, e.kinetic, e.strain, e.area, e.per_area
+            );
+        }
+        println!("output: {}", out.display());
+    }
+    Ok(())
+}
+
 /// `swarf run`: a scene (or a run folder to resume) into its output folder.
 fn cmd_run(backend: BackendChoice, a: &RunArgs) -> Result<()> {
+    if a.resume.is_none()
+        && let Some(scene) = mpm_scene(a.scene.as_deref(), &a.set)?
+    {
+        return cmd_run_mpm(backend, a, scene);
+    }
     let (scene, overrides, out) = match &a.resume {
         Some(dir) => {
             let r = swarf::resume::open(dir, a.accept_changes)?;

@@ -37,6 +37,7 @@ mod doc;
 mod error;
 mod generate;
 pub mod model;
+pub mod mpm;
 pub mod observe;
 mod read;
 mod units;

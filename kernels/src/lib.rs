@@ -12,6 +12,7 @@ pub mod contact;
 pub mod damage;
 pub mod load;
 pub mod material;
+pub mod mpm;
 pub mod neighbour;
 pub mod pass;
 pub mod real;

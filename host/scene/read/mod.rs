@@ -6,8 +6,10 @@ use super::error::SceneError;
 use super::*;
 
 mod damage;
+mod mpm;
 mod tool;
 use damage::damage;
+pub(super) use mpm::{method, mpm_scene};
 use tool::tool;
 
 type Result<T> = std::result::Result<T, SceneError>;
@@ -33,6 +35,7 @@ const ROOT_KEYS: &[&str] = &[
     "model",
     "damage",
     "blanking",
+    "method",
 ];
 const BODY_KEYS: &[&str] = &["name", "shape", "velocity", "angular_velocity", "lattice", "material", "temperature"];
 const SHAPES: &[(&str, &[&str])] = &[
@@ -241,6 +244,10 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
     let Val::Table(entries) = &doc.root.val else { unreachable!("a TOML document is a table") };
     let root = Tab { doc, path: "", node: &doc.root, entries };
     root.check_keys(ROOT_KEYS, &[], "")?;
+    // An SPH scene may say so; an MPM scene is read by `mpm_scene` (the CLI dispatches on `method` first).
+    root.string("method", "\"sph\" (this scene has SPH keys; an MPM scene is read as such by `swarf run`)", |s| {
+        s == "sph"
+    })?;
 
     let name_expected =
         "a non-empty string naming the scene, a plain file name for its run folder (no '/' or '\\', not '.' or '..')";

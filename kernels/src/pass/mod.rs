@@ -10,6 +10,7 @@ pub mod correction;
 pub mod finish;
 pub mod launch;
 pub mod models;
+pub mod mpm;
 pub mod neighbour;
 pub mod predict;
 pub mod rates;

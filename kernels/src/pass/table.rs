@@ -10,6 +10,7 @@
 ///   variants, written by hand in `ptx`;
 /// - `contact` (R, D, the tool: `prism`, the parametric tool, in 2D and 3D; `mesh`, a triangle mesh, in 3D);
 ///   `density`, `finish`, `hash`, `hash_count`, `neighbour_list`, `verlet_build` (R, D);
+/// - `mpm_p2g`, `mpm_crack`, `mpm_nodes`, `mpm_g2p` (R, Dim2): the MPM step's gathers (`mpm::step`);
 /// - `correction` (R, D): the kernel-gradient correction B⁻¹ (`sph::correction`);
 /// - `heat` (R, D, PSE); `predict` (R, D, DMG); `prepare` (R, D, AV, AS, DMG); `rates` (R, D, AV, AS, XSPH, fused
 ///   conduction, DMG, CSPM). DMG: the damage's degradation and interaction mask (docs/damage.md), entries of their
@@ -38,6 +39,8 @@ macro_rules! for_each_entry {
         $cb!(contact, "swarf_contact_3d_f64", f64, Dim3, prism);
         $cb!(contact, "swarf_contact_mesh_3d_f32", f32, Dim3, mesh);
         $cb!(contact, "swarf_contact_mesh_3d_f64", f64, Dim3, mesh);
+        $crate::for_each_entry!(@mpm $cb, f32, "f32");
+        $crate::for_each_entry!(@mpm $cb, f64, "f64");
         $crate::for_each_entry!(@variant $cb, f32, Dim2, "2d_f32");
         $crate::for_each_entry!(@variant $cb, f64, Dim2, "2d_f64");
         $crate::for_each_entry!(@variant $cb, f32, Dim3, "3d_f32");
@@ -61,6 +64,13 @@ macro_rules! for_each_entry {
             (v0s1x0, false, true, false), (v0s1x1, false, true, true), (v1s0x0, true, false, false),
             (v1s0x1, true, false, true), (v1s1x0, true, true, false), (v1s1x1, true, true, true));
         $crate::for_each_entry!(@models [@model_entries $cb, $r, $d, $v;]);
+    };
+    // The MPM passes (2D only; `mpm::step`).
+    (@mpm $cb:ident, $r:ident, $v:literal) => {
+        $cb!(mpm_p2g, concat!("swarf_mpm_p2g_2d_", $v), $r, Dim2);
+        $cb!(mpm_crack, concat!("swarf_mpm_crack_2d_", $v), $r, Dim2);
+        $cb!(mpm_nodes, concat!("swarf_mpm_nodes_2d_", $v), $r, Dim2);
+        $cb!(mpm_g2p, concat!("swarf_mpm_g2p_2d_", $v), $r, Dim2);
     };
     (@prepare $cb:ident, $r:ident, $d:ident, $v:literal, $(($s:ident, $av:literal, $as:literal)),*) => {
         $(

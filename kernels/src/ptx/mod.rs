@@ -3,6 +3,7 @@
 //! of its own; each has a CPU twin in the host crate that it is tested against.
 
 mod intrinsics;
+mod mpm;
 mod neighbour;
 mod scan;
 mod sph;

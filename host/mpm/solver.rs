@@ -1,0 +1,362 @@
+//! The MPM state on a backend and its step (docs/mpm.md): the particles' and nodes' buffers, the cell list on the
+//! grid's cells, and the four gathers of `kernels::mpm::step` launched in order. The host computes only the
+//! step's tool and grip motion; every per-particle, per-node and per-crack-point number comes from the kernels.
+
+use super::setup::{MpmSetup, Ramp};
+use crate::backend::Backend;
+use crate::kernels::mpm::cohesive::{CrackState, FAILED};
+use crate::kernels::mpm::grid::{MpmParams, MpmStep};
+use crate::kernels::mpm::step::{Cells, Crack, Nodes, Particles};
+use crate::kernels::neighbour::GridParams;
+use crate::kernels::pass::mpm::{CrackArgs, CrackPass, G2p, G2pArgs, NodesArgs, NodesPass, P2g, P2gArgs};
+use crate::kernels::{Dim2, Real, SymTensor, Vector};
+use crate::neighbour::CellList;
+use crate::{Error, Result};
+
+/// The particles' buffers.
+pub struct ParticleBufs<B: Backend, R: Real> {
+    pub pos: B::Buf<R::V2>,
+    pub ref_pos: B::Buf<R::V2>,
+    pub vel: B::Buf<R::V2>,
+    pub be: B::Buf<R::S2>,
+    pub jac: B::Buf<R>,
+    pub eps: B::Buf<R>,
+    pub stress: B::Buf<R::S2>,
+    pub mass: B::Buf<R>,
+    pub vol0: B::Buf<R>,
+    pub kind: B::Buf<u32>,
+    pub fext: B::Buf<R::V2>,
+}
+
+/// The nodes' buffers (two specimen fields per node where `kernels::mpm::step::Nodes` says so).
+pub struct NodeBufs<B: Backend, R: Real> {
+    pub mass: B::Buf<R>,
+    pub mom: B::Buf<R::V2>,
+    pub force: B::Buf<R::V2>,
+    pub vol: B::Buf<R>,
+    pub tool_vol: B::Buf<R>,
+    pub vel: B::Buf<R::V2>,
+    pub acc: B::Buf<R::V2>,
+    pub vel1: B::Buf<R::V2>,
+    pub imp_tool: B::Buf<[f64; 2]>,
+    pub imp_grip: B::Buf<[f64; 2]>,
+    pub work_grip: B::Buf<f64>,
+}
+
+/// The crack points' buffers.
+pub struct CrackBufs<B: Backend, R: Real> {
+    pub state: B::Buf<CrackState<R>>,
+    pub force: B::Buf<R::V2>,
+    pub opening: B::Buf<R::V2>,
+    pub pair: B::Buf<[u32; 2]>,
+}
+
+/// Steps in a captured batch ([`MpmSolver::advance`]).
+pub const BATCH: usize = 50;
+
+/// An MPM run's state.
+pub struct MpmSolver<B: Backend, R: Real> {
+    pub params: MpmParams,
+    pub tool: Option<(Ramp, [f64; 2])>,
+    pub grip: Option<Ramp>,
+    pub parts: ParticleBufs<B, R>,
+    pub nodes: NodeBufs<B, R>,
+    pub crack: CrackBufs<B, R>,
+    /// flags[0]: a particle went non-finite; flags[1]: one left the grid.
+    pub flags: B::Buf<u32>,
+    pub cells: CellList<B>,
+    /// The motions of the steps of a batch, one entry each (`MpmStep`), written before the batch runs.
+    steps_table: B::Buf<MpmStep>,
+    /// The captured batch of [`BATCH`] steps (CUDA graph), made at the first batch; `graphs` false
+    /// (`SWARF_NO_GRAPHS=1`): steps one by one.
+    graph: Option<B::Graph>,
+    graphs: bool,
+    pub dt: f64,
+    /// The PIC fraction 1 − β.
+    pub pic: f64,
+    pub time: f64,
+    pub steps: u64,
+    n: usize,
+    n_nodes: usize,
+}
+
+fn narrow2<R: Real>(x: [f64; 2]) -> R::V2 {
+    <R::V2 as Vector<R>>::new([R::from_f64(x[0]), R::from_f64(x[1]), R::ZERO])
+}
+
+impl<B: Backend, R: Real> MpmSolver<B, R> {
+    /// Allocates and uploads the state of `s`, PIC fraction `pic`.
+    pub fn new(b: &B, s: &MpmSetup, pic: f64) -> Result<Self> {
+        let p = &s.params;
+        let n = s.points.pos.len();
+        let n_nodes = p.nodes[0] as usize * p.nodes[1] as usize;
+        let pos: Vec<R::V2> = s.points.pos.iter().map(|&x| narrow2::<R>(x)).collect();
+        let mut identity = R::S2::default();
+        identity.components_mut().copy_from_slice(&[R::ONE, R::ZERO, R::ONE, R::ONE]);
+        let r = |v: &[f64]| v.iter().map(|&x| R::from_f64(x)).collect::<Vec<R>>();
+        let parts = ParticleBufs {
+            pos: b.upload(&pos, "mpm positions")?,
+            ref_pos: b.upload(&pos, "mpm reference positions")?,
+            vel: b.alloc(n, "mpm velocities")?,
+            be: b.upload(&vec![identity; n], "mpm B_e")?,
+            jac: b.upload(&vec![R::ONE; n], "mpm J")?,
+            eps: b.alloc(n, "mpm plastic strain")?,
+            stress: b.alloc(n, "mpm stress")?,
+            mass: b.upload(&r(&s.points.mass), "mpm masses")?,
+            vol0: b.upload(&r(&s.points.vol), "mpm volumes")?,
+            kind: b.upload(&s.points.kind, "mpm kinds")?,
+            fext: b.alloc(n, "mpm cohesive forces")?,
+        };
+        let nodes = NodeBufs {
+            mass: b.alloc(2 * n_nodes, "mpm node mass")?,
+            mom: b.alloc(2 * n_nodes, "mpm node momentum")?,
+            force: b.alloc(2 * n_nodes, "mpm node force")?,
+            vol: b.alloc(2 * n_nodes, "mpm node volume")?,
+            tool_vol: b.alloc(n_nodes, "mpm node tool volume")?,
+            vel: b.alloc(2 * n_nodes, "mpm node velocity")?,
+            acc: b.alloc(2 * n_nodes, "mpm node acceleration")?,
+            vel1: b.alloc(2 * n_nodes, "mpm node end velocity")?,
+            imp_tool: b.alloc(n_nodes, "mpm tool impulse")?,
+            imp_grip: b.alloc(n_nodes, "mpm grip impulse")?,
+            work_grip: b.alloc(n_nodes, "mpm grip work")?,
+        };
+        let nc = p.crack_points as usize;
+        let state: Vec<CrackState<R>> = (0..nc)
+            .map(|k| {
+                let failed = p.crack_x(k as u32) < s.starter_end;
+                let mut st = [R::ZERO; 4];
+                st[FAILED] = if failed { R::ONE } else { R::ZERO };
+                st
+            })
+            .collect();
+        let crack = CrackBufs {
+            state: b.upload(&state, "mpm crack state")?,
+            force: b.alloc(nc, "mpm crack force")?,
+            opening: b.alloc(nc, "mpm crack opening")?,
+            pair: b.upload(&s.pairs, "mpm crack pairs")?,
+        };
+        let cells = CellList::new(b, cell_grid(p)?, n)?;
+        let steps_table = b.alloc(BATCH, "mpm step table")?;
+        Ok(MpmSolver {
+            params: *p,
+            tool: s.tool,
+            grip: s.grip,
+            parts,
+            nodes,
+            crack,
+            flags: b.alloc(2, "mpm flags")?,
+            cells,
+            steps_table,
+            graph: None,
+            graphs: !crate::tuning::Tuning::current()?.no_graphs,
+            dt: s.dt,
+            pic,
+            time: 0.0,
+            steps: 0,
+            n,
+            n_nodes,
+        })
+    }
+
+    pub fn particles(&self) -> usize {
+        self.n
+    }
+
+    pub fn node_count(&self) -> usize {
+        self.n_nodes
+    }
+
+    /// The motions of the step that starts at t: the tool's velocity at mid-step (exact for the linear ramp), its
+    /// displacement at the step's end and its edge at the step's start; the grip's mid-step velocity.
+    pub fn step_params(&self, t: f64) -> MpmStep {
+        let dt = self.dt;
+        let mut s =
+            MpmStep { dt, alpha_pic: self.pic / dt, tool_tip: [f64::INFINITY, f64::INFINITY], ..Default::default() };
+        if let Some((ramp, tip)) = self.tool {
+            s.tool_vel = ramp.velocity(t + 0.5 * dt);
+            s.tool_disp = ramp.displacement(t + dt);
+            let d = ramp.displacement(t);
+            s.tool_tip = [tip[0] + d[0], tip[1] + d[1]];
+        }
+        if let Some(g) = self.grip {
+            s.pull_vel = g.velocity(t + 0.5 * dt);
+        }
+        s
+    }
+
+    /// One step.
+    pub fn step(&mut self, b: &B) -> Result<()> {
+        let s = self.step_params(self.time);
+        b.write(&mut self.steps_table, &[s])?;
+        self.launch_step(b, 0)?;
+        self.time += self.dt;
+        self.steps += 1;
+        Ok(())
+    }
+
+    /// `count` steps: batches of [`BATCH`] steps replayed from one captured graph (each batch's motions written
+    /// to the step table first), the rest one by one. The same launches with the same arguments as single steps,
+    /// so the same bits.
+    pub fn advance(&mut self, b: &B, mut count: u64) -> Result<()> {
+        // The CUDA backend loads a kernel at its first launch, which a capture may not hold: one plain step first.
+        if self.steps == 0 && count > 0 {
+            self.step(b)?;
+            count -= 1;
+        }
+        while self.graphs && count >= BATCH as u64 {
+            let mut t = self.time;
+            let mut table = Vec::with_capacity(BATCH);
+            for _ in 0..BATCH {
+                table.push(self.step_params(t));
+                t += self.dt;
+            }
+            b.write(&mut self.steps_table, &table)?;
+            match self.graph.take() {
+                Some(g) => {
+                    b.replay(&g)?;
+                    self.graph = Some(g);
+                }
+                None => {
+                    let mut run = || -> Result<()> { (0..BATCH).try_for_each(|j| self.launch_step(b, j)) };
+                    // A backend without graphs ran the steps; a capture only recorded them, so the graph runs now.
+                    if let Some(g) = b.capture(&mut run)? {
+                        b.replay(&g)?;
+                        self.graph = Some(g);
+                    }
+                }
+            }
+            for _ in 0..BATCH {
+                self.time += self.dt;
+            }
+            self.steps += BATCH as u64;
+            count -= BATCH as u64;
+        }
+        for _ in 0..count {
+            self.step(b)?;
+        }
+        Ok(())
+    }
+
+    /// The launches of one step whose motions are entry `j` of the step table: the cell list, the crack, the node
+    /// gather, the node update, the particle update.
+    fn launch_step(&mut self, b: &B, j: usize) -> Result<()> {
+        self.cells.build::<R, Dim2>(b, &self.parts.pos)?;
+        let step = (b.address(&self.steps_table) as *const MpmStep).wrapping_add(j);
+        let (params, parts, nodes, crack) = (self.params, self.particle_ptrs(b), self.node_ptrs(b), self.crack_ptrs(b));
+        let cells = Cells {
+            starts: b.address(&self.cells.starts) as *const u32,
+            perm: b.address(&self.cells.perm) as *const u32,
+        };
+        let n_nodes = self.n_nodes as u32;
+        // SAFETY: every pointer names a buffer of this solver, allocated in `new` with the lengths the passes
+        // read (n particles, 2 fields of n_nodes nodes, the crack's points, two flag words, BATCH > j steps).
+        unsafe {
+            if params.crack_points > 0 {
+                b.launch::<CrackPass<R>>(&CrackArgs { n: params.crack_points, _pad: 0, params, parts, crack })?;
+            }
+            b.launch::<P2g<R>>(&P2gArgs { n: n_nodes, _pad: 0, params, parts, cells, nodes })?;
+            b.launch::<NodesPass<R>>(&NodesArgs { n: n_nodes, _pad: 0, params, step, nodes })?;
+            let flags = b.address_mut(&mut self.flags) as *mut u32;
+            b.launch::<G2p<R>>(&G2pArgs { n: self.n as u32, _pad: 0, params, step, parts, nodes, flags })?;
+        }
+        Ok(())
+    }
+
+    /// The flags of the steps since the last call (non-finite, escaped), cleared.
+    pub fn take_flags(&mut self, b: &B) -> Result<(bool, bool)> {
+        let f = b.read(&self.flags)?;
+        if f.iter().any(|&x| x != 0) {
+            b.fill_zero(&mut self.flags, 2)?;
+        }
+        Ok((f[0] != 0, f[1] != 0))
+    }
+
+    fn particle_ptrs(&mut self, b: &B) -> Particles<R> {
+        let p = &mut self.parts;
+        Particles {
+            pos: b.address_mut(&mut p.pos) as *mut R::V2,
+            ref_pos: b.address(&p.ref_pos) as *const R::V2,
+            vel: b.address_mut(&mut p.vel) as *mut R::V2,
+            be: b.address_mut(&mut p.be) as *mut R::S2,
+            jac: b.address_mut(&mut p.jac) as *mut R,
+            eps: b.address_mut(&mut p.eps) as *mut R,
+            stress: b.address_mut(&mut p.stress) as *mut R::S2,
+            mass: b.address(&p.mass) as *const R,
+            vol0: b.address(&p.vol0) as *const R,
+            kind: b.address(&p.kind) as *const u32,
+            fext: b.address_mut(&mut p.fext) as *mut R::V2,
+        }
+    }
+
+    fn node_ptrs(&mut self, b: &B) -> Nodes<R> {
+        let n = &mut self.nodes;
+        Nodes {
+            mass: b.address_mut(&mut n.mass) as *mut R,
+            mom: b.address_mut(&mut n.mom) as *mut R::V2,
+            force: b.address_mut(&mut n.force) as *mut R::V2,
+            vol: b.address_mut(&mut n.vol) as *mut R,
+            tool_vol: b.address_mut(&mut n.tool_vol) as *mut R,
+            vel: b.address_mut(&mut n.vel) as *mut R::V2,
+            acc: b.address_mut(&mut n.acc) as *mut R::V2,
+            vel1: b.address_mut(&mut n.vel1) as *mut R::V2,
+            imp_tool: b.address_mut(&mut n.imp_tool) as *mut [f64; 2],
+            imp_grip: b.address_mut(&mut n.imp_grip) as *mut [f64; 2],
+            work_grip: b.address_mut(&mut n.work_grip) as *mut f64,
+        }
+    }
+
+    fn crack_ptrs(&mut self, b: &B) -> Crack<R> {
+        let c = &mut self.crack;
+        Crack {
+            state: b.address_mut(&mut c.state) as *mut CrackState<R>,
+            force: b.address_mut(&mut c.force) as *mut R::V2,
+            opening: b.address_mut(&mut c.opening) as *mut R::V2,
+            pair: b.address(&c.pair) as *const [u32; 2],
+        }
+    }
+
+    /// The impulses the tool and the grip gave the specimen since t = 0 and the grip's work,
+    /// summed over the nodes in node order (the same sums on every backend).
+    pub fn tallies(&self, b: &B) -> Result<Tallies> {
+        let sum = |v: Vec<[f64; 2]>| v.iter().fold([0.0; 2], |a, x| [a[0] + x[0], a[1] + x[1]]);
+        Ok(Tallies {
+            tool: sum(b.read(&self.nodes.imp_tool)?),
+            grip: sum(b.read(&self.nodes.imp_grip)?),
+            work: b.read(&self.nodes.work_grip)?.iter().sum(),
+        })
+    }
+}
+
+/// The running sums of [`MpmSolver::tallies`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Tallies {
+    /// Σ Δp of the tool's contact on the specimen [N s/m].
+    pub tool: [f64; 2],
+    /// Σ Δp of the grip [N s/m].
+    pub grip: [f64; 2],
+    /// Σ Δp·v of the grip [J/m].
+    pub work: f64,
+}
+
+/// The cell list's grid: the MPM grid's cells, x fastest.
+fn cell_grid(p: &MpmParams) -> Result<GridParams> {
+    let [cx, cy] = p.cells();
+    let n_cells = (cx as u64) * (cy as u64);
+    if n_cells == 0 || n_cells >= u32::MAX as u64 / 2 {
+        return Err(Error::Grid(format!("{cx} x {cy} MPM cells: expected 1 to 2^31")));
+    }
+    Ok(GridParams {
+        origin: [p.origin[0], p.origin[1], 0.0],
+        cell_size: p.dx,
+        inv_cell: 1.0 / p.dx,
+        skin: 0.0,
+        period: 0.0,
+        inv_period: 0.0,
+        dims: [cx, cy, 1],
+        n_cells: n_cells as u32,
+        stencil: 1,
+        dim: 2,
+        list_capacity: 0,
+        list_stride: 0,
+    })
+}

@@ -1,0 +1,166 @@
+//! An MPM scene (`method = "mpm"`; docs/mpm.md): Nairn's orthogonal cut as ductile fracture (nairn-mpm.md §3), or
+//! a bonded block pulled apart across its cohesive plane (the cohesive law's energy test, V15). The scene names
+//! the set-up's few parameters; `mpm::setup` builds the particles, the grid, the crack and the tool from them.
+
+use super::{Precision, SceneError};
+use serde::Serialize;
+use std::path::Path;
+
+/// `method = "mpm"` and its tables.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct MpmScene {
+    /// Where the scene came from (messages); not a key.
+    #[serde(skip)]
+    pub origin: String,
+    /// `name` (required).
+    pub name: String,
+    /// `precision` (optional, default "f64"): "f32" or "f64".
+    pub precision: Precision,
+    /// `[material]` (required).
+    pub material: MpmMaterial,
+    /// `[cohesive]` (required).
+    pub cohesive: CohesiveSpec,
+    /// `[cut]` or `[bond]` (exactly one).
+    pub setup: Setup,
+    /// `[time]`.
+    pub time: MpmTime,
+    /// `[damping]` (optional).
+    pub damping: Damping,
+}
+
+/// `[material]`: neo-Hookean J2 with linear hardening (nairn-mpm.md §1.4, §2).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct MpmMaterial {
+    /// `bulk_modulus` K, `shear_modulus` G [Pa].
+    pub bulk_modulus: f64,
+    pub shear_modulus: f64,
+    /// `density` [kg/m³].
+    pub density: f64,
+    /// `yield_stress` σ_y0 [Pa].
+    pub yield_stress: f64,
+    /// `tangent_modulus` E_T [Pa] (default 0: elastic–perfectly plastic); E_p = E E_T/(E − E_T).
+    pub tangent_modulus: f64,
+}
+
+/// `[cohesive]`: the cubic law of each mode (nairn-mpm.md §1.5, Eq. 3).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct CohesiveSpec {
+    /// `toughness` G_c [J/m²] and `peak` σ_c [Pa] of mode I.
+    pub toughness: f64,
+    pub peak: f64,
+    /// `toughness_shear`, `peak_shear` (default: mode I's).
+    pub toughness_shear: f64,
+    pub peak_shear: f64,
+}
+
+/// The set-up.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Setup {
+    Cut(CutSetup),
+    Bond(BondSetup),
+}
+
+/// `[cut]`: Nairn's set-up (nairn-mpm.md §3, Fig. 1), lengths in units of the depth h.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct CutSetup {
+    /// `depth` h [m] (required).
+    pub depth: f64,
+    /// `particles_across` (default 15, odd: the cut plane then lies mid-cell): particles through h; the cell is
+    /// 2h/n (2 × 2 particles per cell).
+    pub particles_across: u32,
+    /// `width` w, `crack` a, `starter` (its traction-free first part), `base` d (defaults 30, 18, 2, 3) [h].
+    pub width: f64,
+    pub crack: f64,
+    pub starter: f64,
+    pub base: f64,
+    /// `rake` α, `clearance` θ [deg] (defaults 30, 5).
+    pub rake: f64,
+    pub clearance: f64,
+    /// `speed` [m/s] (default 2), `ramp` (default 0.3): the fraction of the run over which the speed ramps up.
+    pub speed: f64,
+    pub ramp: f64,
+    /// `friction` μ (default 0).
+    pub friction: f64,
+    /// `cut_length` [h] (default 12): how far the tool travels; the run's end unless `[time] end` is given.
+    pub cut_length: f64,
+    /// `tool_height` [h] (default 6): the rake face's height above the cut plane.
+    pub tool_height: f64,
+    /// `room` [h] (default 10): the grid's height above the specimen, where the chip curls, and half of it behind
+    /// the tool (a chip that curls over the tool's top comes down there).
+    pub room: f64,
+}
+
+/// `[bond]`: two blocks joined along y = 0 by the cohesive law, the lower one's bottom held, the upper one's top
+/// gripped and moved at `pull` (ramped), so that the plane opens in mode I (pull along y) or slides in mode II
+/// (along x).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct BondSetup {
+    /// `width` and `height` (of each block) [m].
+    pub width: f64,
+    pub height: f64,
+    /// `cell` Δx [m] (2 × 2 particles per cell).
+    pub cell: f64,
+    /// `pull` [m/s]: the grip's final velocity.
+    pub pull: [f64; 2],
+    /// `ramp` (default 0.1): the fraction of the run over which the grip's speed ramps up.
+    pub ramp: f64,
+}
+
+/// `[time]`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct MpmTime {
+    /// `end` [s] (required for `[bond]`; for `[cut]` default: the cut length at the ramped speed).
+    pub end: f64,
+    /// `cfl` (default 0.5): Δt = cfl Δx / c_d, c_d = √((K + 4G/3)/ρ).
+    pub cfl: f64,
+    /// `samples` (default 400): force samples over the run, each the mean over its interval.
+    pub samples: u32,
+    /// `frames` (default 10): particle frames over the run.
+    pub frames: u32,
+}
+
+/// `[damping]`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Damping {
+    /// `pic` (default 1): the PIC fraction 1 − β of Eq. 8 (1: full PIC, the paper's production runs; 0: FLIP).
+    pub pic: f64,
+}
+
+impl MpmScene {
+    /// Reads an MPM scene file, applies the `--set` overrides and validates it.
+    pub fn load(path: impl AsRef<Path>, overrides: &[String]) -> Result<MpmScene, SceneError> {
+        let path = path.as_ref();
+        let file = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read { file: file.clone(), source })?;
+        MpmScene::from_str(&text, &file, overrides)
+    }
+
+    /// Parses an MPM scene from `text` (`origin` names it in messages).
+    pub fn from_str(text: &str, origin: &str, overrides: &[String]) -> Result<MpmScene, SceneError> {
+        let mut doc = super::doc::Doc::parse(text, origin)?;
+        for arg in overrides {
+            doc.apply(arg)?;
+        }
+        super::read::mpm_scene(&doc)
+    }
+
+    /// E = 9KG/(3K + G).
+    pub fn young(&self) -> f64 {
+        let (k, g) = (self.material.bulk_modulus, self.material.shear_modulus);
+        9.0 * k * g / (3.0 * k + g)
+    }
+
+    /// The dilatational wave speed c_d = √((K + 4G/3)/ρ).
+    pub fn wave_speed(&self) -> f64 {
+        let m = &self.material;
+        ((m.bulk_modulus + 4.0 / 3.0 * m.shear_modulus) / m.density).sqrt()
+    }
+}
+
+/// The method a scene file asks for: its top-level `method` key ("sph" when absent). Read before the scene is
+/// validated, so that each method validates its own keys.
+pub fn method_of(text: &str, origin: &str) -> Result<String, SceneError> {
+    let doc = super::doc::Doc::parse(text, origin)?;
+    super::read::method(&doc)
+}
