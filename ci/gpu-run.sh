@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# mpm26 ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine tool3d tools24 cspm24 nonfinite24 mill24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
+# mpm26 mpm26b ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine tool3d tools24 cspm24 nonfinite24 mill24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -640,6 +640,30 @@ PY
                   done
               }
               run mpm26 mpm_all ;;
+        mpm26b) # issue 26 (docs/mpm.md): V7 (hardening: E_T 25 and 100 MPa at 30°), V10 (base depth 2 and 4 at
+                # h = 0.9 mm), and the GPU time of each MPM kernel over two steps (ncu, after 2000 steps)
+              mpm_b() {
+                  for et in 25 100; do
+                      for h in 0.5 1.0 1.5 2.0; do
+                          mpm "a30-et$et-h$h" cases/mpm/nairn-cut.toml --set "cut.depth=${h}e-3" \
+                              --set "material.tangent_modulus=${et}e6"
+                      done
+                  done
+                  for d in 2.0 4.0; do
+                      mpm "a30-h0.9-d$d" cases/mpm/nairn-cut.toml --set cut.depth=0.9e-3 --set "cut.base=$d"
+                  done
+              }
+              mpm() { # name, scene, --set arguments...
+                  local name=$1 scene=$2; shift 2
+                  "$here/swarf" --backend gpu run "$scene" --force --out "/tmp/mpm/$name" "$@" 2>&1 \
+                      | grep -v "^mpm: t" | sed "s/^/$name: /"
+                  cp "/tmp/mpm/$name/forces.csv" "$out/mpm-$name-forces.csv" 2>/dev/null
+                  cp "/tmp/mpm/$name/summary.json" "$out/mpm-$name-summary.json" 2>/dev/null
+              }
+              run mpm26b mpm_b
+              run ncu-mpm ncu --launch-skip 24000 --launch-count 24 --metrics gpu__time_duration.sum \
+                  "$here/swarf" --backend gpu run cases/mpm/nairn-cut.toml --force --out /tmp/mpm/ncu \
+                  --set time.end=2.2e-4 ;;
         millpics) # issue 24 (docs/3d.md): the micro-milling scene with JC (cases/3d/micro-milling.toml) whole, then
                   # pictures of its frames (swarf render): seen from above (--along y) at the first and second tooth
                   # passes' force peaks (frames 47, 85: 188, 340 µs) and at the end, the equivalent plastic strain
