@@ -458,6 +458,15 @@ fn run(cli: Cli) -> Result<()> {
         Cmd::Identify(a) => cmd_identify(cli.backend, &a),
         Cmd::Chip(a) => cmd_chip(&a),
         Cmd::Check { scene, precision, set } => {
+            if let Some(mut sc) = mpm_scene(scene.as_deref(), &set)? {
+                if let Some(p) = precision {
+                    sc.precision = p.precision();
+                }
+                let (any, line) = AnyBackend::select(cli.backend)?;
+                eprintln!("{line}");
+                print!("{}", swarf::mpm::run::check(&any, &sc)?);
+                return Ok(());
+            }
             let sc = load_scene(scene.as_deref(), &set)?;
             let (any, line) = AnyBackend::select(cli.backend)?;
             eprintln!("{line}");

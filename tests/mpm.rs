@@ -219,3 +219,17 @@ fn bad_mpm_scenes_are_refused_with_the_key() {
     let e = MpmScene::from_str(&sph, "sph-key.toml", &[]).expect_err("dim").to_string();
     assert!(e.contains("dim") && e.contains("MPM scene"), "{e}");
 }
+
+/// An SPH reader given an MPM scene says which commands read it, naming the file, line and key; `swarf check`
+/// of an MPM scene reports the set-up's sizes and the step count of its Δt.
+#[test]
+fn mpm_scenes_are_checked_and_refused_by_sph_commands() {
+    let text = std::fs::read_to_string("cases/mpm/bond-mode1.toml").expect("scene");
+    let e = swarf::scene::Scene::from_str(&text, "bond.toml", &[]).expect_err("an MPM scene").to_string();
+    assert!(e.contains("bond.toml:") && e.contains("method") && e.contains("swarf run"), "{e}");
+    let scene = MpmScene::from_str(&text, "bond.toml", &[]).expect("scene");
+    let s = setup(&scene).expect("setup");
+    let report = swarf::mpm::run::check(&AnyBackend::Cpu(CpuBackend::new()), &scene).expect("check");
+    let expected = format!("{} particles (800 specimen, 0 tool)", s.points.pos.len());
+    assert!(report.contains(&expected) && report.contains(&format!("{} steps", s.steps)), "{report}");
+}

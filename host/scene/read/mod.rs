@@ -243,11 +243,14 @@ fn plain_file_name(s: &str) -> bool {
 pub(super) fn scene(doc: &Doc) -> Result<Scene> {
     let Val::Table(entries) = &doc.root.val else { unreachable!("a TOML document is a table") };
     let root = Tab { doc, path: "", node: &doc.root, entries };
+    // An SPH scene may say so; an MPM scene is read by `mpm_scene`, which `swarf run` and `swarf check` choose by
+    // this key, and no other command reads.
+    root.string(
+        "method",
+        "\"sph\": this command reads SPH scenes; `swarf run` and `swarf check` read MPM scenes (docs/mpm.md)",
+        |s| s == "sph",
+    )?;
     root.check_keys(ROOT_KEYS, &[], "")?;
-    // An SPH scene may say so; an MPM scene is read by `mpm_scene` (the CLI dispatches on `method` first).
-    root.string("method", "\"sph\" (this scene has SPH keys; an MPM scene is read as such by `swarf run`)", |s| {
-        s == "sph"
-    })?;
 
     let name_expected =
         "a non-empty string naming the scene, a plain file name for its run folder (no '/' or '\\', not '.' or '..')";
