@@ -69,7 +69,6 @@ pub struct MpmSetup {
 pub fn setup(scene: &MpmScene) -> Result<MpmSetup> {
     let m = &scene.material;
     let bad = |key: &str, what: String| Error::Scene(format!("{}: {key}: {what}", scene.origin));
-    let e_young = scene.young();
     let plastic = NeoHookeanJ2::plastic_modulus_of(m.bulk_modulus, m.shear_modulus, m.tangent_modulus);
     let c = &scene.cohesive;
     let base = MpmParams {
@@ -91,7 +90,6 @@ pub fn setup(scene: &MpmScene) -> Result<MpmSetup> {
         flank_normal: [0.0, 1.0],
         ..Default::default()
     };
-    let _ = e_young;
     let mut s = match &scene.setup {
         Setup::Cut(cut) => cut_setup(scene, cut, base),
         Setup::Bond(bond) => bond_setup(scene, bond, base),

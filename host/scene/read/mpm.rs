@@ -22,7 +22,7 @@ pub(in crate::scene) fn mpm_scene(doc: &Doc) -> Result<MpmScene> {
         .unwrap_or(Precision::F64);
     let material = material(&root)?;
     let cohesive = cohesive(&root)?;
-    let setup = setup(&root, &material)?;
+    let setup = setup(&root)?;
     let time = time(&root, &setup)?;
     let damping = damping(&root)?;
     Ok(MpmScene { origin: doc.file.clone(), name, precision, material, cohesive, setup, time, damping })
@@ -65,12 +65,12 @@ fn cohesive(root: &Tab<'_>) -> Result<CohesiveSpec> {
     Ok(CohesiveSpec { toughness, peak, toughness_shear, peak_shear })
 }
 
-fn setup(root: &Tab<'_>, m: &MpmMaterial) -> Result<Setup> {
+fn setup(root: &Tab<'_>) -> Result<Setup> {
     let ec = "a table [cut] (Nairn's cutting set-up)";
     let eb = "a table [bond] (a bonded block pulled apart)";
     match (root.table("cut", "cut", ec)?, root.table("bond", "bond", eb)?) {
         (Some(t), None) => cut(&t).map(Setup::Cut),
-        (None, Some(t)) => bond(&t, m).map(Setup::Bond),
+        (None, Some(t)) => bond(&t).map(Setup::Bond),
         (Some(_), Some(_)) => Err(root.invalid("bond", root.get("bond"), "no [bond] beside [cut]: one set-up a scene")),
         (None, None) => Err(root.invalid("cut", None, "a table [cut] or [bond]")),
     }
@@ -145,7 +145,7 @@ fn cut(t: &Tab<'_>) -> Result<CutSetup> {
     })
 }
 
-fn bond(t: &Tab<'_>, _m: &MpmMaterial) -> Result<BondSetup> {
+fn bond(t: &Tab<'_>) -> Result<BondSetup> {
     t.check_keys(&["width", "height", "cell", "pull", "ramp"], &[], "")?;
     let e = "a positive length in m";
     let width = t.required("width", e, t.number("width", e, positive)?)?;
