@@ -354,11 +354,14 @@ pub fn check(any: &AnyBackend, scene: &MpmScene) -> Result<String> {
         Precision::F32 => time_steps::<_, f32>(b, scene, &s),
         _ => time_steps::<_, f64>(b, scene, &s),
     })?;
-    let (n, nodes) = (s.points.pos.len(), s.params.nodes[0] as usize * s.params.nodes[1] as usize);
-    let real = if scene.precision == Precision::F32 { 4 } else { 8 };
-    // Per particle: 3 vectors, 2 tensors of 4, 4 scalars and the cohesive force; the kind and 3 cell-list words.
-    // Per node: 2 fields of mass, volume and 5 vectors; the tool's volume; 3 f64 tallies.
-    let bytes = n * (real * (3 * 2 + 2 * 4 + 4 + 2) + 16) + nodes * (real * (2 * (2 + 5 * 2) + 1) + 24 + 8);
+    let n = s.points.pos.len();
+    // The bytes the solver allocates, counted by the CPU backend (the same buffers on every backend).
+    let cpu = crate::backend::CpuBackend::new();
+    match scene.precision {
+        Precision::F32 => MpmSolver::<_, f32>::new(&cpu, &s, scene.damping.pic).map(drop)?,
+        _ => MpmSolver::<_, f64>::new(&cpu, &s, scene.damping.pic).map(drop)?,
+    }
+    let bytes = cpu.allocated_bytes();
     Ok(format!(
         "{}: MPM ({}), {} particles ({} specimen, {} tool), {} x {} nodes of {:.4e} m, {} crack points\n\
          dt = {:.4e} s (cfl {}), {} steps to {:.4e} s, about {:.1} MB on the device\n\

@@ -46,8 +46,6 @@ pub struct NodeBufs<B: Backend, R: Real> {
 /// The crack points' buffers.
 pub struct CrackBufs<B: Backend, R: Real> {
     pub state: B::Buf<CrackState<R>>,
-    pub force: B::Buf<R::V2>,
-    pub opening: B::Buf<R::V2>,
     pub pair: B::Buf<[u32; 2]>,
 }
 
@@ -129,12 +127,8 @@ impl<B: Backend, R: Real> MpmSolver<B, R> {
                 st
             })
             .collect();
-        let crack = CrackBufs {
-            state: b.upload(&state, "mpm crack state")?,
-            force: b.alloc(nc, "mpm crack force")?,
-            opening: b.alloc(nc, "mpm crack opening")?,
-            pair: b.upload(&s.pairs, "mpm crack pairs")?,
-        };
+        let crack =
+            CrackBufs { state: b.upload(&state, "mpm crack state")?, pair: b.upload(&s.pairs, "mpm crack pairs")? };
         let cells = CellList::new(b, cell_grid(p)?, n)?;
         let steps_table = b.alloc(BATCH, "mpm step table")?;
         Ok(MpmSolver {
@@ -307,12 +301,7 @@ impl<B: Backend, R: Real> MpmSolver<B, R> {
 
     fn crack_ptrs(&mut self, b: &B) -> Crack<R> {
         let c = &mut self.crack;
-        Crack {
-            state: b.address_mut(&mut c.state) as *mut CrackState<R>,
-            force: b.address_mut(&mut c.force) as *mut R::V2,
-            opening: b.address_mut(&mut c.opening) as *mut R::V2,
-            pair: b.address(&c.pair) as *const [u32; 2],
-        }
+        Crack { state: b.address_mut(&mut c.state) as *mut CrackState<R>, pair: b.address(&c.pair) as *const [u32; 2] }
     }
 
     /// The impulses the tool and the grip gave the specimen since t = 0 and the grip's work,

@@ -61,14 +61,12 @@ pub struct Nodes<R: Real> {
     pub work_grip: *mut f64,
 }
 
-/// The crack points' arrays: history, force on the face above (per unit thickness), opening (δ_t, δ_n), and the
-/// two particles that face each other across each point at t = 0 (above, below).
+/// The crack points' arrays: history, and the two particles that face each other across each point at t = 0
+/// (above, below). The point's force is their `fext`.
 #[repr(C)]
 #[derive(Clone, Copy)]
 pub struct Crack<R: Real> {
     pub state: *mut CrackState<R>,
-    pub force: *mut R::V2,
-    pub opening: *mut R::V2,
     pub pair: *const [u32; 2],
 }
 
@@ -106,46 +104,46 @@ pub unsafe fn p2g_node<R: Real>(p: &MpmParams, pa: &Particles<R>, cells: &Cells,
     let z = R::ZERO;
     let (mut m, mut px, mut py, mut fx, mut fy) = ([z; 2], [z; 2], [z; 2], [z; 2], [z; 2]);
     let (mut vf, mut vt) = ([z; 2], z);
-    let mut yc = b as i64 - 2;
-    while yc <= b as i64 + 1 {
-        let mut xc = a as i64 - 2;
-        while yc >= 0 && yc < cy as i64 && xc <= a as i64 + 1 {
-            if xc >= 0 && xc < cx as i64 {
-                let c = (yc as u32 * cx + xc as u32) as usize;
-                let (s0, s1) = unsafe { (*cells.starts.add(c), *cells.starts.add(c + 1)) };
-                let mut j = s0;
-                while j < s1 {
-                    let q = unsafe { *cells.perm.add(j as usize) } as usize;
-                    let x = unsafe { *pa.pos.add(q) };
-                    let (sx, gx) = ugimp(x.get(0) - xi, dx, lp);
-                    let (sy, gy) = ugimp(x.get(1) - yi, dx, lp);
-                    let w = sx * sy;
-                    j += 1;
-                    if w == z {
-                        continue;
-                    }
-                    let kind = unsafe { *pa.kind.add(q) };
-                    if kind == TOOL {
-                        vt += unsafe { *pa.vol0.add(q) } * w;
-                        continue;
-                    }
-                    let mq = unsafe { *pa.mass.add(q) };
-                    // 0 or 1 (masked, so that indexing has no panic path).
-                    let f = p.field_of(kind, x.get(0).to_f64(), x.get(1).to_f64(), node) & 1;
-                    let (v, fe) = unsafe { (*pa.vel.add(q), *pa.fext.add(q)) };
-                    let s = unsafe { *pa.stress.add(q) };
-                    let s = <R::S2 as crate::vector::SymTensor<R>>::components(&s);
-                    let vol = unsafe { *pa.jac.add(q) * *pa.vol0.add(q) };
-                    let (dwx, dwy) = (gx * sy, sx * gy);
-                    let mw = mq * w;
-                    m[f] += mw;
-                    vf[f] += vol * w;
-                    px[f] += mw * v.get(0);
-                    py[f] += mw * v.get(1);
-                    // S is (xx, xy, yy, zz).
-                    fx[f] += w * fe.get(0) - vol * (s[0] * dwx + s[1] * dwy);
-                    fy[f] += w * fe.get(1) - vol * (s[1] * dwx + s[2] * dwy);
+    // The cells a − 2 ..= a + 1 (and b − 2 ..= b + 1) that lie on the grid.
+    let (x0, x1) = (a.saturating_sub(2), (a + 1).min(cx.saturating_sub(1)));
+    let mut yc = b.saturating_sub(2);
+    while yc <= (b + 1).min(cy.saturating_sub(1)) {
+        let mut xc = x0;
+        while xc <= x1 {
+            let c = (yc * cx + xc) as usize;
+            let (s0, s1) = unsafe { (*cells.starts.add(c), *cells.starts.add(c + 1)) };
+            let mut j = s0;
+            while j < s1 {
+                let q = unsafe { *cells.perm.add(j as usize) } as usize;
+                let x = unsafe { *pa.pos.add(q) };
+                let (sx, gx) = ugimp(x.get(0) - xi, dx, lp);
+                let (sy, gy) = ugimp(x.get(1) - yi, dx, lp);
+                let w = sx * sy;
+                j += 1;
+                if w == z {
+                    continue;
                 }
+                let kind = unsafe { *pa.kind.add(q) };
+                if kind == TOOL {
+                    vt += unsafe { *pa.vol0.add(q) } * w;
+                    continue;
+                }
+                let mq = unsafe { *pa.mass.add(q) };
+                // 0 or 1 (masked, so that indexing has no panic path).
+                let f = p.field_of(kind, x.get(0).to_f64(), x.get(1).to_f64(), node) & 1;
+                let (v, fe) = unsafe { (*pa.vel.add(q), *pa.fext.add(q)) };
+                let s = unsafe { *pa.stress.add(q) };
+                let s = <R::S2 as crate::vector::SymTensor<R>>::components(&s);
+                let vol = unsafe { *pa.jac.add(q) * *pa.vol0.add(q) };
+                let (dwx, dwy) = (gx * sy, sx * gy);
+                let mw = mq * w;
+                m[f] += mw;
+                vf[f] += vol * w;
+                px[f] += mw * v.get(0);
+                py[f] += mw * v.get(1);
+                // S is (xx, xy, yy, zz).
+                fx[f] += w * fe.get(0) - vol * (s[0] * dwx + s[1] * dwy);
+                fy[f] += w * fe.get(1) - vol * (s[1] * dwx + s[2] * dwy);
             }
             xc += 1;
         }
@@ -187,11 +185,8 @@ pub unsafe fn crack_point<R: Real>(p: &MpmParams, pa: &Particles<R>, cr: &Crack<
         // A failed point whose faces have slid apart: the pair no longer faces each other, nor closes.
         tn = R::ZERO;
     }
-    let f = v2::<R>(-tt * ds, -tn * ds);
     unsafe {
-        *cr.force.add(k) = f;
-        *cr.opening.add(k) = v2(dt_open, dn_open);
-        *pa.fext.add(a) = f;
+        *pa.fext.add(a) = v2(-tt * ds, -tn * ds);
         *pa.fext.add(b) = v2(tt * ds, tn * ds);
     }
 }
@@ -202,7 +197,7 @@ pub unsafe fn crack_point<R: Real>(p: &MpmParams, pa: &Particles<R>, cr: &Crack<
 /// zero velocity.
 ///
 /// # Safety
-/// i < nodes; the arrays hold the grid's nodes and the crack's points.
+/// i < nodes; the arrays hold the grid's nodes.
 #[inline(always)]
 pub unsafe fn node_update<R: Real>(p: &MpmParams, s: &MpmStep, nd: &Nodes<R>, i: usize) {
     let (a, b) = p.node_ab(i);
