@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# mpm26 mpm26b ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine tool3d tools24 cspm24 nonfinite24 mill24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
+# mpm26 mpm26b mpmsweep mpmdamp mpmv ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine tool3d tools24 cspm24 nonfinite24 mill24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -640,6 +640,97 @@ PY
                   done
               }
               run mpm26 mpm_all ;;
+        mpmsweep) # issue 26 (docs/mpm.md "Sweeps"): MPM points as one batched ensemble (`swarf sweep`, a stream each).
+                  # (1) throughput: 8 short cuts (cut_length 3 h, paper resolution) one at a time and 8 at once, and
+                  # 16 at once (unless SWARF_MPM_FIGURE_ONLY); (2) unless SWARF_MPM_PROBE_ONLY, a whole h x rake x friction figure (10 x 2 x 5 = 100
+                  # points, cut_length SWARF_MPM_LENGTH, default the scene's) at --batch SWARF_MPM_BATCH (default 16),
+                  # in the background so that its table survives the call's limit (sweep.md is rewritten per point).
+              mpm_sweep() { # name, batch, --grid/--set arguments...
+                  local name=$1 batch=$2; shift 2
+                  local t0=$(date +%s.%N)
+                  "$here/swarf" --backend gpu sweep cases/mpm/nairn-cut.toml --quiet --batch "$batch" \
+                      --out "/tmp/mpmsweep/$name" "$@"
+                  echo "$name: batch $batch: $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s wall"
+                  cp "/tmp/mpmsweep/$name/sweep.md" "$out/mpmsweep-$name.md" 2>/dev/null
+                  cp "/tmp/mpmsweep/$name/sweep.csv" "$out/mpmsweep-$name.csv" 2>/dev/null
+              }
+              mpm_probe() {
+                  local short=(--set cut.cut_length=3.0)
+                  mpm_sweep probe8-serial 1 "${short[@]}" --grid cut.friction=0,0.05,0.1,0.15,0.2,0.25,0.3,0.35
+                  mpm_sweep probe8-batch8 8 "${short[@]}" --grid cut.friction=0,0.05,0.1,0.15,0.2,0.25,0.3,0.35
+                  mpm_sweep probe16-batch16 16 "${short[@]}" \
+                      --grid cut.friction=0,0.05,0.1,0.15,0.2,0.25,0.3,0.35 --grid cut.rake=30,15
+              }
+              [ -z "${SWARF_MPM_FIGURE_ONLY:-}" ] && run mpmprobe mpm_probe
+              [ -n "${SWARF_MPM_PROBE_ONLY:-}" ] && continue
+              (
+                  len=${SWARF_MPM_LENGTH:+--set cut.cut_length=$SWARF_MPM_LENGTH}
+                  mpm_sweep figure "${SWARF_MPM_BATCH:-16}" $len \
+                      --grid cut.depth=0.25e-3,0.5e-3,0.75e-3,1.0e-3,1.25e-3,1.5e-3,2.0e-3,2.5e-3,3.0e-3,3.5e-3 \
+                      --grid cut.rake=30,15 --grid cut.friction=0,0.1,0.2,0.4,0.6
+              ) > "$out/mpmfigure.log" 2>&1 &
+              figure=$!
+              limit=${SWARF_WAIT_LIMIT:-420}
+              t0=$(date +%s.%N)
+              for ((i = 0; i < limit; i += 5)); do kill -0 $figure 2>/dev/null || break; sleep 5; done
+              kill -0 $figure 2>/dev/null && { pkill -INT -f "swarf --backend gpu sweep" ; sleep 5; }
+              cp /tmp/mpmsweep/figure/sweep.md "$out/mpmsweep-figure.md" 2>/dev/null
+              cp /tmp/mpmsweep/figure/sweep.csv "$out/mpmsweep-figure.csv" 2>/dev/null
+              echo "figure: $(grep -c ',ok,' /tmp/mpmsweep/figure/sweep.csv 2>/dev/null) points done, \
+$(grep -c ',failed,' /tmp/mpmsweep/figure/sweep.csv 2>/dev/null) failed, after \
+$(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s" \
+                  >> "$out/mpmfigure.log"
+              summary+=("$(printf '%-12s %s' mpmfigure "$(tail -n 1 "$out/mpmfigure.log")")") ;;
+        mpmdamp) # issue 26 (docs/mpm.md "Start-up damping", V12): two batched MPM sweeps at 30°, mu = 0: the start-up
+                 # feedback gain (0, 100, 1000, 10000) over h = 0.25 ... 2.0 mm, and the PIC fraction (1, 0.9, 0.5)
+                 # at h = 0.5 and 1.0 mm without feedback. Tables under $out/mpmsweep-*.md/csv.
+              mpm_damp() {
+                  local name batch
+                  for name in feedback pic; do
+                      local t0=$(date +%s.%N)
+                      case $name in
+                          feedback) set -- --grid cut.depth=0.25e-3,0.5e-3,0.75e-3,1.0e-3,1.5e-3,2.0e-3 \
+                                        --grid damping.feedback=0,100,1000,10000 ;;
+                          pic) set -- --grid cut.depth=0.5e-3,1.0e-3 --grid damping.pic=1.0,0.9,0.5 ;;
+                      esac
+                      "$here/swarf" --backend gpu sweep cases/mpm/nairn-cut.toml --quiet --batch 24 \
+                          --out "/tmp/mpmsweep/$name" "$@"
+                      echo "$name: $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s wall"
+                      cp "/tmp/mpmsweep/$name/sweep.md" "$out/mpmsweep-$name.md"
+                      cp "/tmp/mpmsweep/$name/sweep.csv" "$out/mpmsweep-$name.csv"
+                  done
+              }
+              run mpmdamp mpm_damp ;;
+        mpmv) # issue 26 (docs/mpm.md): V6 (the transition with sigma_c = 10 MPa against 40 at 30°, mu = 0), V11 (h = 0.9
+              # mm at 7, 15 and 31 particles through h), as batched sweeps; and the frames (particles.pvd, VTU) of
+              # V16 (h = 0.5 mm, rake 15°, E_T = 100 MPa) and of the cut that went non-finite at h = 0.25 mm, rake 15°,
+              # their last 6 frames packed into $out/logs-mpm-<run>.tgz (beside logs.tgz).
+              mpm_v() {
+                  local sweep=("$here/swarf" --backend gpu sweep cases/mpm/nairn-cut.toml --quiet --batch 24)
+                  local t0=$(date +%s.%N)
+                  "${sweep[@]}" --out /tmp/mpmsweep/v6 --grid cohesive.peak=40e6,10e6 \
+                      --grid cut.depth=0.5e-3,0.75e-3,1.0e-3,1.25e-3,1.5e-3,2.0e-3 &
+                  "${sweep[@]}" --out /tmp/mpmsweep/v11 --grid cut.particles_across=7,15,31 --set cut.depth=0.9e-3 &
+                  for run in v16 fail025; do
+                      case $run in
+                          v16) set -- --set cut.depth=0.5e-3 --set cut.rake=15 --set material.tangent_modulus=100e6 ;;
+                          fail025) set -- --set cut.depth=0.25e-3 --set cut.rake=15 ;;
+                      esac
+                      "$here/swarf" --backend gpu run cases/mpm/nairn-cut.toml --quiet --force --out "/tmp/mpm/$run" \
+                          --set time.frames=60 "$@" 2>&1 | tail -3 &
+                  done
+                  wait
+                  echo "all: $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s wall"
+                  for v in v6 v11; do
+                      cp "/tmp/mpmsweep/$v/sweep.md" "$out/mpmsweep-$v.md"; cp "/tmp/mpmsweep/$v/sweep.csv" "$out/mpmsweep-$v.csv"
+                  done
+                  # The last 6 frames of each (VTU; the runs' summaries and forces whole).
+                  for r in v16 fail025; do
+                      (cd /tmp/mpm && tar czf "$out/logs-mpm-$r.tgz" "$r"/*.json "$r"/*.csv "$r"/particles.pvd \
+                          $(ls "$r"/frames/*.vtu | tail -n 6))
+                  done
+              }
+              run mpmv mpm_v ;;
         mpm26b) # issue 26 (docs/mpm.md): V7 (hardening: E_T 25 and 100 MPa at 30°), V10 (base depth 2 and 4 at
                 # h = 0.9 mm), and the GPU time of each MPM kernel over two steps (ncu, after 2000 steps)
               mpm_b() {

@@ -431,7 +431,7 @@ fn main() {
     }
     let code = match run(cli) {
         Ok(()) => 0,
-        Err(e @ swarf::Error::Interrupted { .. }) => {
+        Err(e @ (swarf::Error::Interrupted { .. } | swarf::Error::Stopped { .. })) => {
             eprintln!("\n{e}");
             130
         }
@@ -568,6 +568,7 @@ fn cmd_run_mpm(backend: BackendChoice, a: &RunArgs, scene: swarf::scene::mpm::Mp
     if cleared > 0 && !a.quiet {
         eprintln!("--force: cleared {} ({cleared} entries of an earlier run)", out.display());
     }
+    on_interrupt();
     let opts = swarf::mpm::run::MpmRunOptions { out_dir: out.clone(), frames: true, quiet: a.quiet };
     let r = swarf::mpm::run::run(&any, &scene, &opts)?;
     if !a.quiet {
@@ -897,8 +898,11 @@ fn cmd_sweep(backend: BackendChoice, a: &SweepArgs) -> Result<()> {
     let grids = a.grid.iter().map(|g| swarf::sweep::Grid::parse(g)).collect::<std::result::Result<Vec<_>, _>>();
     let grids = grids.map_err(swarf::Error::Scene)?;
     // The scene's name names the default folder; every run's scene is validated by `sweep` before any run.
-    let sc = swarf::scene::Scene::load(&a.scene, &a.set).map_err(|e| swarf::Error::Scene(e.to_string()))?;
-    let out = a.out.clone().unwrap_or_else(|| std::path::PathBuf::from("runs").join(format!("sweep-{}", sc.name)));
+    let name = match mpm_scene(Some(&a.scene), &a.set)? {
+        Some(sc) => sc.name,
+        None => swarf::scene::Scene::load(&a.scene, &a.set).map_err(|e| swarf::Error::Scene(e.to_string()))?.name,
+    };
+    let out = a.out.clone().unwrap_or_else(|| std::path::PathBuf::from("runs").join(format!("sweep-{name}")));
     let (any, line) = AnyBackend::select(backend)?;
     if !a.quiet {
         eprintln!("{line}");

@@ -2,7 +2,7 @@
 //! against their equations (nairn-mpm.md §1.1, §1.4, §1.5), the cohesive energy test V15 (§6.2) in mode I and
 //! mode II, a short cut, and the scene's checks.
 
-use swarf::backend::{AnyBackend, CpuBackend};
+use swarf::backend::{AnyBackend, Backend, CpuBackend};
 use swarf::kernels::mpm::cohesive::{Cohesive, CubicLaw, FAILED, MODE_I, traction};
 use swarf::kernels::mpm::hyperelastic::{NeoHookeanJ2, update};
 use swarf::kernels::mpm::shape::ugimp;
@@ -11,6 +11,8 @@ use swarf::mpm::setup::setup;
 use swarf::mpm::solver::MpmSolver;
 use swarf::rng::SplitMix64;
 use swarf::scene::mpm::MpmScene;
+
+mod common;
 
 /// The uGIMP weight is the grid's hat averaged over the particle's domain [x − l_p, x + l_p] (Bardenhagen &
 /// Kober 2004; nairn-mpm.md §1.1): against a midpoint quadrature of that average (1e-9), and the weights and
@@ -232,4 +234,71 @@ fn mpm_scenes_are_checked_and_refused_by_sph_commands() {
     let report = swarf::mpm::run::check(&AnyBackend::Cpu(CpuBackend::new()), &scene).expect("check");
     let expected = format!("{} particles (800 specimen, 0 tool)", s.points.pos.len());
     assert!(report.contains(&expected) && report.contains(&format!("{} steps", s.steps)), "{report}");
+}
+
+/// `swarf sweep` of an MPM scene (the h × α × μ generator, issue 26): every point is an ensemble member, and a
+/// batch of 2 at once gives each point's forces.csv byte for byte as its run alone; the table holds each bond's
+/// released energy per crack area, V15's 2000 J/m² within 5 % at both peak tractions, and the points differ
+/// (so that the equality is not one run repeated).
+#[test]
+fn an_mpm_sweep_runs_its_points_as_a_batch_equal_to_solo_runs() {
+    let b = AnyBackend::Cpu(CpuBackend::new());
+    let root = std::env::temp_dir().join(format!("swarf-mpm-sweep-{}", std::process::id()));
+    let sets = ["bond.width=1e-3", "bond.cell=1.25e-4"];
+    let grids = ["cohesive.peak=40e6,30e6"];
+    let file = "cases/mpm/bond-mode1.toml";
+    let (batch, forces) = common::scenes::mpm_sweep(&b, file, &sets, &grids, 2, &root.join("batch"));
+    let (_, solo) = common::scenes::mpm_sweep(&b, file, &sets, &grids, 1, &root.join("solo"));
+    assert_eq!(forces, solo, "a batch member differs from its solo run");
+    assert_ne!(forces[0], forces[1], "the two points ran the same");
+    let column = batch.columns.iter().position(|c| c.name == "released_j_per_m2").expect("released column");
+    for p in &batch.points {
+        let swarf::sweep::Outcome::Done(v) = &p.outcome else { panic!("{:?}: {:?}", p.values, p.outcome) };
+        let g = v[column].expect("released energy");
+        assert!((g / 2000.0 - 1.0).abs() < 0.05, "{:?}: {g} J/m²", p.values);
+    }
+    let _ = std::fs::remove_dir_all(root);
+}
+
+/// The start-up damping (nairn-mpm.md §1.3): during the ramp, each step's α_g is the last one plus
+/// 2 K Δt/(Q M), K the grid's kinetic energy summed over the nodes (1e-12 relative, against the sum on the
+/// host); it is positive by the ramp's end and reset to 0 after it; and it takes kinetic energy out: the
+/// specimen holds less at the ramp's end than without it.
+#[test]
+fn start_up_damping_follows_the_feedback_law() {
+    let run = |gain: &str| {
+        let sets: Vec<String> = ["cut.particles_across=7", "cut.cut_length=2.0", "time.end=1.3e-3", gain]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        let scene = MpmScene::load("cases/mpm/nairn-cut.toml", &sets).expect("scene");
+        let s = setup(&scene).expect("setup");
+        let b = CpuBackend::new();
+        let mut m = MpmSolver::<CpuBackend, f64>::new(&b, &s, 1.0).expect("solver");
+        let ramp = s.tool.expect("tool").0.ramp;
+        let mut checked = 0;
+        let mut alpha = 0.0;
+        while m.time + m.dt <= ramp {
+            m.step(&b).expect("step");
+            let next = b.read(&m.nodes.damping).expect("damping")[0];
+            if s.feedback > 0.0 {
+                let k: f64 = b.read(&m.nodes.ke).expect("ke").iter().sum();
+                let expected = alpha + s.feedback * 2.0 * k * m.dt;
+                assert!((next - expected).abs() <= 1e-12 * expected.abs(), "step {}: {next} vs {expected}", m.steps);
+                checked += 1;
+            }
+            alpha = next;
+        }
+        let kinetic = m.snapshot(&b).expect("snapshot").energies(&s.params.material).0;
+        m.advance(&b, 2).expect("past the ramp");
+        let after = b.read(&m.nodes.damping).expect("damping")[0];
+        (alpha, after, kinetic, checked)
+    };
+    let (alpha, after, damped, checked) = run("damping.feedback=1000");
+    assert!(checked > 1000 && alpha > 0.0, "{checked} steps checked, α_g = {alpha} at the ramp's end");
+    assert_eq!(after, 0.0, "the damping is off after the ramp");
+    let (off, _, free, _) = run("damping.feedback=0");
+    assert_eq!(off, 0.0, "no feedback, no damping");
+    assert!(damped < free, "kinetic energy at the ramp's end: {damped} J/m damped against {free} J/m");
+    eprintln!("α_g = {alpha:.4e} 1/s at the ramp's end; kinetic energy {damped:.4e} J/m against {free:.4e} J/m");
 }

@@ -205,7 +205,7 @@ fn argument_structs_match_the_entries_parameter_blocks() {
         }
         let variant = ["2d_f32", "2d_f64", "3d_f32", "3d_f64"].into_iter().find(|v| name.contains(v))?;
         // The MPM passes (2D only), generic in the precision alone.
-        use swarf::kernels::pass::mpm::{CrackArgs, G2pArgs, NodesArgs, P2gArgs};
+        use swarf::kernels::pass::mpm::{CrackArgs, FeedbackArgs, G2pArgs, KeArgs, NodesArgs, P2gArgs};
         macro_rules! by_real {
             ($s:ident) => {
                 if variant == "2d_f32" { block::<$s<f32>>() } else { block::<$s<f64>>() }
@@ -216,6 +216,8 @@ fn argument_structs_match_the_entries_parameter_blocks() {
                 "p2g" => Some(by_real!(P2gArgs)),
                 "crack" => Some(by_real!(CrackArgs)),
                 "nodes" => Some(by_real!(NodesArgs)),
+                "ke" => Some(by_real!(KeArgs)),
+                "feedback" => Some(by_real!(FeedbackArgs)),
                 "g2p" => Some(by_real!(G2pArgs)),
                 _ => None,
             };
@@ -270,10 +272,10 @@ fn argument_structs_match_the_entries_parameter_blocks() {
         // without and with damage + density, 4 pre-passes and the predictor each without and with damage, 2
         // conductions + hash, hash-count, neighbour list, Verlet list, the correction) + the contact with the parametric tool in 2D and 3D and with a mesh tool in 3D,
         // each in 2 precisions + 9
-        // neighbour entries without variants (zero, scatter, sort, 3 gathers, gather_fields, 2 scans) + the 4 MPM
+        // neighbour entries without variants (zero, scatter, sort, 3 gathers, gather_fields, 2 scans) + the 6 MPM
         // passes in 2 precisions.
         let models = swarf::kernels::pass::FLOW_MODEL_TAGS.len();
-        assert_eq!(checked, 4 * (48 + 1 + 4 * models + 13 + 5) + 6 + 9 + 8, "{target}: entries checked");
+        assert_eq!(checked, 4 * (48 + 1 + 4 * models + 13 + 5) + 6 + 9 + 12, "{target}: entries checked");
     }
 }
 
@@ -421,6 +423,14 @@ fn every_pass_names_its_own_entry() {
         };
         (mpm_nodes, $name:expr, $r:ident, $d:ident) => {
             check!(mpm::NodesPass<$r>, $name);
+            position += 1;
+        };
+        (mpm_ke, $name:expr, $r:ident, $d:ident) => {
+            check!(mpm::KePass<$r>, $name);
+            position += 1;
+        };
+        (mpm_feedback, $name:expr, $r:ident, $d:ident) => {
+            check!(mpm::FeedbackPass<$r>, $name);
             position += 1;
         };
         (mpm_g2p, $name:expr, $r:ident, $d:ident) => {

@@ -3,8 +3,8 @@
 //! captured graphs, sharing the loaded kernels; on the CPU, the one thread pool.
 //!
 //! Why streams and not one packed particle set: a member keeps everything a run has (its Δt, tool, forces,
-//! steady-state analysis, summary.json, its non-finite stop) because a member *is* a run ([`crate::run::run`]),
-//! unchanged. Its launches are those of a run alone, with the same arguments, in the same order on its own
+//! steady-state analysis, summary.json, its non-finite stop) because a member *is* a run ([`Member`]: an SPH run,
+//! [`crate::run::run`], or an MPM run, [`crate::mpm::run::run`]), unchanged. Its launches are those of a run alone, with the same arguments, in the same order on its own
 //! stream, so its results are the same bits alone or in a batch (tests/ensemble.rs on the CPU, tests/gpu.rs on a
 //! GPU). A 5 640-particle cut fills a small part of an H100/H200 (a few dozen blocks per launch against 132
 //! multiprocessors); concurrent streams fill the rest, where separate processes time-slice the device.
@@ -20,14 +20,46 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::mpsc;
 
 use crate::backend::AnyBackend;
+use crate::mpm::run::{MpmReport, MpmRunOptions};
 use crate::run::{RunOptions, RunReport};
 use crate::scene::Scene;
+use crate::scene::mpm::MpmScene;
 use crate::{Error, Result};
 
-/// One member of an ensemble: everything [`crate::run::run`] needs.
+/// What an ensemble runs: one whole run of any method, on the backend it is given.
+pub trait Member: Sync {
+    /// What the run reports.
+    type Report: Send;
+    fn run(&self, backend: &AnyBackend) -> Result<Self::Report>;
+}
+
+/// Where an ensemble hands each member's index and result, as it finishes.
+pub type Done<'a, T> = &'a mut dyn FnMut(usize, &Result<T>) -> Result<()>;
+
+/// One SPH member: everything [`crate::run::run`] needs.
 pub struct Job {
     pub scene: Scene,
     pub options: RunOptions,
+}
+
+impl Member for Job {
+    type Report = RunReport;
+    fn run(&self, backend: &AnyBackend) -> Result<RunReport> {
+        crate::run::run(backend, &self.scene, &self.options)
+    }
+}
+
+/// One MPM member: everything [`crate::mpm::run::run`] needs.
+pub struct MpmJob {
+    pub scene: MpmScene,
+    pub options: MpmRunOptions,
+}
+
+impl Member for MpmJob {
+    type Report = MpmReport;
+    fn run(&self, backend: &AnyBackend) -> Result<MpmReport> {
+        crate::mpm::run::run(backend, &self.scene, &self.options)
+    }
 }
 
 /// Members run at once by default on a GPU. Whole V0060 runs (5 640 particles, 110 619 steps) on an H200, 40 s per
@@ -47,12 +79,7 @@ pub fn default_width(backend: &AnyBackend) -> usize {
 /// `done` as it finishes. When `done` fails, no new member starts; the running ones finish and are handed over,
 /// and the first such error is returned. A member interrupted by Ctrl-C likewise stops new members, and
 /// [`Error::Interrupted`] is returned once the running ones have reported.
-pub fn run(
-    backend: &AnyBackend,
-    jobs: &[Job],
-    width: usize,
-    done: &mut dyn FnMut(usize, &Result<RunReport>) -> Result<()>,
-) -> Result<()> {
+pub fn run<J: Member>(backend: &AnyBackend, jobs: &[J], width: usize, done: Done<'_, J::Report>) -> Result<()> {
     let width = width.max(1).min(jobs.len());
     if width <= 1 {
         return run_serial(backend, jobs, done);
@@ -65,7 +92,7 @@ pub fn run(
     }
     let next = AtomicUsize::new(0);
     let stop = AtomicBool::new(false);
-    let (tx, rx) = mpsc::channel::<(usize, Result<RunReport>)>();
+    let (tx, rx) = mpsc::channel::<(usize, Result<J::Report>)>();
     std::thread::scope(|s| {
         for b in std::iter::once(backend).chain(backends.iter()) {
             let (tx, next, stop) = (tx.clone(), &next, &stop);
@@ -77,17 +104,17 @@ pub fn run(
 }
 
 /// A worker: takes members in order until none is left or the ensemble stops, and sends each result.
-fn worker(
+fn worker<J: Member>(
     b: &AnyBackend,
-    jobs: &[Job],
+    jobs: &[J],
     next: &AtomicUsize,
     stop: &AtomicBool,
-    tx: mpsc::Sender<(usize, Result<RunReport>)>,
+    tx: mpsc::Sender<(usize, Result<J::Report>)>,
 ) {
     while !stop.load(Ordering::Relaxed) {
         let k = next.fetch_add(1, Ordering::Relaxed);
         let Some(job) = jobs.get(k) else { return };
-        let result = crate::run::run(b, &job.scene, &job.options);
+        let result = job.run(b);
         if tx.send((k, result)).is_err() {
             return;
         }
@@ -95,18 +122,14 @@ fn worker(
 }
 
 /// Hands results to `done` as they arrive; sets `stop` on the first failure of `done` or interruption.
-fn collect(
-    rx: &mpsc::Receiver<(usize, Result<RunReport>)>,
-    stop: &AtomicBool,
-    done: &mut dyn FnMut(usize, &Result<RunReport>) -> Result<()>,
-) -> Result<()> {
+fn collect<T>(rx: &mpsc::Receiver<(usize, Result<T>)>, stop: &AtomicBool, done: Done<'_, T>) -> Result<()> {
     let mut first_error = None;
     for (k, result) in rx {
         if let Err(e) = done(k, &result) {
             stop.store(true, Ordering::Relaxed);
             first_error.get_or_insert(e);
         }
-        if let Err(e @ Error::Interrupted { .. }) = result {
+        if let Err(e @ (Error::Interrupted { .. } | Error::Stopped { .. })) = result {
             stop.store(true, Ordering::Relaxed);
             first_error.get_or_insert(e);
         }
@@ -116,15 +139,11 @@ fn collect(
 
 /// Runs `jobs` one after another on `backend`, handing each result to `done` as it comes; stops at the first
 /// interruption (Ctrl-C), after `done` has recorded it, or when `done` fails.
-pub fn run_serial(
-    backend: &AnyBackend,
-    jobs: &[Job],
-    done: &mut dyn FnMut(usize, &Result<RunReport>) -> Result<()>,
-) -> Result<()> {
+pub fn run_serial<J: Member>(backend: &AnyBackend, jobs: &[J], done: Done<'_, J::Report>) -> Result<()> {
     for (k, job) in jobs.iter().enumerate() {
-        let result = crate::run::run(backend, &job.scene, &job.options);
+        let result = job.run(backend);
         done(k, &result)?;
-        if let Err(e @ Error::Interrupted { .. }) = result {
+        if let Err(e @ (Error::Interrupted { .. } | Error::Stopped { .. })) = result {
             return Err(e);
         }
     }

@@ -60,6 +60,8 @@ pub struct Steady {
     pub rubbing: f64,
     pub eta: f64,
     pub touching_model: f64,
+    /// F_c over the touching model.
+    pub fc_over_model: f64,
 }
 
 /// A bonded block at the first sample after its last cohesive point failed: the grip's work, the energies the
@@ -140,6 +142,11 @@ pub fn run_on<B: Backend, R: Real>(b: &B, scene: &MpmScene, s: &MpmSetup, opts: 
         // To the next sample or frame, in captured batches.
         let next = |every: u64| solver.steps.checked_div(every).map_or(u64::MAX, |k| (k + 1) * every);
         solver.advance(b, next(every).min(next(frame_every)).min(s.steps) - solver.steps)?;
+        if crate::run::INTERRUPTED.load(std::sync::atomic::Ordering::Relaxed) {
+            series.write().map_err(|e| io(series.path(), e))?;
+            let kept = series.path().display().to_string();
+            return Err(Error::Stopped { time: solver.time, step: solver.steps, kept });
+        }
         let k = solver.steps;
         if k % every == 0 || k == s.steps {
             if let Err(e) = check_flags(b, &mut solver, scene) {
@@ -321,6 +328,7 @@ fn steady(scene: &MpmScene, samples: &[Sample]) -> Option<Steady> {
     let spec = specimen(scene);
     let alpha = c.rake.to_radians();
     let rubbing = nairn::rubbing_force(fc, ft, c.friction, alpha);
+    let touching_model = nairn::touching(c.depth, alpha, c.friction, rubbing, &spec);
     Some(Steady {
         from,
         to: scene.time.end,
@@ -329,7 +337,8 @@ fn steady(scene: &MpmScene, samples: &[Sample]) -> Option<Steady> {
         fc_cov: sd / fc.abs(),
         rubbing,
         eta: spec.eta(c.depth),
-        touching_model: nairn::touching(c.depth, alpha, c.friction, rubbing, &spec),
+        touching_model,
+        fc_over_model: fc / touching_model,
     })
 }
 

@@ -63,6 +63,8 @@ pub struct MpmSetup {
     pub steps: u64,
     /// The specimen's particles (not the tool's).
     pub specimen: usize,
+    /// The start-up damping's gain 1/(Q M) during the ramp (`MpmStep::feedback`; 0: none).
+    pub feedback: f64,
 }
 
 /// Builds the set-up of `scene`.
@@ -104,7 +106,20 @@ pub fn setup(scene: &MpmScene) -> Result<MpmSetup> {
         return Err(bad("time.end", format!("{steps} steps of {:.3e} s: expected 1 to 1e10", s.dt)));
     }
     s.steps = steps as u64;
+    s.feedback = feedback_gain(scene.damping.feedback, &s);
     Ok(s)
+}
+
+/// The start-up damping's gain 1/(Q M) (nairn-mpm.md §1.3) of the dimensionless gain g: 1/Q = g/(v² t_ramp²) on
+/// the ramp that drives the scene (the tool's, else the grip's), M the specimen's mass; 0 without a ramp.
+fn feedback_gain(g: f64, s: &MpmSetup) -> f64 {
+    let Some(ramp) = s.tool.map(|(r, _)| r).or(s.grip) else { return 0.0 };
+    let v2 = ramp.velocity[0] * ramp.velocity[0] + ramp.velocity[1] * ramp.velocity[1];
+    let mass: f64 = s.points.mass.iter().zip(&s.points.kind).filter(|(_, k)| **k != TOOL).map(|(m, _)| m).sum();
+    if g <= 0.0 || ramp.ramp <= 0.0 || v2 <= 0.0 || mass <= 0.0 {
+        return 0.0;
+    }
+    g / (v2 * ramp.ramp * ramp.ramp * mass)
 }
 
 /// The grid's nodes along one axis from `lo` to `hi` with node 0 at `origin`: (origin, count).
@@ -190,6 +205,7 @@ fn cut_setup(scene: &MpmScene, c: &CutSetup, mut p: MpmParams) -> MpmSetup {
         dt: 0.0,
         steps: 0,
         specimen,
+        feedback: 0.0,
         pairs: Vec::new(),
     }
 }
@@ -231,6 +247,7 @@ fn bond_setup(scene: &MpmScene, b: &BondSetup, mut p: MpmParams) -> MpmSetup {
         dt: 0.0,
         steps: 0,
         specimen,
+        feedback: 0.0,
         pairs: Vec::new(),
     }
 }

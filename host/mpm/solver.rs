@@ -1,14 +1,16 @@
 //! The MPM state on a backend and its step (docs/mpm.md): the particles' and nodes' buffers, the cell list on the
-//! grid's cells, and the four gathers of `kernels::mpm::step` launched in order. The host computes only the
+//! grid's cells, and the passes of `kernels::mpm::step` launched in order. The host computes only the
 //! step's tool and grip motion; every per-particle, per-node and per-crack-point number comes from the kernels.
 
 use super::setup::{MpmSetup, Ramp};
 use crate::backend::Backend;
 use crate::kernels::mpm::cohesive::{CrackState, FAILED};
 use crate::kernels::mpm::grid::{MpmParams, MpmStep};
-use crate::kernels::mpm::step::{Cells, Crack, Nodes, Particles};
+use crate::kernels::mpm::step::{Cells, Crack, KE_TILE, Nodes, Particles};
 use crate::kernels::neighbour::GridParams;
-use crate::kernels::pass::mpm::{CrackArgs, CrackPass, G2p, G2pArgs, NodesArgs, NodesPass, P2g, P2gArgs};
+use crate::kernels::pass::mpm::{
+    CrackArgs, CrackPass, FeedbackArgs, FeedbackPass, G2p, G2pArgs, KeArgs, KePass, NodesArgs, NodesPass, P2g, P2gArgs,
+};
 use crate::kernels::{Dim2, Real, SymTensor, Vector};
 use crate::neighbour::CellList;
 use crate::{Error, Result};
@@ -41,6 +43,9 @@ pub struct NodeBufs<B: Backend, R: Real> {
     pub imp_tool: B::Buf<[f64; 2]>,
     pub imp_grip: B::Buf<[f64; 2]>,
     pub work_grip: B::Buf<f64>,
+    pub ke: B::Buf<f64>,
+    pub ke_tiles: B::Buf<f64>,
+    pub damping: B::Buf<f64>,
 }
 
 /// The crack points' buffers.
@@ -65,13 +70,16 @@ pub struct MpmSolver<B: Backend, R: Real> {
     pub cells: CellList<B>,
     /// The motions of the steps of a batch, one entry each (`MpmStep`), written before the batch runs.
     steps_table: B::Buf<MpmStep>,
-    /// The captured batch of [`BATCH`] steps (CUDA graph), made at the first batch; `graphs` false
+    /// The captured batches of [`BATCH`] steps (CUDA graphs), made at the first batch of each kind: without and
+    /// with the start-up damping's passes ([`MpmSolver::damping_live`]); `graphs` false
     /// (`SWARF_NO_GRAPHS=1`): steps one by one.
-    graph: Option<B::Graph>,
+    graph: [Option<B::Graph>; 2],
     graphs: bool,
     pub dt: f64,
     /// The PIC fraction 1 − β.
     pub pic: f64,
+    /// The start-up damping's gain during the ramp (`MpmSetup::feedback`).
+    feedback: f64,
     pub time: f64,
     pub steps: u64,
     n: usize,
@@ -117,6 +125,9 @@ impl<B: Backend, R: Real> MpmSolver<B, R> {
             imp_tool: b.alloc(n_nodes, "mpm tool impulse")?,
             imp_grip: b.alloc(n_nodes, "mpm grip impulse")?,
             work_grip: b.alloc(n_nodes, "mpm grip work")?,
+            ke: b.alloc(n_nodes, "mpm node kinetic energy")?,
+            ke_tiles: b.alloc(n_nodes.div_ceil(KE_TILE), "mpm kinetic energy tiles")?,
+            damping: b.alloc(1, "mpm start-up damping")?,
         };
         let nc = p.crack_points as usize;
         let state: Vec<CrackState<R>> = (0..nc)
@@ -141,10 +152,11 @@ impl<B: Backend, R: Real> MpmSolver<B, R> {
             flags: b.alloc(2, "mpm flags")?,
             cells,
             steps_table,
-            graph: None,
+            graph: [None, None],
             graphs: !crate::tuning::Tuning::current()?.no_graphs,
             dt: s.dt,
             pic,
+            feedback: s.feedback,
             time: 0.0,
             steps: 0,
             n,
@@ -175,14 +187,26 @@ impl<B: Backend, R: Real> MpmSolver<B, R> {
         if let Some(g) = self.grip {
             s.pull_vel = g.velocity(t + 0.5 * dt);
         }
+        // The start-up damping acts while the driving ramp (the tool's, else the grip's) is under way.
+        let ramp = self.tool.map(|(r, _)| r).or(self.grip).map_or(0.0, |r| r.ramp);
+        if t + dt <= ramp {
+            s.feedback = self.feedback;
+        }
         s
+    }
+
+    /// Whether the step that starts at t runs the start-up damping's passes: a step of the ramp, or the first
+    /// after it, which resets the damping to 0 (`kernels::mpm::step::feedback`); later steps need not.
+    fn damping_live(&self, t: f64) -> bool {
+        let ramp = self.tool.map(|(r, _)| r).or(self.grip).map_or(0.0, |r| r.ramp);
+        self.feedback > 0.0 && t <= ramp
     }
 
     /// One step.
     pub fn step(&mut self, b: &B) -> Result<()> {
         let s = self.step_params(self.time);
         b.write(&mut self.steps_table, &[s])?;
-        self.launch_step(b, 0)?;
+        self.launch_step(b, 0, self.damping_live(self.time))?;
         self.time += self.dt;
         self.steps += 1;
         Ok(())
@@ -205,17 +229,18 @@ impl<B: Backend, R: Real> MpmSolver<B, R> {
                 t += self.dt;
             }
             b.write(&mut self.steps_table, &table)?;
-            match self.graph.take() {
+            let live = self.damping_live(self.time);
+            match self.graph[live as usize].take() {
                 Some(g) => {
                     b.replay(&g)?;
-                    self.graph = Some(g);
+                    self.graph[live as usize] = Some(g);
                 }
                 None => {
-                    let mut run = || -> Result<()> { (0..BATCH).try_for_each(|j| self.launch_step(b, j)) };
+                    let mut run = || -> Result<()> { (0..BATCH).try_for_each(|j| self.launch_step(b, j, live)) };
                     // A backend without graphs ran the steps; a capture only recorded them, so the graph runs now.
                     if let Some(g) = b.capture(&mut run)? {
                         b.replay(&g)?;
-                        self.graph = Some(g);
+                        self.graph[live as usize] = Some(g);
                     }
                 }
             }
@@ -232,8 +257,8 @@ impl<B: Backend, R: Real> MpmSolver<B, R> {
     }
 
     /// The launches of one step whose motions are entry `j` of the step table: the cell list, the crack, the node
-    /// gather, the node update, the particle update.
-    fn launch_step(&mut self, b: &B, j: usize) -> Result<()> {
+    /// gather, the node update, the start-up damping's passes (where `damping`), the particle update.
+    fn launch_step(&mut self, b: &B, j: usize, damping: bool) -> Result<()> {
         self.cells.build::<R, Dim2>(b, &self.parts.pos)?;
         let step = (b.address(&self.steps_table) as *const MpmStep).wrapping_add(j);
         let (params, parts, nodes, crack) = (self.params, self.particle_ptrs(b), self.node_ptrs(b), self.crack_ptrs(b));
@@ -250,6 +275,11 @@ impl<B: Backend, R: Real> MpmSolver<B, R> {
             }
             b.launch::<P2g<R>>(&P2gArgs { n: n_nodes, _pad: 0, params, parts, cells, nodes })?;
             b.launch::<NodesPass<R>>(&NodesArgs { n: n_nodes, _pad: 0, params, step, nodes })?;
+            if damping {
+                let tiles = n_nodes.div_ceil(KE_TILE as u32);
+                b.launch::<KePass<R>>(&KeArgs { n: tiles, nodes_n: n_nodes, nodes })?;
+                b.launch::<FeedbackPass<R>>(&FeedbackArgs { n: 1, tiles, step, nodes })?;
+            }
             let flags = b.address_mut(&mut self.flags) as *mut u32;
             b.launch::<G2p<R>>(&G2pArgs { n: self.n as u32, _pad: 0, params, step, parts, nodes, flags })?;
         }
@@ -296,6 +326,9 @@ impl<B: Backend, R: Real> MpmSolver<B, R> {
             imp_tool: b.address_mut(&mut n.imp_tool) as *mut [f64; 2],
             imp_grip: b.address_mut(&mut n.imp_grip) as *mut [f64; 2],
             work_grip: b.address_mut(&mut n.work_grip) as *mut f64,
+            ke: b.address_mut(&mut n.ke) as *mut f64,
+            ke_tiles: b.address_mut(&mut n.ke_tiles) as *mut f64,
+            damping: b.address_mut(&mut n.damping) as *mut f64,
         }
     }
 

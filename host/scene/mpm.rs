@@ -125,6 +125,10 @@ pub struct MpmTime {
 pub struct Damping {
     /// `pic` (default 1): the PIC fraction 1 − β of Eq. 8 (1: full PIC, the paper's production runs; 0: FLIP).
     pub pic: f64,
+    /// `feedback` (default 0: off): the gain g of the start-up kinetic-energy feedback damping during the ramp
+    /// (nairn-mpm.md §1.3), dimensionless: 1/Q = g/(v² t_ramp²), v the ramp's full speed, so that the damping
+    /// reaches about g K/(½ M v²)/t_ramp over the ramp whatever the scale (docs/mpm.md "Start-up damping").
+    pub feedback: f64,
 }
 
 impl MpmScene {

@@ -29,6 +29,8 @@ use crate::{Error, Result};
 pub enum Source {
     /// A top-level number of `summary.json` (null or absent: not measured in that run).
     Summary(&'static str),
+    /// A number of `summary.json` at a JSON pointer (`/steady/fc`; null or absent: not measured).
+    Pointer(&'static str),
     /// The last row of a column of `energy.csv`.
     Energy(&'static str),
     /// `summary.json` `bodies[body].extent_m[axis]`.
@@ -112,6 +114,7 @@ pub fn measure(dir: &Path, observables: &[Observable], dx: f64) -> Result<Vec<Op
         .map(|o| {
             Ok(match &o.source {
                 Source::Summary(key) => finite(summary.get(*key).and_then(serde_json::Value::as_f64)),
+                Source::Pointer(at) => finite(summary.pointer(at).and_then(serde_json::Value::as_f64)),
                 Source::Extent { body: k, axis } => {
                     let centres = body(*k).and_then(|b| b.get("extent_m")).and_then(|e| e.get(*axis));
                     finite(centres.and_then(|v| v.as_f64()).map(|e| e + dx))

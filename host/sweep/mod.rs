@@ -12,7 +12,11 @@
 //!   scene's observables (a cut's forces, chip thickness and segmentation; otherwise the final energies and body
 //!   extents). So the table is a function of the run folders, whoever ran them.
 //! - **Runs** go through the ensemble runner ([`crate::ensemble::run`]): up to `--batch` at once (by default 8
-//!   on a GPU, one at a time on the CPU), each result recorded as it comes. A failed run is recorded with its message and the sweep goes on; Ctrl-C stops it after writing the table of
+//!   on a GPU, one at a time on the CPU), each result recorded as it comes.
+//! - **Methods:** a scene file with `method = "mpm"` sweeps MPM runs ([`crate::mpm::run`]); their values are
+//!   summary.json's run facts and a cut's steady forces beside Nairn's touching model (or a bond's released
+//!   energy per crack area). So `swarf sweep cases/mpm/nairn-cut.toml --grid cut.depth=... --grid cut.rake=...
+//!   --grid cut.friction=...` is the generator of Nairn's h × α × μ figures (docs/mpm.md). A failed run is recorded with its message and the sweep goes on; Ctrl-C stops it after writing the table of
 //!   the runs so far. The table and plots are rewritten (atomically) after every run.
 
 pub mod plot;
@@ -21,8 +25,10 @@ pub mod table;
 use std::path::{Path, PathBuf};
 
 use crate::backend::AnyBackend;
-pub use crate::ensemble::Job;
+pub use crate::ensemble::{Job, MpmJob};
+use crate::mpm::run::MpmRunOptions;
 use crate::run::RunOptions;
+use crate::scene::mpm::{MpmScene, Setup as MpmSetupKind};
 use crate::scene::observe::{self, Observable, Source};
 use crate::scene::{Precision, Scene};
 use crate::{Error, Result};
@@ -130,34 +136,50 @@ fn run_columns() -> Vec<Observable> {
     ]
 }
 
+/// The runs of a sweep, of the method the scene file names (`method = "mpm"` or SPH).
+enum Members {
+    Sph(Vec<Job>),
+    Mpm(Vec<MpmJob>),
+}
+
 /// Runs the sweep on `backend` and writes the table and plots into `opts.out_dir`. Bad keys or values are
 /// refused before any run; a failing run is recorded and the sweep goes on; Ctrl-C writes the table so far and
-/// returns [`Error::Interrupted`].
+/// returns [`Error::Interrupted`] (an SPH sweep) or [`Error::Stopped`] (an MPM sweep).
 pub fn sweep(backend: &AnyBackend, opts: &SweepOptions) -> Result<Sweep> {
-    let (mut sweep, jobs) = plan(opts)?;
+    let (mut sweep, members, dx) = plan(opts)?;
     std::fs::create_dir_all(&opts.out_dir).map_err(|e| Error::Output(format!("{}: {e}", opts.out_dir.display())))?;
     let width = opts.width.unwrap_or_else(|| crate::ensemble::default_width(backend));
-    let result = crate::ensemble::run(backend, &jobs, width, &mut |k, result| {
-        let dx = jobs[k].scene.discretisation.dx;
+    let count = sweep.points.len();
+    let mut record = |k: usize, result: std::result::Result<(), String>| {
         let outcome = match result {
-            Ok(_) => match observe::measure(&sweep.points[k].dir, &sweep.columns, dx) {
+            Ok(()) => match observe::measure(&sweep.points[k].dir, &sweep.columns, dx[k]) {
                 Ok(values) => Outcome::Done(values),
                 Err(e) => Outcome::Failed(format!("summary values not read: {e}")),
             },
-            Err(e) => Outcome::Failed(e.to_string()),
+            Err(e) => Outcome::Failed(e),
         };
         if !opts.quiet {
-            eprintln!("sweep: {} of {}: {}", k + 1, jobs.len(), line(&sweep, k, &outcome));
+            eprintln!("sweep: {} of {count}: {}", k + 1, line(&sweep, k, &outcome));
         }
         sweep.points[k].outcome = outcome;
         write(&mut sweep, &opts.out_dir, false)
-    });
+    };
+    let result = match &members {
+        Members::Sph(jobs) => crate::ensemble::run(backend, jobs, width, &mut |k, r| record(k, plain(r))),
+        Members::Mpm(jobs) => crate::ensemble::run(backend, jobs, width, &mut |k, r| record(k, plain(r))),
+    };
     write(&mut sweep, &opts.out_dir, true)?;
     result.map(|()| sweep)
 }
 
-/// The points of the grid (every scene loaded, so a bad key or value is refused here) and their jobs.
-fn plan(opts: &SweepOptions) -> Result<(Sweep, Vec<Job>)> {
+/// A run's result as the sweep records it: done, or its error's message.
+fn plain<T>(r: &Result<T>) -> std::result::Result<(), String> {
+    r.as_ref().map(drop).map_err(ToString::to_string)
+}
+
+/// The points of the grid (every scene loaded, so a bad key or value is refused here), their runs, and each
+/// run's particle spacing (for the extents read back).
+fn plan(opts: &SweepOptions) -> Result<(Sweep, Members, Vec<f64>)> {
     let refuse = |m: String| Err(Error::Scene(format!("sweep: {m}")));
     if opts.grids.is_empty() {
         return refuse("expected at least one --grid KEY=V1,V2,...".into());
@@ -170,6 +192,43 @@ fn plan(opts: &SweepOptions) -> Result<(Sweep, Vec<Job>)> {
             return refuse(format!("--grid {}: the key is also given by --set", g.key));
         }
     }
+    let points: Vec<(Vec<String>, Vec<String>, PathBuf)> = product(&opts.grids)
+        .into_iter()
+        .enumerate()
+        .map(|(index, values)| {
+            let mut sets = opts.overrides.clone();
+            sets.extend(opts.grids.iter().zip(&values).map(|(g, v)| format!("{}={v}", g.key)));
+            let dir = opts.out_dir.join(folder(index, &opts.grids, &values));
+            (values, sets, dir)
+        })
+        .collect();
+    // Which method: the file's `method` key, read as the scene readers read it.
+    let file = opts.scene.display().to_string();
+    let text = std::fs::read_to_string(&opts.scene).map_err(|e| Error::Scene(format!("{file}: {e}")))?;
+    let method = crate::scene::mpm::method_of(&text, &file).map_err(|e| Error::Scene(e.to_string()))?;
+    let (name, columns, members, dx) =
+        if method == "mpm" { plan_mpm(opts, &points)? } else { plan_sph(opts, &points)? };
+    let sweep = Sweep {
+        scene: name,
+        file,
+        keys: opts.grids.iter().map(|g| g.key.clone()).collect(),
+        columns,
+        points: points.into_iter().map(|(values, _, dir)| Point { values, dir, outcome: Outcome::Pending }).collect(),
+        warnings: Vec::new(),
+    };
+    Ok((sweep, members, dx))
+}
+
+/// A point's scene could not be loaded: the error, naming the point's grid values.
+fn point_error(opts: &SweepOptions, values: &[String], e: impl std::fmt::Display) -> Error {
+    let pairs: Vec<String> = opts.grids.iter().zip(values).map(|(g, v)| format!("{}={v}", g.key)).collect();
+    Error::Scene(format!("sweep: --grid {}: {e}", pairs.join(" --grid ")))
+}
+
+type Planned = (String, Vec<Observable>, Members, Vec<f64>);
+
+/// An SPH sweep: its columns (the runs' and the scene's observables) and runs.
+fn plan_sph(opts: &SweepOptions, points: &[(Vec<String>, Vec<String>, PathBuf)]) -> Result<Planned> {
     let base = Scene::load(&opts.scene, &opts.overrides).map_err(|e| Error::Scene(e.to_string()))?;
     let mut columns = run_columns();
     for o in observe::catalogue(base.dim, base.tool.is_some(), &base.bodies) {
@@ -177,34 +236,58 @@ fn plan(opts: &SweepOptions) -> Result<(Sweep, Vec<Job>)> {
             columns.push(o);
         }
     }
-    let mut points = Vec::new();
     let mut jobs = Vec::new();
-    for (index, values) in product(&opts.grids).into_iter().enumerate() {
-        let pairs: Vec<String> = opts.grids.iter().zip(&values).map(|(g, v)| format!("{}={v}", g.key)).collect();
-        let mut sets = opts.overrides.clone();
-        sets.extend(pairs.iter().cloned());
-        let scene = Scene::load(&opts.scene, &sets)
-            .map_err(|e| Error::Scene(format!("sweep: --grid {}: {e}", pairs.join(" --grid "))))?;
-        let dir = opts.out_dir.join(folder(index, &opts.grids, &values));
+    let mut dx = Vec::new();
+    for (values, sets, dir) in points {
+        let scene = Scene::load(&opts.scene, sets).map_err(|e| point_error(opts, values, e))?;
         let options = RunOptions {
             precision: opts.precision,
             frames: opts.frames,
             quiet: opts.quiet,
-            overrides: sets,
+            overrides: sets.clone(),
             ..RunOptions::quiet(dir.clone())
         };
-        points.push(Point { values, dir, outcome: Outcome::Pending });
+        dx.push(scene.discretisation.dx);
         jobs.push(Job { scene, options });
     }
-    let sweep = Sweep {
-        scene: base.name.clone(),
-        file: base.origin.clone(),
-        keys: opts.grids.iter().map(|g| g.key.clone()).collect(),
-        columns,
-        points,
-        warnings: Vec::new(),
-    };
-    Ok((sweep, jobs))
+    Ok((base.name, columns, Members::Sph(jobs), dx))
+}
+
+/// An MPM sweep: its columns (the runs' facts, then a cut's steady forces beside Nairn's touching model, or a
+/// bond's released energy) and runs.
+fn plan_mpm(opts: &SweepOptions, points: &[(Vec<String>, Vec<String>, PathBuf)]) -> Result<Planned> {
+    let base = MpmScene::load(&opts.scene, &opts.overrides).map_err(|e| Error::Scene(e.to_string()))?;
+    let at = |name: &str, unit, at| Observable { name: name.to_string(), unit, source: Source::Pointer(at) };
+    let mut columns = vec![
+        at("particles", "-", "/particles"),
+        at("steps", "-", "/steps"),
+        at("wall_time_s", "s", "/wall_s"),
+        at("dt_s", "s", "/dt"),
+        at("failed_points", "-", "/failed_points"),
+        at("mode_i_share", "-", "/mode_i_share"),
+    ];
+    columns.extend(match base.setup {
+        MpmSetupKind::Cut(_) => vec![
+            at("fc_n_per_m", "N/m", "/steady/fc"),
+            at("ft_n_per_m", "N/m", "/steady/ft"),
+            at("fc_cov", "-", "/steady/fc_cov"),
+            at("touching_model_n_per_m", "N/m", "/steady/touching_model"),
+            at("fc_over_model", "-", "/steady/fc_over_model"),
+            at("rubbing_n_per_m", "N/m", "/steady/rubbing"),
+            at("eta", "-", "/steady/eta"),
+        ],
+        MpmSetupKind::Bond(_) => vec![at("released_j_per_m2", "J/m²", "/released/per_area")],
+    });
+    let mut jobs = Vec::new();
+    for (values, sets, dir) in points {
+        let mut scene = MpmScene::load(&opts.scene, sets).map_err(|e| point_error(opts, values, e))?;
+        if let Some(p) = opts.precision {
+            scene.precision = p;
+        }
+        let options = MpmRunOptions { out_dir: dir.clone(), frames: opts.frames, quiet: true };
+        jobs.push(MpmJob { scene, options });
+    }
+    Ok((base.name, columns, Members::Mpm(jobs), vec![0.0; points.len()]))
 }
 
 /// The cross product of the grids' values, the last grid varying fastest.

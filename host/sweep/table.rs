@@ -7,6 +7,7 @@ pub use crate::study::table::sig;
 use crate::study::table::{num, text};
 
 use super::{Outcome, Sweep};
+use crate::scene::observe::Source;
 
 /// `sweep.csv`: one row per run that has run (pending runs are left out). Columns: `run` (the run folder's
 /// name), one per swept key (the value as given), `status` (`ok` or `failed`), one per summary value
@@ -44,10 +45,11 @@ pub fn markdown(sweep: &Sweep) -> String {
     let mut s = String::new();
     let _ = write!(
         s,
-        "Sweep of `{}` (`{}`) over {}. Values are read from each run folder's summary.json and energy.csv.\n\n",
+        "Sweep of `{}` (`{}`) over {}. Values are read from each run folder's summary.json{}.\n\n",
         sweep.scene,
         sweep.file,
-        sweep.keys.iter().map(|k| format!("`{k}`")).collect::<Vec<_>>().join(" × ")
+        sweep.keys.iter().map(|k| format!("`{k}`")).collect::<Vec<_>>().join(" × "),
+        if sweep.columns.iter().any(|c| matches!(c.source, Source::Energy(_))) { " and energy.csv" } else { "" }
     );
     let mut head: Vec<String> = sweep.keys.clone();
     head.extend(sweep.columns.iter().map(|c| format!("{} [{}]", c.name, c.unit)));

@@ -358,3 +358,30 @@ every = 1.0e-6
     }
     text
 }
+
+/// An MPM sweep of `file` over `grids` with the overrides `sets`, `width` runs at once, into `out`; and each
+/// point's forces.csv text (for comparing a batch with solo runs).
+pub fn mpm_sweep(
+    b: &swarf::backend::AnyBackend,
+    file: &str,
+    sets: &[&str],
+    grids: &[&str],
+    width: usize,
+    out: &Path,
+) -> (swarf::sweep::Sweep, Vec<String>) {
+    let _ = std::fs::remove_dir_all(out);
+    let opts = swarf::sweep::SweepOptions {
+        scene: file.into(),
+        overrides: sets.iter().map(|s| s.to_string()).collect(),
+        grids: grids.iter().map(|g| swarf::sweep::Grid::parse(g).expect("grid")).collect(),
+        out_dir: out.to_path_buf(),
+        precision: None,
+        frames: false,
+        quiet: true,
+        width: Some(width),
+    };
+    let sweep = swarf::sweep::sweep(b, &opts).expect("sweep");
+    let forces =
+        sweep.points.iter().map(|p| std::fs::read_to_string(p.dir.join("forces.csv")).expect("forces.csv")).collect();
+    (sweep, forces)
+}

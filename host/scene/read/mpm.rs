@@ -183,10 +183,13 @@ fn time(root: &Tab<'_>, setup: &Setup) -> Result<MpmTime> {
 }
 
 fn damping(root: &Tab<'_>) -> Result<Damping> {
-    let Some(t) = root.table("damping", "damping", "a table [damping] with pic")? else {
-        return Ok(Damping { pic: 1.0 });
+    let Some(t) = root.table("damping", "damping", "a table [damping] with pic and feedback")? else {
+        return Ok(Damping { pic: 1.0, feedback: 0.0 });
     };
-    t.check_keys(&["pic"], &[], "")?;
+    t.check_keys(&["pic", "feedback"], &[], "")?;
     let pic = t.number("pic", "a PIC fraction 1 - beta in [0, 1]", |x| (0.0..=1.0).contains(&x))?.unwrap_or(1.0);
-    Ok(Damping { pic })
+    let feedback = t
+        .number("feedback", "a start-up feedback gain in [0, 1e6] (0: off)", |x| (0.0..=1e6).contains(&x))?
+        .unwrap_or(0.0);
+    Ok(Damping { pic, feedback })
 }

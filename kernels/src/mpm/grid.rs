@@ -75,6 +75,9 @@ pub struct MpmStep {
     pub tool_tip: [f64; 2],
     /// The grip's velocity over the step (`MpmParams::pull_above`).
     pub pull_vel: [f64; 2],
+    /// The start-up damping's gain 1/(Q M) of the kinetic-energy feedback (nairn-mpm.md §1.3; `step::feedback`)
+    /// [1/(m² kg/m)]; 0: off (after the ramp), and the damping is reset to 0.
+    pub feedback: f64,
 }
 
 impl MpmParams {

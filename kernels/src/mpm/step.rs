@@ -7,6 +7,8 @@
 //!    particles of the 4 × 4 cells around it, in the cell list's order;
 //! 3. [`node_update`]: each node applies the boundary conditions and the tool's contact, and advances its
 //!    momentum;
+//!    During the ramp, [`ke_tile`] and [`feedback`] sum the grid's kinetic energy (tiles, then one thread) and
+//!    update the start-up damping.
 //! 4. [`g2p_particle`]: each particle reads its nodes' velocities and accelerations, moves by the PIC-damped
 //!    update with the second-order position update (Eqs. 8, 10), and updates its stress.
 
@@ -59,7 +61,15 @@ pub struct Nodes<R: Real> {
     pub imp_grip: *mut [f64; 2],
     /// Σ Δp·v_grip: the work the grip did on the specimen.
     pub work_grip: *mut f64,
+    /// Each node's kinetic energy over the specimen's fields at the step's start, Σ_f ½ m v² [J/m]; the sums of
+    /// its tiles of [`KE_TILE`] nodes; and the start-up damping α_g [1/s], one value ([`feedback`]).
+    pub ke: *mut f64,
+    pub ke_tiles: *mut f64,
+    pub damping: *mut f64,
 }
+
+/// The nodes whose kinetic energies one thread of [`ke_tile`] sums.
+pub const KE_TILE: usize = 256;
 
 /// The crack points' arrays: history, and the two particles that face each other across each point at t = 0
 /// (above, below). The point's force is their `fext`.
@@ -206,6 +216,7 @@ pub unsafe fn node_update<R: Real>(p: &MpmParams, s: &MpmStep, nd: &Nodes<R>, i:
     let tool_v = unsafe { *nd.tool_vol.add(i) };
     let mut imp_t = [0.0f64; 2];
     let mut imp_g = [0.0f64; 3];
+    let mut ke = 0.0f64;
     let mut f = 0;
     while f < 2 {
         let k = 2 * i + f;
@@ -228,6 +239,7 @@ pub unsafe fn node_update<R: Real>(p: &MpmParams, s: &MpmStep, nd: &Nodes<R>, i:
         let mut q1 = [q[0] + force.get(0) * dt, q[1] + force.get(1) * dt];
         constrain(p, s, node, m, touch, &mut q1, &mut imp_t, &mut imp_g);
         let (v0, v1) = ([q[0] / m, q[1] / m], [q1[0] / m, q1[1] / m]);
+        ke += 0.5 * (m * (v0[0] * v0[0] + v0[1] * v0[1])).to_f64();
         unsafe {
             *nd.vel.add(k) = v2(v0[0], v0[1]);
             *nd.vel1.add(k) = v2(v1[0], v1[1]);
@@ -240,7 +252,47 @@ pub unsafe fn node_update<R: Real>(p: &MpmParams, s: &MpmStep, nd: &Nodes<R>, i:
         let g = &mut *nd.imp_grip.add(i);
         *g = [g[0] + imp_g[0], g[1] + imp_g[1]];
         *nd.work_grip.add(i) += imp_g[2];
+        *nd.ke.add(i) = ke;
     }
+}
+
+/// Tile t's kinetic energy: Σ ke over nodes t·KE_TILE .. (t + 1)·KE_TILE (below `nodes`), in node order.
+///
+/// # Safety
+/// t·KE_TILE < nodes; `ke` holds `nodes` values and `ke_tiles` the tiles.
+#[inline(always)]
+pub unsafe fn ke_tile<R: Real>(nd: &Nodes<R>, nodes: usize, t: usize) {
+    let (lo, hi) = (t * KE_TILE, ((t + 1) * KE_TILE).min(nodes));
+    let mut sum = 0.0;
+    let mut i = lo;
+    while i < hi {
+        sum += unsafe { *nd.ke.add(i) };
+        i += 1;
+    }
+    unsafe { *nd.ke_tiles.add(t) = sum };
+}
+
+/// The start-up damping's update (nairn-mpm.md §1.3, a Nosé–Hoover-style feedback on the grid's kinetic energy
+/// K = Σ tiles): α_g ← max(0, α_g + (2K − 2K_target) Δt/(Q M)) with K_target = 0, the gain 1/(Q M) the step's
+/// `feedback`; a step without feedback (after the ramp) resets α_g to 0. One thread.
+///
+/// # Safety
+/// `ke_tiles` holds `tiles` values; `damping` is one live value.
+#[inline(always)]
+pub unsafe fn feedback<R: Real>(s: &MpmStep, nd: &Nodes<R>, tiles: usize) {
+    let a = unsafe { &mut *nd.damping };
+    if s.feedback <= 0.0 {
+        *a = 0.0;
+        return;
+    }
+    let mut k = 0.0;
+    let mut t = 0;
+    while t < tiles {
+        k += unsafe { *nd.ke_tiles.add(t) };
+        t += 1;
+    }
+    let next = *a + s.feedback * 2.0 * k * s.dt;
+    *a = if next > 0.0 { next } else { 0.0 };
 }
 
 /// A field's momentum under the boundary conditions (a fixed node: 0; a gripped one: m v_grip) or else the
@@ -296,7 +348,8 @@ fn constrain<R: Real>(
 /// Particle i's update. A tool particle rides with the tool: x = X + d_tool, v = v_tool. A specimen particle
 /// reads, over its nodes (its own field at each), v_g→p = Σ S v_i, a_g→p = Σ S a_i and the velocity gradient
 /// L = Σ v_i^{n+1} ⊗ ∇S, then (nairn-mpm.md §1.2, Eqs. 8 and 10 in the derived form)
-/// a* = a_g→p − α_PIC (v_p − v_g→p), x += (v_g→p + ½ a* Δt) Δt, v += a* Δt,
+/// a* = a_g→p − α_PIC (v_p − v_g→p) − α_g v_g→p (α_g the start-up damping, [`feedback`]),
+/// x += (v_g→p + ½ a* Δt) Δt, v += a* Δt,
 /// and updates its stress with L (`hyperelastic::update`). Returns [`NON_FINITE`] | [`ESCAPED`] flags.
 ///
 /// # Safety
@@ -349,9 +402,12 @@ pub unsafe fn g2p_particle<R: Real>(p: &MpmParams, s: &MpmStep, pa: &Particles<R
     }
     let dt = R::from_f64(s.dt);
     let alpha = R::from_f64(s.alpha_pic);
+    // The start-up damping acts on the grid velocity (α_g of nairn-mpm.md §1.2's general form).
+    let ag_damp = R::from_f64(unsafe { *nd.damping });
     let half = R::from_f64(0.5);
     let v = unsafe { *pa.vel.add(i) };
-    let ad = [ag[0] - alpha * (v.get(0) - vg[0]), ag[1] - alpha * (v.get(1) - vg[1])];
+    let ad =
+        [ag[0] - alpha * (v.get(0) - vg[0]) - ag_damp * vg[0], ag[1] - alpha * (v.get(1) - vg[1]) - ag_damp * vg[1]];
     let xn = [x.get(0) + (vg[0] + half * ad[0] * dt) * dt, x.get(1) + (vg[1] + half * ad[1] * dt) * dt];
     let vn = [v.get(0) + ad[0] * dt, v.get(1) + ad[1] * dt];
     let (be, jac, eps) = unsafe { (&mut *pa.be.add(i), &mut *pa.jac.add(i), &mut *pa.eps.add(i)) };

@@ -1,11 +1,13 @@
-//! The arguments of the MPM passes (`mpm::step`): the node gather, the crack points, the node update and the
-//! particle update, one struct each, taken by value.
+//! The arguments of the MPM passes (`mpm::step`): the node gather, the crack points, the node update, the
+//! start-up damping (the kinetic energy's tile sums and the update) and the particle update, one struct each,
+//! taken by value.
 
 use super::launch::{Grid, Pass};
 use super::table::entry_index;
 use crate::mpm::grid::{MpmParams, MpmStep};
 use crate::mpm::step::{
-    Cells, Crack, ESCAPED, NON_FINITE, Nodes, Particles, crack_point, g2p_particle, node_update, p2g_node,
+    Cells, Crack, ESCAPED, NON_FINITE, Nodes, Particles, crack_point, feedback, g2p_particle, ke_tile, node_update,
+    p2g_node,
 };
 use crate::real::Real;
 use core::marker::PhantomData;
@@ -85,6 +87,55 @@ impl<R: Real> NodesArgs<R> {
 pub struct NodesPass<R>(PhantomData<R>);
 crate::simple_pass!(NodesPass<R>, NodesArgs<R>, entry_index("mpm_nodes", 2, size_of::<R>(), 0), Grid::Particles,
     [R: Real]);
+
+/// The kinetic energy's tile sums (`mpm::step::ke_tile`): one item per tile of `KE_TILE` nodes.
+#[repr(C)]
+#[derive(Clone, Copy)]
+pub struct KeArgs<R: Real> {
+    pub n: u32,
+    /// The grid's nodes.
+    pub nodes_n: u32,
+    pub nodes: Nodes<R>,
+}
+
+impl<R: Real> KeArgs<R> {
+    /// # Safety
+    /// i < n tiles of the grid's `nodes_n` nodes; the pointers name live arrays.
+    #[inline(always)]
+    pub unsafe fn particle(&self, i: usize) {
+        unsafe { ke_tile(&self.nodes, self.nodes_n as usize, i) }
+    }
+}
+
+/// The tile-sum pass (`swarf_mpm_ke_*`).
+pub struct KePass<R>(PhantomData<R>);
+crate::simple_pass!(KePass<R>, KeArgs<R>, entry_index("mpm_ke", 2, size_of::<R>(), 0), Grid::Particles, [R: Real]);
+
+/// The start-up damping's update (`mpm::step::feedback`): one item (n = 1).
+#[repr(C)]
+#[derive(Clone, Copy)]
+pub struct FeedbackArgs<R: Real> {
+    pub n: u32,
+    /// The tiles of [`KeArgs`].
+    pub tiles: u32,
+    /// As [`NodesArgs::step`].
+    pub step: *const MpmStep,
+    pub nodes: Nodes<R>,
+}
+
+impl<R: Real> FeedbackArgs<R> {
+    /// # Safety
+    /// i = 0; the pointers name live arrays.
+    #[inline(always)]
+    pub unsafe fn particle(&self, _i: usize) {
+        unsafe { feedback(&*self.step, &self.nodes, self.tiles as usize) }
+    }
+}
+
+/// The damping update pass (`swarf_mpm_feedback_*`).
+pub struct FeedbackPass<R>(PhantomData<R>);
+crate::simple_pass!(FeedbackPass<R>, FeedbackArgs<R>, entry_index("mpm_feedback", 2, size_of::<R>(), 0),
+    Grid::Particles, [R: Real]);
 
 /// The particle update (`mpm::step::g2p_particle`): one item per particle; `flags[0]` is set when a particle
 /// went non-finite, `flags[1]` when one left the grid.

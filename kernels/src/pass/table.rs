@@ -10,7 +10,8 @@
 ///   variants, written by hand in `ptx`;
 /// - `contact` (R, D, the tool: `prism`, the parametric tool, in 2D and 3D; `mesh`, a triangle mesh, in 3D);
 ///   `density`, `finish`, `hash`, `hash_count`, `neighbour_list`, `verlet_build` (R, D);
-/// - `mpm_p2g`, `mpm_crack`, `mpm_nodes`, `mpm_g2p` (R, Dim2): the MPM step's gathers (`mpm::step`);
+/// - `mpm_p2g`, `mpm_crack`, `mpm_nodes`, `mpm_ke`, `mpm_feedback`, `mpm_g2p` (R, Dim2): the MPM step's passes
+///   (`mpm::step`);
 /// - `correction` (R, D): the kernel-gradient correction B⁻¹ (`sph::correction`);
 /// - `heat` (R, D, PSE); `predict` (R, D, DMG); `prepare` (R, D, AV, AS, DMG); `rates` (R, D, AV, AS, XSPH, fused
 ///   conduction, DMG, CSPM). DMG: the damage's degradation and interaction mask (docs/damage.md), entries of their
@@ -70,6 +71,8 @@ macro_rules! for_each_entry {
         $cb!(mpm_p2g, concat!("swarf_mpm_p2g_2d_", $v), $r, Dim2);
         $cb!(mpm_crack, concat!("swarf_mpm_crack_2d_", $v), $r, Dim2);
         $cb!(mpm_nodes, concat!("swarf_mpm_nodes_2d_", $v), $r, Dim2);
+        $cb!(mpm_ke, concat!("swarf_mpm_ke_2d_", $v), $r, Dim2);
+        $cb!(mpm_feedback, concat!("swarf_mpm_feedback_2d_", $v), $r, Dim2);
         $cb!(mpm_g2p, concat!("swarf_mpm_g2p_2d_", $v), $r, Dim2);
     };
     (@prepare $cb:ident, $r:ident, $d:ident, $v:literal, $(($s:ident, $av:literal, $as:literal)),*) => {

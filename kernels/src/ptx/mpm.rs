@@ -1,7 +1,7 @@
-//! MPM entry points (`mpm::step`): one thread per node, crack point or particle.
+//! MPM entry points (`mpm::step`): one thread per node, crack point, tile of nodes or particle.
 
 use super::global_index;
-use crate::pass::mpm::{CrackArgs, G2pArgs, NodesArgs, P2gArgs};
+use crate::pass::mpm::{CrackArgs, FeedbackArgs, G2pArgs, KeArgs, NodesArgs, P2gArgs};
 
 /// The MPM entries of the pass table (pass::table), each in its own anonymous scope.
 macro_rules! mpm_entry {
@@ -28,6 +28,12 @@ macro_rules! mpm_entry {
     };
     (@simple mpm_nodes, $sym:expr, $r:ident) => {
         mpm_entry!(@item NodesArgs, $sym, $r);
+    };
+    (@simple mpm_ke, $sym:expr, $r:ident) => {
+        mpm_entry!(@item KeArgs, $sym, $r);
+    };
+    (@simple mpm_feedback, $sym:expr, $r:ident) => {
+        mpm_entry!(@item FeedbackArgs, $sym, $r);
     };
     (@simple $kind:ident, $sym:expr, $r:ident) => {};
     (@item $args:ident, $sym:expr, $r:ident) => {
