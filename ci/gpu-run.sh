@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# mpm26 mpm26b mpmsweep mpmdamp mpmv ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine tool3d tools24 cspm24 nonfinite24 mill24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
+# mpm26 mpm26b mpmsweep mpmdamp mpmv mpmedge ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine tool3d tools24 cspm24 nonfinite24 mill24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -731,6 +731,24 @@ $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s" \
                   done
               }
               run mpmv mpm_v ;;
+        mpmedge) # issue 26 (docs/mpm.md "Stability"): after the contact normal by the field's side of the crack: the
+                 # figure's depths x rake 30, 15 x mu = 0, 0.2 (40 points, --batch 16) and, beside it, V11 (h = 0.9
+                 # mm at 7, 15 and 31 particles through h); tables under $out/mpmsweep-edge*.md/csv.
+              mpm_edge() {
+                  local sweep=("$here/swarf" --backend gpu sweep cases/mpm/nairn-cut.toml --quiet)
+                  local t0=$(date +%s.%N)
+                  "${sweep[@]}" --batch 16 --out /tmp/mpmsweep/edge \
+                      --grid cut.depth=0.25e-3,0.5e-3,0.75e-3,1.0e-3,1.25e-3,1.5e-3,2.0e-3,2.5e-3,3.0e-3,3.5e-3 \
+                      --grid cut.rake=30,15 --grid cut.friction=0,0.2 &
+                  "${sweep[@]}" --batch 3 --out /tmp/mpmsweep/edge-v11 --grid cut.particles_across=7,15,31 \
+                      --set cut.depth=0.9e-3 &
+                  wait
+                  echo "both: $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s wall"
+                  for v in edge edge-v11; do
+                      cp "/tmp/mpmsweep/$v/sweep.md" "$out/mpmsweep-$v.md"; cp "/tmp/mpmsweep/$v/sweep.csv" "$out/mpmsweep-$v.csv"
+                  done
+              }
+              run mpmedge mpm_edge ;;
         mpm26b) # issue 26 (docs/mpm.md): V7 (hardening: E_T 25 and 100 MPa at 30°), V10 (base depth 2 and 4 at
                 # h = 0.9 mm), and the GPU time of each MPM kernel over two steps (ncu, after 2000 steps)
               mpm_b() {

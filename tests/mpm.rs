@@ -302,3 +302,38 @@ fn start_up_damping_follows_the_feedback_law() {
     assert!(damped < free, "kinetic energy at the ramp's end: {damped} J/m damped against {free} J/m");
     eprintln!("α_g = {alpha:.4e} 1/s at the ramp's end; kinetic energy {damped:.4e} J/m against {free:.4e} J/m");
 }
+
+/// The contact normals (docs/mpm.md "Which face's normal"): along the crack, the chip's material (above the cut
+/// plane: a node's own field above it, the other field below it) takes the rake face's normal and the workpiece's
+/// the flank's, wherever the node lies about the cutting edge; beyond the crack's ends, the node's side of the
+/// wedge's bisector decides (ahead of the edge: the rake's; below and behind it: the flank's).
+#[test]
+fn contact_normals_follow_the_fields_side_of_the_crack() {
+    let scene = MpmScene::load("cases/mpm/nairn-cut.toml", &[]).expect("scene");
+    let p = setup(&scene).expect("setup").params;
+    let (rake, flank) = (p.rake_normal, p.flank_normal);
+    let alpha = scene_rake(&scene).to_radians();
+    assert!((rake[0] + alpha.cos()).abs() < 1e-15 && (rake[1] + alpha.sin()).abs() < 1e-15, "{rake:?}");
+    let tip = [p.crack_lo + 10.0 * p.dx, p.crack_y];
+    let h = 0.5 * p.dx;
+    for x in [tip[0] - 3.0 * p.dx, tip[0], tip[0] + 3.0 * p.dx] {
+        let (up, down) = ([x, p.crack_y + h], [x, p.crack_y - h]);
+        assert_eq!(p.tool_normal(up, tip, 0), rake, "chip field above the plane at x = {x}");
+        assert_eq!(p.tool_normal(up, tip, 1), flank, "workpiece field above the plane at x = {x}");
+        assert_eq!(p.tool_normal(down, tip, 0), flank, "workpiece field below the plane at x = {x}");
+        assert_eq!(p.tool_normal(down, tip, 1), rake, "chip field below the plane at x = {x}");
+    }
+    // Beyond the crack's far end, by the bisector: ahead of the edge the rake's, below and behind it the flank's.
+    let far = [p.crack_hi + 5.0 * p.dx, p.crack_y];
+    for field in [0, 1] {
+        assert_eq!(p.tool_normal([far[0] + p.dx, far[1] + h], far, field), rake);
+        assert_eq!(p.tool_normal([far[0] - 2.0 * p.dx, far[1] - h], far, field), flank);
+    }
+}
+
+fn scene_rake(scene: &MpmScene) -> f64 {
+    match scene.setup {
+        swarf::scene::mpm::Setup::Cut(c) => c.rake,
+        swarf::scene::mpm::Setup::Bond(_) => panic!("a cut"),
+    }
+}

@@ -133,11 +133,17 @@ impl MpmParams {
         self.points_lo + (k as f64 + 0.5) * self.crack_ds
     }
 
-    /// The contact normal at a node: the rake face's on the rake's side of the wedge's bisector through the
-    /// cutting edge (ahead of and above the edge, and the wedge's half at the rake), the flank's on the other side
-    /// (behind and below the edge), so that each node takes the face it is nearer in angle.
+    /// The contact normal of field `field` (0: the node's own side, 1: the other side) at a node. Along the crack,
+    /// by the side of the field's material: the chip's (above the plane) touches the rake face, the workpiece's
+    /// (below it) the flank, as the crack parts them at the cutting edge (docs/mpm.md "Which face's normal").
+    /// Elsewhere, by the node's place: the rake's on the rake's side of the wedge's bisector through the cutting
+    /// edge (ahead of and above the edge), the flank's on the other side (behind and below it).
     #[inline(always)]
-    pub fn tool_normal(&self, node: [f64; 2], tip: [f64; 2]) -> [f64; 2] {
+    pub fn tool_normal(&self, node: [f64; 2], tip: [f64; 2], field: usize) -> [f64; 2] {
+        if self.crack_points > 0 && node[0] >= self.crack_lo && node[0] <= self.crack_hi {
+            let above = (node[1] > self.crack_y) == (field == 0);
+            return if above { self.rake_normal } else { self.flank_normal };
+        }
         let (x, y) = (node[0] - tip[0], node[1] - tip[1]);
         let side = self.face_split[0] * y - self.face_split[1] * x;
         if side < 0.0 { self.rake_normal } else { self.flank_normal }

@@ -219,7 +219,7 @@ pub unsafe fn node_update<R: Real>(p: &MpmParams, s: &MpmStep, nd: &Nodes<R>, i:
     let mut ke = 0.0f64;
     let mut f = 0;
     while f < 2 {
-        let k = 2 * i + f;
+        let (k, field) = (2 * i + f, f);
         let m = unsafe { *nd.mass.add(k) };
         f += 1;
         if m.to_f64() <= p.mass_floor {
@@ -235,9 +235,10 @@ pub unsafe fn node_update<R: Real>(p: &MpmParams, s: &MpmStep, nd: &Nodes<R>, i:
         // "Contact").
         let touch = tool_v > R::ZERO && (unsafe { *nd.vol.add(k) } + tool_v).to_f64() >= p.contact_fill * p.dx * p.dx;
         let mut q = [mom.get(0), mom.get(1)];
-        constrain(p, s, node, m, touch, &mut q, &mut imp_t, &mut imp_g);
+        let at = (node, field);
+        constrain(p, s, at, m, touch, &mut q, &mut imp_t, &mut imp_g);
         let mut q1 = [q[0] + force.get(0) * dt, q[1] + force.get(1) * dt];
-        constrain(p, s, node, m, touch, &mut q1, &mut imp_t, &mut imp_g);
+        constrain(p, s, at, m, touch, &mut q1, &mut imp_t, &mut imp_g);
         let (v0, v1) = ([q[0] / m, q[1] / m], [q1[0] / m, q1[1] / m]);
         ke += 0.5 * (m * (v0[0] * v0[0] + v0[1] * v0[1])).to_f64();
         unsafe {
@@ -296,16 +297,16 @@ pub unsafe fn feedback<R: Real>(s: &MpmStep, nd: &Nodes<R>, tiles: usize) {
 }
 
 /// A field's momentum under the boundary conditions (a fixed node: 0; a gripped one: m v_grip) or else the
-/// tool's contact, where the field touches the tool (`touch`) and approaches it along the prescribed normal n
-/// ((v − v_tool)·n > 0): Δp = m v_tool − p, its normal part whole and its tangential part capped at μ|Δp·n|
-/// (nairn-mpm.md §1.6). The tool's and the grip's changes are added to their tallies (the grip's third entry: its
+/// tool's contact, where the field touches the tool (`touch`) and approaches it along the prescribed normal n of
+/// the field (`MpmParams::tool_normal`; (v − v_tool)·n > 0): Δp = m v_tool − p, its normal part whole and its
+/// tangential part capped at μ|Δp·n| (nairn-mpm.md §1.6). The tool's and the grip's changes are added to their tallies (the grip's third entry: its
 /// work Δp·v).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn constrain<R: Real>(
     p: &MpmParams,
     s: &MpmStep,
-    node: [f64; 2],
+    (node, field): ([f64; 2], usize),
     m: R,
     touch: bool,
     q: &mut [R; 2],
@@ -327,7 +328,7 @@ fn constrain<R: Real>(
     if !touch {
         return;
     }
-    let n = p.tool_normal(node, s.tool_tip);
+    let n = p.tool_normal(node, s.tool_tip, field);
     let (nx, ny) = (R::from_f64(n[0]), R::from_f64(n[1]));
     let (vtx, vty) = (R::from_f64(s.tool_vel[0]), R::from_f64(s.tool_vel[1]));
     let (dpx, dpy) = (m * vtx - q[0], m * vty - q[1]);
