@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# mpm26 mpm26b mpmsweep mpmdamp mpmv mpmedge ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine tool3d tools24 cspm24 nonfinite24 mill24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
+# mpm26 mpm26b mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine tool3d tools24 cspm24 nonfinite24 mill24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -749,6 +749,19 @@ $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s" \
                   done
               }
               run mpmedge mpm_edge ;;
+        mpmv5) # issue 26 (docs/mpm.md): `swarf bench mpm` (the default cut at 15 and 31 particles through h, f64 and
+               # f32), then V5's transition against the start-up: h = 1.5, 1.75, 2.0 mm x ramp 0.3, 0.6 x cut length
+               # 12, 20 h (30°, mu = 0), one batched sweep.
+              run mpmbench bash -c "'$here/swarf' --backend gpu bench mpm --step-count 2000 && \
+                  '$here/swarf' --backend gpu bench mpm --step-count 1000 --set cut.particles_across=31"
+              mpm_v5() {
+                  local t0=$(date +%s.%N)
+                  "$here/swarf" --backend gpu sweep cases/mpm/nairn-cut.toml --quiet --batch 12 --out /tmp/mpmsweep/v5 \
+                      --grid cut.depth=1.5e-3,1.75e-3,2.0e-3 --grid cut.ramp=0.3,0.6 --grid cut.cut_length=12,20
+                  echo "v5: $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s wall"
+                  cp /tmp/mpmsweep/v5/sweep.md "$out/mpmsweep-v5.md"; cp /tmp/mpmsweep/v5/sweep.csv "$out/mpmsweep-v5.csv"
+              }
+              run mpmv5 mpm_v5 ;;
         mpm26b) # issue 26 (docs/mpm.md): V7 (hardening: E_T 25 and 100 MPa at 30°), V10 (base depth 2 and 4 at
                 # h = 0.9 mm), and the GPU time of each MPM kernel over two steps (ncu, after 2000 steps)
               mpm_b() {

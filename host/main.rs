@@ -234,6 +234,9 @@ enum Workload {
     /// Whole runs of one scene (`--scene`, `--set`) per hour and per day as a batched ensemble, at each width of
     /// `--widths`, each measured for `--duration` seconds.
     Ensemble,
+    /// The MPM step of an MPM scene (`--scene`, default cases/mpm/nairn-cut.toml; `--set`), `--step-count` steps
+    /// from its start, in captured batches and one at a time.
+    Mpm,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -270,10 +273,10 @@ struct BenchArgs {
     #[arg(long)]
     steps: Option<u64>,
     /// rings: the scene file to scale (default cases/rings.toml); ensemble: the scene run many times (default:
-    /// the built-in V0060 cut).
+    /// the built-in V0060 cut); mpm: the MPM scene (default cases/mpm/nairn-cut.toml).
     #[arg(long)]
     scene: Option<std::path::PathBuf>,
-    /// ensemble: override a scene key of every member (repeatable), as for `run --set`.
+    /// ensemble, mpm: override a scene key (repeatable; every member's), as for `run --set`.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
     /// ensemble: members run at once, comma separated; each width is measured in turn.
@@ -293,7 +296,7 @@ struct BenchArgs {
     /// scenes' starts.
     #[arg(long, value_delimiter = ',')]
     from: Vec<std::path::PathBuf>,
-    /// step: steps timed per configuration (whole graph batches).
+    /// step, mpm: steps timed per configuration (whole graph batches).
     #[arg(long, default_value_t = 1024)]
     step_count: usize,
     /// step: also time each physics option switched off.
@@ -364,6 +367,21 @@ fn run_bench<B: Backend>(b: &B, a: &BenchArgs, sizes: &[usize]) -> Result<()> {
         println!("| material (model) | return maps/s |\n|---|---|");
         for (name, rate) in bench::plasticity(b, &lib, 1_000_000, a.repeats)? {
             println!("| {name} | {rate:.3e} |");
+        }
+        return Ok(());
+    }
+    if a.workload == Workload::Mpm {
+        let path = a.scene.clone().unwrap_or_else(|| "cases/mpm/nairn-cut.toml".into());
+        let scene = mpm_scene(Some(&path), &a.set)?.ok_or_else(|| {
+            swarf::Error::Scene(format!("bench mpm: {}: not an MPM scene (expected method = \"mpm\")", path.display()))
+        })?;
+        println!("{}", bench::mpm::header());
+        for &p in precs {
+            let t = match p {
+                Precision::F32 => bench::mpm::time::<B, f32>(b, &scene, a.step_count)?,
+                _ => bench::mpm::time::<B, f64>(b, &scene, a.step_count)?,
+            };
+            println!("{}", bench::mpm::row(&t));
         }
         return Ok(());
     }

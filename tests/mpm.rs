@@ -214,6 +214,12 @@ fn bad_mpm_scenes_are_refused_with_the_key() {
         let e = MpmScene::from_str(&text, "nairn-cut.toml", &[set.to_string()]).expect_err(set).to_string();
         assert!(e.contains(key) && e.contains(expected), "{set}: {e}");
     }
+    // A cut whose tool would run past the crack's end (18 h by default) is refused before any work.
+    for set in ["cut.cut_length=20", "time.end=2e-2"] {
+        let scene = MpmScene::from_str(&text, "nairn-cut.toml", &[set.to_string()]).expect(set);
+        let e = setup(&scene).err().unwrap_or_else(|| panic!("{set}: accepted")).to_string();
+        assert!(e.contains("cut.cut_length") && e.contains("crack"), "{set}: {e}");
+    }
     let both = format!("{text}\n[bond]\nwidth = 1e-3\nheight = 1e-3\ncell = 1e-4\npull = [0.0, 1.0]\n");
     let e = MpmScene::from_str(&both, "both.toml", &[]).expect_err("both").to_string();
     assert!(e.contains("bond") && e.contains("one set-up"), "{e}");

@@ -5,6 +5,7 @@
 //! cell h (±2 stencil) and cell 2h (±1 stencil) to choose between the two layouts.
 
 pub mod ensemble;
+pub mod mpm;
 pub mod step;
 
 use crate::Result;

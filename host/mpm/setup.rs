@@ -92,6 +92,20 @@ pub fn setup(scene: &MpmScene) -> Result<MpmSetup> {
         flank_normal: [0.0, 1.0],
         ..Default::default()
     };
+    if let Setup::Cut(cut) = &scene.setup {
+        // Beyond the crack's end the tool would plough into uncracked material (docs/mpm.md "Scenes").
+        let travel = cut.speed * scene.time.end * (1.0 - 0.5 * cut.ramp) / cut.depth;
+        if travel > cut.crack - 1.0 {
+            return Err(bad(
+                "cut.cut_length",
+                format!(
+                    "the tool travels {travel:.3} h by time.end, past the crack's end less one h ({} h): expected a \
+                     cut_length (or time.end) whose travel is at most cut.crack - 1, or a longer cut.crack",
+                    cut.crack - 1.0
+                ),
+            ));
+        }
+    }
     let mut s = match &scene.setup {
         Setup::Cut(cut) => cut_setup(scene, cut, base),
         Setup::Bond(bond) => bond_setup(scene, bond, base),

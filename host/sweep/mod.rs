@@ -281,6 +281,8 @@ fn plan_mpm(opts: &SweepOptions, points: &[(Vec<String>, Vec<String>, PathBuf)])
     let mut jobs = Vec::new();
     for (values, sets, dir) in points {
         let mut scene = MpmScene::load(&opts.scene, sets).map_err(|e| point_error(opts, values, e))?;
+        // The set-up's checks too (the tool's travel against the crack), before any point runs.
+        crate::mpm::setup::setup(&scene).map_err(|e| point_error(opts, values, e))?;
         if let Some(p) = opts.precision {
             scene.precision = p;
         }
