@@ -52,11 +52,6 @@ pub enum Error {
         "interrupted at t = {time:e} s, step {step}; checkpoint written to {path}; continue with `swarf run --resume {dir}`"
     )]
     Interrupted { time: f64, step: u64, path: String, dir: String },
-    /// A run without checkpoints (MPM) was interrupted (Ctrl-C); what it sampled so far is kept.
-    #[error(
-        "interrupted at t = {time:e} s, step {step}; the samples so far are in {kept} (this method writes no checkpoint)"
-    )]
-    Stopped { time: f64, step: u64, kept: String },
     /// The chip analysis of a frame cannot run (no tool, a 3D or rotating cut, a frame without the fields it
     /// needs); the message names the scene or the file.
     #[error("chip analysis: {0}")]

@@ -449,7 +449,7 @@ fn main() {
     }
     let code = match run(cli) {
         Ok(()) => 0,
-        Err(e @ (swarf::Error::Interrupted { .. } | swarf::Error::Stopped { .. })) => {
+        Err(e @ swarf::Error::Interrupted { .. }) => {
             eprintln!("\n{e}");
             130
         }
@@ -571,23 +571,41 @@ fn mpm_scene(path: Option<&std::path::Path>, set: &[String]) -> Result<Option<sw
     swarf::scene::mpm::MpmScene::load(p, set).map(Some).map_err(scene_err)
 }
 
-/// `swarf run` of an MPM scene (no checkpoints yet: docs/mpm.md).
-fn cmd_run_mpm(backend: BackendChoice, a: &RunArgs, scene: swarf::scene::mpm::MpmScene) -> Result<()> {
+/// `swarf run` of an MPM scene, fresh (`resume` None) or from a run folder's checkpoint (docs/mpm.md).
+fn cmd_run_mpm(
+    backend: BackendChoice,
+    a: &RunArgs,
+    scene: swarf::scene::mpm::MpmScene,
+    resume: Option<(std::path::PathBuf, Vec<String>)>,
+) -> Result<()> {
     let mut scene = scene;
-    if let Some(p) = a.precision {
+    if let Some(p) = a.precision
+        && resume.is_none()
+    {
         scene.precision = p.precision();
     }
-    let out = a.out.clone().unwrap_or_else(|| std::path::PathBuf::from("runs").join(&scene.name));
+    let (out, overrides) = match &resume {
+        Some((dir, overrides)) => (dir.clone(), overrides.clone()),
+        None => (a.out.clone().unwrap_or_else(|| std::path::PathBuf::from("runs").join(&scene.name)), a.set.clone()),
+    };
     let (any, line) = AnyBackend::select(backend)?;
     if !a.quiet {
         eprintln!("{line}");
     }
-    let cleared = swarf::run_folder::prepare(&out, a.force)?;
-    if cleared > 0 && !a.quiet {
-        eprintln!("--force: cleared {} ({cleared} entries of an earlier run)", out.display());
+    if resume.is_none() {
+        let cleared = swarf::run_folder::prepare(&out, a.force)?;
+        if cleared > 0 && !a.quiet {
+            eprintln!("--force: cleared {} ({cleared} entries of an earlier run)", out.display());
+        }
     }
     on_interrupt();
-    let opts = swarf::mpm::run::MpmRunOptions { out_dir: out.clone(), frames: true, quiet: a.quiet };
+    let opts = swarf::mpm::run::MpmRunOptions {
+        out_dir: out.clone(),
+        frames: true,
+        quiet: a.quiet,
+        overrides,
+        resume: resume.is_some(),
+    };
     let r = swarf::mpm::run::run(&any, &scene, &opts)?;
     if !a.quiet {
         println!(
@@ -623,7 +641,18 @@ fn cmd_run(backend: BackendChoice, a: &RunArgs) -> Result<()> {
     if a.resume.is_none()
         && let Some(scene) = mpm_scene(a.scene.as_deref(), &a.set)?
     {
-        return cmd_run_mpm(backend, a, scene);
+        return cmd_run_mpm(backend, a, scene, None);
+    }
+    // An MPM run folder resumes from its checkpoint, its scene.toml read with the checkpoint's overrides.
+    if let Some(dir) = &a.resume
+        && dir.join("scene.toml").is_file()
+        && mpm_scene(Some(&dir.join("scene.toml")), &[])?.is_some()
+    {
+        let h = swarf::mpm::checkpoint::header(dir)?;
+        let mut scene = mpm_scene(Some(&dir.join("scene.toml")), &h.overrides)?
+            .ok_or_else(|| swarf::Error::Checkpoint(format!("{}: not an MPM run folder", dir.display())))?;
+        scene.precision = swarf::scene::Precision::from_name(&h.precision).unwrap_or(scene.precision);
+        return cmd_run_mpm(backend, a, scene, Some((dir.clone(), h.overrides)));
     }
     let (scene, overrides, out) = match &a.resume {
         Some(dir) => {

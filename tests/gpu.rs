@@ -873,6 +873,39 @@ fn ensemble_members_equal_solo_runs_and_cpu() {
     let _ = std::fs::remove_dir_all(root);
 }
 
+/// An MPM checkpoint on the GPU (host/mpm/checkpoint.rs): a short cut with the start-up damping stepped 1 000
+/// steps in captured batches, saved, restored into a new GPU solver (whose first step runs plainly, loading the
+/// kernels) and stepped 1 000 more, equals the GPU's and the CPU's 2 000 steps at once, every stateful buffer bit
+/// for bit.
+#[test]
+fn mpm_checkpoint_resumes_bitwise_on_gpu() {
+    use swarf::mpm::solver::{MpmSolver, Tallies};
+    let Some(g) = gpu() else { return };
+    let sets: Vec<String> =
+        ["cut.particles_across=7", "cut.cut_length=2.0", "time.end=1.3e-3"].iter().map(|s| s.to_string()).collect();
+    let scene = swarf::scene::mpm::MpmScene::load("cases/mpm/nairn-cut.toml", &sets).expect("scene");
+    let s = swarf::mpm::setup::setup(&scene).expect("setup");
+    let dir = std::env::temp_dir().join(format!("swarf-gpu-mpm-ck-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("folder");
+    let mut first = MpmSolver::<CudaBackend, f64>::new(&g, &s, 1.0).expect("solver");
+    first.advance(&g, 1000).expect("advance");
+    let last = (first.time, Tallies::default());
+    swarf::mpm::checkpoint::save(&g, &first, &dir, &sets, 1, &last).expect("save");
+    let mut resumed = MpmSolver::<CudaBackend, f64>::new(&g, &s, 1.0).expect("solver");
+    swarf::mpm::checkpoint::restore(&g, &mut resumed, &dir).expect("restore");
+    resumed.advance(&g, 1000).expect("advance");
+    let mut whole = MpmSolver::<CudaBackend, f64>::new(&g, &s, 1.0).expect("solver");
+    whole.advance(&g, 2000).expect("advance");
+    let c = CpuBackend::new();
+    let mut cpu = MpmSolver::<CpuBackend, f64>::new(&c, &s, 1.0).expect("solver");
+    cpu.advance(&c, 2000).expect("advance");
+    let state = resumed.save_state(&g).expect("state");
+    assert!(state == whole.save_state(&g).expect("state"), "the resumed GPU run differs from the whole GPU run");
+    assert!(state == cpu.save_state(&c).expect("state"), "the resumed GPU run differs from the CPU run");
+    eprintln!("MPM checkpoint at step 1000, resumed on the GPU to 2000: bitwise equal to the GPU and CPU runs");
+    let _ = std::fs::remove_dir_all(dir);
+}
+
 /// An MPM sweep on the GPU (issue 26: the h × α × μ generator; host/ensemble, a stream each) gives each point's
 /// forces.csv byte for byte as its solo GPU run and its CPU run: three short coarse cuts at rakes 15°, 20° and 30°
 /// (the sweep's table holds their steady forces), run 3 at once, one at a time, and on the CPU.

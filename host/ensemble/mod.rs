@@ -129,7 +129,7 @@ fn collect<T>(rx: &mpsc::Receiver<(usize, Result<T>)>, stop: &AtomicBool, done: 
             stop.store(true, Ordering::Relaxed);
             first_error.get_or_insert(e);
         }
-        if let Err(e @ (Error::Interrupted { .. } | Error::Stopped { .. })) = result {
+        if let Err(e @ Error::Interrupted { .. }) = result {
             stop.store(true, Ordering::Relaxed);
             first_error.get_or_insert(e);
         }
@@ -143,7 +143,7 @@ pub fn run_serial<J: Member>(backend: &AnyBackend, jobs: &[J], done: Done<'_, J:
     for (k, job) in jobs.iter().enumerate() {
         let result = job.run(backend);
         done(k, &result)?;
-        if let Err(e @ (Error::Interrupted { .. } | Error::Stopped { .. })) = result {
+        if let Err(e @ Error::Interrupted { .. }) = result {
             return Err(e);
         }
     }

@@ -25,6 +25,17 @@ pub struct MpmRunOptions {
     /// Particle frames (particles.pvd and frames/).
     pub frames: bool,
     pub quiet: bool,
+    /// The `--set` overrides the scene was loaded with (kept in a checkpoint, for its resumption).
+    pub overrides: Vec<String>,
+    /// Continue from `out_dir`'s checkpoint (`super::checkpoint`), its forces.csv and its particles.pvd.
+    pub resume: bool,
+}
+
+impl MpmRunOptions {
+    /// A fresh run into `out_dir`, with frames, quiet, without overrides.
+    pub fn new(out_dir: PathBuf) -> Self {
+        MpmRunOptions { out_dir, frames: true, quiet: true, overrides: Vec::new(), resume: false }
+    }
 }
 
 /// One force sample: the means over the interval that ends at `t`.
@@ -119,70 +130,120 @@ pub fn run_on<B: Backend, R: Real>(b: &B, scene: &MpmScene, s: &MpmSetup, opts: 
     let out = &opts.out_dir;
     let io = |p: &Path, e: std::io::Error| Error::Output(format!("{}: {e}", p.display()));
     std::fs::create_dir_all(out).map_err(|e| io(out, e))?;
-    if let Ok(text) = std::fs::read_to_string(&scene.origin) {
+    if !opts.resume
+        && let Ok(text) = std::fs::read_to_string(&scene.origin)
+    {
         atomic::write_atomic(&out.join("scene.toml"), text.as_bytes()).map_err(|e| io(out, e))?;
     }
     let mut solver = MpmSolver::<B, R>::new(b, s, scene.damping.pic)?;
-    let mut series = TimeSeries::new(
-        out.join("forces.csv"),
-        &["t", "tool_x", "F_c", "F_t", "grip_x", "grip_y", "grip_work", "failed", "kinetic", "strain"],
-    );
-    let mut frames = pvd::Collection::new(out.join("particles.pvd"));
+    let mut rec = Record::open(out, opts.resume)?;
     let every = (s.steps / scene.time.samples.max(1) as u64).max(1);
     let frame_every =
         if opts.frames && scene.time.frames > 0 { (s.steps / scene.time.frames as u64).max(1) } else { 0 };
     let start = std::time::Instant::now();
-    let mut last = (0.0, Tallies::default());
-    let mut samples = Vec::new();
     let mut scratch = FrameScratch::default();
-    if frame_every > 0 {
-        write_frame(b, &solver, out, &mut frames, &mut scratch)?;
+    if opts.resume {
+        rec.last = super::checkpoint::restore(b, &mut solver, out)?;
+    } else if frame_every > 0 {
+        write_frame(b, &solver, out, &mut rec.frames, &mut scratch)?;
     }
     while solver.steps < s.steps {
         // To the next sample or frame, in captured batches.
         let next = |every: u64| solver.steps.checked_div(every).map_or(u64::MAX, |k| (k + 1) * every);
         solver.advance(b, next(every).min(next(frame_every)).min(s.steps) - solver.steps)?;
-        if crate::run::INTERRUPTED.load(std::sync::atomic::Ordering::Relaxed) {
-            series.write().map_err(|e| io(series.path(), e))?;
-            let kept = series.path().display().to_string();
-            return Err(Error::Stopped { time: solver.time, step: solver.steps, kept });
-        }
         let k = solver.steps;
         if k % every == 0 || k == s.steps {
             if let Err(e) = check_flags(b, &mut solver, scene) {
                 // Keep what was good: the samples so far (the frames are already written).
-                series.write().map_err(|e| io(series.path(), e))?;
+                rec.series.write().map_err(|e| io(rec.series.path(), e))?;
                 return Err(e);
             }
-            let sample = sample(b, &solver, &mut last)?;
-            series.push(&sample.row()).map_err(|e| io(series.path(), e))?;
-            samples.push(sample);
+            let sample = sample(b, &solver, &mut rec.last)?;
+            rec.series.push(&sample.row()).map_err(|e| io(rec.series.path(), e))?;
+            rec.samples.push(sample);
             if !opts.quiet && k % (every * (scene.time.samples as u64 / 10).max(1)) == 0 {
-                eprintln!(
-                    "mpm: t = {:.4e} s ({:.0} %), F_c = {:.4e} N/m",
-                    solver.time,
-                    100.0 * k as f64 / s.steps as f64,
-                    sample.fc
-                );
+                let done = 100.0 * k as f64 / s.steps as f64;
+                eprintln!("mpm: t = {:.4e} s ({done:.0} %), F_c = {:.4e} N/m", solver.time, sample.fc);
             }
         }
         if frame_every > 0 && (k % frame_every == 0 || k == s.steps) {
-            write_frame(b, &solver, out, &mut frames, &mut scratch)?;
+            write_frame(b, &solver, out, &mut rec.frames, &mut scratch)?;
+        }
+        if crate::run::INTERRUPTED.load(std::sync::atomic::Ordering::Relaxed) && k < s.steps {
+            // Ctrl-C: the samples so far and a checkpoint to resume from (`swarf run --resume`).
+            rec.series.write().map_err(|e| io(rec.series.path(), e))?;
+            let frames = rec.frames.entries().len();
+            let path = super::checkpoint::save(b, &solver, out, &opts.overrides, frames, &rec.last)?;
+            let (path, dir) = (path.display().to_string(), out.display().to_string());
+            return Err(Error::Interrupted { time: solver.time, step: k, path, dir });
         }
     }
     b.synchronize()?;
     let wall = start.elapsed().as_secs_f64();
-    series.write().map_err(|e| io(series.path(), e))?;
-    let report = report(b, &solver, scene, s, samples, wall)?;
+    rec.series.write().map_err(|e| io(rec.series.path(), e))?;
+    let report = report(b, &solver, scene, s, std::mem::take(&mut rec.samples), wall)?;
     let json = serde_json::to_string_pretty(&report).map_err(|e| Error::Output(e.to_string()))?;
     atomic::write_atomic(&out.join("summary.json"), json.as_bytes()).map_err(|e| io(out, e))?;
     Ok(report)
+}
+
+/// What a run has recorded: its force samples (forces.csv), its frames (particles.pvd) and the last sample's time
+/// and tallies.
+struct Record {
+    series: TimeSeries,
+    frames: pvd::Collection,
+    samples: Vec<Sample>,
+    last: (f64, Tallies),
+}
+
+impl Record {
+    const COLUMNS: [&str; 10] =
+        ["t", "tool_x", "F_c", "F_t", "grip_x", "grip_y", "grip_work", "failed", "kinetic", "strain"];
+
+    /// A new record in `out`, or (`resume`) the one `out` holds: forces.csv's rows and particles.pvd's entries.
+    fn open(out: &Path, resume: bool) -> Result<Record> {
+        let mut rec = Record {
+            series: TimeSeries::new(out.join("forces.csv"), &Self::COLUMNS),
+            frames: pvd::Collection::new(out.join("particles.pvd")),
+            samples: Vec::new(),
+            last: (0.0, Tallies::default()),
+        };
+        if !resume {
+            return Ok(rec);
+        }
+        let bad = |e: std::io::Error| Error::Checkpoint(e.to_string());
+        let (head, rows) = crate::output::csv::read(&out.join("forces.csv")).map_err(bad)?;
+        if head != Self::COLUMNS {
+            let path = out.join("forces.csv");
+            return Err(Error::Checkpoint(format!(
+                "{}: columns {head:?}, expected {:?}",
+                path.display(),
+                Self::COLUMNS
+            )));
+        }
+        for r in rows {
+            rec.series.push(&r).map_err(bad)?;
+            rec.samples.push(Sample::of_row(&r));
+        }
+        if out.join("particles.pvd").exists() {
+            for (t, f) in pvd::read(&out.join("particles.pvd")).map_err(bad)? {
+                rec.frames.push(t, f).map_err(bad)?;
+            }
+        }
+        Ok(rec)
+    }
 }
 
 impl Sample {
     fn row(&self) -> [f64; 10] {
         let (t, g) = (self, self.grip);
         [t.t, t.tool_x, t.fc, t.ft, g[0], g[1], t.work, t.failed as f64, t.kinetic, t.strain]
+    }
+
+    /// The sample of a forces.csv row (`row`'s inverse; ten values).
+    fn of_row(r: &[f64]) -> Sample {
+        let (fc, ft, grip, work, failed) = (r[2], r[3], [r[4], r[5]], r[6], r[7] as usize);
+        Sample { t: r[0], tool_x: r[1], fc, ft, grip, work, failed, kinetic: r[8], strain: r[9] }
     }
 }
 

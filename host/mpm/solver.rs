@@ -13,6 +13,8 @@ use crate::kernels::pass::mpm::{
 };
 use crate::kernels::{Dim2, Real, SymTensor, Vector};
 use crate::neighbour::CellList;
+use crate::solver::StateBlobs;
+use crate::state::load_blob;
 use crate::{Error, Result};
 
 /// The particles' buffers.
@@ -54,6 +56,24 @@ pub struct CrackBufs<B: Backend, R: Real> {
     pub pair: B::Buf<[u32; 2]>,
 }
 
+/// The stateful buffers of [`MpmSolver`], each once: `$m!(name, path)` for each.
+macro_rules! mpm_state {
+    ($m:ident) => {
+        $m!("pos", parts.pos);
+        $m!("vel", parts.vel);
+        $m!("be", parts.be);
+        $m!("jac", parts.jac);
+        $m!("eps", parts.eps);
+        $m!("stress", parts.stress);
+        $m!("fext", parts.fext);
+        $m!("crack_state", crack.state);
+        $m!("imp_tool", nodes.imp_tool);
+        $m!("imp_grip", nodes.imp_grip);
+        $m!("work_grip", nodes.work_grip);
+        $m!("damping", nodes.damping);
+    };
+}
+
 /// Steps in a captured batch ([`MpmSolver::advance`]).
 pub const BATCH: usize = 50;
 
@@ -75,6 +95,8 @@ pub struct MpmSolver<B: Backend, R: Real> {
     /// (`SWARF_NO_GRAPHS=1`): steps one by one.
     graph: [Option<B::Graph>; 2],
     graphs: bool,
+    /// Whether a step has run plainly (so that every kernel a batch launches is loaded).
+    warm: bool,
     pub dt: f64,
     /// The PIC fraction 1 − β.
     pub pic: f64,
@@ -153,6 +175,7 @@ impl<B: Backend, R: Real> MpmSolver<B, R> {
             cells,
             steps_table,
             graph: [None, None],
+            warm: false,
             graphs: !crate::tuning::Tuning::current()?.no_graphs,
             dt: s.dt,
             pic,
@@ -207,6 +230,7 @@ impl<B: Backend, R: Real> MpmSolver<B, R> {
         let s = self.step_params(self.time);
         b.write(&mut self.steps_table, &[s])?;
         self.launch_step(b, 0, self.damping_live(self.time))?;
+        self.warm = true;
         self.time += self.dt;
         self.steps += 1;
         Ok(())
@@ -216,8 +240,9 @@ impl<B: Backend, R: Real> MpmSolver<B, R> {
     /// to the step table first), the rest one by one. The same launches with the same arguments as single steps,
     /// so the same bits.
     pub fn advance(&mut self, b: &B, mut count: u64) -> Result<()> {
-        // The CUDA backend loads a kernel at its first launch, which a capture may not hold: one plain step first.
-        if self.steps == 0 && count > 0 {
+        // The CUDA backend loads a kernel at its first launch, which a capture may not hold: one plain step first
+        // (also in a solver restored from a checkpoint).
+        if !self.warm && count > 0 {
             self.step(b)?;
             count -= 1;
         }
@@ -283,6 +308,32 @@ impl<B: Backend, R: Real> MpmSolver<B, R> {
             let flags = b.address_mut(&mut self.flags) as *mut u32;
             b.launch::<G2p<R>>(&G2pArgs { n: self.n as u32, _pad: 0, params, step, parts, nodes, flags })?;
         }
+        Ok(())
+    }
+
+    /// Copies of every buffer that carries state from one step to the next, named, for a checkpoint: the
+    /// particles' state, the crack points' histories, the tallies and the start-up damping. The nodes' sums, the
+    /// cell list and the step table are rebuilt by every step, and the rest is the set-up's.
+    pub fn save_state(&self, b: &B) -> Result<StateBlobs> {
+        let mut out: StateBlobs = Vec::new();
+        macro_rules! save {
+            ($name:literal, $($buf:ident).+) => {
+                out.push(($name.to_string(), bytemuck::cast_slice::<_, u8>(&b.read(&self.$($buf).+)?).to_vec()));
+            };
+        }
+        mpm_state!(save);
+        Ok(out)
+    }
+
+    /// Restores the buffers of [`MpmSolver::save_state`] (the solver built from the same scene); the clock is the
+    /// caller's.
+    pub fn load_state(&mut self, b: &B, blobs: &StateBlobs) -> Result<()> {
+        macro_rules! load {
+            ($name:literal, $($buf:ident).+) => {
+                load_blob(b, $name, &mut self.$($buf).+, blobs)?;
+            };
+        }
+        mpm_state!(load);
         Ok(())
     }
 

@@ -144,7 +144,7 @@ enum Members {
 
 /// Runs the sweep on `backend` and writes the table and plots into `opts.out_dir`. Bad keys or values are
 /// refused before any run; a failing run is recorded and the sweep goes on; Ctrl-C writes the table so far and
-/// returns [`Error::Interrupted`] (an SPH sweep) or [`Error::Stopped`] (an MPM sweep).
+/// returns [`Error::Interrupted`].
 pub fn sweep(backend: &AnyBackend, opts: &SweepOptions) -> Result<Sweep> {
     let (mut sweep, members, dx) = plan(opts)?;
     std::fs::create_dir_all(&opts.out_dir).map_err(|e| Error::Output(format!("{}: {e}", opts.out_dir.display())))?;
@@ -286,7 +286,7 @@ fn plan_mpm(opts: &SweepOptions, points: &[(Vec<String>, Vec<String>, PathBuf)])
         if let Some(p) = opts.precision {
             scene.precision = p;
         }
-        let options = MpmRunOptions { out_dir: dir.clone(), frames: opts.frames, quiet: true };
+        let options = MpmRunOptions { frames: opts.frames, overrides: sets.clone(), ..MpmRunOptions::new(dir.clone()) };
         jobs.push(MpmJob { scene, options });
     }
     Ok((base.name, columns, Members::Mpm(jobs), vec![0.0; points.len()]))
