@@ -253,31 +253,39 @@ fn plan_sph(opts: &SweepOptions, points: &[(Vec<String>, Vec<String>, PathBuf)])
     Ok((base.name, columns, Members::Sph(jobs), dx))
 }
 
+/// An MPM sweep's columns (name, unit, summary.json pointer): every run's facts, then a cut's or a bond's results.
+const MPM_RUN_COLUMNS: &[(&str, &str, &str)] = &[
+    ("particles", "-", "/particles"),
+    ("steps", "-", "/steps"),
+    ("wall_time_s", "s", "/wall_s"),
+    ("dt_s", "s", "/dt"),
+    ("failed_points", "-", "/failed_points"),
+    ("mode_i_share", "-", "/mode_i_share"),
+];
+const MPM_CUT_COLUMNS: &[(&str, &str, &str)] = &[
+    ("fc_n_per_m", "N/m", "/steady/fc"),
+    ("ft_n_per_m", "N/m", "/steady/ft"),
+    ("fc_cov", "-", "/steady/fc_cov"),
+    ("touching_model_n_per_m", "N/m", "/steady/touching_model"),
+    ("fc_over_model", "-", "/steady/fc_over_model"),
+    ("rubbing_n_per_m", "N/m", "/steady/rubbing"),
+    ("eta", "-", "/steady/eta"),
+];
+const MPM_BOND_COLUMNS: &[(&str, &str, &str)] = &[("released_j_per_m2", "J/m²", "/released/per_area")];
+
 /// An MPM sweep: its columns (the runs' facts, then a cut's steady forces beside Nairn's touching model, or a
 /// bond's released energy) and runs.
 fn plan_mpm(opts: &SweepOptions, points: &[(Vec<String>, Vec<String>, PathBuf)]) -> Result<Planned> {
     let base = MpmScene::load(&opts.scene, &opts.overrides).map_err(|e| Error::Scene(e.to_string()))?;
-    let at = |name: &str, unit, at| Observable { name: name.to_string(), unit, source: Source::Pointer(at) };
-    let mut columns = vec![
-        at("particles", "-", "/particles"),
-        at("steps", "-", "/steps"),
-        at("wall_time_s", "s", "/wall_s"),
-        at("dt_s", "s", "/dt"),
-        at("failed_points", "-", "/failed_points"),
-        at("mode_i_share", "-", "/mode_i_share"),
-    ];
-    columns.extend(match base.setup {
-        MpmSetupKind::Cut(_) => vec![
-            at("fc_n_per_m", "N/m", "/steady/fc"),
-            at("ft_n_per_m", "N/m", "/steady/ft"),
-            at("fc_cov", "-", "/steady/fc_cov"),
-            at("touching_model_n_per_m", "N/m", "/steady/touching_model"),
-            at("fc_over_model", "-", "/steady/fc_over_model"),
-            at("rubbing_n_per_m", "N/m", "/steady/rubbing"),
-            at("eta", "-", "/steady/eta"),
-        ],
-        MpmSetupKind::Bond(_) => vec![at("released_j_per_m2", "J/m²", "/released/per_area")],
-    });
+    let extra = match base.setup {
+        MpmSetupKind::Cut(_) => MPM_CUT_COLUMNS,
+        MpmSetupKind::Bond(_) => MPM_BOND_COLUMNS,
+    };
+    let columns = MPM_RUN_COLUMNS
+        .iter()
+        .chain(extra)
+        .map(|&(name, unit, at)| Observable { name: name.to_string(), unit, source: Source::Pointer(at) })
+        .collect();
     let mut jobs = Vec::new();
     for (values, sets, dir) in points {
         let mut scene = MpmScene::load(&opts.scene, sets).map_err(|e| point_error(opts, values, e))?;
