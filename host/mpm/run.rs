@@ -1,7 +1,8 @@
 //! `swarf run` of an MPM scene (docs/mpm.md "Output"): steps the solver to the scene's end, samples the tool's
 //! and the grip's forces (each the mean over its interval: the impulses the contact and the boundary gave the
 //! specimen, divided by the interval), writes the frames, and reports the steady forces beside Nairn's models or,
-//! for a bonded block, the energy released per unit crack area.
+//! for a bonded block, the energy released per unit crack area. Ctrl-C stops it with a checkpoint
+//! (`super::checkpoint`), from which `MpmRunOptions::resume` continues bit for bit.
 
 use super::output::FrameScratch;
 use super::setup::{MpmSetup, setup};
