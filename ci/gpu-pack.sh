@@ -24,7 +24,7 @@ for t in ${SWARF_PACK_TESTS-gpu ptx stability_solids stability_energy stability_
     f=$(cargo test --release --no-run --test "$t" --message-format=json 2>/dev/null | exe "$t" | tail -1)
     cp "$f" "$pack/test-$t"
 done
-for bn in ${SWARF_PACK_BENCHES-neighbours step}; do
+for bn in ${SWARF_PACK_BENCHES-neighbours step mpm}; do
     f=$(cargo bench --no-run --bench "$bn" --message-format=json 2>/dev/null | exe "$bn" | tail -1)
     cp "$f" "$pack/bench-$bn"
 done

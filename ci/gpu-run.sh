@@ -841,6 +841,7 @@ $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s" \
               }
               run runs runs_log ;;
         criterion) run criterion "$here/bench-neighbours" --bench --noplot
+                   [ -x "$here/bench-mpm" ] && run criterion-mpm "$here/bench-mpm" --bench --noplot
                    run criterion-step "$here/bench-step" --bench --noplot ;;
         fast) # issue 7: the f32 LLVM flags (--fast-math): V0060 cut observables and the step time, against default
               fastcmp() {
