@@ -77,10 +77,7 @@ pub fn write(path: &Path, mut h: Header, state: &StateBlobs) -> Result<()> {
 pub fn read(path: &Path) -> Result<(Header, StateBlobs)> {
     let bytes = std::fs::read(path).map_err(|e| Error::Checkpoint(format!("{}: {e}", path.display())))?;
     let bad = |what: &str| Error::Checkpoint(format!("{}: {what}", path.display()));
-    if bytes.len() < 16 || &bytes[..8] != MAGIC {
-        return Err(bad("not a swarf checkpoint (expected the signature SWARFCK1)"));
-    }
-    let len = u64::from_le_bytes(bytes[8..16].try_into().map_err(|_| bad("truncated header length"))?) as usize;
+    let len = header_len(path, &bytes)?;
     let json = 16usize.checked_add(len).and_then(|e| bytes.get(16..e)).ok_or_else(|| bad("truncated header"))?;
     let h: Header = serde_json::from_slice(json).map_err(|e| bad(&format!("header: {e}")))?;
     let mut at = 16 + len;
@@ -96,6 +93,35 @@ pub fn read(path: &Path) -> Result<(Header, StateBlobs)> {
     }
     verify_checksums(&h, &state).map_err(|e| bad(&e))?;
     Ok((h, state))
+}
+
+/// The header alone, without reading (or checking) the buffers: what a run is resumed with, before the run reads
+/// the whole file.
+pub fn read_header(path: &Path) -> Result<Header> {
+    use std::io::Read;
+    let bad = |what: &str| Error::Checkpoint(format!("{}: {what}", path.display()));
+    let mut f = std::fs::File::open(path).map_err(|e| bad(&e.to_string()))?;
+    let size = f.metadata().map_err(|e| bad(&e.to_string()))?.len();
+    let mut prefix = [0u8; 16];
+    f.read_exact(&mut prefix).map_err(|_| bad(NOT_A_CHECKPOINT))?;
+    let len = header_len(path, &prefix)?;
+    if 16 + len as u64 > size {
+        return Err(bad("truncated header"));
+    }
+    let mut json = vec![0u8; len];
+    f.read_exact(&mut json).map_err(|_| bad("truncated header"))?;
+    serde_json::from_slice(&json).map_err(|e| bad(&format!("header: {e}")))
+}
+
+const NOT_A_CHECKPOINT: &str = "not a swarf checkpoint (expected the signature SWARFCK1)";
+
+/// The header's length from a checkpoint's first 16 bytes (the signature, then the length).
+fn header_len(path: &Path, bytes: &[u8]) -> Result<usize> {
+    let bad = |what: &str| Error::Checkpoint(format!("{}: {what}", path.display()));
+    if bytes.len() < 16 || &bytes[..8] != MAGIC {
+        return Err(bad(NOT_A_CHECKPOINT));
+    }
+    Ok(u64::from_le_bytes(bytes[8..16].try_into().map_err(|_| bad("truncated header length"))?) as usize)
 }
 
 /// Each buffer's checksum against the header's (none recorded: an older swarf, checked by the caller).

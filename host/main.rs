@@ -563,12 +563,17 @@ fn load_scene(path: Option<&std::path::Path>, set: &[String]) -> Result<swarf::s
 /// The MPM scene at `path`, when the file says `method = "mpm"`.
 fn mpm_scene(path: Option<&std::path::Path>, set: &[String]) -> Result<Option<swarf::scene::mpm::MpmScene>> {
     let Some(p) = path else { return Ok(None) };
+    let Some(text) = mpm_text(p)? else { return Ok(None) };
+    let scene = swarf::scene::mpm::MpmScene::from_str(&text, &p.display().to_string(), set);
+    scene.map(Some).map_err(|e| swarf::Error::Scene(e.to_string()))
+}
+
+/// The text of the scene file at `p`, when it says `method = "mpm"` (read once).
+fn mpm_text(p: &std::path::Path) -> Result<Option<String>> {
     let text = std::fs::read_to_string(p).map_err(|e| swarf::Error::Scene(format!("{}: {e}", p.display())))?;
-    let scene_err = |e: swarf::scene::SceneError| swarf::Error::Scene(e.to_string());
-    if swarf::scene::mpm::method_of(&text, &p.display().to_string()).map_err(scene_err)? != "mpm" {
-        return Ok(None);
-    }
-    swarf::scene::mpm::MpmScene::load(p, set).map(Some).map_err(scene_err)
+    let method = swarf::scene::mpm::method_of(&text, &p.display().to_string())
+        .map_err(|e| swarf::Error::Scene(e.to_string()))?;
+    Ok((method == "mpm").then_some(text))
 }
 
 /// `swarf run` of an MPM scene, fresh (`resume` None) or from a run folder's checkpoint (docs/mpm.md).
@@ -646,11 +651,12 @@ fn cmd_run(backend: BackendChoice, a: &RunArgs) -> Result<()> {
     // An MPM run folder resumes from its checkpoint, its scene.toml read with the checkpoint's overrides.
     if let Some(dir) = &a.resume
         && dir.join("scene.toml").is_file()
-        && mpm_scene(Some(&dir.join("scene.toml")), &[])?.is_some()
+        && let Some(text) = mpm_text(&dir.join("scene.toml"))?
     {
         let h = swarf::mpm::checkpoint::header(dir)?;
-        let mut scene = mpm_scene(Some(&dir.join("scene.toml")), &h.overrides)?
-            .ok_or_else(|| swarf::Error::Checkpoint(format!("{}: not an MPM run folder", dir.display())))?;
+        let origin = dir.join("scene.toml").display().to_string();
+        let mut scene = swarf::scene::mpm::MpmScene::from_str(&text, &origin, &h.overrides)
+            .map_err(|e| swarf::Error::Scene(e.to_string()))?;
         scene.precision = swarf::scene::Precision::from_name(&h.precision).unwrap_or(scene.precision);
         return cmd_run_mpm(backend, a, scene, Some((dir.clone(), h.overrides)));
     }

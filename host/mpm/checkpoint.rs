@@ -6,7 +6,7 @@
 
 use super::solver::{MpmSolver, Tallies};
 use crate::backend::Backend;
-use crate::checkpoint::{Header, read, write};
+use crate::checkpoint::{Header, read, read_header, write};
 use crate::kernels::Real;
 use crate::{Error, Result};
 use std::path::{Path, PathBuf};
@@ -50,9 +50,10 @@ pub fn save<B: Backend, R: Real>(
     Ok(path)
 }
 
-/// The header of `dir`'s checkpoint (the overrides and precision a resumed run is built with).
+/// The header of `dir`'s checkpoint (the overrides and precision a resumed run is built with), without its
+/// buffers, which [`restore`] reads.
 pub fn header(dir: &Path) -> Result<Header> {
-    Ok(read(&dir.join(FILE))?.0)
+    read_header(&dir.join(FILE))
 }
 
 /// Restores `dir`'s checkpoint into `solver` (built from the same scene): its buffers and clock. Returns the last

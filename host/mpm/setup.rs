@@ -124,10 +124,17 @@ pub fn setup(scene: &MpmScene) -> Result<MpmSetup> {
     Ok(s)
 }
 
+impl MpmSetup {
+    /// The ramp that drives the scene: the tool's, else the grip's.
+    pub fn driving_ramp(&self) -> Option<Ramp> {
+        self.tool.map(|(r, _)| r).or(self.grip)
+    }
+}
+
 /// The start-up damping's gain 1/(Q M) (nairn-mpm.md §1.3) of the dimensionless gain g: 1/Q = g/(v² t_ramp²) on
-/// the ramp that drives the scene (the tool's, else the grip's), M the specimen's mass; 0 without a ramp.
+/// the driving ramp, M the specimen's mass; 0 without a ramp.
 fn feedback_gain(g: f64, s: &MpmSetup) -> f64 {
-    let Some(ramp) = s.tool.map(|(r, _)| r).or(s.grip) else { return 0.0 };
+    let Some(ramp) = s.driving_ramp() else { return 0.0 };
     let v2 = ramp.velocity[0] * ramp.velocity[0] + ramp.velocity[1] * ramp.velocity[1];
     let mass: f64 = s.points.mass.iter().zip(&s.points.kind).filter(|(_, k)| **k != TOOL).map(|(m, _)| m).sum();
     if g <= 0.0 || ramp.ramp <= 0.0 || v2 <= 0.0 || mass <= 0.0 {

@@ -100,8 +100,9 @@ pub struct MpmSolver<B: Backend, R: Real> {
     pub dt: f64,
     /// The PIC fraction 1 − β.
     pub pic: f64,
-    /// The start-up damping's gain during the ramp (`MpmSetup::feedback`).
+    /// The start-up damping's gain during the ramp (`MpmSetup::feedback`) and the ramp's end [s] (0: none).
     feedback: f64,
+    ramp_end: f64,
     pub time: f64,
     pub steps: u64,
     n: usize,
@@ -180,6 +181,7 @@ impl<B: Backend, R: Real> MpmSolver<B, R> {
             dt: s.dt,
             pic,
             feedback: s.feedback,
+            ramp_end: s.driving_ramp().map_or(0.0, |r| r.ramp),
             time: 0.0,
             steps: 0,
             n,
@@ -211,8 +213,7 @@ impl<B: Backend, R: Real> MpmSolver<B, R> {
             s.pull_vel = g.velocity(t + 0.5 * dt);
         }
         // The start-up damping acts while the driving ramp (the tool's, else the grip's) is under way.
-        let ramp = self.tool.map(|(r, _)| r).or(self.grip).map_or(0.0, |r| r.ramp);
-        if t + dt <= ramp {
+        if t + dt <= self.ramp_end {
             s.feedback = self.feedback;
         }
         s
@@ -221,8 +222,7 @@ impl<B: Backend, R: Real> MpmSolver<B, R> {
     /// Whether the step that starts at t runs the start-up damping's passes: a step of the ramp, or the first
     /// after it, which resets the damping to 0 (`kernels::mpm::step::feedback`); later steps need not.
     fn damping_live(&self, t: f64) -> bool {
-        let ramp = self.tool.map(|(r, _)| r).or(self.grip).map_or(0.0, |r| r.ramp);
-        self.feedback > 0.0 && t <= ramp
+        self.feedback > 0.0 && t <= self.ramp_end
     }
 
     /// One step.

@@ -1,6 +1,7 @@
 //! The cohesive crack along the cut plane (nairn-mpm.md §1.5): Needleman's cubic traction law in mode I and mode II
 //! (Eq. 3), Yang and Thouless's decoupled failure criterion (Eq. 4), unloading along the secant to the origin, and
-//! the law's initial stiffness against closing. The crack's points are fixed on the plane (docs/mpm.md, "Crack").
+//! the law's initial stiffness against closing. Each crack point joins the two particles that faced each other
+//! across the plane at t = 0 (`step::crack_point`; docs/mpm.md "Crack points are particle pairs").
 
 use crate::real::Real;
 use bytemuck::{Pod, Zeroable};

@@ -2,6 +2,7 @@
 //! J2 plasticity and linear hardening, in plane strain, updated on the isochoric elastic left Cauchy–Green tensor
 //! B̄_e by Simo's radial return.
 
+use crate::material::return_map::SQRT_2_3;
 use crate::real::Real;
 use bytemuck::{Pod, Zeroable};
 
@@ -84,9 +85,6 @@ pub fn update<R: Real>(m: &NeoHookeanJ2, l: [[R; 2]; 2], dt: R, be: &mut [R; 4],
     let p = R::from_f64(0.5 * m.bulk) * (j * j - one);
     [(p + s[0]) / j, s[1] / j, (p + s[2]) / j, (p + s[3]) / j]
 }
-
-/// √(2/3), written out (no `sqrt` in a const context).
-const SQRT_2_3: f64 = 0.816_496_580_927_726;
 
 /// The strain energy per reference volume W = (K/2)(½(J² − 1) − ln J) + (G/2)(tr B̄_e − 3) (nairn-mpm.md §1.4,
 /// Eq. 1), with ln J given by the caller (the kernels have no logarithm): the energy balances of tests/mpm.rs.

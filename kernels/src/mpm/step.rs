@@ -175,8 +175,8 @@ pub unsafe fn p2g_node<R: Real>(p: &MpmParams, pa: &Particles<R>, cells: &Cells,
 
 /// Crack point k: the opening δ = u_a − u_b between the particles a (above) and b (below) that faced each other
 /// across it at t = 0 (u = x − X), its tractions (`cohesive::traction`; once failed, closing only while the two
-/// still face each other, |δ_t| < ds), and its force −t ds on a and +t ds on b (per unit thickness), which the node gather
-/// adds to their fields. The pair's relative displacement is the opening, so the force does work at the rate of
+/// still face each other, |δ_t| < ds), and its force −t ds on a and +t ds on b (per unit thickness), which the
+/// node gather adds to their fields. The pair's relative displacement is the opening, so the force does work at the rate of
 /// the opening, whatever the opening's size against the cell (docs/mpm.md "Crack").
 ///
 /// # Safety
