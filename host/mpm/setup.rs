@@ -71,7 +71,7 @@ pub struct MpmSetup {
 pub fn setup(scene: &MpmScene) -> Result<MpmSetup> {
     let m = &scene.material;
     let bad = |key: &str, what: String| Error::Scene(format!("{}: {key}: {what}", scene.origin));
-    let plastic = NeoHookeanJ2::plastic_modulus_of(m.bulk_modulus, m.shear_modulus, m.tangent_modulus);
+    let plastic = NeoHookeanJ2::plastic_modulus_of(scene.young(), m.tangent_modulus);
     let c = &scene.cohesive;
     let base = MpmParams {
         mass_floor: 0.0,

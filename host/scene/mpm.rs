@@ -120,6 +120,11 @@ pub struct MpmTime {
     pub frames: u32,
 }
 
+/// Young's modulus E = 9KG/(3K + G) of bulk modulus K and shear modulus G.
+pub fn young_modulus(bulk: f64, shear: f64) -> f64 {
+    9.0 * bulk * shear / (3.0 * bulk + shear)
+}
+
 /// `[damping]`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Damping {
@@ -149,10 +154,9 @@ impl MpmScene {
         super::read::mpm_scene(&doc)
     }
 
-    /// E = 9KG/(3K + G).
+    /// Young's modulus of the specimen ([`young_modulus`]).
     pub fn young(&self) -> f64 {
-        let (k, g) = (self.material.bulk_modulus, self.material.shear_modulus);
-        9.0 * k * g / (3.0 * k + g)
+        young_modulus(self.material.bulk_modulus, self.material.shear_modulus)
     }
 
     /// The dilatational wave speed c_d = √((K + 4G/3)/ρ).

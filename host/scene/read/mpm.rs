@@ -7,6 +7,11 @@ use crate::scene::Precision;
 
 const ROOT_KEYS: &[&str] = &["method", "name", "precision", "material", "cohesive", "cut", "bond", "time", "damping"];
 
+/// `[time]`'s defaults (its `end` is the set-up's).
+const TIME: MpmTime = MpmTime { end: 0.0, cfl: 0.5, samples: 400, frames: 10 };
+/// `[damping]`'s defaults: full PIC, no start-up damping.
+const DAMPING: Damping = Damping { pic: 1.0, feedback: 0.0 };
+
 /// The whole MPM scene.
 pub(in crate::scene) fn mpm_scene(doc: &Doc) -> Result<MpmScene> {
     let Val::Table(entries) = &doc.root.val else { unreachable!("a TOML document is a table") };
@@ -46,7 +51,7 @@ fn material(root: &Tab<'_>) -> Result<MpmMaterial> {
     let d = "a positive density in kg/m^3";
     let density = t.required("density", d, t.number("density", d, positive)?)?;
     let yield_stress = t.required("yield_stress", p, t.number("yield_stress", p, positive)?)?;
-    let e_young = 9.0 * bulk_modulus * shear_modulus / (3.0 * bulk_modulus + shear_modulus);
+    let e_young = super::super::mpm::young_modulus(bulk_modulus, shear_modulus);
     let te = format!("a tangent modulus in Pa, >= 0 and below Young's modulus {e_young:.4e}");
     let tangent_modulus = t.number("tangent_modulus", &te, |x| (0.0..e_young).contains(&x))?.unwrap_or(0.0);
     Ok(MpmMaterial { bulk_modulus, shear_modulus, density, yield_stress, tangent_modulus })
@@ -170,26 +175,31 @@ fn time(root: &Tab<'_>, setup: &Setup) -> Result<MpmTime> {
     };
     let Some(t) = t else {
         let end = root.required("time", "a table [time] with end (a [bond] run's length)", end_of_cut)?;
-        return Ok(MpmTime { end, cfl: 0.5, samples: 400, frames: 10 });
+        return Ok(MpmTime { end, ..TIME });
     };
     t.check_keys(&["end", "cfl", "samples", "frames"], &[], "")?;
     let es = "a positive time in seconds";
     let end = t.required("end", es, t.number("end", es, positive)?.or(end_of_cut))?;
-    let cfl = t.number("cfl", "a CFL number in (0, 1]", |x| x > 0.0 && x <= 1.0)?.unwrap_or(0.5);
-    let samples =
-        t.integer("samples", "a sample count in [1, 1000000]", |n| (1..=1_000_000).contains(&n))?.unwrap_or(400);
-    let frames = t.integer("frames", "a frame count in [0, 10000]", |n| (0..=10_000).contains(&n))?.unwrap_or(10);
-    Ok(MpmTime { end, cfl, samples: samples as u32, frames: frames as u32 })
+    let cfl = t.number("cfl", "a CFL number in (0, 1]", |x| x > 0.0 && x <= 1.0)?.unwrap_or(TIME.cfl);
+    let samples = t.integer("samples", "a sample count in [1, 1000000]", |n| (1..=1_000_000).contains(&n))?;
+    let frames = t.integer("frames", "a frame count in [0, 10000]", |n| (0..=10_000).contains(&n))?;
+    Ok(MpmTime {
+        end,
+        cfl,
+        samples: samples.map_or(TIME.samples, |n| n as u32),
+        frames: frames.map_or(TIME.frames, |n| n as u32),
+    })
 }
 
 fn damping(root: &Tab<'_>) -> Result<Damping> {
     let Some(t) = root.table("damping", "damping", "a table [damping] with pic and feedback")? else {
-        return Ok(Damping { pic: 1.0, feedback: 0.0 });
+        return Ok(DAMPING);
     };
     t.check_keys(&["pic", "feedback"], &[], "")?;
-    let pic = t.number("pic", "a PIC fraction 1 - beta in [0, 1]", |x| (0.0..=1.0).contains(&x))?.unwrap_or(1.0);
+    let pic =
+        t.number("pic", "a PIC fraction 1 - beta in [0, 1]", |x| (0.0..=1.0).contains(&x))?.unwrap_or(DAMPING.pic);
     let feedback = t
         .number("feedback", "a start-up feedback gain in [0, 1e6] (0: off)", |x| (0.0..=1e6).contains(&x))?
-        .unwrap_or(0.0);
+        .unwrap_or(DAMPING.feedback);
     Ok(Damping { pic, feedback })
 }

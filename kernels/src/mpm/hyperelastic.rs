@@ -21,10 +21,10 @@ pub struct NeoHookeanJ2 {
 }
 
 impl NeoHookeanJ2 {
-    /// The plastic modulus E_p = E E_T/(E − E_T) of a tangent modulus E_T, E = 9KG/(3K + G) (nairn-mpm.md §1.4).
-    pub fn plastic_modulus_of(bulk: f64, shear: f64, tangent: f64) -> f64 {
-        let e = 9.0 * bulk * shear / (3.0 * bulk + shear);
-        e * tangent / (e - tangent)
+    /// The plastic modulus E_p = E E_T/(E − E_T) of Young's modulus E and a tangent modulus E_T (nairn-mpm.md
+    /// §1.4).
+    pub fn plastic_modulus_of(young: f64, tangent: f64) -> f64 {
+        young * tangent / (young - tangent)
     }
 }
 
