@@ -640,6 +640,41 @@ PY
                   done
               }
               run mpm26 mpm_all ;;
+        sph26) # issue 26 (docs/mpm.md "SPH against MPM"): V1 with the SPH cohesive path: Nairn's cut in SPH
+               # (cases/mpm/nairn-cut-sph.toml, 15 particles through h) at h = SWARF_SPH_DEPTHS mm (default 0.5 1.0 1.5),
+               # the scene scaled with h; then the MPM twin (cases/mpm/nairn-cut.toml) at the same depths; each run's
+               # summary and forces. SWARF_SPH_SETS, SWARF_MPM_SETS: further --set arguments of the SPH and MPM runs;
+               # SWARF_SPH_NO_MPM: the SPH runs only; SWARF_SPH_FRAMES: every fourth frame of each SPH run.
+              sph_at() { # h in mm, name, further --set arguments
+                  local h=$1 name=$2; shift 2
+                  local s; s=$(python3 -c "h=$h*1e-3; print(' '.join('--set %s' % a for a in [
+                      'discretisation.dx=%r' % (h/15), 'body.0.min=[0.0,%r]' % (-3*h), 'body.0.max=[%r,%r]' % (30*h, h),
+                      'boundary.0.max=[1.0,%r]' % (-3*h + 2*h/15 - h/150), 'cohesive.extent=[0.0,%r]' % (18*h),
+                      'cohesive.traction_free=[0.0,%r]' % (2*h), 'tool.length=%r' % (8*h), 'tool.height=%r' % (6*h),
+                      'tool.position=[%r]' % (-h/15), 'tool.depth_of_cut=%r' % h, 'tool.ramp=%r' % (0.3*12*h/(0.85*2)),
+                      'time.end=%r' % (12*h/(0.85*2)), 'output.every=%r' % (12*h/(0.85*2)/20)]))")
+                  # shellcheck disable=SC2086
+                  "$here/swarf" --backend gpu run cases/mpm/nairn-cut-sph.toml --force --quiet --out "/tmp/sph/$name" \
+                      $s "$@" ${SWARF_SPH_SETS:-} 2>&1 | tail -n 4 | sed "s/^/$name: /"
+                  cp "/tmp/sph/$name/forces.csv" "$out/sph-$name-forces.csv" 2>/dev/null
+                  cp "/tmp/sph/$name/energy.csv" "$out/sph-$name-energy.csv" 2>/dev/null
+                  cp "/tmp/sph/$name/summary.json" "$out/sph-$name-summary.json" 2>/dev/null
+                  if [ -n "${SWARF_SPH_FRAMES:-}" ]; then
+                      tar czf "$out/sph-$name-frames.tgz" -C "/tmp/sph/$name" $(cd "/tmp/sph/$name" && ls frame_*.vtu \
+                          | awk 'NR % 4 == 1') 2>/dev/null
+                  fi
+              }
+              sph_all() {
+                  for h in ${SWARF_SPH_DEPTHS:-0.5 1.0 1.5}; do sph_at "$h" "h$h"; done
+                  [ -n "${SWARF_SPH_NO_MPM:-}" ] && return
+                  for h in ${SWARF_SPH_DEPTHS:-0.5 1.0 1.5}; do
+                      "$here/swarf" --backend gpu run cases/mpm/nairn-cut.toml --force --out "/tmp/sph/mpm-h$h" \
+                          --set "cut.depth=${h}e-3" ${SWARF_MPM_SETS:-} 2>&1 | grep -v "^mpm: t" | tail -n 3 \
+                          | sed "s/^/mpm-h$h: /"
+                      cp "/tmp/sph/mpm-h$h/summary.json" "$out/mpm-h$h-summary.json" 2>/dev/null
+                  done
+              }
+              run sph26 sph_all ;;
         mpmsweep) # issue 26 (docs/mpm.md "Sweeps"): MPM points as one batched ensemble (`swarf sweep`, a stream each).
                   # (1) throughput: 8 short cuts (cut_length 3 h, paper resolution) one at a time and 8 at once, and
                   # 16 at once (unless SWARF_MPM_FIGURE_ONLY); (2) unless SWARF_MPM_PROBE_ONLY, a whole h x rake x friction figure (10 x 2 x 5 = 100

@@ -95,6 +95,10 @@ pub const ENERGY_COLUMNS: &[&str] = &[
     "min_contact_id_b",
     "damaged_volume",
     "initiated_volume",
+    "cohesive_work",
+    "bond_damping",
+    "bonds_failed",
+    "mode_i_share",
 ];
 
 /// The built-in default scene, `swarf run` without a scene: the V0060 orthogonal cut (cases/cutting/v0060.toml),
@@ -958,6 +962,10 @@ impl<R: Real, D: TensorOps<R>> OutputJob<R, D> {
             d.min_contact_ids.map_or(f64::NAN, |p| f64::from(p[1])),
             d.damaged_volume,
             d.initiated_volume,
+            d.cohesive_work,
+            d.bond_damping,
+            d.bonds_failed,
+            d.mode_i_share,
         ])
         .map_err(|e| io_err(csv.path(), e))?;
         csv.write().map_err(|e| io_err(csv.path(), e))?;

@@ -389,7 +389,13 @@ fn a_damage_that_never_initiates_changes_no_bit_of_a_cut() {
     let (fb, eb) = common::scenes::run_record(&b);
     assert_eq!(fa, fb, "forces.csv");
     // energy.csv: equal but for the two damage columns (NaN without damage, 0 here).
-    let strip = |t: &str| t.lines().map(|l| l.rsplitn(3, ',').nth(2).unwrap_or("").to_string()).collect::<Vec<_>>();
+    let strip = |t: &str| {
+        let head: Vec<&str> = t.lines().next().unwrap_or("").split(',').collect();
+        let skip = |k: usize| matches!(head.get(k), Some(&"damaged_volume") | Some(&"initiated_volume"));
+        let keep =
+            |l: &str| l.split(',').enumerate().filter(|(k, _)| !skip(*k)).map(|(_, v)| v).collect::<Vec<_>>().join(",");
+        t.lines().map(keep).collect::<Vec<_>>()
+    };
     assert_eq!(strip(&ea), strip(&eb), "energy.csv");
     let last = rep.history.last().expect("history");
     assert_eq!((last.damaged_volume, last.initiated_volume), (0.0, 0.0));
@@ -455,7 +461,7 @@ every = 1.0e-6
         assert!(h.damaged_volume >= first.damaged_volume * 0.99 && h.non_finite.is_none());
     }
     let csv = std::fs::read_to_string(dir.join("energy.csv")).expect("energy.csv");
-    assert!(csv.lines().next().is_some_and(|l| l.ends_with("damaged_volume,initiated_volume")));
+    assert!(csv.lines().next().is_some_and(|l| l.contains(",damaged_volume,initiated_volume")));
     // The frames carry ω, D and the mask.
     let vtu = find_vtu(&dir).expect("a frame");
     let frame = String::from_utf8_lossy(&std::fs::read(&vtu).expect("frame")).into_owned();

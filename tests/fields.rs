@@ -71,6 +71,8 @@ fn memory_estimate_equals_the_bytes_allocated_for_every_scene() {
     scenes.push(("cases/cutting/v0060.toml".into(), damage));
     // CSPM (issue 24): the correction buffer.
     scenes.push(("cases/disk-rotation.toml".into(), vec!["stabilisation.cspm={}".to_string()]));
+    // The SPH cohesive path (issue 26; cases/mpm/ holds it beside the MPM scenes): the bonds.
+    scenes.push(("cases/mpm/nairn-cut-sph.toml".into(), vec![]));
     let mut covered = BTreeSet::new();
     let mut runs = 0;
     for (path, overrides) in &scenes {
@@ -139,6 +141,12 @@ fn checkpoint_names_are_unchanged() {
         "damage",
         // Issue 24: the tool each particle's friction history belongs to (several tools).
         "contact_owner",
+        // Issue 26: the SPH cohesive path's bonds (present only with [cohesive]).
+        "bond_partner",
+        "bond_reference",
+        "bond_state",
+        "bond_work",
+        "bond_damping",
     ];
     assert_eq!(names, before);
     let frames: Vec<&str> = FIELDS.iter().filter_map(|f| f.frame).collect();
@@ -154,7 +162,9 @@ fn checkpoint_names_are_unchanged() {
             "damage_initiation",
             "damage",
             "contact_tool",
-            "damage_mask"
+            "damage_mask",
+            // Issue 26: the work each SPH bond has absorbed (on its owner).
+            "cohesive_work"
         ]
     );
 }

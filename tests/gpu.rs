@@ -639,12 +639,13 @@ fn damaged_strip_equals_cpu() {
         let any = AnyBackend::select(choice).expect("backend").0;
         let dir = std::env::temp_dir().join(format!("swarf-gpu-strip-{k}-{}", std::process::id()));
         let (last, yielded) = final_state(&any, &scene, &RunOptions::quiet(dir.clone()));
-        let (_, rows) = swarf::output::csv::read(&dir.join("energy.csv")).expect("energy.csv");
-        let damaged: Vec<u64> = rows.iter().map(|r| r[r.len() - 2].to_bits()).collect();
-        runs.push((last, yielded, damaged, rows));
+        let (header, rows) = swarf::output::csv::read(&dir.join("energy.csv")).expect("energy.csv");
+        let k = header.iter().position(|c| c == "damaged_volume").expect("the damaged volume's column");
+        let damaged: Vec<u64> = rows.iter().map(|r| r[k].to_bits()).collect();
+        runs.push((last, yielded, damaged, rows, k));
     }
-    let (first, last) = (runs[0].3.first().expect("rows"), runs[0].3.last().expect("rows"));
-    let (d0, d1) = (first[first.len() - 2], last[last.len() - 2]);
+    let (first, last, k) = (runs[0].3.first().expect("rows"), runs[0].3.last().expect("rows"), runs[0].4);
+    let (d0, d1) = (first[k], last[k]);
     eprintln!(
         "damaged strip: {} particles yielded, damaged volume {d0:e} -> {d1:e} m², final state bitwise equal: {}",
         runs[0].1,
@@ -653,6 +654,56 @@ fn damaged_strip_equals_cpu() {
     assert!(runs[0].1 > 0 && d1 > d0, "the strip must yield and its damage grow (damaged volume {d0} -> {d1})");
     assert_eq!(runs[0].2, runs[1].2, "the damaged volume over time differs between CPU and GPU");
     assert!(runs[0].0 == runs[1].0, "GPU damaged strip differs from the CPU");
+}
+
+/// Issue 26 on the GPU: the SPH cohesive path (the bonds' pass and id map, the `_cut` interaction entries) gives
+/// the CPU's run bit for bit: the bonded blocks of V15 torn open in mode I and slid apart in mode II (every bond
+/// failing), and Nairn's SPH cut at a coarse 5 particles through h until the tool has crossed the starter and
+/// loaded the bonds. The final states and the energy histories (with the bonds' work and failures) are compared.
+#[test]
+fn sph_cohesive_path_equals_cpu() {
+    let Some(_) = gpu() else { return };
+    use swarf::backend::{AnyBackend, BackendChoice};
+    use swarf::run::RunOptions;
+    use swarf::scene::Scene;
+    let coarse = [
+        "discretisation.dx=2e-4",
+        "boundary.0.max=[1.0, -2.7e-3]",
+        "tool.position=[-2e-4]",
+        "tool.ramp=0",
+        "time.end=2e-3",
+        "output.every=2e-4",
+    ];
+    let cases: [(&str, &[&str]); 3] = [
+        ("cases/mpm/sph-bond-mode1.toml", &[]),
+        ("cases/mpm/sph-bond-mode2.toml", &[]),
+        ("cases/mpm/nairn-cut-sph.toml", &coarse),
+    ];
+    for (file, ov) in cases {
+        let ov: Vec<String> = ov.iter().map(|s| s.to_string()).collect();
+        let scene = Scene::load(file, &ov).expect("scene");
+        let mut runs = Vec::new();
+        for (k, choice) in [BackendChoice::Cpu, BackendChoice::Gpu].into_iter().enumerate() {
+            let any = AnyBackend::select(choice).expect("backend").0;
+            let dir = std::env::temp_dir().join(format!("swarf-gpu-sph-cohesive-{k}-{}", std::process::id()));
+            let (last, _) = final_state(&any, &scene, &RunOptions::quiet(dir.clone()));
+            let (header, rows) = swarf::output::csv::read(&dir.join("energy.csv")).expect("energy.csv");
+            let bits: Vec<u64> = rows.iter().flat_map(|r| r.iter().map(|x| x.to_bits())).collect();
+            let end = rows.last().expect("rows").clone();
+            let col = |name: &str| header.iter().position(|c| c == name).expect("column");
+            runs.push((last, bits, (end[col("cohesive_work")], end[col("bonds_failed")])));
+        }
+        let (work, failed) = runs[0].2;
+        eprintln!(
+            "{file}: {failed} bonds failed, cohesive work {work:.4e} J/m, final state bitwise equal: {}, energy \
+             history bitwise equal: {}",
+            runs[0].0 == runs[1].0,
+            runs[0].1 == runs[1].1
+        );
+        assert!(work > 0.0 && (failed > 0.0 || file.contains("cut")), "{file}: the bonds must be loaded (and fail)");
+        assert!(runs[0].0 == runs[1].0, "{file}: GPU final state differs from the CPU");
+        assert!(runs[0].1 == runs[1].1, "{file}: GPU energy history differs from the CPU");
+    }
 }
 
 /// The bits of a run's last snapshot (positions, velocities, temperatures and plastic strains where modelled) and

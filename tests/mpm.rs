@@ -3,7 +3,7 @@
 //! mode II, a short cut, and the scene's checks.
 
 use swarf::backend::{AnyBackend, Backend, CpuBackend};
-use swarf::kernels::mpm::cohesive::{Cohesive, CubicLaw, FAILED, MODE_I, traction};
+use swarf::kernels::cohesive::{Cohesive, CubicLaw, FAILED, MODE_I, traction};
 use swarf::kernels::mpm::hyperelastic::{NeoHookeanJ2, update};
 use swarf::kernels::mpm::shape::ugimp;
 use swarf::mpm::run::{MpmRunOptions, run};

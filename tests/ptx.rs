@@ -112,8 +112,8 @@ fn default_register_caps_mark_the_2d_neighbour_kernels_and_the_plastic_corrector
             plastic += (has && is_plastic) as usize;
         }
         // 2 precisions × (8 plain + 8 fused stabiliser variants) × (plain, with damage, with CSPM) + Brookshaw and
-        // PSE conduction in 2 precisions.
-        assert_eq!(neighbour_2d, 100, "{target}: 2D neighbour entries capped");
+        // PSE conduction in 2 precisions + the cohesive path's 8 plain variants (`_cut`) in 2 precisions.
+        assert_eq!(neighbour_2d, 116, "{target}: 2D neighbour entries capped");
         assert!(plastic >= 4, "{target}: only {plastic} plastic entries capped");
         assert_eq!(register_caps(ptx, Some(0), Some(0)), *ptx, "{target}: caps 0 must leave the PTX as built");
     }
@@ -153,9 +153,9 @@ fn entry_params(ptx: &str) -> Vec<(String, Vec<(usize, usize)>)> {
 fn argument_structs_match_the_entries_parameter_blocks() {
     use swarf::kernels::material::*;
     use swarf::kernels::pass::{
-        ContactArgs, CorrectionArgs, DensityArgs, FinishArgs, FinishPlasticArgs, GatherArgs, GatherFieldsArgs,
-        HashArgs, HashCountArgs, HeatArgs, NeighbourListArgs, PlasticArgs, PredictArgs, PrepareArgs, RatesArgs,
-        ScanApplyArgs, ScanReduceArgs, ScatterArgs, SortArgs, VerletArgs, ZeroArgs,
+        BondArgs, BondIndexArgs, ContactArgs, CorrectionArgs, DensityArgs, FinishArgs, FinishPlasticArgs, GatherArgs,
+        GatherFieldsArgs, HashArgs, HashCountArgs, HeatArgs, NeighbourListArgs, PlasticArgs, PredictArgs, PrepareArgs,
+        RatesArgs, ScanApplyArgs, ScanReduceArgs, ScatterArgs, SortArgs, VerletArgs, ZeroArgs,
     };
     use swarf::kernels::{Dim2, Dim3};
     fn block<T>() -> Vec<(usize, usize)> {
@@ -230,6 +230,10 @@ fn argument_structs_match_the_entries_parameter_blocks() {
             Some(by_variant!(variant, NeighbourListArgs))
         } else if name == format!("swarf_verlet_build_{variant}") {
             Some(by_variant!(variant, VerletArgs))
+        } else if name == format!("swarf_sph_bond_{variant}") {
+            Some(by_variant!(variant, BondArgs))
+        } else if name == format!("swarf_sph_bond_index_{variant}") {
+            Some(by_variant!(variant, BondIndexArgs))
         } else if name.starts_with("swarf_sph_rates_") {
             Some(by_variant!(variant, RatesArgs))
         } else if name.starts_with("swarf_sph_prepare_") {
@@ -268,14 +272,14 @@ fn argument_structs_match_the_entries_parameter_blocks() {
         }
         assert_eq!(checked, loaded.len(), "{target}: every loaded entry checked");
         // 4 variants × (8 stabiliser combinations × plain and fused × without damage, with damage and with the
-        // CSPM correction + the elastic corrector + one plastic corrector and one plastic pass per flow-stress model
+        // CSPM correction + the 8 plain ones across a cohesive path + its bonds and id map + the elastic corrector + one plastic corrector and one plastic pass per flow-stress model
         // without and with damage + density, 4 pre-passes and the predictor each without and with damage, 2
         // conductions + hash, hash-count, neighbour list, Verlet list, the correction) + the contact with the parametric tool in 2D and 3D and with a mesh tool in 3D,
         // each in 2 precisions + 9
         // neighbour entries without variants (zero, scatter, sort, 3 gathers, gather_fields, 2 scans) + the 6 MPM
         // passes in 2 precisions.
         let models = swarf::kernels::pass::FLOW_MODEL_TAGS.len();
-        assert_eq!(checked, 4 * (48 + 1 + 4 * models + 13 + 5) + 6 + 9 + 12, "{target}: entries checked");
+        assert_eq!(checked, 4 * (48 + 8 + 2 + 1 + 4 * models + 13 + 5) + 6 + 9 + 12, "{target}: entries checked");
     }
 }
 
@@ -401,8 +405,8 @@ fn every_pass_names_its_own_entry() {
             position += 1;
         };
         (rates, $name:expr, $r:ident, $d:ident, $av:literal, $as:literal, $xs:literal, $heat:literal, $dmg:literal,
-            $cs:literal) => {
-            check!(RatesPass<$r, $d, $av, $as, $xs, $heat, $dmg, $cs>, $name);
+            $cs:literal, $cut:literal) => {
+            check!(RatesPass<$r, $d, $av, $as, $xs, $heat, $dmg, $cs, $cut>, $name);
             position += 1;
         };
         (plastic, $name:expr, $r:ident, $d:ident, $t:ident, $tag:ident, $dmg:literal) => {
@@ -411,6 +415,14 @@ fn every_pass_names_its_own_entry() {
         };
         (finish_plastic, $name:expr, $r:ident, $d:ident, $t:ident, $tag:ident, $dmg:literal) => {
             check!(FinishPlastic<$r, $d, swarf::kernels::material::$t, $dmg>, $name);
+            position += 1;
+        };
+        (bond, $name:expr, $r:ident, $d:ident) => {
+            check!(Bond<$r, $d>, $name);
+            position += 1;
+        };
+        (bond_index, $name:expr, $r:ident, $d:ident) => {
+            check!(BondIndex<$r, $d>, $name);
             position += 1;
         };
         (mpm_p2g, $name:expr, $r:ident, $d:ident) => {

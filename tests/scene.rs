@@ -340,7 +340,7 @@ fn unknown_key_is_refused_with_its_line() {
         format!(
             "cases/rings.toml:{line}: unknown key 'materail' (expected one of: name, dim, precision, discretisation, \
              material, body, boundary, stabilisation, time, output, physics, tool, experiment, analysis, model, \
-             damage, blanking, method)"
+             damage, blanking, method, cohesive)"
         )
     );
     let text = rings_with("h_over_dx = 1.7", "h_over_dx = 1.7\nkernel = \"wendland\"");

@@ -4,8 +4,8 @@
 //! materials), which the GPU's memory does not allow.
 
 use super::{
-    Backend, Buffer, ContactInputs, DamageBufs, Element, FieldsMut, FusedContact, FusedHeat, FusedPrepare, HeatInputs,
-    PlasticInputs, PlasticPass, PrepassDamageBufs, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields,
+    Backend, BondBufs, Buffer, ContactInputs, DamageBufs, Element, FieldsMut, FusedContact, FusedHeat, FusedPrepare,
+    HeatInputs, PlasticInputs, PlasticPass, PrepassDamageBufs, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields,
     ToolStatesAt, tool::DeviceTools,
 };
 use crate::kernels::contact::penalty::ToolSet;
@@ -13,8 +13,8 @@ use crate::kernels::contact::{ToolArg, ToolState};
 use crate::kernels::damage::DamageParams;
 use crate::kernels::neighbour::{BlankBox, GridParams};
 use crate::kernels::pass::{
-    ContactArgs, CorrectionArgs, DensityArgs, FinishArgs, FinishPlasticArgs, HashArgs, HeatArgs, NeighbourListArgs,
-    PlasticArgs, PredictArgs, PrepareArgs, RatesArgs, Span, StepPtrs, VerletArgs,
+    BondArgs, BondIndexArgs, ContactArgs, CorrectionArgs, DensityArgs, FinishArgs, FinishPlasticArgs, HashArgs,
+    HeatArgs, NeighbourListArgs, PlasticArgs, PredictArgs, PrepareArgs, RatesArgs, Span, StepPtrs, VerletArgs,
 };
 use crate::kernels::sph::correction::CorrectionArrays;
 use crate::kernels::sph::heat::HeatParams;
@@ -379,6 +379,39 @@ pub fn density_args<B: Backend, R: Real, D: Dim>(
         kernel: input(b, "density kernel", 1, kernel)?,
         rho: output(b, "density rho", n, rho)?,
     })
+}
+
+/// The bond pass's and the id map's arguments ([`super::Passes::bonds`]) for `n` sorted particles.
+pub fn bond_args<B: Backend, R: Real, D: Dim>(
+    b: &B,
+    n: usize,
+    k: BondBufs<'_, B, R, D>,
+    vel_t: &mut B::Buf<D::Vec<R>>,
+) -> Result<(BondIndexArgs<R, D>, BondArgs<R, D>)> {
+    let count =
+        u32::try_from(n).map_err(|_| Error::Length { op: "bonds count", expected: u32::MAX as usize, got: n })?;
+    let index = output(b, "bond index", n, k.index)?;
+    let map = BondIndexArgs {
+        n: count,
+        _pad: 0,
+        id: input(b, "bond ids", n, k.id)?,
+        index,
+        _marker: std::marker::PhantomData,
+    };
+    let arrays = crate::kernels::sph::bond::BondArrays {
+        index: index as *const u32,
+        partner: input(b, "bond partners", n, k.partner)?,
+        reference: input(b, "bond reference offsets", n, k.reference)?,
+        state: output(b, "bond states", n, k.state)?,
+        work: output(b, "bond work", n, k.work)?,
+        damping: output(b, "bond damping", n, k.damping)?,
+        pos: input(b, "bond pos", n, k.pos)?,
+        vel: input(b, "bond vel", n, k.vel)?,
+        mass: input(b, "bond mass", n, k.mass)?,
+        flags: input(b, "bond flags", n, k.flags)?,
+        vel_t: output(b, "bond accelerations", n, vel_t)?,
+    };
+    Ok((map, BondArgs { n: count, _pad: 0, params: k.params, arrays }))
 }
 
 /// The pre-pass's buffers ([`super::Passes::sph_prepare`]).

@@ -193,6 +193,25 @@ pub struct SphInputs<'a, B: Backend, R: Real, D: Dim> {
     pub mask: Option<&'a B::Buf<f64>>,
     /// The kernel-gradient correction B⁻¹ of [`passes::Passes::sph_correction`] (present iff CSPM is on).
     pub correction: Option<&'a B::Buf<D::Sym<R>>>,
+    /// A cohesive path: no continuum pair across it (the flags' side bits; the `_cut` entries).
+    pub cut: bool,
+}
+
+/// The cohesive path's buffers ([`passes::Passes::bonds`]; `kernels::sph::bond`), all in sorted order except
+/// `index` (one entry per id).
+pub struct BondBufs<'a, B: Backend, R: Real, D: Dim> {
+    pub params: crate::kernels::sph::bond::BondParams,
+    pub id: &'a B::Buf<u32>,
+    pub index: &'a mut B::Buf<u32>,
+    pub partner: &'a B::Buf<u32>,
+    pub reference: &'a B::Buf<D::Vec<R>>,
+    pub state: &'a mut B::Buf<crate::kernels::sph::bond::BondState<R>>,
+    pub work: &'a mut B::Buf<f64>,
+    pub damping: &'a mut B::Buf<f64>,
+    pub pos: &'a B::Buf<D::Vec<R>>,
+    pub vel: &'a B::Buf<D::Vec<R>>,
+    pub mass: &'a B::Buf<R>,
+    pub flags: &'a B::Buf<u32>,
 }
 
 /// The normal and friction force buffers of the contact pass.

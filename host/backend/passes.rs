@@ -8,14 +8,15 @@
 use super::args::{self, PrepareBufs, check_len};
 use super::tool::{DeviceShapes, DeviceTools};
 use super::{
-    Backend, Buffer, ContactInputs, Count, FieldsMut, FusedContact, FusedHeat, FusedPrepare, HeatInputs, PlasticInputs,
-    PlasticPass, PrepassDamageBufs, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields, ToolStatesAt,
+    Backend, BondBufs, Buffer, ContactInputs, Count, FieldsMut, FusedContact, FusedHeat, FusedPrepare, HeatInputs,
+    PlasticInputs, PlasticPass, PrepassDamageBufs, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields,
+    ToolStatesAt,
 };
 use crate::kernels::contact::{MeshTool, Tool2d};
 use crate::kernels::neighbour::GridParams;
 use crate::kernels::pass::{
-    Contact, CorrectionPass, Density, Finish, FinishPlastic, Hash, Heat, NeighbourList, Plastic, Predict, Prepare,
-    RatesPass, Verlet,
+    Bond, BondIndex, Contact, CorrectionPass, Density, Finish, FinishPlastic, Hash, Heat, NeighbourList, Plastic,
+    Predict, Prepare, RatesPass, Verlet,
 };
 use crate::kernels::sph::heat::HeatParams;
 use crate::kernels::sph::params::flags::BODY_SHIFT;
@@ -253,10 +254,19 @@ pub trait Passes: Backend {
         if let Some(h) = &heat {
             check_bodies(self, "sph_rates (fused conduction)", n, h.input.flags, h.input.materials.len())?;
         }
-        let (fused, dmg, cs) = (heat.is_some(), input.mask.is_some(), input.correction.is_some());
+        let (fused, dmg, cs, cut) = (heat.is_some(), input.mask.is_some(), input.correction.is_some(), input.cut);
         let a = args::rates_args(self, count, lanes, stab, params, grid, starts, list, input, out, dissipation, heat)?;
         if dmg && cs {
             return Err(Error::Length { op: "sph_rates (CSPM has no damage entries)", expected: 0, got: 1 });
+        }
+        if cut && (dmg || cs || fused) {
+            return Err(Error::Length { op: "sph_rates (the cohesive path's entries are plain)", expected: 0, got: 1 });
+        }
+        if cut {
+            return with_bools!(AV = stab.viscosity, AS = stab.stress, XS = stab.xsph; {
+                // SAFETY: as below; the flags hold n sorted particles.
+                unsafe { self.launch::<RatesPass<R, D, AV, AS, XS, false, false, false, true>>(&a) }
+            });
         }
         with_bools!(AV = stab.viscosity, AS = stab.stress, XS = stab.xsph, HEAT = fused; {
             // SAFETY: the builder checked that every array holds n sorted particles (the mask where `DMG`, the
@@ -264,14 +274,39 @@ pub trait Passes: Backend {
             // particle's rates are written by its own thread only.
             unsafe {
                 if dmg {
-                    self.launch::<RatesPass<R, D, AV, AS, XS, HEAT, true, false>>(&a)
+                    self.launch::<RatesPass<R, D, AV, AS, XS, HEAT, true, false, false>>(&a)
                 } else if cs {
-                    self.launch::<RatesPass<R, D, AV, AS, XS, HEAT, false, true>>(&a)
+                    self.launch::<RatesPass<R, D, AV, AS, XS, HEAT, false, true, false>>(&a)
                 } else {
-                    self.launch::<RatesPass<R, D, AV, AS, XS, HEAT, false, false>>(&a)
+                    self.launch::<RatesPass<R, D, AV, AS, XS, HEAT, false, false, false>>(&a)
                 }
             }
         })
+    }
+
+    /// The cohesive path's bonds (`sph::bond`) of `n` sorted particles after the pair interaction: the map from
+    /// id to sorted index, then each bond's traction added to its two particles' accelerations `vel_t`.
+    fn bonds<R: Real, D: Dim>(
+        &self,
+        n: usize,
+        k: BondBufs<'_, Self, R, D>,
+        vel_t: &mut Self::Buf<D::Vec<R>>,
+    ) -> Result<()> {
+        let ids = k.id.len();
+        check_len("bond index (one entry per id)", n, ids)?;
+        if let Some(id) = self.host_slice(k.id)
+            && id[..n].iter().any(|&i| i as usize >= k.index.len())
+        {
+            return Err(Error::Length { op: "bond ids (below the index's length)", expected: k.index.len(), got: ids });
+        }
+        let (map, a) = args::bond_args(self, n, k, vel_t)?;
+        // SAFETY: the builder checked the lengths and (on the CPU) that every id indexes the map; each id is one
+        // particle's, so each map entry is written once; a bond's owner is the only writer of its own and its
+        // partner's acceleration (the set-up pairs each particle at most once).
+        unsafe {
+            self.launch::<BondIndex<R, D>>(&map)?;
+            self.launch::<Bond<R, D>>(&a)
+        }
     }
 
     /// The CSPM kernel-gradient correction (`sph::correction`): B_i⁻¹ of every sorted particle into `out` (the

@@ -14,7 +14,7 @@ use crate::scene::{Bc, Conduction, ParticleSet, Precision, Scene, Switch};
 use crate::solver::blanking::Blanking;
 use crate::solver::diagnostics::compute;
 use crate::solver::params::{StabiliserSettings, cfl_time_step, sph_params};
-use crate::solver::{ContactSetup, DamageSetup, PlasticSetup, Solver, ThermalSetup, ToolSetup};
+use crate::solver::{CohesiveSetup, ContactSetup, DamageSetup, PlasticSetup, Solver, ThermalSetup, ToolSetup};
 use crate::state::HostParticles;
 use crate::tool::ToolLoad;
 use crate::tuning::Tuning;
@@ -181,7 +181,8 @@ pub fn setup_with<R: Real, D: TensorOps<R>>(scene: &Scene, tuning: &Tuning) -> R
     let mut init = Initial::bodies(scene, &set)?;
     let (contact, tool_thermal) = init.tool(scene, &set)?;
     let conv = |c: &[f64; 3]| D::Vec::<R>::new(std::array::from_fn(|k| R::from_f64(c[k])));
-    let Initial { flags: fl, pos, vel, mass, density, temperature, table, reversals } = init;
+    let Initial { flags: mut fl, pos, vel, mass, density, temperature, table, reversals } = init;
+    let mut cohesive = cohesive_setup(scene, &mut fl, &pos)?;
     let n = pos.len();
     // The mixed precision keeps each coordinate as a pair hi + lo in R: lo is what rounding it to R dropped.
     // f32's only: the f64 corrector has no compensated sum (`sph::step::correct_particle`).
@@ -221,7 +222,11 @@ pub fn setup_with<R: Real, D: TensorOps<R>>(scene: &Scene, tuning: &Tuning) -> R
     }
     let grid = grid(scene, &pos, contact.as_ref(), h)?;
     let c0 = elastic.sound_speed();
-    let dt = time_step(scene, h, c0, &vel)?;
+    let mut dt = time_step(scene, h, c0, &vel)?;
+    if let Some(c) = cohesive.as_mut() {
+        dt = dt.min(bond_step(c, &mass));
+        c.params.dt = dt;
+    }
     let thermal = thermal(scene, h, tool_thermal);
     let ph = &scene.physics;
     let plastic = match (ph.plasticity, flow_model(scene)) {
@@ -257,6 +262,7 @@ pub fn setup_with<R: Real, D: TensorOps<R>>(scene: &Scene, tuning: &Tuning) -> R
         thermal,
         plastic,
         damage,
+        cohesive,
         contact,
         blanking,
         warnings,
@@ -284,6 +290,89 @@ fn blanking(
         )));
     }
     Ok(Some(bl))
+}
+
+/// The cohesive path of `scene` (None without `[cohesive]`; docs/mpm.md "The cohesive path in SPH"). Each
+/// mechanical particle whose x lies within the extent takes the side flag of its side of the plane; each particle
+/// of the first row above the plane, outside the traction-free starter, owns a bond to the particle of the first
+/// row below that faces it (the same x, and z in 3D, within a quarter spacing), of tributary area Δx (2D, per
+/// unit depth) or Δx² (3D). A particle on the plane, or an extent with no facing pair, is refused.
+fn cohesive_setup(scene: &Scene, fl: &mut [u32], pos: &[[f64; 3]]) -> Result<Option<CohesiveSetup>> {
+    use crate::kernels::cohesive::{Cohesive, CubicLaw};
+    use crate::kernels::sph::bond::{BondParams, NONE};
+    let Some(c) = scene.cohesive.as_ref() else { return Ok(None) };
+    let dx = scene.discretisation.dx;
+    let bad = |key: &str, what: String| Error::Scene(format!("{}: cohesive.{key}: {what}", scene.origin));
+    let on_path: Vec<usize> = (0..pos.len())
+        .filter(|&i| fl[i] & flags::THERMAL_ONLY == 0 && (c.extent[0]..=c.extent[1]).contains(&pos[i][0]))
+        .collect();
+    let (mut above, mut below) = (Vec::new(), Vec::new());
+    for &i in &on_path {
+        let d = pos[i][1] - c.plane;
+        if d.abs() < 1e-6 * dx {
+            let e = format!("particle {i} lies on the plane y = {}; expected a y between two particle rows", c.plane);
+            return Err(bad("plane", e));
+        }
+        fl[i] |= if d > 0.0 { flags::SIDE_ABOVE } else { flags::SIDE_BELOW };
+        if d > 0.0 {
+            above.push(i)
+        } else {
+            below.push(i)
+        };
+    }
+    let gap = |v: &[usize]| v.iter().map(|&i| (pos[i][1] - c.plane).abs()).fold(f64::INFINITY, f64::min);
+    let (ga, gb) = (gap(&above), gap(&below));
+    let first = |v: &[usize], g: f64| -> Vec<usize> {
+        v.iter().copied().filter(|&i| (pos[i][1] - c.plane).abs() < g + 0.25 * dx).collect()
+    };
+    let mut row_below = first(&below, gb);
+    row_below.sort_by(|&a, &b| pos[a][0].total_cmp(&pos[b][0]));
+    let free = |x: f64| c.traction_free.is_some_and(|[a, b]| (a..=b).contains(&x));
+    let n = pos.len();
+    let (mut partner, mut reference) = (vec![NONE; n], vec![[0.0; 3]; n]);
+    let mut facing_pairs = 0usize;
+    for i in first(&above, ga) {
+        let start = row_below.partition_point(|&j| pos[j][0] < pos[i][0] - 0.25 * dx);
+        let facing = row_below[start..]
+            .iter()
+            .take_while(|&&j| pos[j][0] <= pos[i][0] + 0.25 * dx)
+            .find(|&&j| (pos[j][2] - pos[i][2]).abs() <= 0.25 * dx);
+        if let Some(&j) = facing {
+            facing_pairs += 1;
+            if !free(pos[i][0]) {
+                partner[i] = j as u32;
+                reference[i] = std::array::from_fn(|k| pos[i][k] - pos[j][k]);
+            }
+        }
+    }
+    if facing_pairs == 0 {
+        let e = "no particle pairs face each other across the plane; expected an extent over a body the plane cuts";
+        return Err(bad("extent", e.to_string()));
+    }
+    let l = &c.law;
+    let law = Cohesive {
+        mode1: CubicLaw::of_toughness(l.toughness, l.peak),
+        mode2: CubicLaw::of_toughness(l.toughness_shear, l.peak_shear),
+    };
+    let area = if scene.dim == 3 { dx * dx } else { dx };
+    // The damper's time step is the run's, set once it is known.
+    Ok(Some(CohesiveSetup { params: BondParams { law, area, dt: 0.0 }, partner, reference }))
+}
+
+/// The longest step the cohesive path's bonds allow: ωΔt ≤ `bond::MAX_OMEGA_DT` for every bond, ω = √(k/m_r) with
+/// k the stiffer mode's initial stiffness times the area and m_r the reduced mass of its particles.
+fn bond_step(c: &CohesiveSetup, mass: &[f64]) -> f64 {
+    use crate::kernels::sph::bond::{MAX_OMEGA_DT, NONE};
+    let law = &c.params.law;
+    let k = law.mode1.stiffness::<f64>().max(law.mode2.stiffness::<f64>()) * c.params.area;
+    let lightest = (0..c.partner.len())
+        .filter(|&i| c.partner[i] != NONE)
+        .map(|i| {
+            let (mi, mj) = (mass[i], mass[c.partner[i] as usize]);
+            mi * mj / (mi + mj)
+        })
+        .fold(f64::INFINITY, f64::min);
+    MAX_OMEGA_DT * (lightest / k).sqrt()
 }
 
 /// The damage of `scene` (None without `[damage]`): its constants for the kernels (`kernels::damage`) and the
@@ -587,6 +676,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Method<B> for Solver<B, R, D> {
         crate::solver::diagnostics::dissipated(&mut d, &host, work.as_deref(), diss.as_deref());
         let (omega, damage) = (field("damage_initiation"), field("damage"));
         crate::solver::diagnostics::damaged(&mut d, &host, omega.as_deref(), damage.as_deref());
+        crate::solver::diagnostics::cohesive(&mut d, self.bond_tally(b)?.as_ref());
         let mut now = positions_f64(&host.pos);
         // The mixed precision's positions are hi + lo: the observers and the displacements see them whole.
         if let Some(lo) = self.download_pos_lo(b)? {

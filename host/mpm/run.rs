@@ -10,7 +10,7 @@ use super::solver::{MpmSolver, Tallies};
 use crate::analytic::nairn::{self, Specimen};
 use crate::backend::{AnyBackend, Backend};
 use crate::kernels::Real;
-use crate::kernels::mpm::cohesive::{FAILED, MODE_I};
+use crate::kernels::cohesive::{FAILED, MODE_I};
 use crate::output::csv::TimeSeries;
 use crate::output::{atomic, pvd, vtu};
 use crate::scene::Precision;

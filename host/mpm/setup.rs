@@ -1,7 +1,7 @@
 //! From an MPM scene to its particles, grid, crack and motions (nairn-mpm.md §3; docs/mpm.md "Set-up"): plain
 //! data, before anything is allocated.
 
-use crate::kernels::mpm::cohesive::{Cohesive, CubicLaw};
+use crate::kernels::cohesive::{Cohesive, CubicLaw};
 use crate::kernels::mpm::grid::{ABOVE, BELOW, MpmParams, TOOL};
 use crate::kernels::mpm::hyperelastic::NeoHookeanJ2;
 use crate::scene::mpm::{BondSetup, CutSetup, MpmScene, Setup};

@@ -4,7 +4,7 @@
 
 use super::setup::{MpmSetup, Ramp};
 use crate::backend::Backend;
-use crate::kernels::mpm::cohesive::{CrackState, FAILED};
+use crate::kernels::cohesive::{CrackState, FAILED};
 use crate::kernels::mpm::grid::{MpmParams, MpmStep};
 use crate::kernels::mpm::step::{Cells, Crack, KE_TILE, Nodes, Particles};
 use crate::kernels::neighbour::GridParams;

@@ -134,6 +134,26 @@ pub struct Scene {
     /// frozen and skipped (docs/3d.md, "Blanking"). Absent from `summary.json` when off.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub blanking: Option<Blanking>,
+    /// `[cohesive]` (optional): a predefined cohesive cut path (docs/mpm.md "The cohesive path in SPH"). Absent
+    /// from `summary.json` when off.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cohesive: Option<CohesivePath>,
+}
+
+/// `[cohesive]`: a horizontal cut plane whose faces are joined by Nairn's cubic law over `extent`, and across
+/// which the continuum does not interact (nairn-mpm.md §7.2).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct CohesivePath {
+    /// `toughness`, `peak` (required), `toughness_shear`, `peak_shear` (default mode I's): the laws, as an MPM
+    /// scene's `[cohesive]`.
+    pub law: mpm::CohesiveSpec,
+    /// `plane` (required) [m]: y of the plane, strictly between two particle rows.
+    pub plane: f64,
+    /// `extent` (required) [m]: [x_min, x_max], the reference x over which the plane is cut.
+    pub extent: [f64; 2],
+    /// `traction_free` (optional) [m]: [x_min, x_max] within the extent, the starter crack whose faces carry no
+    /// bond.
+    pub traction_free: Option<[f64; 2]>,
 }
 
 /// `[blanking]`: the active box [min, max] at t = 0, moving at `velocity` (roethlin-solver.md §7.6.3; the original

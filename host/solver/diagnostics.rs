@@ -43,6 +43,16 @@ pub struct Diagnostics {
     pub damaged_volume: f64,
     /// Volume of the particles where damage has initiated (ω ≥ 1) (NaN without damage).
     pub initiated_volume: f64,
+    /// The work the cohesive path's bonds have taken from the motion, Σ ∫ t·dδ A [J, per m of depth in 2D]:
+    /// stored while a bond holds, dissipated once it fails (NaN without a cohesive path).
+    pub cohesive_work: f64,
+    /// The energy the bonds' dampers have dissipated [J, per m of depth in 2D] (NaN without a cohesive path).
+    pub bond_damping: f64,
+    /// Bonds of the cohesive path that have failed (NaN without one).
+    pub bonds_failed: f64,
+    /// The mean mode-I share J_I/(J_I + J_II) at failure over the failed bonds (nairn-mpm.md Fig. 16; NaN when none
+    /// has failed).
+    pub mode_i_share: f64,
     /// A non-finite value: (particle id, field), of the smallest id that has one ([`Diagnostics::note_non_finite`]).
     pub non_finite: Option<(u32, &'static str)>,
 }
@@ -61,10 +71,12 @@ impl Diagnostics {
         self.kinetic + self.elastic
     }
 
-    /// The energy balance's left side: kinetic + elastic + plastic work + viscous dissipation. Constant up to the
-    /// time-integration error and the work of prescribed motions and the tool (docs/stability.md).
+    /// The energy balance's left side: kinetic + elastic + plastic work + viscous dissipation (+ the cohesive
+    /// path's work). Constant up to the time-integration error and the work of prescribed motions and the tool
+    /// (docs/stability.md).
     pub fn balance(&self) -> f64 {
-        self.kinetic + self.elastic + self.plastic_work + self.viscous_dissipation
+        let cohesive = if self.cohesive_work.is_nan() { 0.0 } else { self.cohesive_work + self.bond_damping };
+        self.kinetic + self.elastic + self.plastic_work + self.viscous_dissipation + cohesive
     }
 }
 
@@ -86,6 +98,10 @@ pub fn compute<R: Real, D: TensorOps<R>>(
         min_contact_midpoint: [f64::NAN; 3],
         damaged_volume: f64::NAN,
         initiated_volume: f64::NAN,
+        cohesive_work: f64::NAN,
+        bond_damping: f64::NAN,
+        bonds_failed: f64::NAN,
+        mode_i_share: f64::NAN,
         ..Default::default()
     };
     for i in 0..p.len() {
@@ -187,4 +203,40 @@ pub fn damaged<R: Real, D: TensorOps<R>>(
     }
     d.damaged_volume = full;
     d.initiated_volume = initiated;
+}
+
+/// The cohesive path's tally at one instant ([`crate::solver::Solver::bond_tally`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BondTally {
+    /// Bonds set up.
+    pub bonds: usize,
+    pub failed: usize,
+    /// Σ of the bonds' work [J, per m of depth in 2D].
+    pub work: f64,
+    /// Σ of the bonds' dampers' dissipation.
+    pub damping: f64,
+    /// Σ of the failed bonds' work.
+    pub failed_work: f64,
+    /// Mean mode-I share at failure over the failed bonds (NaN when none).
+    pub mode_i_share: f64,
+    /// A bond's tributary area [m per m of depth in 2D; m² in 3D].
+    pub area: f64,
+}
+
+impl BondTally {
+    /// The work per unit of new crack area of the failed bonds, Σ w / (failed · A) [J/m²] (NaN when none): the
+    /// energy the path released per crack area, G_c when the law's energy is all that was dissipated (V15).
+    pub fn released_per_area(&self) -> f64 {
+        if self.failed == 0 { f64::NAN } else { self.failed_work / (self.failed as f64 * self.area) }
+    }
+}
+
+/// Adds the cohesive path's work, failed bonds and mode-I share (where a path is modelled).
+pub fn cohesive(d: &mut Diagnostics, tally: Option<&BondTally>) {
+    if let Some(t) = tally {
+        d.cohesive_work = t.work;
+        d.bond_damping = t.damping;
+        d.bonds_failed = t.failed as f64;
+        d.mode_i_share = t.mode_i_share;
+    }
 }

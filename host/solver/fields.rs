@@ -70,10 +70,12 @@ pub enum When {
     Compensated,
     /// The CSPM kernel-gradient correction on.
     Cspm,
+    /// A cohesive path (`[cohesive]`): its bonds.
+    Cohesive,
 }
 
 impl When {
-    pub const ALL: [When; 14] = [
+    pub const ALL: [When; 15] = [
         When::Always,
         When::Temperature,
         When::Conduction,
@@ -88,6 +90,7 @@ impl When {
         When::ArtificialStress,
         When::Compensated,
         When::Cspm,
+        When::Cohesive,
     ];
 
     pub fn holds<R: Real, D: TensorOps<R>>(self, s: &Setup<R, D>) -> bool {
@@ -108,6 +111,7 @@ impl When {
             When::ArtificialStress => s.stabilisers.switches().stress,
             When::Compensated => s.pos_lo.is_some(),
             When::Cspm => s.stabilisers.cspm.is_some(),
+            When::Cohesive => s.cohesive.is_some(),
         }
     }
 }
@@ -358,6 +362,16 @@ registry! {
     /// The tool each particle's friction history belongs to (several tools).
     "contact_owner": u32 = field [.contact?.owner?] if Tools, save, frame "contact_tool" integer;
     "damage_mask": f64 = buf [.damage?.mask] if Damage, scratch, frame "damage_mask";
+    /// The cohesive path's bonds (`kernels::sph::bond`), held by their owners: the partner's id, the reference
+    /// offset, the history and the work the bond has absorbed [J per m of depth in 2D].
+    "bond_partner": u32 = field [.cohesive?.partner] if Cohesive, save;
+    "bond_reference": D::Vec<R> = field [.cohesive?.reference] if Cohesive, save;
+    "bond_state": crate::kernels::sph::bond::BondState<R> = field [.cohesive?.state] if Cohesive, save;
+    "bond_work": f64 = field [.cohesive?.work] if Cohesive, save, frame "cohesive_work";
+    /// The energy the bond's damper has dissipated [J per m of depth in 2D].
+    "bond_damping": f64 = field [.cohesive?.damping] if Cohesive, save;
+    /// The sorted index of each id, rebuilt before the bonds each step.
+    "bond_index": u32 = buf [.cohesive?.index] if Cohesive, scratch;
     /// The pre-pass outputs: σ/ρ², artificial stress, sound speed, volume.
     "sig": D::Sym<R> = buf [.sig] if Always, scratch;
     "art": D::Sym<R> = buf [.art?] if ArtificialStress, scratch;

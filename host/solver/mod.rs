@@ -27,9 +27,9 @@ pub use crate::tool::motion::ToolMotion;
 
 use crate::Result;
 use crate::backend::{
-    Backend, Conduction, ContactInputs, DamageBufs, DeviceTools, FieldsMut, FieldsRef, FusedContact, FusedHeat,
-    FusedPrepare, HeatInputs, Passes, PlasticPass, PrepassDamageBufs, ScalarsAt, ScalarsMut, SkinTest, SphInputs,
-    StepFields, ToolStatesAt,
+    Backend, BondBufs, Conduction, ContactInputs, DamageBufs, DeviceTools, FieldsMut, FieldsRef, FusedContact,
+    FusedHeat, FusedPrepare, HeatInputs, Passes, PlasticPass, PrepassDamageBufs, ScalarsAt, ScalarsMut, SkinTest,
+    SphInputs, StepFields, ToolStatesAt,
 };
 use crate::kernels::contact::{ContactParams, ToolState};
 use crate::kernels::damage::DamageParams;
@@ -72,6 +72,17 @@ pub struct DamageSetup {
     /// Initial ω and D of each particle, in the scene's order (the pre-crack; zero elsewhere).
     pub omega: Vec<f64>,
     pub damage: Vec<f64>,
+}
+
+/// The cohesive path of a run (`kernels::sph::bond`; docs/mpm.md "The cohesive path in SPH"): the particles'
+/// side flags are set in the particles' flags; each bond is held by its owner, in the scene's order.
+#[derive(Clone, Debug)]
+pub struct CohesiveSetup {
+    pub params: crate::kernels::sph::bond::BondParams,
+    /// The partner's id of each particle owning a bond (`bond::NONE` elsewhere).
+    pub partner: Vec<u32>,
+    /// X_owner − X_partner of each owner's bond [m] (zero elsewhere).
+    pub reference: Vec<[f64; 3]>,
 }
 
 /// One rigid tool of a run: its contact law, shape and motion.
@@ -121,6 +132,8 @@ pub struct Setup<R: Real, D: TensorOps<R>> {
     pub plastic: Option<PlasticSetup>,
     /// Damage (needs plasticity); None: no damage, the code path of an undamaged run.
     pub damage: Option<DamageSetup>,
+    /// The cohesive path (None: none, the code path of a run without one).
+    pub cohesive: Option<CohesiveSetup>,
     pub contact: Option<ContactSetup>,
     /// The blanking's moving box (None: every particle is integrated).
     pub blanking: Option<blanking::Blanking>,
@@ -177,6 +190,17 @@ struct DamageState<B: Backend> {
     damage: Field<B, f64>,
     /// The interaction mask of the last pre-pass (1 interacting, 0 masked, −1 deleted; rewritten every step).
     mask: B::Buf<f64>,
+}
+
+/// The cohesive path's bonds on the backend (registry entries "bond_*").
+struct CohesiveState<B: Backend, R: Real, D: Dim> {
+    params: crate::kernels::sph::bond::BondParams,
+    partner: Field<B, u32>,
+    reference: Field<B, D::Vec<R>>,
+    state: Field<B, crate::kernels::sph::bond::BondState<R>>,
+    work: Field<B, f64>,
+    damping: Field<B, f64>,
+    index: B::Buf<u32>,
 }
 
 struct ContactState<B: Backend, R: Real, D: Dim> {
@@ -296,6 +320,7 @@ pub struct Solver<B: Backend, R: Real, D: TensorOps<R>> {
     thermal: Option<ThermalState<B>>,
     plastic: Option<PlasticState<B>>,
     damage: Option<DamageState<B>>,
+    cohesive: Option<CohesiveState<B, R, D>>,
     contact: Option<ContactState<B, R, D>>,
     /// Masses for the mechanics where they differ from the particles' masses: zero for thermal-only particles.
     mech_mass: Option<Field<B, R>>,
@@ -517,6 +542,29 @@ fn damage_state<B: Backend, R: Real, D: TensorOps<R>>(
     }))
 }
 
+/// The cohesive path's state: the bonds as set up, a fresh history and no work.
+fn cohesive_state<B: Backend, R: Real, D: TensorOps<R>>(
+    b: &B,
+    setup: &Setup<R, D>,
+    n: usize,
+) -> Result<Option<CohesiveState<B, R, D>>> {
+    let Some(c) = &setup.cohesive else { return Ok(None) };
+    if c.partner.len() != n || c.reference.len() != n {
+        return Err(crate::Error::Length { op: "cohesive bonds", expected: n, got: c.partner.len() });
+    }
+    let reference: Vec<D::Vec<R>> =
+        c.reference.iter().map(|x| D::Vec::<R>::new(std::array::from_fn(|k| R::from_f64(x[k])))).collect();
+    Ok(Some(CohesiveState {
+        params: c.params,
+        partner: Field::upload(b, &c.partner, "bond partners")?,
+        reference: Field::upload(b, &reference, "bond reference offsets")?,
+        state: Field::upload(b, &vec![[R::ZERO; 8]; n], "bond states")?,
+        work: Field::upload(b, &vec![0.0f64; n], "bond work")?,
+        damping: Field::upload(b, &vec![0.0f64; n], "bond damping")?,
+        index: b.alloc(n, "bond index")?,
+    }))
+}
+
 /// Refuses a contact set-up the run cannot honour: a mesh tool in a scene that is not 3D, the current-yield cap
 /// without plasticity, friction heating without heat.
 fn check_contact<R: Real, D: TensorOps<R>>(setup: &Setup<R, D>, c: &ContactSetup) -> Result<()> {
@@ -599,6 +647,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         let thermal = thermal_state(b, setup, n)?;
         let plastic = plastic_state(b, setup, n)?;
         let damage = damage_state(b, setup, n)?;
+        let cohesive = cohesive_state(b, setup, n)?;
         let contact = contact_state(b, setup, n, &table)?;
         let mech_mass = mechanical_mass(b, setup)?;
         if (plastic.is_some() || thermal.is_some()) && temp.is_none() {
@@ -644,6 +693,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             thermal,
             plastic,
             damage,
+            cohesive,
             contact,
             mech_mass,
             dissipation: if When::Viscosity.holds(setup) {
@@ -980,6 +1030,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             contact: self.contact.as_ref().map(|c| (&c.normal.cur, &c.friction.cur)),
             mask: self.damage.as_ref().map(|d| &d.mask),
             correction: None,
+            cut: self.cohesive.is_some(),
         };
         if let Some(Correction { buf: out, min_det }) = self.correction.as_mut() {
             b.sph_correction::<R, D>(
@@ -1017,6 +1068,23 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             self.dissipation.as_mut().map(|(_, rate)| rate),
             heat,
         )?;
+        if let Some(c) = self.cohesive.as_mut() {
+            let bonds = BondBufs {
+                params: c.params,
+                id: &p.id.cur,
+                index: &mut c.index,
+                partner: &c.partner.cur,
+                reference: &c.reference.cur,
+                state: &mut c.state.cur,
+                work: &mut c.work.cur,
+                damping: &mut c.damping.cur,
+                pos: &p.pos.cur,
+                vel: &p.vel.cur,
+                mass: self.mech_mass.as_ref().map_or(&p.mass.cur, |m| &m.cur),
+                flags: &p.flags.cur,
+            };
+            b.bonds::<R, D>(self.n, bonds, &mut r.vel)?;
+        }
         Ok(())
     }
 
@@ -1299,6 +1367,27 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             None => (None, None),
         };
         Ok((t, e, r))
+    }
+
+    /// The cohesive path's tally (None without one): the bonds, the failed ones, their work and mode-I share.
+    pub fn bond_tally(&self, b: &B) -> Result<Option<diagnostics::BondTally>> {
+        use crate::kernels::cohesive::{FAILED, MODE_I};
+        let Some(c) = &self.cohesive else { return Ok(None) };
+        let (partner, state, work) = (c.partner.read(b)?, c.state.read(b)?, c.work.read(b)?);
+        let damping: f64 = c.damping.read(b)?.iter().sum();
+        let mut t = diagnostics::BondTally { area: c.params.area, damping, ..Default::default() };
+        let mut share = 0.0;
+        for i in (0..partner.len()).filter(|&i| partner[i] != crate::kernels::sph::bond::NONE) {
+            t.bonds += 1;
+            t.work += work[i];
+            if state[i][FAILED] != R::ZERO {
+                t.failed += 1;
+                t.failed_work += work[i];
+                share += state[i][MODE_I].to_f64();
+            }
+        }
+        t.mode_i_share = if t.failed > 0 { share / t.failed as f64 } else { f64::NAN };
+        Ok(Some(t))
     }
 
     /// Host copies of the accumulated specific plastic work and viscous dissipation [J/kg] (state order), where

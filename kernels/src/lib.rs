@@ -8,6 +8,7 @@
 #![allow(clippy::needless_range_loop)]
 #![cfg_attr(target_arch = "nvptx64", feature(abi_ptx, stdarch_nvptx, core_float_math, asm_experimental_arch))]
 
+pub mod cohesive;
 pub mod contact;
 pub mod damage;
 pub mod load;

@@ -5,6 +5,7 @@ use super::doc::{Doc, Entry, Node, Val, show};
 use super::error::SceneError;
 use super::*;
 
+mod cohesive;
 mod damage;
 mod mpm;
 mod tool;
@@ -36,6 +37,7 @@ const ROOT_KEYS: &[&str] = &[
     "damage",
     "blanking",
     "method",
+    "cohesive",
 ];
 const BODY_KEYS: &[&str] = &["name", "shape", "velocity", "angular_velocity", "lattice", "material", "temperature"];
 const SHAPES: &[(&str, &[&str])] = &[
@@ -314,6 +316,7 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
     }
 
     let blanking = blanking(&root, dim, tool.as_ref())?;
+    let cohesive = cohesive::path(&root, &physics, &stabilisation, damage.is_some(), blanking.is_some())?;
 
     Ok(Scene {
         origin: doc.file.clone(),
@@ -335,6 +338,7 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
         model,
         damage,
         blanking,
+        cohesive,
     })
 }
 

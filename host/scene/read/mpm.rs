@@ -60,7 +60,15 @@ fn material(root: &Tab<'_>) -> Result<MpmMaterial> {
 fn cohesive(root: &Tab<'_>) -> Result<CohesiveSpec> {
     let e = "a table [cohesive] with toughness and peak (and toughness_shear, peak_shear)";
     let t = root.required("cohesive", e, root.table("cohesive", "cohesive", e)?)?;
-    t.check_keys(&["toughness", "peak", "toughness_shear", "peak_shear"], &[], "")?;
+    t.check_keys(&LAW_KEYS, &[], "")?;
+    cohesive_law(&t)
+}
+
+/// The keys of the cohesive law (MPM's `[cohesive]`; the SPH path's adds its geometry).
+pub(super) const LAW_KEYS: [&str; 4] = ["toughness", "peak", "toughness_shear", "peak_shear"];
+
+/// The cubic law of each mode from a `[cohesive]` table (its keys already checked).
+pub(super) fn cohesive_law(t: &Tab<'_>) -> Result<CohesiveSpec> {
     let g = "a positive toughness in J/m^2";
     let s = "a positive peak traction in Pa";
     let toughness = t.required("toughness", g, t.number("toughness", g, positive)?)?;

@@ -2,8 +2,8 @@
 //! particle joins across the crack (CRAMP, simplified to the straight cut plane: nairn-mpm.md §1.5, §7.1), its
 //! boundary conditions and the tool's prescribed contact normal (§1.6, §1.8).
 
-use super::cohesive::Cohesive;
 use super::hyperelastic::NeoHookeanJ2;
+use crate::cohesive::Cohesive;
 use bytemuck::{Pod, Zeroable};
 
 /// A specimen particle below the cut plane.

@@ -4,7 +4,6 @@
 //! update, and neo-Hookean J2 plasticity. Every step is a sequence of gathers (`step`), so that the GPU and the
 //! CPU sum the same terms in the same order.
 
-pub mod cohesive;
 pub mod grid;
 pub mod hyperelastic;
 pub mod shape;

@@ -12,10 +12,10 @@
 //! 4. [`g2p_particle`]: each particle reads its nodes' velocities and accelerations, moves by the PIC-damped
 //!    update with the second-order position update (Eqs. 8, 10), and updates its stress.
 
-use super::cohesive::{CrackState, FAILED, traction};
 use super::grid::{MpmParams, MpmStep, TOOL};
 use super::hyperelastic::update;
 use super::shape::ugimp;
+use crate::cohesive::{CrackState, FAILED, traction};
 use crate::real::Real;
 use crate::vector::Vector;
 

@@ -88,7 +88,9 @@ impl<R: Real, D: Dim> RatesArgs<R, D> {
 /// with the viscosity (`AV`), the artificial stress (`AS`) and XSPH (`XS`), `lanes` threads per particle on the
 /// GPU (the CPU sums the lanes' shares in the same order: `sph::lanes`); with `DMG` the damage's interaction mask
 /// (`swarf_sph_rates_*_dmg`, `arrays.mask` set); with `CS` the corrected kernel gradient (`swarf_sph_rates_*_cspm`,
-/// `arrays.correction` set by the correction pass).
+/// `arrays.correction` set by the correction pass); with `CUT` no continuum pair across the cohesive path
+/// (`swarf_sph_rates_*_cut`, `sph::interact::cut_apart`; without conduction, damage or CSPM, which the scene
+/// refuses with it).
 pub struct RatesPass<
     R,
     D,
@@ -98,6 +100,7 @@ pub struct RatesPass<
     const HEAT: bool,
     const DMG: bool,
     const CS: bool,
+    const CUT: bool,
 >(PhantomData<(R, D)>);
 
 impl<
@@ -109,10 +112,11 @@ impl<
     const HEAT: bool,
     const DMG: bool,
     const CS: bool,
-> Pass for RatesPass<R, D, AV, AS, XS, HEAT, DMG, CS>
+    const CUT: bool,
+> Pass for RatesPass<R, D, AV, AS, XS, HEAT, DMG, CS, CUT>
 {
     type Args = RatesArgs<R, D>;
-    const ENTRY: usize = entry_index("rates", D::D, size_of::<R>(), rates_variant(AV, AS, XS, HEAT, DMG, CS));
+    const ENTRY: usize = entry_index("rates", D::D, size_of::<R>(), rates_variant(AV, AS, XS, HEAT, DMG, CS, CUT));
     const GRID: Grid = Grid::Pair;
     fn particles(a: &Self::Args) -> usize {
         a.n.n as usize
@@ -142,7 +146,7 @@ impl<
                 *a.temp_t.add(i) = tt;
                 o
             } else {
-                rates::<R, D, AV, AS, XS, DMG, CS>(&a.params, &nb, &arr, i as u32, a.lanes)
+                rates::<R, D, AV, AS, XS, DMG, CS, CUT>(&a.params, &nb, &arr, i as u32, a.lanes)
             };
             a.store(i, &o);
         }

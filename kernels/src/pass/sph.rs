@@ -1,6 +1,6 @@
 //! The arguments of the SPH passes that run alone: the density sum, the pre-pass, the conduction, the plastic
 //! update and the tool's contact pass (each also fused into another pass: `RatesArgs`, `FinishPlasticArgs`,
-//! `PredictArgs`).
+//! `PredictArgs`), and the cohesive path's bonds.
 
 use super::ModelEntry;
 use super::launch::{Grid, Pass, Span};
@@ -13,6 +13,7 @@ use crate::neighbour::{GridParams, Neighbours};
 use crate::real::Real;
 use crate::sph::CubicSpline;
 use crate::sph::TensorOps;
+use crate::sph::bond::{BondArrays, BondParams, bond_particle, index_particle};
 use crate::sph::density::density_sum;
 use crate::sph::heat::heat_rate;
 use crate::sph::heat::{HeatArrays, HeatParams, ThermalMaterial};
@@ -316,3 +317,52 @@ impl<R: Real, D: Dim, T: ToolArg> ContactArgs<R, D, T> {
 pub struct Contact<R, D, T>(PhantomData<(R, D, T)>);
 crate::simple_pass!(Contact<R, D, T>, ContactArgs<R, D, T>, entry_index("contact", D::D, size_of::<R>(), T::VARIANT),
     Grid::Particles, [R: Real, D: Dim, T: ToolArg]);
+
+/// The cohesive path's bonds (`sph::bond::bond_particle`): one thread per sorted particle, the bonds' owners act.
+#[repr(C)]
+#[derive(Clone, Copy)]
+pub struct BondArgs<R: Real, D: Dim> {
+    pub n: u32,
+    pub _pad: u32,
+    pub params: BondParams,
+    pub arrays: BondArrays<R, D::Vec<R>>,
+}
+
+impl<R: Real, D: Dim> BondArgs<R, D> {
+    /// # Safety
+    /// As `sph::bond::bond_particle`.
+    #[inline(always)]
+    pub unsafe fn particle(&self, i: usize) {
+        unsafe { bond_particle(&self.params, &self.arrays, i) }
+    }
+}
+
+/// The bond pass (`swarf_sph_bond_*`).
+pub struct Bond<R, D>(PhantomData<(R, D)>);
+crate::simple_pass!(Bond<R, D>, BondArgs<R, D>, entry_index("bond", D::D, size_of::<R>(), 0), Grid::Particles,
+    [R: Real, D: Dim]);
+
+/// The map from particle id to sorted index (`sph::bond::index_particle`), rebuilt before the bonds each step.
+#[repr(C)]
+#[derive(Clone, Copy)]
+pub struct BondIndexArgs<R: Real, D: Dim> {
+    pub n: u32,
+    pub _pad: u32,
+    pub id: *const u32,
+    pub index: *mut u32,
+    pub _marker: PhantomData<(R, D)>,
+}
+
+impl<R: Real, D: Dim> BondIndexArgs<R, D> {
+    /// # Safety
+    /// As `sph::bond::index_particle`.
+    #[inline(always)]
+    pub unsafe fn particle(&self, i: usize) {
+        unsafe { index_particle(self.id, self.index, i) }
+    }
+}
+
+/// The id-to-index pass (`swarf_sph_bond_index_*`).
+pub struct BondIndex<R, D>(PhantomData<(R, D)>);
+crate::simple_pass!(BondIndex<R, D>, BondIndexArgs<R, D>, entry_index("bond_index", D::D, size_of::<R>(), 0),
+    Grid::Particles, [R: Real, D: Dim]);

@@ -14,10 +14,13 @@
 ///   (`mpm::step`);
 /// - `correction` (R, D): the kernel-gradient correction B⁻¹ (`sph::correction`);
 /// - `heat` (R, D, PSE); `predict` (R, D, DMG); `prepare` (R, D, AV, AS, DMG); `rates` (R, D, AV, AS, XSPH, fused
-///   conduction, DMG, CSPM). DMG: the damage's degradation and interaction mask (docs/damage.md), entries of their
+///   conduction, DMG, CSPM, CUT). DMG: the damage's degradation and interaction mask (docs/damage.md), entries of their
 ///   own (`_dmg` ending the name, so that prefixes such as the register caps' see them as their plain twins) so
 ///   that a run without damage runs the code it ran before; CSPM (`_cspm`): the corrected kernel gradient, without
-///   damage (the scene refuses both at once);
+///   damage (the scene refuses both at once); CUT (`_cut`): no continuum pair across the cohesive path (docs/mpm.md
+///   "The cohesive path in SPH"), without conduction, damage or CSPM;
+/// - `bond`, `bond_index` (R, D): the cohesive path's bonds and the map from a particle's id to its sorted index
+///   (`sph::bond`);
 /// - `plastic`, `finish_plastic` (R, D, flow model type, its tag, DMG): one per model of [`for_each_flow_model!`],
 ///   without and with the damage's update after the return.
 ///
@@ -59,6 +62,8 @@ macro_rules! for_each_entry {
         $cb!(finish, concat!("swarf_step_finish_", $v), $r, $d);
         $cb!(heat, concat!("swarf_heat_brookshaw_", $v), $r, $d, false);
         $cb!(heat, concat!("swarf_heat_pse_", $v), $r, $d, true);
+        $cb!(bond, concat!("swarf_sph_bond_", $v), $r, $d);
+        $cb!(bond_index, concat!("swarf_sph_bond_index_", $v), $r, $d);
         $crate::for_each_entry!(@prepare $cb, $r, $d, $v, (v0s0, false, false), (v0s1, false, true),
             (v1s0, true, false), (v1s1, true, true));
         $crate::for_each_entry!(@rates $cb, $r, $d, $v, (v0s0x0, false, false, false), (v0s0x1, false, false, true),
@@ -84,17 +89,19 @@ macro_rules! for_each_entry {
     (@rates $cb:ident, $r:ident, $d:ident, $v:literal, $(($s:ident, $av:literal, $as:literal, $xs:literal)),*) => {
         $(
             $cb!(rates, concat!("swarf_sph_rates_", $v, "_", stringify!($s)), $r, $d, $av, $as, $xs, false, false,
-                false);
+                false, false);
             $cb!(rates, concat!("swarf_sph_rates_heat_", $v, "_", stringify!($s)), $r, $d, $av, $as, $xs, true, false,
-                false);
+                false, false);
             $cb!(rates, concat!("swarf_sph_rates_", $v, "_", stringify!($s), "_dmg"), $r, $d, $av, $as, $xs, false, true,
-                false);
+                false, false);
             $cb!(rates, concat!("swarf_sph_rates_heat_", $v, "_", stringify!($s), "_dmg"), $r, $d, $av, $as, $xs, true,
-                true, false);
+                true, false, false);
             $cb!(rates, concat!("swarf_sph_rates_", $v, "_", stringify!($s), "_cspm"), $r, $d, $av, $as, $xs, false,
-                false, true);
+                false, true, false);
             $cb!(rates, concat!("swarf_sph_rates_heat_", $v, "_", stringify!($s), "_cspm"), $r, $d, $av, $as, $xs, true,
-                false, true);
+                false, true, false);
+            $cb!(rates, concat!("swarf_sph_rates_", $v, "_", stringify!($s), "_cut"), $r, $d, $av, $as, $xs, false,
+                false, false, true);
         )*
     };
     (@model_entries $cb:ident, $r:ident, $d:ident, $v:literal; $(($t:ident, $tag:ident)),* $(,)?) => {
@@ -182,9 +189,9 @@ pub const fn prepare_variant(av: bool, r#as: bool, dmg: bool) -> u32 {
     4 * dmg as u32 + 2 * av as u32 + r#as as u32
 }
 
-/// The variant number of a rates entry (AV, AS, XSPH, fused conduction, DMG, CSPM).
-pub const fn rates_variant(av: bool, r#as: bool, xs: bool, heat: bool, dmg: bool, cspm: bool) -> u32 {
-    32 * cspm as u32 + 16 * dmg as u32 + 8 * heat as u32 + 4 * av as u32 + 2 * r#as as u32 + xs as u32
+/// The variant number of a rates entry (AV, AS, XSPH, fused conduction, DMG, CSPM, CUT).
+pub const fn rates_variant(av: bool, r#as: bool, xs: bool, heat: bool, dmg: bool, cspm: bool, cut: bool) -> u32 {
+    64 * cut as u32 + 32 * cspm as u32 + 16 * dmg as u32 + 8 * heat as u32 + 4 * av as u32 + 2 * r#as as u32 + xs as u32
 }
 
 /// The variant number of a plastic or plastic-corrector entry (the flow model's index, DMG).
@@ -225,8 +232,8 @@ pub const ENTRY_KEYS: [EntryKey; ENTRY_COUNT] = {
             key!(@at prepare, $r, $d, prepare_variant($av, $as, $dmg));
         };
         (rates, $name:expr, $r:ident, $d:ident, $av:literal, $as:literal, $xs:literal, $heat:literal, $dmg:literal,
-            $cs:literal) => {
-            key!(@at rates, $r, $d, rates_variant($av, $as, $xs, $heat, $dmg, $cs));
+            $cs:literal, $cut:literal) => {
+            key!(@at rates, $r, $d, rates_variant($av, $as, $xs, $heat, $dmg, $cs, $cut));
         };
         ($kind:ident, $name:expr, $r:ident, $d:ident, $t:ident, $tag:ident, $dmg:literal) => {
             key!(@at $kind, $r, $d, model_variant(<crate::material::$t as ModelEntry>::INDEX, $dmg));

@@ -17,8 +17,8 @@ macro_rules! density_entry {
 
 use super::intrinsics::{graph_set_conditional, shfl_xor};
 use crate::pass::{
-    ContactArgs, CorrectionArgs, DensityArgs, FinishArgs, FinishPlasticArgs, HeatArgs, PlasticArgs, PredictArgs,
-    PrepareArgs, RatesArgs,
+    BondArgs, BondIndexArgs, ContactArgs, CorrectionArgs, DensityArgs, FinishArgs, FinishPlasticArgs, HeatArgs,
+    PlasticArgs, PredictArgs, PrepareArgs, RatesArgs,
 };
 use crate::sph::correction::{CorrectionSum, correction_finish, correction_share};
 use crate::sph::heat::{heat_finish, heat_sum};
@@ -32,6 +32,19 @@ type Vec_<R, D> = <D as Dim>::Vec<R>;
 /// Pre-pass: sig = σ/ρ², art = artificial stress (AS), sound = √(K/ρ) (AV), vol = m/ρ (`mass` the full masses).
 /// Gated on a step's rebuild flag (null: always) where the predictor runs the pre-pass: it then runs again only
 /// after a rebuild's reorder.
+/// One thread per sorted particle below `args.n` running `args.particle(i)` (the bonds, their index).
+macro_rules! item_entry {
+    ($sym:expr, $args:ty) => {
+        #[unsafe(export_name = $sym)]
+        pub unsafe extern "ptx-kernel" fn entry(args: $args) {
+            let i = global_index();
+            if i < args.n {
+                unsafe { args.particle(i as usize) };
+            }
+        }
+    };
+}
+
 macro_rules! prepare_entry {
     ($sym:expr, $r:ty, $d:ty, $av:literal, $as:literal, $dmg:literal) => {
         #[unsafe(export_name = $sym)]
@@ -50,7 +63,8 @@ macro_rules! prepare_entry {
 /// the same walk also sums the Brookshaw conduction (sph::interact::pair_sums_heat) and writes Ṫ to `temp_t`
 /// (`heat_vol`, `temp`, `materials`, `hp` are its inputs; the plain entries ignore them).
 macro_rules! rates_entry {
-    ($sym:expr, $r:ty, $d:ty, $av:literal, $as:literal, $xs:literal, $heat:literal, $dmg:literal, $cs:literal) => {
+    ($sym:expr, $r:ty, $d:ty, $av:literal, $as:literal, $xs:literal, $heat:literal, $dmg:literal, $cs:literal,
+        $cut:literal) => {
         #[unsafe(export_name = $sym)]
         pub unsafe extern "ptx-kernel" fn entry(args: RatesArgs<$r, $d>) {
             let RatesArgs { n, lanes, reverse, params, hp, .. } = args;
@@ -73,7 +87,7 @@ macro_rules! rates_entry {
                     (s.mech, s.heat)
                 } else {
                     let s = if live {
-                        pair_sums::<$r, $d, $av, $as, $xs, $dmg, $cs>(&params, &nb, &a, i, lane, lanes)
+                        pair_sums::<$r, $d, $av, $as, $xs, $dmg, $cs, $cut>(&params, &nb, &a, i, lane, lanes)
                     } else {
                         PairSums::default()
                     };
@@ -264,6 +278,16 @@ macro_rules! contact_entry {
 /// The SPH entries of the pass table (pass::table), each in its own anonymous scope: its exported name is the
 /// table's.
 macro_rules! sph_entry {
+    (bond, $sym:expr, $r:ident, $d:ident) => {
+        const _: () = {
+    item_entry!($sym, BondArgs<$r, $d>);
+        };
+    };
+    (bond_index, $sym:expr, $r:ident, $d:ident) => {
+        const _: () = {
+    item_entry!($sym, BondIndexArgs<$r, $d>);
+        };
+    };
     (correction, $sym:expr, $r:ident, $d:ident) => {
         const _: () = {
             correction_entry!($sym, $r, $d);
@@ -300,9 +324,9 @@ macro_rules! sph_entry {
         };
     };
     (rates, $sym:expr, $r:ident, $d:ident, $av:literal, $as:literal, $xs:literal, $heat:literal, $dmg:literal,
-        $cs:literal) => {
+        $cs:literal, $cut:literal) => {
         const _: () = {
-            rates_entry!($sym, $r, $d, $av, $as, $xs, $heat, $dmg, $cs);
+            rates_entry!($sym, $r, $d, $av, $as, $xs, $heat, $dmg, $cs, $cut);
         };
     };
     (plastic, $sym:expr, $r:ident, $d:ident, $t:ident, $tag:ident, $dmg:literal) => {

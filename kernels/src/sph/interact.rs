@@ -320,6 +320,8 @@ struct Own<R: Real, D: TensorOps<R>> {
     c: R,
     /// B_i⁻¹ (with CSPM only).
     corr: D::Sym<R>,
+    /// The side of the cohesive path i lies on (`flags::SIDE_MASK` bits; read by the `CUT` entries only).
+    side: u32,
 }
 
 #[inline(always)]
@@ -329,8 +331,9 @@ unsafe fn own<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const CS
 ) -> Own<R, D> {
     let iu = i as usize;
     unsafe {
+        let fl = *a.flags.add(iu);
         Own {
-            mech: *a.flags.add(iu) & flags::THERMAL_ONLY == 0,
+            mech: fl & flags::THERMAL_ONLY == 0,
             x: *a.pos.add(iu),
             v: *a.vel.add(iu),
             rho: *a.rho.add(iu),
@@ -338,6 +341,7 @@ unsafe fn own<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const CS
             art: if AS { *a.art.add(iu) } else { Default::default() },
             c: if AV { *a.sound.add(iu) } else { R::ZERO },
             corr: if CS { *a.correction.add(iu) } else { Default::default() },
+            side: fl & flags::SIDE_MASK,
         }
     }
 }
@@ -360,10 +364,15 @@ struct Partner<R: Real, D: TensorOps<R>> {
     sig: D::Sym<R>,
     /// Artificial stress (zero without it).
     art: D::Sym<R>,
+    /// The side of the cohesive path j lies on (0 unless `CUT`).
+    side: u32,
 }
 
 #[inline(always)]
-unsafe fn partner<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool>(a: &Arrays<R, D>, j: u32) -> Partner<R, D> {
+unsafe fn partner<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const CUT: bool>(
+    a: &Arrays<R, D>,
+    j: u32,
+) -> Partner<R, D> {
     let ju = j as usize;
     // `load::read`: the loads stay here, ahead of the branches (LLVM would sink them into the blocks that use them).
     unsafe {
@@ -376,6 +385,7 @@ unsafe fn partner<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool>(a: &
             c: if AV { read(a.sound.add(ju)) } else { R::ZERO },
             sig: read(a.sig.add(ju)),
             art: if AS { read(a.art.add(ju)) } else { Default::default() },
+            side: if CUT { read(a.flags.add(ju)) & flags::SIDE_MASK } else { 0 },
         }
     }
 }
@@ -432,7 +442,8 @@ fn geometry<R: Real, D: TensorOps<R>, const PER: bool>(
 }
 
 /// Adds the term of pair (i, j) to `sums` (nothing for j = i, beyond the support, or a massless j: every term
-/// carries m_j, and the tool's thermal-only particles have zero mechanical mass).
+/// carries m_j, and the tool's thermal-only particles have zero mechanical mass). With `CUT`, nothing for a pair
+/// across the cohesive path ([`cut_apart`]).
 #[inline(always)]
 unsafe fn add_pair<
     R: Real,
@@ -442,6 +453,7 @@ unsafe fn add_pair<
     const XSPH: bool,
     const DMG: bool,
     const CS: bool,
+    const CUT: bool,
     const PER: bool,
 >(
     p: &SphParams<R>,
@@ -452,7 +464,10 @@ unsafe fn add_pair<
     j: u32,
     sums: &mut PairSums<R, D>,
 ) {
-    let (q, p) = (unsafe { partner::<R, D, AV, AS>(a, j) }, pair_params::<R, AV, AS>(p));
+    let (q, p) = (unsafe { partner::<R, D, AV, AS, CUT>(a, j) }, pair_params::<R, AV, AS>(p));
+    if CUT && cut_apart(o.side, q.side) {
+        return;
+    }
     if let Some(g) = geometry::<R, D, PER>(&p, per, o, i, j, &q.x) {
         if DMG {
             unsafe { masked_pair_term::<R, D, AV, AS, XSPH, CS>(&p, a, o, q, &g, j, sums) }
@@ -460,6 +475,14 @@ unsafe fn add_pair<
             pair_term::<R, D, AV, AS, XSPH, CS>(&p, o, &q, &g, sums)
         }
     }
+}
+
+/// Whether particles on sides `a` and `b` (`flags::SIDE_MASK` bits) lie on opposite sides of the cohesive path:
+/// across it there is no continuum interaction, only the bond's traction (nairn-mpm.md §7.2, "no ordinary SPH
+/// stress interaction across the plane").
+#[inline(always)]
+pub fn cut_apart(a: u32, b: u32) -> bool {
+    a | b == flags::SIDE_MASK
 }
 
 /// [`pair_term`] of a damaged run with the interaction mask F_j of j (klippel §2.6, Eqs. 7.30–7.34): F_j = 1 the
@@ -606,6 +629,7 @@ pub unsafe fn pair_sums<
     const XSPH: bool,
     const DMG: bool,
     const CS: bool,
+    const CUT: bool,
 >(
     p: &SphParams<R>,
     nb: &Neighbours,
@@ -622,7 +646,7 @@ pub unsafe fn pair_sums<
         let per = Period::<R>::of::<D>(nb.grid);
         unswitch_period!(per, PER =>
             lane_share::<R, D::Vec<R>, _, _>(nb, &o.x, i, lane, lanes, |j, s| {
-                add_pair::<R, D, AV, AS, XSPH, DMG, CS, PER>(p, &per, a, &o, i, j, s)
+                add_pair::<R, D, AV, AS, XSPH, DMG, CS, CUT, PER>(p, &per, a, &o, i, j, s)
             })
         )
     }
@@ -717,7 +741,7 @@ unsafe fn heat_and_pair<
 ) {
     // Both partners' data first (`Partner`); one geometry for both terms (the separate passes compute the same
     // r², r and W'(r)/r, bit for bit).
-    let (q, hq) = unsafe { (partner::<R, D, AV, AS>(a, j), heat_partner(h, j)) };
+    let (q, hq) = unsafe { (partner::<R, D, AV, AS, false>(a, j), heat_partner(h, j)) };
     let (p, heat_min_r2) = (pair_params::<R, AV, AS>(p), hp.min_r2);
     let Some(g) = geometry::<R, D, PER>(&p, per, o, i, j, &q.x) else { return };
     if let Some(ho) = ho
@@ -847,6 +871,7 @@ pub unsafe fn rates<
     const XSPH: bool,
     const DMG: bool,
     const CS: bool,
+    const CUT: bool,
 >(
     p: &SphParams<R>,
     nb: &Neighbours,
@@ -860,7 +885,7 @@ pub unsafe fn rates<
             let per = Period::<R>::of::<D>(nb.grid);
             unswitch_period!(per, PER =>
                 all_lanes::<R, D::Vec<R>, _, _>(nb, &o.x, i, lanes, |j, s| {
-                    add_pair::<R, D, AV, AS, XSPH, DMG, CS, PER>(p, &per, a, &o, i, j, s)
+                    add_pair::<R, D, AV, AS, XSPH, DMG, CS, CUT, PER>(p, &per, a, &o, i, j, s)
                 })
             )
         } else {

@@ -1,5 +1,6 @@
 //! Smoothed-particle hydrodynamics for solids: updated-Lagrangian "Algorithm 1" (roethlin-solver.md §3–§5).
 
+pub mod bond;
 pub mod correction;
 pub mod density;
 pub mod eigen;

@@ -60,7 +60,8 @@ pub struct Stabilisers {
     pub xsph: bool,
 }
 
-/// Particle flags: bits 0..6 the mechanical boundary-condition kind, bit 6 thermal-only, bit 7 a fixed temperature, 8..16 the index
+/// Particle flags: bits 0..4 the mechanical boundary-condition kind, bits 4..6 the side of a cohesive cut plane,
+/// bit 6 thermal-only, bit 7 a fixed temperature, 8..16 the index
 /// into the prescribed-velocity table, 16..32 the body index (materials, output, per-body diagnostics).
 pub mod flags {
     pub const BODY_SHIFT: u32 = 16;
@@ -75,7 +76,13 @@ pub mod flags {
     /// Held in its x–y plane (3D): the z components of its velocity and position rates are zero, so that its
     /// initial v_z = 0 stays (plane strain, `kind = "plane_strain"`).
     pub const PLANE: u32 = 3;
-    pub const KIND_MASK: u32 = 0x3f;
+    pub const KIND_MASK: u32 = 0x0f;
+    /// The side of the cohesive path (`sph::bond`; docs/mpm.md "The cohesive path in SPH") a particle lies on in
+    /// the reference configuration: above or below the plane, within the crack's extent (0: neither). Two
+    /// particles on opposite sides do not interact through the continuum; only their bond couples them.
+    pub const SIDE_ABOVE: u32 = 0x10;
+    pub const SIDE_BELOW: u32 = 0x20;
+    pub const SIDE_MASK: u32 = 0x30;
     pub const VEL_INDEX_SHIFT: u32 = 8;
     pub const VEL_INDEX_MASK: u32 = 0xff;
 }

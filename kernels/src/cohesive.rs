@@ -1,7 +1,8 @@
 //! The cohesive crack along the cut plane (nairn-mpm.md §1.5): Needleman's cubic traction law in mode I and mode II
 //! (Eq. 3), Yang and Thouless's decoupled failure criterion (Eq. 4), unloading along the secant to the origin, and
 //! the law's initial stiffness against closing. Each crack point joins the two particles that faced each other
-//! across the plane at t = 0 (`step::crack_point`; docs/mpm.md "Crack points are particle pairs").
+//! across the plane at t = 0: the MPM's crack points (`mpm::step::crack_point`; docs/mpm.md "Crack points are
+//! particle pairs") and the SPH's bonds (`sph::bond`; docs/mpm.md "The cohesive path in SPH") share the law.
 
 use crate::real::Real;
 use bytemuck::{Pod, Zeroable};
