@@ -657,8 +657,8 @@ fn damaged_strip_equals_cpu() {
 }
 
 /// Issue 26 on the GPU: the SPH cohesive path (the bonds' pass and id map, the `_cut` interaction entries) gives
-/// the CPU's run bit for bit: the bonded blocks of V15 torn open in mode I and slid apart in mode II (every bond
-/// failing), and Nairn's SPH cut at a coarse 5 particles through h until the tool has crossed the starter and
+/// the CPU's run bit for bit: the bonded blocks of V15 torn open in mode I (also with XSPH and the smoothed-velocity
+/// damping) and slid apart in mode II (every bond failing), and Nairn's SPH cut at a coarse 5 particles through h until the tool has crossed the starter and
 /// loaded the bonds. The final states and the energy histories (with the bonds' work and failures) are compared.
 #[test]
 fn sph_cohesive_path_equals_cpu() {
@@ -674,8 +674,10 @@ fn sph_cohesive_path_equals_cpu() {
         "time.end=2e-3",
         "output.every=2e-4",
     ];
-    let cases: [(&str, &[&str]); 3] = [
+    let cases: [(&str, &[&str]); 4] = [
         ("cases/mpm/sph-bond-mode1.toml", &[]),
+        // With XSPH and the smoothed-velocity damping (docs/mpm.md).
+        ("cases/mpm/sph-bond-mode1.toml", &["stabilisation.xsph={epsilon=0.5, pic=0.5}"]),
         ("cases/mpm/sph-bond-mode2.toml", &[]),
         ("cases/mpm/nairn-cut-sph.toml", &coarse),
     ];

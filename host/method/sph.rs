@@ -227,6 +227,8 @@ pub fn setup_with<R: Real, D: TensorOps<R>>(scene: &Scene, tuning: &Tuning) -> R
         dt = dt.min(bond_step(c, &mass));
         c.params.dt = dt;
     }
+    // The PIC-damping analogue's α = (1 − β)/Δt (nairn-mpm.md §7.2, Eq. 8).
+    params.pic_alpha = R::from_f64(st.xsph.as_ref().map_or(0.0, |x| x.pic / dt));
     let thermal = thermal(scene, h, tool_thermal);
     let ph = &scene.physics;
     let plastic = match (ph.plasticity, flow_model(scene)) {

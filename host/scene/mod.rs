@@ -738,6 +738,15 @@ pub struct ArtificialStress {
 pub struct Xsph {
     /// `epsilon` (optional, default 0.5; dimensionless), in [0, 1]: the weight of the neighbour-averaged velocity.
     pub epsilon: f64,
+    /// `pic` (optional, default 0 = off; dimensionless), in [0, 0.5]: the PIC-damping analogue's fraction 1 − β
+    /// (nairn-mpm.md §7.2, Eq. 8): each step the velocity gives up that fraction of its difference from the
+    /// kernel-smoothed velocity (docs/mpm.md "Smoothed-velocity damping"). Absent from `summary.json` when 0.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub pic: f64,
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
 }
 
 /// `[time]`.
@@ -921,6 +930,9 @@ impl Scene {
         }
         if let Some(x) = &st.xsph {
             on.push(format!("XSPH (epsilon {})", num(x.epsilon)));
+            if x.pic > 0.0 {
+                on.push(format!("smoothed-velocity damping (pic {})", num(x.pic)));
+            }
         }
         if let Some(c) = &st.cspm {
             on.push(format!("CSPM (min det {})", num(c.min_determinant)));

@@ -43,6 +43,8 @@ pub fn sph_params<R: Real>(m: &Elastic, dx: f64, h: f64, dim: usize, s: &Stabili
         as_eps: R::from_f64(eps),
         as_inv_w_dx: R::from_f64(1.0 / kernel.w(dx)),
         xsph_eps: R::from_f64(s.xsph.unwrap_or(0.0)),
+        // Set by the set-up once the step is known (α = (1 − β)/Δt).
+        pic_alpha: R::ZERO,
         min_r2: R::from_f64((1e-6 * h) * (1e-6 * h)),
         expansion: R::ZERO,
         expansion_t0: R::ZERO,

@@ -39,6 +39,11 @@ const ROOT_KEYS: &[&str] = &[
     "method",
     "cohesive",
 ];
+/// The largest `stabilisation.xsph.pic`: the step's predictor takes the last step's rates, which keeps an explicit
+/// relaxation of rate α = pic/Δt stable only while pic λ ≲ 1, λ ≤ 1.7 the largest decay rate of XSPH's sum (the
+/// bonded blocks of V15 blew up at pic = 0.8 and ran at 0.7; docs/mpm.md "Smoothed-velocity damping").
+const MAX_PIC: f64 = 0.5;
+const PIC_EXPECTED: &str = "a PIC fraction 1 - beta in [0, 0.5] (the step's predictor keeps larger ones unstable)";
 const BODY_KEYS: &[&str] = &["name", "shape", "velocity", "angular_velocity", "lattice", "material", "temperature"];
 const SHAPES: &[(&str, &[&str])] = &[
     ("rectangle", &["min", "max"]),
@@ -700,10 +705,11 @@ fn stabilisation(root: &Tab<'_>) -> Result<Stabilisation> {
                 stabilisation.artificial_stress = Some(a);
             }
         }
-        if let Some(t) = st.table("xsph", "stabilisation.xsph", "a table { epsilon, enabled }")? {
-            t.check_keys(&["epsilon", "enabled"], &[], "")?;
+        if let Some(t) = st.table("xsph", "stabilisation.xsph", "a table { epsilon, pic, enabled }")? {
+            t.check_keys(&["epsilon", "pic", "enabled"], &[], "")?;
             let x = Xsph {
                 epsilon: t.number("epsilon", "a value in [0, 1]", |x| (0.0..=1.0).contains(&x))?.unwrap_or(0.5),
+                pic: t.number("pic", PIC_EXPECTED, |x| (0.0..=MAX_PIC).contains(&x))?.unwrap_or(0.0),
             };
             if t.boolean("enabled", "true or false")?.unwrap_or(true) {
                 stabilisation.xsph = Some(x);

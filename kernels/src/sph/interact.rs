@@ -838,6 +838,9 @@ pub unsafe fn finish_rates<R: Real, D: TensorOps<R>, const XSPH: bool, const DMG
     };
     if XSPH {
         axpy(&mut out.pos_t, p.xsph_eps, &xsph);
+        // The PIC-damping analogue (Eq. 8 with the smoothed velocity for v_g→p): XSPH's sum is v̄_i − v_i where the
+        // kernel is whole. α = 0 adds exact zeros.
+        axpy(&mut out.vel_t, p.pic_alpha, &xsph);
     }
     if fl & flags::THERMAL_ONLY != 0 {
         out.rho_t = R::ZERO;

@@ -27,6 +27,9 @@ pub struct SphParams<R: Real> {
     pub as_inv_w_dx: R,
     /// XSPH ε_X.
     pub xsph_eps: R,
+    /// The PIC-damping analogue's rate α = (1 − β)/Δt [1/s] (nairn-mpm.md §7.2, Eq. 8; 0: off): with XSPH, the
+    /// velocity relaxes toward the kernel-smoothed velocity, v̇ += α Σ_j (m_j/ρ̄_ij)(v_j − v_i) W_ij.
+    pub pic_alpha: R,
     /// Pairs closer than this (squared) are skipped: coincident particles have no gradient direction
     /// (erratum 31: relative to h, (1e-6 h)², not an absolute 1e-8).
     pub min_r2: R,
@@ -47,8 +50,8 @@ pub mod model {
     pub const C2D_KERNEL_W: u32 = 1;
 }
 
-// SAFETY: repr(C), fields of one float type followed by two u32; R is 4 or 8 bytes, so with 17 floats and two
-// u32 there is no padding for f32 (76 bytes) and none for f64 (144 bytes).
+// SAFETY: repr(C), fields of one float type followed by two u32; R is 4 or 8 bytes, so with 18 floats and two
+// u32 there is no padding for f32 (80 bytes) and none for f64 (152 bytes).
 unsafe impl<R: Real> Zeroable for SphParams<R> {}
 unsafe impl<R: Real> Pod for SphParams<R> {}
 
