@@ -685,6 +685,13 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
             self.log.line(&line)?;
         }
         let cutting = cutting.map(|a| with_chip_frame(a.json(), chip.as_ref(), j.time));
+        let cohesive = cohesive_entry(scene, &j.d);
+        if let Some((line, _)) = &cohesive {
+            if !opts.quiet {
+                eprintln!("{line}");
+            }
+            self.log.line(line)?;
+        }
         let summary = Summary {
             dir: &opts.out_dir,
             overrides: &opts.overrides,
@@ -697,6 +704,7 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
             dt: self.plan.dt,
             wall,
             tuning: self.tuning,
+            cohesive: cohesive.map(|(_, v)| v),
         };
         summary.write(&j.now, &body, &set_centres(scene), cutting)?;
         if opts.frames {
@@ -1193,6 +1201,32 @@ struct Summary<'a> {
     dt: f64,
     wall: f64,
     tuning: &'a Tuning,
+    /// The cohesive path's tally at the end ([`cohesive_entry`]), where the scene has one.
+    cohesive: Option<serde_json::Value>,
+}
+
+/// The cohesive path's line for the log and its `cohesive` entry of summary.json at the end state `d` (None without
+/// a path): the failed bonds, the bonds' work and damping, the work per unit area of the failed bonds (a bond's
+/// area Δx per unit depth in 2D, Δx² in 3D; the unfailed bonds' work, stored, is counted too) and the mode-I share.
+fn cohesive_entry(scene: &Scene, d: &Diagnostics) -> Option<(String, serde_json::Value)> {
+    scene.cohesive.as_ref()?;
+    let dx = scene.discretisation.dx;
+    let area = if scene.dim == 3 { dx * dx } else { dx };
+    let per_area = if d.bonds_failed > 0.0 { d.cohesive_work / (d.bonds_failed * area) } else { f64::NAN };
+    let line = format!(
+        "cohesive path: {} bonds failed, bonds' work {:.4e} J/m, {per_area:.1} J/m² per failed bond's area, mode-I \
+         share {:.3}, dampers {:.3e} J/m",
+        d.bonds_failed, d.cohesive_work, d.mode_i_share, d.bond_damping
+    );
+    let finite = |x: f64| if x.is_finite() { serde_json::json!(x) } else { serde_json::Value::Null };
+    let v = serde_json::json!({
+        "bonds_failed": d.bonds_failed,
+        "work_j": d.cohesive_work,
+        "damping_j": d.bond_damping,
+        "work_per_failed_area_j_per_m2": finite(per_area),
+        "mode_i_share": finite(d.mode_i_share),
+    });
+    Some((line, v))
 }
 
 impl Summary<'_> {
@@ -1250,6 +1284,9 @@ impl Summary<'_> {
         });
         if let (Some(serde_json::Value::Object(extra)), Some(obj)) = (cutting, v.as_object_mut()) {
             obj.extend(extra);
+        }
+        if let (Some(c), Some(obj)) = (&self.cohesive, v.as_object_mut()) {
+            obj.insert("cohesive".into(), c.clone());
         }
         // The model only where it is not swarf's, so the default's summary is what it was.
         if !scene.model.is_swarf()

@@ -349,7 +349,7 @@ fn unknown_key_is_refused_with_its_line() {
     assert_has(&msg, &[&format!("cases/rings.toml:{line}: unknown key 'discretisation.kernel'"), "dx, h_over_dx"]);
     let text = rings_with("xsph = { epsilon = 0.5 }", "xsph = { epsilon = 0.5, epsilom = 1 }");
     let msg = refused(&text, &[]);
-    assert_has(&msg, &["unknown key 'stabilisation.xsph.epsilom' (expected one of: epsilon, enabled)"]);
+    assert_has(&msg, &["unknown key 'stabilisation.xsph.epsilom' (expected one of: epsilon, pic, enabled)"]);
 }
 
 #[test]

@@ -46,6 +46,13 @@ fn sph_bonds_release_their_toughness_in_mode_1() {
     assert!((g / 2000.0 - 1.0).abs() < 0.05, "mode I: {g} J/m²");
     assert!(share > 0.99, "mode-I share {share}");
     assert!(gap < 0.01, "energy balance gap {gap}");
+    // summary.json reports the same tally.
+    let dir = std::env::temp_dir().join(format!("swarf-sph-cohesive-mode1-{}", std::process::id()));
+    let text = std::fs::read_to_string(dir.join("summary.json")).expect("summary.json");
+    let v: serde_json::Value = serde_json::from_str(&text).expect("json");
+    assert_eq!(v["cohesive"]["bonds_failed"], 40.0);
+    let reported = v["cohesive"]["work_per_failed_area_j_per_m2"].as_f64().expect("a number");
+    assert!((reported / g - 1.0).abs() < 1e-12, "summary.json: {reported} against {g}");
 }
 
 /// V15 in SPH, pure mode II: the upper block slides off along the plane at 120 m/s; every bond fails in mode II,

@@ -208,27 +208,13 @@ pub fn damaged<R: Real, D: TensorOps<R>>(
 /// The cohesive path's tally at one instant ([`crate::solver::Solver::bond_tally`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct BondTally {
-    /// Bonds set up.
-    pub bonds: usize,
     pub failed: usize,
     /// Σ of the bonds' work [J, per m of depth in 2D].
     pub work: f64,
     /// Σ of the bonds' dampers' dissipation.
     pub damping: f64,
-    /// Σ of the failed bonds' work.
-    pub failed_work: f64,
     /// Mean mode-I share at failure over the failed bonds (NaN when none).
     pub mode_i_share: f64,
-    /// A bond's tributary area [m per m of depth in 2D; m² in 3D].
-    pub area: f64,
-}
-
-impl BondTally {
-    /// The work per unit of new crack area of the failed bonds, Σ w / (failed · A) [J/m²] (NaN when none): the
-    /// energy the path released per crack area, G_c when the law's energy is all that was dissipated (V15).
-    pub fn released_per_area(&self) -> f64 {
-        if self.failed == 0 { f64::NAN } else { self.failed_work / (self.failed as f64 * self.area) }
-    }
 }
 
 /// Adds the cohesive path's work, failed bonds and mode-I share (where a path is modelled).

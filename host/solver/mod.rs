@@ -1369,20 +1369,18 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         Ok((t, e, r))
     }
 
-    /// The cohesive path's tally (None without one): the bonds, the failed ones, their work and mode-I share.
+    /// The cohesive path's tally (None without one): the failed bonds, the bonds' work and damping, the mode-I share.
     pub fn bond_tally(&self, b: &B) -> Result<Option<diagnostics::BondTally>> {
         use crate::kernels::cohesive::{FAILED, MODE_I};
         let Some(c) = &self.cohesive else { return Ok(None) };
         let (partner, state, work) = (c.partner.read(b)?, c.state.read(b)?, c.work.read(b)?);
         let damping: f64 = c.damping.read(b)?.iter().sum();
-        let mut t = diagnostics::BondTally { area: c.params.area, damping, ..Default::default() };
+        let mut t = diagnostics::BondTally { damping, ..Default::default() };
         let mut share = 0.0;
         for i in (0..partner.len()).filter(|&i| partner[i] != crate::kernels::sph::bond::NONE) {
-            t.bonds += 1;
             t.work += work[i];
             if state[i][FAILED] != R::ZERO {
                 t.failed += 1;
-                t.failed_work += work[i];
                 share += state[i][MODE_I].to_f64();
             }
         }
