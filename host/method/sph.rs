@@ -177,7 +177,7 @@ pub fn setup<R: Real, D: TensorOps<R>>(scene: &Scene) -> Result<Setup<R, D>> {
 /// Builds the particles, parameters, grid and time step of `scene`, with the tuning switches `tuning`.
 pub fn setup_with<R: Real, D: TensorOps<R>>(scene: &Scene, tuning: &Tuning) -> Result<Setup<R, D>> {
     let set = scene.generate().map_err(|e| Error::Scene(e.to_string()))?;
-    let warnings = crate::scene::degenerate_input_warnings(scene, &set);
+    let mut warnings = crate::scene::degenerate_input_warnings(scene, &set);
     let mut init = Initial::bodies(scene, &set)?;
     let (contact, tool_thermal) = init.tool(scene, &set)?;
     let conv = |c: &[f64; 3]| D::Vec::<R>::new(std::array::from_fn(|k| R::from_f64(c[k])));
@@ -222,11 +222,8 @@ pub fn setup_with<R: Real, D: TensorOps<R>>(scene: &Scene, tuning: &Tuning) -> R
     }
     let grid = grid(scene, &pos, contact.as_ref(), h)?;
     let c0 = elastic.sound_speed();
-    let mut dt = time_step(scene, h, c0, &vel)?;
-    if let Some(c) = cohesive.as_mut() {
-        dt = dt.min(bond_step(c, &mass));
-        c.params.dt = dt;
-    }
+    let dt = time_step(scene, h, c0, &vel)?;
+    let dt = bonded_step(scene, dt, cohesive.as_mut(), &mass, &mut warnings);
     // The PIC-damping analogue's α = (1 − β)/Δt (nairn-mpm.md §7.2, Eq. 8).
     params.pic_alpha = R::from_f64(st.xsph.as_ref().map_or(0.0, |x| x.pic / dt));
     let thermal = thermal(scene, h, tool_thermal);
@@ -359,6 +356,31 @@ fn cohesive_setup(scene: &Scene, fl: &mut [u32], pos: &[[f64; 3]]) -> Result<Opt
     let area = if scene.dim == 3 { dx * dx } else { dx };
     // The damper's time step is the run's, set once it is known.
     Ok(Some(CohesiveSetup { params: BondParams { law, area, dt: 0.0 }, partner, reference }))
+}
+
+/// The run's step `dt` shortened where the cohesive path's bonds need it ([`bond_step`], with a warning), and given
+/// to the bonds' dampers.
+fn bonded_step(
+    scene: &Scene,
+    dt: f64,
+    cohesive: Option<&mut CohesiveSetup>,
+    mass: &[f64],
+    warnings: &mut Vec<String>,
+) -> f64 {
+    let Some(c) = cohesive else { return dt };
+    let bond_dt = bond_step(c, mass);
+    let dt = if bond_dt < dt {
+        warnings.push(format!(
+            "{}: the cohesive path's bonds shorten the time step from {dt:.4e} s to {bond_dt:.4e} s (ωΔt ≤ {})",
+            scene.origin,
+            crate::kernels::sph::bond::MAX_OMEGA_DT
+        ));
+        bond_dt
+    } else {
+        dt
+    };
+    c.params.dt = dt;
+    dt
 }
 
 /// The longest step the cohesive path's bonds allow: ωΔt ≤ `bond::MAX_OMEGA_DT` for every bond, ω = √(k/m_r) with
