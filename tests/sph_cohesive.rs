@@ -116,3 +116,71 @@ fn bad_cohesive_paths_are_refused_with_the_key() {
     refused(&["stabilisation.cspm={}"], "cohesive.extent", "CSPM");
     refused(&["cohesive.extent=[3e-3, 4e-3]"], "cohesive.extent", "no particle pairs");
 }
+
+/// Nairn's cut in SPH at a coarse 5 particles through h with σ_c = 10 MPa (below σ_y0, where the SPH path opens:
+/// docs/mpm.md "SPH against MPM"), the tool at 2 m/s from the start, to 2 ms (its edge at x = 3.8 mm): the pairs of
+/// bonded particles that have come apart by more than δ_c (0.356 mm) form one contiguous run from the starter's end
+/// (x = 2 mm) to at least two spacings short of the tool's edge, no pair beyond its edge plus three spacings has
+/// opened, the bonds counted failed include them (mixed-mode failure can come before δ_c: at most 3 more), and the
+/// tool pushes (F_c > 0).
+#[test]
+fn the_sph_cut_opens_its_path_from_the_starter_to_the_tool() {
+    let dx = 2e-4;
+    let ov = [
+        "discretisation.dx=2e-4",
+        "boundary.0.max=[1.0,-2.7e-3]",
+        "tool.position=[-2e-4]",
+        "tool.ramp=0",
+        "time.end=2e-3",
+        "output.every=1e-3",
+        "cohesive.peak=10e6",
+    ];
+    let scene = Scene::load("cases/mpm/nairn-cut-sph.toml", &ov.map(String::from)).expect("scene");
+    let dir = std::env::temp_dir().join(format!("swarf-sph-cohesive-cut-{}", std::process::id()));
+    let mut states: Vec<std::collections::HashMap<u32, [f64; 3]>> = Vec::new();
+    let mut keep = |s: &swarf::run::Snapshot| {
+        states.push(s.id.iter().zip(&s.pos).map(|(&i, &p)| (i, p)).collect());
+        true
+    };
+    let report =
+        run_observed(&common::test_backend(), &scene, &RunOptions::quiet(dir.clone()), Some(&mut keep)).expect("run");
+    let (first, last) = (&states[0], states.last().expect("the end state"));
+    // The first rows: above at y = Δx/2, below at −Δx/2, paired by x.
+    let row = |y: f64| {
+        let mut v: Vec<(u32, [f64; 3])> = first
+            .iter()
+            .filter(|(_, p)| (p[1] - y).abs() < 1e-9 && p[0] > 2e-3 && p[0] < 18e-3)
+            .map(|(&i, &p)| (i, p))
+            .collect();
+        v.sort_by(|a, b| a.1[0].total_cmp(&b.1[0]));
+        v
+    };
+    let (above, below) = (row(0.5 * dx), row(-0.5 * dx));
+    assert_eq!(above.len(), below.len());
+    let open: Vec<bool> = above
+        .iter()
+        .zip(&below)
+        .map(|(&(i, xi), &(j, xj))| {
+            let (ci, cj) = (last[&i], last[&j]);
+            ((ci[0] - cj[0]) - (xi[0] - xj[0])).hypot((ci[1] - cj[1]) - (xi[1] - xj[1])) > 0.356e-3
+        })
+        .collect();
+    let run = open.iter().take_while(|&&o| o).count();
+    let tip = if run > 0 { above[run - 1].1[0] } else { 2e-3 };
+    let edge = -2e-4 + 2.0 * 2e-3;
+    let beyond = above.iter().zip(&open).filter(|(a, o)| **o && a.1[0] > edge + 3.0 * dx).count();
+    let end = report.history.last().expect("outputs");
+    let (_, rows) = swarf::output::csv::read(&dir.join("forces.csv")).expect("forces.csv");
+    let fc_last = rows.last().expect("force samples")[2];
+    eprintln!(
+        "{run} pairs open from the starter, tip x0 = {tip:.4e} m, tool edge {edge:.4e} m, {} open in all, {} bonds \
+         failed, last F_c {fc_last:.2} N/mm",
+        open.iter().filter(|&&o| o).count(),
+        end.bonds_failed
+    );
+    assert_eq!(open.iter().filter(|&&o| o).count(), run, "the open pairs are not one run from the starter: {open:?}");
+    assert!(tip >= edge - 2.0 * dx, "the path opened only to {tip} m with the edge at {edge} m");
+    assert_eq!(beyond, 0, "pairs opened beyond the tool");
+    assert!(end.bonds_failed >= run as f64 && end.bonds_failed <= run as f64 + 3.0, "{} failed", end.bonds_failed);
+    assert!(fc_last > 0.0, "the tool must push: F_c {fc_last}");
+}
