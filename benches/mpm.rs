@@ -3,9 +3,11 @@
 //! the captured graph a run replays), from the state 500 steps in. The CPU runs the same passes (the CPU twin);
 //! `swarf bench mpm` prints the same two figures as a table.
 
+mod common;
+
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use std::time::Duration;
-use swarf::backend::{Backend, CpuBackend, CudaBackend};
+use swarf::backend::{Backend, CpuBackend};
 use swarf::kernels::Real;
 use swarf::mpm::setup::setup;
 use swarf::mpm::solver::{BATCH, MpmSolver};
@@ -40,13 +42,7 @@ fn cpu(c: &mut Criterion) {
 }
 
 fn gpu(c: &mut Criterion) {
-    let b = match CudaBackend::new(0) {
-        Ok(b) => b,
-        Err(e) => {
-            eprintln!("GPU benchmarks skipped: {e}");
-            return;
-        }
-    };
+    let Some(b) = common::gpu() else { return };
     mpm_step::<_, f64>(c, &b, "gpu", &[]);
     mpm_step::<_, f32>(c, &b, "gpu", &[]);
 }

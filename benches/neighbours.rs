@@ -2,9 +2,11 @@
 //! (steady state: particles sorted at the previous step), and one density pass with each grid layout, on the
 //! CPU and, where a CUDA device is present, on the GPU. `swarf bench neighbours` gives the per-phase table.
 
+mod common;
+
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use std::time::Duration;
-use swarf::backend::{Backend, CpuBackend, CudaBackend, Passes};
+use swarf::backend::{Backend, CpuBackend, Passes};
 use swarf::bench::jittered_lattice;
 use swarf::grid::grid_for_support;
 use swarf::kernels::sph::CubicSpline;
@@ -53,13 +55,7 @@ fn cpu(c: &mut Criterion) {
 }
 
 fn gpu(c: &mut Criterion) {
-    let b = match CudaBackend::new(0) {
-        Ok(b) => b,
-        Err(e) => {
-            eprintln!("GPU benchmarks skipped: {e}");
-            return;
-        }
-    };
+    let Some(b) = common::gpu() else { return };
     for n in [1_000_000, 4_000_000] {
         build_and_reorder::<_, f32, Dim2>(c, &b, "gpu", n);
         build_and_reorder::<_, f64, Dim2>(c, &b, "gpu", n);

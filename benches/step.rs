@@ -4,9 +4,11 @@
 //! own on the state of a running cut. The CPU runs the same kernels (the CPU twin); `swarf bench step` gives the
 //! per-phase table of whole steps as runs take them.
 
+mod common;
+
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use std::time::Duration;
-use swarf::backend::{Backend, CpuBackend, CudaBackend};
+use swarf::backend::{Backend, CpuBackend};
 use swarf::kernels::{Dim2, Real};
 use swarf::run::setup;
 use swarf::scene::Scene;
@@ -47,13 +49,7 @@ fn cpu(c: &mut Criterion) {
 }
 
 fn gpu(c: &mut Criterion) {
-    let b = match CudaBackend::new(0) {
-        Ok(b) => b,
-        Err(e) => {
-            eprintln!("GPU benchmarks skipped: {e}");
-            return;
-        }
-    };
+    let Some(b) = common::gpu() else { return };
     for scene in ["cases/cutting/reference-cut.toml", "cases/cutting/reference-cut-150k.toml"] {
         step_kernels::<_, f64>(c, &b, "gpu", scene);
         step_kernels::<_, f32>(c, &b, "gpu", scene);

@@ -1210,9 +1210,7 @@ struct Summary<'a> {
 /// area Δx per unit depth in 2D, Δx² in 3D; the unfailed bonds' work, stored, is counted too) and the mode-I share.
 fn cohesive_entry(scene: &Scene, d: &Diagnostics) -> Option<(String, serde_json::Value)> {
     scene.cohesive.as_ref()?;
-    let dx = scene.discretisation.dx;
-    let area = if scene.dim == 3 { dx * dx } else { dx };
-    let per_area = if d.bonds_failed > 0.0 { d.cohesive_work / (d.bonds_failed * area) } else { f64::NAN };
+    let per_area = if d.bonds_failed > 0.0 { d.cohesive_work / (d.bonds_failed * scene.bond_area()) } else { f64::NAN };
     let line = format!(
         "cohesive path: {} bonds failed, bonds' work {:.4e} J/m, {per_area:.1} J/m² per failed bond's area, mode-I \
          share {:.3}, dampers {:.3e} J/m",

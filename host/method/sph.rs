@@ -353,9 +353,8 @@ fn cohesive_setup(scene: &Scene, fl: &mut [u32], pos: &[[f64; 3]]) -> Result<Opt
         mode1: CubicLaw::of_toughness(l.toughness, l.peak),
         mode2: CubicLaw::of_toughness(l.toughness_shear, l.peak_shear),
     };
-    let area = if scene.dim == 3 { dx * dx } else { dx };
     // The damper's time step is the run's, set once it is known.
-    Ok(Some(CohesiveSetup { params: BondParams { law, area, dt: 0.0 }, partner, reference }))
+    Ok(Some(CohesiveSetup { params: BondParams { law, area: scene.bond_area(), dt: 0.0 }, partner, reference }))
 }
 
 /// The run's step `dt` shortened where the cohesive path's bonds need it ([`bond_step`], with a warning), and given

@@ -845,6 +845,12 @@ impl Scene {
         self.discretisation.dx.powi(self.dim as i32)
     }
 
+    /// The face a lattice particle presents to a plane, Δx^(dim − 1): a cohesive bond's tributary area (Δx per
+    /// unit depth in 2D, Δx² in 3D).
+    pub fn bond_area(&self) -> f64 {
+        self.discretisation.dx.powi(self.dim as i32 - 1)
+    }
+
     /// Fills the bodies with particles and applies the boundary conditions; see [`ParticleSet`].
     pub fn generate(&self) -> Result<ParticleSet, SceneError> {
         generate::generate(self)
