@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# mpm26 mpm26b mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine tool3d tools24 cspm24 nonfinite24 mill24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
+# mpm26 mpm26b mpmv78 mpmv5fine mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine tool3d tools24 cspm24 nonfinite24 mill24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -797,6 +797,42 @@ $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s" \
                   cp /tmp/mpmsweep/v5/sweep.md "$out/mpmsweep-v5.md"; cp /tmp/mpmsweep/v5/sweep.csv "$out/mpmsweep-v5.csv"
               }
               run mpmv5 mpm_v5 ;;
+        mpmv78) # issue 26 (docs/mpm.md "V5, V7, V8"): three batched sweeps at once (30°/15°/45°, mu = 0):
+                # V7 E_T = 0, 10, 25, 100 MPa x h 0.5-2.5 mm (30°); V8 E_T = 100 MPa x rake 15, 30, 45 x h 0.1-7 mm;
+                # V5 at the transition: h 1.25-2.0 mm x 15 and 31 particles through h. Tables under $out/mpmsweep-*.
+              mpm_v78() {
+                  local sweep=("$here/swarf" --backend gpu sweep cases/mpm/nairn-cut.toml --quiet)
+                  local t0=$(date +%s.%N)
+                  "${sweep[@]}" --batch 12 --out /tmp/mpmsweep/v7 --grid material.tangent_modulus=0,10e6,25e6,100e6 \
+                      --grid cut.depth=0.5e-3,1.0e-3,1.25e-3,1.5e-3,2.0e-3,2.5e-3 &
+                  "${sweep[@]}" --batch 12 --out /tmp/mpmsweep/v8 --set material.tangent_modulus=100e6 \
+                      --grid cut.rake=15,30,45 --grid cut.depth=0.1e-3,0.25e-3,0.5e-3,1.0e-3,2.0e-3,3.0e-3,5.0e-3,7.0e-3 &
+                  "${sweep[@]}" --batch 8 --out /tmp/mpmsweep/v5res --grid cut.particles_across=15,31 \
+                      --grid cut.depth=1.25e-3,1.5e-3,1.75e-3,2.0e-3 &
+                  wait
+                  echo "all: $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s wall"
+                  for v in v7 v8 v5res; do
+                      cp "/tmp/mpmsweep/$v/sweep.md" "$out/mpmsweep-$v.md"; cp "/tmp/mpmsweep/$v/sweep.csv" "$out/mpmsweep-$v.csv"
+                  done
+              }
+              run mpmv78 mpm_v78 ;;
+        mpmv5fine) # issue 26 (docs/mpm.md "V5, V7, V8"): V1 and V5 at 31 particles through h (30°, mu = 0: h 0.25-1.0
+                   # and 2.25-3.0 mm) and, beside them, V8's points whose chip left the grid, with twice the room
+                   # (E_T = 100 MPa). Each sweep stops at 560 s; its table holds the points finished by then.
+              mpm_v5fine() {
+                  local sweep=(timeout -s INT 560 "$here/swarf" --backend gpu sweep cases/mpm/nairn-cut.toml --quiet)
+                  local t0=$(date +%s.%N)
+                  "${sweep[@]}" --batch 7 --out /tmp/mpmsweep/v5fine --set cut.particles_across=31 \
+                      --grid cut.depth=0.25e-3,0.5e-3,0.75e-3,1.0e-3,2.25e-3,2.5e-3,3.0e-3 &
+                  "${sweep[@]}" --batch 9 --out /tmp/mpmsweep/v8room --set material.tangent_modulus=100e6 --set cut.room=20 \
+                      --grid cut.rake=15,30,45 --grid cut.depth=3.0e-3,5.0e-3,7.0e-3 &
+                  wait
+                  echo "all: $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s wall"
+                  for v in v5fine v8room; do
+                      cp "/tmp/mpmsweep/$v/sweep.md" "$out/mpmsweep-$v.md"; cp "/tmp/mpmsweep/$v/sweep.csv" "$out/mpmsweep-$v.csv"
+                  done
+              }
+              run mpmv5fine mpm_v5fine ;;
         mpm26b) # issue 26 (docs/mpm.md): V7 (hardening: E_T 25 and 100 MPa at 30°), V10 (base depth 2 and 4 at
                 # h = 0.9 mm), and the GPU time of each MPM kernel over two steps (ncu, after 2000 steps)
               mpm_b() {

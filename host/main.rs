@@ -620,14 +620,15 @@ fn cmd_run_mpm(
         if let Some(st) = r.steady {
             println!(
                 "steady ({:.3e}..{:.3e} s): F_c = {:.5e} N/m (CoV {:.2} %), F_t = {:.5e} N/m; touching model (Eq. 14, \
-                 rubbing {:.4e} N/m): {:.5e} N/m",
+                 rubbing {:.4e} N/m): {:.5e} N/m; bending model (Eqs. 18-22): {}",
                 st.from,
                 st.to,
                 st.fc,
                 100.0 * st.fc_cov,
                 st.ft,
                 st.rubbing,
-                st.touching_model
+                st.touching_model,
+                st.bending_model.map_or("none (Eq. 19 has no root)".to_string(), |b| format!("{b:.5e} N/m"))
             );
         }
         if let Some(e) = r.released {

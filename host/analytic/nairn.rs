@@ -139,6 +139,10 @@ pub fn moment(k: f64, e: f64) -> f64 {
     }
 }
 
+/// The crack-root rotation correction χ of the bending model (nairn-mpm.md §4.3, the reference implementation's
+/// value).
+pub const CHI: f64 = 0.64;
+
 /// The plastic-bending model's answer: F_c/(bG_c) (Eq. 18) and the root curvature ratio k_0 (Eq. 19).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Bending {
@@ -215,7 +219,7 @@ pub fn fit_toughness(points: &[(f64, f64, f64)], alpha: f64, mu: f64, s: &Specim
 
 /// A table of both models' predictions over the depths of cut `depths` [m] (`swarf model`): η, the touching model's
 /// F_c/b [N/m] and F_c/(bG_c) with its shear angle, the bending model's F_c/(bG_c) and k_0 (or "none" where Eq. 19
-/// has no root). `e` = E_T/E′, `rubbing` = F_n^b/b [N/m], χ = 0.64.
+/// has no root). `e` = E_T/E′, `rubbing` = F_n^b/b [N/m], χ = CHI.
 pub fn table(s: &Specimen, alpha: f64, mu: f64, e: f64, rubbing: f64, depths: &[f64]) -> String {
     let mut out = format!(
         "Nairn's models (nairn-mpm.md §4): σ_y0 = {:.4e} Pa, E' = {:.4e} Pa, G_c = {} J/m², Y = {:.4}, rake {:.2}°, \
@@ -234,7 +238,7 @@ pub fn table(s: &Specimen, alpha: f64, mu: f64, e: f64, rubbing: f64, depths: &[
         let eta = s.eta(h);
         let t = touching(h, alpha, mu, rubbing, s);
         let phi = optimum_shear_angle(h, alpha, mu, rubbing, s).to_degrees();
-        let bend = match bending(eta, alpha, mu, e, rubbing / s.toughness, s, 0.64) {
+        let bend = match bending(eta, alpha, mu, e, rubbing / s.toughness, s, CHI) {
             Some(b) => format!("{:.2} | {:.3}", b.force, b.k0),
             None => "none | -".to_string(),
         };

@@ -59,8 +59,9 @@ pub struct Sample {
     pub strain: f64,
 }
 
-/// The steady cut: means over the second half of the run after the ramp, and the touching model (Eq. 14 with the
-/// rubbing force back-calculated from the simulated forces, Eq. 12; Eq. 15 at μ = 0).
+/// The steady cut: means over the second half of the run after the ramp, and both of Nairn's models with the
+/// rubbing force back-calculated from the simulated forces (Eq. 12): the touching model (Eq. 14; Eq. 15 at μ = 0)
+/// and the plastic-bending model (Eqs. 18–22 with e = E_T/E′, χ = 0.64; V8 of nairn-mpm.md §6.2).
 #[derive(Clone, Copy, Debug, Serialize)]
 pub struct Steady {
     pub from: f64,
@@ -74,6 +75,10 @@ pub struct Steady {
     pub touching_model: f64,
     /// F_c over the touching model.
     pub fc_over_model: f64,
+    /// The bending model's F_c/b [N/m] (None where Eq. 19 has no root, e.g. μ > tan α).
+    pub bending_model: Option<f64>,
+    /// F_c over the bending model.
+    pub fc_over_bending: Option<f64>,
 }
 
 /// A bonded block at the first sample after its last cohesive point failed: the grip's work, the energies the
@@ -374,7 +379,7 @@ fn report<B: Backend, R: Real>(
     })
 }
 
-/// The steady window's means and the touching model (a cut only).
+/// The steady window's means and both models (a cut only).
 fn steady(scene: &MpmScene, samples: &[Sample]) -> Option<Steady> {
     let Setup::Cut(c) = scene.setup else { return None };
     let ramp_end = c.ramp * scene.time.end;
@@ -391,6 +396,10 @@ fn steady(scene: &MpmScene, samples: &[Sample]) -> Option<Steady> {
     let alpha = c.rake.to_radians();
     let rubbing = nairn::rubbing_force(fc, ft, c.friction, alpha);
     let touching_model = nairn::touching(c.depth, alpha, c.friction, rubbing, &spec);
+    let e = scene.material.tangent_modulus / spec.plane_modulus;
+    let bending_model =
+        nairn::bending(spec.eta(c.depth), alpha, c.friction, e, rubbing / spec.toughness, &spec, nairn::CHI)
+            .map(|b| b.force * spec.toughness);
     Some(Steady {
         from,
         to: scene.time.end,
@@ -401,6 +410,8 @@ fn steady(scene: &MpmScene, samples: &[Sample]) -> Option<Steady> {
         eta: spec.eta(c.depth),
         touching_model,
         fc_over_model: fc / touching_model,
+        bending_model,
+        fc_over_bending: bending_model.map(|b| fc / b),
     })
 }
 

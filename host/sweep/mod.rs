@@ -268,6 +268,8 @@ const MPM_CUT_COLUMNS: &[(&str, &str, &str)] = &[
     ("fc_cov", "-", "/steady/fc_cov"),
     ("touching_model_n_per_m", "N/m", "/steady/touching_model"),
     ("fc_over_model", "-", "/steady/fc_over_model"),
+    ("bending_model_n_per_m", "N/m", "/steady/bending_model"),
+    ("fc_over_bending", "-", "/steady/fc_over_bending"),
     ("rubbing_n_per_m", "N/m", "/steady/rubbing"),
     ("eta", "-", "/steady/eta"),
 ];
