@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# mpm26 mpm26b mpmv78 mpmv5fine mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine tool3d tools24 cspm24 nonfinite24 mill24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
+# mpm26 mpm26b mpmv78 mpmv5fine mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine tool3d tools24 cspm24 nonfinite24 mill24 wheel24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -857,6 +857,32 @@ $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s" \
               run ncu-mpm ncu --launch-skip 24000 --launch-count 24 --metrics gpu__time_duration.sum \
                   "$here/swarf" --backend gpu run cases/mpm/nairn-cut.toml --force --out /tmp/mpm/ncu \
                   --set time.end=2.2e-4 ;;
+        wheel24) # issue 24 (docs/3d.md "Grinding wheel"): the wheel segment in Pinto's patterns
+                 # (cases/3d/grinding-wheel-*.toml; SWARF_WHEEL_PATTERNS, default "a b c"), one after another (three
+                 # processes at once ran 1.47x slower in all: they time-slice the GPU), each stopped with a checkpoint
+                 # at SWARF_WHEEL_DEADLINE s (default 480); per-grain wear and forces (ci/wheel-wear.py), and pictures
+                 # of the last frames seen from above (plastic strain, temperature) in $OUT/wheelpics/
+              wheel() {
+                  local patterns=${SWARF_WHEEL_PATTERNS:-a b c}
+                  for p in $patterns; do
+                      local t0=$(date +%s.%N)
+                      timeout -s INT -k 30 "${SWARF_WHEEL_DEADLINE:-480}" "$here/swarf" --backend gpu run \
+                          "cases/3d/grinding-wheel-$p.toml" --quiet --force --out "/tmp/wheel/$p" > "/tmp/wheel-$p.log" 2>&1
+                      echo "$p: $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s wall"
+                  done
+                  mkdir -p "$out/wheelpics"
+                  for p in $patterns; do
+                      cat "/tmp/wheel-$p.log"; tail -n 4 "/tmp/wheel/$p/run.log"
+                      cp "/tmp/wheel/$p/forces.csv" "$out/wheel-$p-forces.csv"
+                      cp "/tmp/wheel/$p/summary.json" "$out/wheel-$p-summary.json" 2>/dev/null
+                      python3 ci/wheel-wear.py "/tmp/wheel/$p/forces.csv" "pattern $p"
+                      for fld in eps T; do
+                          "$here/swarf" render "/tmp/wheel/$p" --field $fld --frame last --along y \
+                              --out "$out/wheelpics/$p-top" 2>&1 | tail -n 1
+                      done
+                  done
+              }
+              run wheel24 wheel ;;
         millpics) # issue 24 (docs/3d.md): the micro-milling scene with JC (cases/3d/micro-milling.toml) whole, then
                   # pictures of its frames (swarf render): seen from above (--along y) at the first and second tooth
                   # passes' force peaks (frames 47, 85: 188, 340 µs) and at the end, the equivalent plastic strain

@@ -72,12 +72,15 @@ fn two_tools_that_make_one_push_as_that_tool() {
 
 /// Two equal blocks 1 mm apart, each cut by its own tool (V0060 at Δx = 20 µm, 4 µs): the cut is translation
 /// invariant, so each tool's force equals the one-block run's, and the second tool's columns of forces.csv
-/// report the second cut (to 1e-6 of the peak: the blocks differ only in the rounding of their positions).
+/// report the second cut (to 1e-6 of the peak: the blocks differ only in the rounding of their positions). With
+/// Usui wear on both tools of the twin run (an output only: the forces are the one-block run's), the second
+/// tool's wear rate equals the first's to 1e-6 of the largest.
 #[test]
 fn twin_cuts_give_each_tool_the_force_of_one_cut() {
     let dir = scratch("twin");
     let (h1, one) = run_csv(&twin_cut_scene(false), &dir.join("one"));
-    let (h2, two) = run_csv(&twin_cut_scene(true), &dir.join("two"));
+    let worn = twin_cut_scene(true).replace("friction = 0.35\n", "friction = 0.35\nusui = {}\n");
+    let (h2, two) = run_csv(&worn, &dir.join("two"));
     assert_eq!(h1, swarf::cutting::record::force_columns(2, 1));
     assert_eq!(h2, swarf::cutting::record::force_columns(2, 2));
     let (fc, ff, fx2, fy2) =
@@ -94,6 +97,13 @@ fn twin_cuts_give_each_tool_the_force_of_one_cut() {
     eprintln!("twin cuts: worst force difference {worst:.2e} of the peak {peak:.1} N/mm over {} samples", two.len());
     assert_eq!(one.len(), two.len(), "sample counts");
     assert!(worst < 1e-6, "the twin cuts differ by {worst:e} of the peak");
+    let (w1, w2) = (column(&h2, "wear_rate_m_per_s"), column(&h2, "wear_rate_m_per_s_t2"));
+    let top = two.iter().map(|r| r[w1]).filter(|w| w.is_finite()).fold(0.0, f64::max);
+    assert!(top > 0.0, "the tools must wear");
+    for r in &two {
+        assert_eq!(r[w1].is_nan(), r[w2].is_nan(), "contact at t = {}", r[0]);
+        assert!(r[w1].is_nan() || (r[w1] - r[w2]).abs() <= 1e-6 * top, "wear at t = {}: {} {}", r[0], r[w1], r[w2]);
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -38,8 +38,10 @@ pub const FORCE_COLUMNS: &[&str] = &[
 pub const FORCE_COLUMNS_3D: &[&str] = &["fx_n", "fy_n", "fz_n", "mx_n_m", "my_n_m", "mz_n_m"];
 
 /// The columns a scene with several tools adds for each tool k ≥ 2 (`_t2`, `_t3`, … appended): its force on the
-/// workpiece [N; per m of depth in 2D], its moment about its reference point and the particles it touches.
-pub const TOOL_COLUMNS: &[&str] = &["fx_n", "fy_n", "fz_n", "mx_n_m", "my_n_m", "mz_n_m", "contacts"];
+/// workpiece [N; per m of depth in 2D], its moment about its reference point, the particles it touches and their
+/// mean Usui wear rate (NaN without `usui` or contact).
+pub const TOOL_COLUMNS: &[&str] =
+    &["fx_n", "fy_n", "fz_n", "mx_n_m", "my_n_m", "mz_n_m", "contacts", "wear_rate_m_per_s"];
 
 /// The columns of `forces.csv` in dimension `dim` with `tools` tools.
 pub fn force_columns(dim: usize, tools: usize) -> Vec<String> {
@@ -199,6 +201,7 @@ impl CutRecorder {
             row.extend(t.force);
             row.extend(t.moment);
             row.push(t.contacts as f64);
+            row.push(t.wear_rate);
         }
         self.push(&row)?;
         Ok(())

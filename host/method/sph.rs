@@ -744,7 +744,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Method<B> for Solver<B, R, D> {
             offset: self.tool_offset().unwrap_or([0.0; 3]),
             more: samples[1..]
                 .iter()
-                .map(|s| ToolLoad { force: s.force, moment: s.moment, contacts: s.contacts })
+                .map(|s| ToolLoad { force: s.force, moment: s.moment, contacts: s.contacts, wear_rate: s.wear_rate })
                 .collect(),
             workpiece,
         }))

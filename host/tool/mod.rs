@@ -34,10 +34,11 @@ pub struct ToolSample {
 }
 
 /// A further tool's force on the workpiece [N; per m of depth in 2D], its moment about the tool's reference point
-/// [N·m] and the particles it touches, at one sample.
+/// [N·m], the particles it touches and their mean Usui wear rate [m/s] (NaN without wear or contact), at one sample.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ToolLoad {
     pub force: [f64; 3],
     pub moment: [f64; 3],
     pub contacts: usize,
+    pub wear_rate: f64,
 }
