@@ -747,9 +747,12 @@ fn cmd_study(backend: BackendChoice, a: &StudyArgs) -> Result<()> {
             }
         }
     }
-    // Validate the scene (and name its output folder) before a backend is started.
-    let sc = swarf::scene::Scene::load(&a.scene, &a.set).map_err(|e| swarf::Error::Scene(e.to_string()))?;
-    let out = a.out.clone().unwrap_or_else(|| std::path::PathBuf::from("runs").join(format!("study-{}", sc.name)));
+    // Validate the scene (and name its output folder) before a backend is started; an MPM scene by its own reader.
+    let name = match mpm_scene(Some(&a.scene), &a.set)? {
+        Some(mpm) => mpm.name,
+        None => swarf::scene::Scene::load(&a.scene, &a.set).map_err(|e| swarf::Error::Scene(e.to_string()))?.name,
+    };
+    let out = a.out.clone().unwrap_or_else(|| std::path::PathBuf::from("runs").join(format!("study-{name}")));
     let choices = if a.backends.is_empty() { vec![backend] } else { a.backends.clone() };
     let mut backends = Vec::new();
     for c in choices {

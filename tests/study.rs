@@ -289,3 +289,35 @@ fn bad_experiment_and_depth_of_cut_are_refused_with_file_and_key() {
     has(&e, &["--set experiment.fc=1.0", "experiment.fc"]);
     assert!(!dir.exists(), "the refused study created {}", dir.display());
 }
+
+/// An MPM scene is studied on its own resolution key (issue 26: `study` for MPM). The mode-I bond
+/// (cases/mpm/bond-mode1.toml, 1 mm wide, cell 125 µm) at levels 1 and 1/2: the cell halves (spacing 62.5 and
+/// 31.25 µm, 4 times the particles), and at both levels the energy released per unit crack area is V15's
+/// 2000 J/m² within 5 % (nairn-mpm.md §6.2); the finest level is the reference. A cut's levels scale
+/// `cut.particles_across` to the nearest odd count: 15 through h gives 31 at level 1/2 and 7 at level 2.
+#[test]
+fn an_mpm_study_scales_its_particle_spacing() {
+    let dir = out("mpm");
+    let sets = ["bond.width=1e-3", "bond.cell=1.25e-4"];
+    let s = study(
+        &[cpu()],
+        &options(Path::new("cases/mpm/bond-mode1.toml"), &sets, &["1", "1/2"], &[Precision::F64], &dir),
+    )
+    .expect("study");
+    assert_eq!(s.runs.len(), 2);
+    assert_eq!(s.reference, 1, "the finest level is the reference");
+    assert!((s.runs[0].dx / 6.25e-5 - 1.0).abs() < 1e-12 && (s.runs[1].dx / 3.125e-5 - 1.0).abs() < 1e-12);
+    let released = s.observables.iter().position(|o| o.name == "released_j_per_m2").expect("released column");
+    let (coarse, fine) = (stats(&s.runs[0].outcome), stats(&s.runs[1].outcome));
+    assert_eq!(fine.particles, 4 * coarse.particles);
+    for r in [coarse, fine] {
+        let g = r.values[released].expect("released energy");
+        assert!((g / 2000.0 - 1.0).abs() < 0.05, "{g} J/m²");
+    }
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    assert!(dir.join(swarf::study::CSV).is_file() && dir.join(swarf::study::MARKDOWN).is_file());
+    let cut = swarf::scene::mpm::MpmScene::load("cases/mpm/nairn-cut.toml", &[]).expect("cut");
+    let counts: Vec<String> = [1.0, 0.5, 2.0].iter().map(|f| cut.level_override(*f)).collect();
+    assert_eq!(counts, ["cut.particles_across=15", "cut.particles_across=31", "cut.particles_across=7"]);
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -159,6 +159,28 @@ impl MpmScene {
         young_modulus(self.material.bulk_modulus, self.material.shear_modulus)
     }
 
+    /// The particle spacing [m]: half the cell (2 × 2 particles per cell): h/n for a cut, `cell`/2 for a bond.
+    pub fn spacing(&self) -> f64 {
+        match self.setup {
+            Setup::Cut(c) => c.depth / f64::from(c.particles_across),
+            Setup::Bond(b) => 0.5 * b.cell,
+        }
+    }
+
+    /// The override that scales the particle spacing by `factor` (a `swarf study` level): a bond's `bond.cell`
+    /// times the factor; a cut's `cut.particles_across`, the odd count nearest n/factor (at least 3: the cut plane
+    /// lies mid-cell only for odd counts), so that a cut's levels 1, 1/2, 2 from 15 through h give 15, 31, 7. The
+    /// spacing the override gives is [`Self::spacing`] of the scene loaded with it.
+    pub fn level_override(&self, factor: f64) -> String {
+        match self.setup {
+            Setup::Cut(c) => {
+                let odd = 2.0 * ((f64::from(c.particles_across) / factor - 1.0) / 2.0).round() + 1.0;
+                format!("cut.particles_across={}", odd.max(3.0))
+            }
+            Setup::Bond(b) => format!("bond.cell={:e}", b.cell * factor),
+        }
+    }
+
     /// The dilatational wave speed c_d = √((K + 4G/3)/ρ).
     pub fn wave_speed(&self) -> f64 {
         let m = &self.material;

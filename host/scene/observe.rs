@@ -57,6 +57,32 @@ pub const SUMMARY_OBSERVABLES: &[(&str, &str)] =
 
 const AXES: [&str; 3] = ["x", "y", "z"];
 
+/// An MPM cut's results in summary.json (name, unit, JSON pointer): the steady forces beside Nairn's two models
+/// (`mpm::run::Steady`).
+const MPM_CUT: &[(&str, &str, &str)] = &[
+    ("fc_n_per_m", "N/m", "/steady/fc"),
+    ("ft_n_per_m", "N/m", "/steady/ft"),
+    ("fc_cov", "-", "/steady/fc_cov"),
+    ("touching_model_n_per_m", "N/m", "/steady/touching_model"),
+    ("fc_over_model", "-", "/steady/fc_over_model"),
+    ("bending_model_n_per_m", "N/m", "/steady/bending_model"),
+    ("fc_over_bending", "-", "/steady/fc_over_bending"),
+    ("rubbing_n_per_m", "N/m", "/steady/rubbing"),
+    ("eta", "-", "/steady/eta"),
+];
+/// An MPM bond's result: the energy its crack released per unit area (`mpm::run::Released`).
+const MPM_BOND: &[(&str, &str, &str)] = &[("released_j_per_m2", "J/m²", "/released/per_area")];
+
+/// The observables of an MPM scene (a cut, else a bond): the mean mode-I share of the failed cohesive points, then
+/// the set-up's results, all read from summary.json. `swarf sweep` and `swarf study` tabulate these.
+pub fn mpm_catalogue(cut: bool) -> Vec<Observable> {
+    let mode = ("mode_i_share", "-", "/mode_i_share");
+    std::iter::once(&mode)
+        .chain(if cut { MPM_CUT } else { MPM_BOND })
+        .map(|&(name, unit, at)| Observable { name: name.to_string(), unit, source: Source::Pointer(at) })
+        .collect()
+}
+
 /// The observables of a scene of dimension `dim`, with or without a tool, with `bodies` (see the module docs).
 pub fn catalogue(dim: usize, has_tool: bool, bodies: &[Body]) -> Vec<Observable> {
     if has_tool {

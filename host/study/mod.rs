@@ -18,6 +18,11 @@
 //! - A run that fails (a non-finite value, a blow-up, a tool that never meets the workpiece at that level) is
 //!   recorded as failed with its message; the study goes on. The tables and the plot are rewritten (atomically)
 //!   after every run, so an interrupted study leaves the results so far.
+//! - **An MPM scene** (`method = "mpm"`, docs/mpm.md) is studied the same way, with its own resolution key: a
+//!   level scales its particle spacing through [`MpmScene::level_override`] (a cut's `cut.particles_across`, the
+//!   nearest odd count; a bond's `bond.cell`), and its observables are the run's summary.json results
+//!   ([`observe::mpm_catalogue`]: the mode-I share, a cut's steady forces beside Nairn's models, a bond's released
+//!   energy). A level whose rounded count does not give the factor exactly is warned, and its spacing recorded.
 
 /// The observables moved below the scene reader (which checks `[experiment]` against them).
 pub use crate::scene::observe;
@@ -28,7 +33,9 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 
 use crate::backend::AnyBackend;
+use crate::mpm::run::MpmRunOptions;
 use crate::run::RunOptions;
+use crate::scene::mpm::{MpmScene, Setup as MpmSetup};
 use crate::scene::{Measurement, Precision, Scene, Shape};
 use crate::{Error, Result};
 use observe::Observable;
@@ -168,23 +175,9 @@ pub fn study(backends: &[AnyBackend], opts: &StudyOptions) -> Result<Study> {
         let level = k / per_level;
         let backend = &backends[k % backends.len()];
         let run = &study.runs[k];
-        let ropts = RunOptions {
-            precision: Some(run.precision),
-            quiet: opts.quiet,
-            overrides: scenes[level].overrides.clone(),
-            ..RunOptions::quiet(run.dir.clone())
-        };
-        let (outcome, stop) = match crate::run::run(backend, &scenes[level].scene, &ropts) {
-            Ok(report) => match observe::measure(&run.dir, &study.observables, run.dx) {
-                Ok(values) => (
-                    Outcome::Done(RunStats {
-                        particles: report.particles,
-                        steps: report.steps,
-                        wall_s: report.wall_s,
-                        values,
-                    }),
-                    None,
-                ),
+        let (outcome, stop) = match run_level(backend, &scenes[level], run, opts.quiet) {
+            Ok((particles, steps, wall_s)) => match observe::measure(&run.dir, &study.observables, run.dx) {
+                Ok(values) => (Outcome::Done(RunStats { particles, steps, wall_s, values }), None),
                 Err(e) => (Outcome::Failed(format!("observables not read: {e}")), None),
             },
             // Ctrl-C: the run wrote its checkpoint; the study records it, writes its tables and stops.
@@ -209,10 +202,116 @@ pub fn study(backends: &[AnyBackend], opts: &StudyOptions) -> Result<Study> {
     Ok(study)
 }
 
-/// A level's scene and the overrides it was loaded with (the user's, then its dx), recorded in its runs' summaries.
+/// A level's scene and the overrides it was loaded with (the user's, then its resolution), recorded in its runs'
+/// summaries.
 struct LevelScene {
-    scene: Scene,
+    scene: LevelKind,
     overrides: Vec<String>,
+}
+
+/// A level's scene, by method.
+enum LevelKind {
+    Sph(Box<Scene>),
+    Mpm(Box<MpmScene>),
+}
+
+/// Runs one run of the study: an SPH run, or an MPM run at the run's precision (without frames, as an SPH study's
+/// runs). Its particles, steps and the time loop's wall time.
+fn run_level(backend: &AnyBackend, level: &LevelScene, run: &Run, quiet: bool) -> Result<(usize, u64, f64)> {
+    match &level.scene {
+        LevelKind::Sph(scene) => {
+            let ropts = RunOptions {
+                precision: Some(run.precision),
+                quiet,
+                overrides: level.overrides.clone(),
+                ..RunOptions::quiet(run.dir.clone())
+            };
+            crate::run::run(backend, scene, &ropts).map(|r| (r.particles, r.steps, r.wall_s))
+        }
+        LevelKind::Mpm(scene) => {
+            let scene = MpmScene { precision: run.precision, ..(**scene).clone() };
+            let mopts = MpmRunOptions {
+                frames: false,
+                quiet,
+                overrides: level.overrides.clone(),
+                ..MpmRunOptions::new(run.dir.clone())
+            };
+            crate::mpm::run::run(backend, &scene, &mopts).map(|r| (r.particles, r.steps, r.wall_s))
+        }
+    }
+}
+
+/// What a study's plan takes from its scene, whatever the method.
+struct Planned {
+    name: String,
+    file: String,
+    observables: Vec<Observable>,
+    experiment: Vec<Measurement>,
+    /// Each level's scene and spacing.
+    scenes: Vec<(LevelScene, f64)>,
+    warnings: Vec<String>,
+}
+
+/// An SPH scene's levels: `discretisation.dx` scaled, lattice-fit warnings.
+fn plan_sph(opts: &StudyOptions) -> Result<Planned> {
+    let base = Scene::load(&opts.scene, &opts.overrides).map_err(|e| Error::Scene(e.to_string()))?;
+    let dx0 = base.discretisation.dx;
+    let mut scenes = Vec::new();
+    let mut warnings = Vec::new();
+    for level in &opts.levels {
+        let dx = level.apply(dx0);
+        let mut sets = opts.overrides.clone();
+        sets.push(format!("discretisation.dx={dx:e}"));
+        let scene = Scene::load(&opts.scene, &sets)
+            .map_err(|e| Error::Scene(format!("study level {level} (dx = {dx:e} m): {e}")))?;
+        warnings.extend(lattice_warnings(&scene).into_iter().map(|w| format!("level {level}: {w}")));
+        let dx = scene.discretisation.dx;
+        scenes.push((LevelScene { scene: LevelKind::Sph(Box::new(scene)), overrides: sets }, dx));
+    }
+    Ok(Planned {
+        name: base.name.clone(),
+        file: base.origin.clone(),
+        observables: observe::catalogue(base.dim, base.tool.is_some(), &base.bodies),
+        experiment: base.experiment.clone(),
+        scenes,
+        warnings,
+    })
+}
+
+/// An MPM scene's levels: the particle spacing scaled through [`MpmScene::level_override`], each level's set-up
+/// checked (as `swarf sweep` does) before any run; a level whose spacing is not the factor's (a cut's odd count)
+/// is warned.
+fn plan_mpm(opts: &StudyOptions) -> Result<Planned> {
+    let base = MpmScene::load(&opts.scene, &opts.overrides).map_err(|e| Error::Scene(e.to_string()))?;
+    let dx0 = base.spacing();
+    let mut scenes = Vec::new();
+    let mut warnings = Vec::new();
+    for level in &opts.levels {
+        let mut sets = opts.overrides.clone();
+        sets.push(base.level_override(level.factor()));
+        let failed =
+            |e: &dyn fmt::Display| Error::Scene(format!("study level {level} ({}): {e}", sets[sets.len() - 1]));
+        let scene = MpmScene::load(&opts.scene, &sets).map_err(|e| failed(&e))?;
+        crate::mpm::setup::setup(&scene).map_err(|e| failed(&e))?;
+        let dx = scene.spacing();
+        if (dx / level.apply(dx0) - 1.0).abs() > 1e-9 {
+            warnings.push(format!(
+                "level {level}: {} gives a particle spacing of {dx:e} m, {:.4} of the scene's, not {}",
+                sets[sets.len() - 1],
+                dx / dx0,
+                level.factor()
+            ));
+        }
+        scenes.push((LevelScene { scene: LevelKind::Mpm(Box::new(scene)), overrides: sets }, dx));
+    }
+    Ok(Planned {
+        name: base.name.clone(),
+        file: opts.scene.display().to_string(),
+        observables: observe::mpm_catalogue(matches!(base.setup, MpmSetup::Cut(_))),
+        experiment: Vec::new(),
+        scenes,
+        warnings,
+    })
 }
 
 /// The scenes of every level (validated: a bad scene or level is refused here, before any run) and the study with
@@ -240,20 +339,10 @@ fn plan(backends: &[AnyBackend], opts: &StudyOptions) -> Result<(Study, Vec<Leve
             return refuse(format!("--backends: {} is given twice", b.info().backend));
         }
     }
-    let base = Scene::load(&opts.scene, &opts.overrides).map_err(|e| Error::Scene(e.to_string()))?;
-    let dx0 = base.discretisation.dx;
-    let mut scenes = Vec::new();
-    let mut warnings = Vec::new();
-    for level in &opts.levels {
-        let dx = level.apply(dx0);
-        let mut sets = opts.overrides.clone();
-        sets.push(format!("discretisation.dx={dx:e}"));
-        let scene = Scene::load(&opts.scene, &sets)
-            .map_err(|e| Error::Scene(format!("study level {level} (dx = {dx:e} m): {e}")))?;
-        warnings.extend(lattice_warnings(&scene).into_iter().map(|w| format!("level {level}: {w}")));
-        scenes.push(LevelScene { scene, overrides: sets });
-    }
-    let observables = observe::catalogue(base.dim, base.tool.is_some(), &base.bodies);
+    let file = opts.scene.display().to_string();
+    let text = std::fs::read_to_string(&opts.scene).map_err(|e| Error::Scene(format!("{file}: {e}")))?;
+    let method = crate::scene::mpm::method_of(&text, &file).map_err(|e| Error::Scene(e.to_string()))?;
+    let planned = if method == "mpm" { plan_mpm(opts)? } else { plan_sph(opts)? };
     let mut runs = Vec::new();
     for (k, level) in opts.levels.iter().enumerate() {
         for &precision in &opts.precisions {
@@ -261,7 +350,7 @@ fn plan(backends: &[AnyBackend], opts: &StudyOptions) -> Result<(Study, Vec<Leve
                 let backend = b.info().backend.to_string();
                 runs.push(Run {
                     level: *level,
-                    dx: scenes[k].scene.discretisation.dx,
+                    dx: planned.scenes[k].1,
                     precision,
                     dir: opts.out_dir.join(format!("level{k}-{}-{backend}", precision.as_str())),
                     backend,
@@ -277,15 +366,15 @@ fn plan(backends: &[AnyBackend], opts: &StudyOptions) -> Result<(Study, Vec<Leve
     let p = opts.precisions.iter().position(|q| *q == precision).unwrap_or(0);
     let reference = (level * opts.precisions.len() + p) * backends.len();
     let study = Study {
-        scene: base.name.clone(),
-        file: base.origin.clone(),
-        observables,
-        experiment: base.experiment.clone(),
+        scene: planned.name,
+        file: planned.file,
+        observables: planned.observables,
+        experiment: planned.experiment,
         runs,
         reference,
-        warnings,
+        warnings: planned.warnings,
     };
-    Ok((study, scenes))
+    Ok((study, planned.scenes.into_iter().map(|(s, _)| s).collect()))
 }
 
 /// Bodies whose lattice box is not a whole number of dx (to 1e-6 dx) on some axis: rectangle and box sides, the

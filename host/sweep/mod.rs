@@ -253,40 +253,24 @@ fn plan_sph(opts: &SweepOptions, points: &[(Vec<String>, Vec<String>, PathBuf)])
     Ok((base.name, columns, Members::Sph(jobs), dx))
 }
 
-/// An MPM sweep's columns (name, unit, summary.json pointer): every run's facts, then a cut's or a bond's results.
+/// An MPM sweep's run columns (name, unit, summary.json pointer), before the scene's observables
+/// ([`observe::mpm_catalogue`]).
 const MPM_RUN_COLUMNS: &[(&str, &str, &str)] = &[
     ("particles", "-", "/particles"),
     ("steps", "-", "/steps"),
     ("wall_time_s", "s", "/wall_s"),
     ("dt_s", "s", "/dt"),
     ("failed_points", "-", "/failed_points"),
-    ("mode_i_share", "-", "/mode_i_share"),
 ];
-const MPM_CUT_COLUMNS: &[(&str, &str, &str)] = &[
-    ("fc_n_per_m", "N/m", "/steady/fc"),
-    ("ft_n_per_m", "N/m", "/steady/ft"),
-    ("fc_cov", "-", "/steady/fc_cov"),
-    ("touching_model_n_per_m", "N/m", "/steady/touching_model"),
-    ("fc_over_model", "-", "/steady/fc_over_model"),
-    ("bending_model_n_per_m", "N/m", "/steady/bending_model"),
-    ("fc_over_bending", "-", "/steady/fc_over_bending"),
-    ("rubbing_n_per_m", "N/m", "/steady/rubbing"),
-    ("eta", "-", "/steady/eta"),
-];
-const MPM_BOND_COLUMNS: &[(&str, &str, &str)] = &[("released_j_per_m2", "J/m²", "/released/per_area")];
 
 /// An MPM sweep: its columns (the runs' facts, then a cut's steady forces beside Nairn's touching model, or a
 /// bond's released energy) and runs.
 fn plan_mpm(opts: &SweepOptions, points: &[(Vec<String>, Vec<String>, PathBuf)]) -> Result<Planned> {
     let base = MpmScene::load(&opts.scene, &opts.overrides).map_err(|e| Error::Scene(e.to_string()))?;
-    let extra = match base.setup {
-        MpmSetupKind::Cut(_) => MPM_CUT_COLUMNS,
-        MpmSetupKind::Bond(_) => MPM_BOND_COLUMNS,
-    };
     let columns = MPM_RUN_COLUMNS
         .iter()
-        .chain(extra)
         .map(|&(name, unit, at)| Observable { name: name.to_string(), unit, source: Source::Pointer(at) })
+        .chain(observe::mpm_catalogue(matches!(base.setup, MpmSetupKind::Cut(_))))
         .collect();
     let mut jobs = Vec::new();
     for (values, sets, dir) in points {
