@@ -104,6 +104,25 @@ fn twin_cuts_give_each_tool_the_force_of_one_cut() {
         assert_eq!(r[w1].is_nan(), r[w2].is_nan(), "contact at t = {}", r[0]);
         assert!(r[w1].is_nan() || (r[w1] - r[w2]).abs() <= 1e-6 * top, "wear at t = {}: {} {}", r[0], r[w1], r[w2]);
     }
+    // summary.json's `tools`: each tool's accumulated wear Σ Ẇ Δt over the samples with contact (recomputed here from
+    // forces.csv, 1e-12), the twins' equal (1e-6); none recorded without `usui`.
+    let summary = |d: &str| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(dir.join(d).join("summary.json")).expect("summary"))
+            .expect("json")
+    };
+    let (s2, s1) = (summary("two"), summary("one"));
+    let n1 = column(&h2, "contacts");
+    let mut sum = 0.0;
+    for (k, r) in two.iter().enumerate() {
+        let dt = r[0] - if k == 0 { 0.0 } else { two[k - 1][0] };
+        if r[n1] > 0.0 && r[w1].is_finite() {
+            sum += r[w1] * dt;
+        }
+    }
+    let (a, b) = (s2["tools"][0]["wear_m"].as_f64().expect("wear"), s2["tools"][1]["wear_m"].as_f64().expect("wear"));
+    assert!(sum > 0.0 && (a - sum).abs() <= 1e-12 * sum, "accumulated wear {a} against {sum}");
+    assert!((a - b).abs() <= 1e-6 * a, "the twins' wear {a} {b}");
+    assert!(s1["tools"][0]["wear_m"].is_null() && s1["tools"][0]["contact_time_s"].as_f64() > Some(0.0));
     let _ = std::fs::remove_dir_all(&dir);
 }
 

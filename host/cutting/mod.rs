@@ -16,6 +16,7 @@ pub mod record;
 pub mod segments;
 pub mod shear_band;
 pub mod steady;
+pub mod tool_wear;
 pub mod window;
 
 pub use crate::tool::{motion, setup};

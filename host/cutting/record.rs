@@ -13,6 +13,7 @@ use super::chip_axis::chip_thickness_normal;
 use super::early_stop::{EarlyStop, MIN_WINDOW_UNCUT};
 use super::segments::{Segments, crests_valleys};
 use super::steady::{Steady, mean_from};
+use super::tool_wear::ToolWear;
 use super::window::{MIN_TRANSIENT_UNCUT, Window, find, time_to_travel};
 use crate::kernels::contact::Tool2d;
 use crate::output::TimeSeries;
@@ -95,6 +96,10 @@ pub struct CutRecorder {
     pub fc: Vec<f64>,
     pub ff: Vec<f64>,
     pub thickness: Vec<Option<f64>>,
+    /// Each tool's contact time and accumulated wear, and where each tool's contact count and wear rate lie in a
+    /// row of forces.csv.
+    wear: ToolWear,
+    wear_columns: Vec<(usize, usize)>,
 }
 
 impl CutRecorder {
@@ -121,10 +126,16 @@ impl CutRecorder {
             1.0
         };
         let (surface_y, uncut) = super::chip_run::surface_and_uncut(scene, t.position[1], pos);
+        let tools = scene.tools().count();
+        let columns = force_columns(scene.dim, tools);
+        let at = |name: String| columns.iter().position(|c| *c == name).unwrap_or(usize::MAX);
+        let suffix = |k: usize| if k == 1 { String::new() } else { format!("_t{k}") };
+        let wear_columns =
+            (1..=tools).map(|k| (at(format!("contacts{}", suffix(k))), at(format!("wear_rate_m_per_s{}", suffix(k)))));
         Some(CutRecorder {
             series: TimeSeries::new(
                 out_dir.join("forces.csv"),
-                &force_columns(scene.dim, scene.tools().count()).iter().map(String::as_str).collect::<Vec<_>>(),
+                &columns.iter().map(String::as_str).collect::<Vec<_>>(),
             ),
             every: scene.output.every / SAMPLES_PER_OUTPUT,
             next: 0.0,
@@ -153,6 +164,8 @@ impl CutRecorder {
             fc: Vec::new(),
             ff: Vec::new(),
             thickness: Vec::new(),
+            wear: ToolWear::new(tools),
+            wear_columns: wear_columns.collect(),
         })
     }
 
@@ -213,6 +226,9 @@ impl CutRecorder {
         self.fc.push(row[2]);
         self.ff.push(row[3]);
         self.thickness.push(row[5].is_finite().then_some(row[5] * 1e-6));
+        let cell = |k: usize| row.get(k).copied().unwrap_or(f64::NAN);
+        let (n, w): (Vec<f64>, Vec<f64>) = self.wear_columns.iter().map(|&(n, w)| (cell(n), cell(w))).unzip();
+        self.wear.push(row[0], n.into_iter(), w.into_iter());
         while self.next <= row[0] {
             self.next += self.every;
         }
@@ -282,6 +298,7 @@ impl CutRecorder {
             pitch: segments.zip(chip).map(|(s, c)| s.pitch(self.speed, self.uncut, c.h_avg)),
             min_time: self.min_time,
             early_stop: self.early_stop.clone(),
+            tools: self.wear.clone(),
         }
     }
 }
@@ -305,6 +322,8 @@ pub struct CutAnalysis {
     pub min_time: f64,
     /// The early stop's report (None: the scene has none).
     pub early_stop: Option<EarlyStop>,
+    /// Each tool's contact time and accumulated wear ([`ToolWear`]).
+    pub tools: ToolWear,
 }
 
 impl CutAnalysis {
@@ -319,6 +338,7 @@ impl CutAnalysis {
             "chip_thickness_um": num(self.chip.map(|c| c.h_avg * 1e6)),
             "segmentation": num(self.chip.map(|c| c.segmentation)),
             "early_stop": EarlyStop::json(self.early_stop.as_ref()),
+            "tools": self.tools.json(),
             "cutting": {
                 "steady": self.steady.is_some_and(|s| s.steady),
                 "steady_from_s": self.steady.map(|s| s.start_time),
