@@ -516,3 +516,29 @@ fn damage_scene_errors_name_file_key_and_expectation() {
     let e = err("[physics]\nplasticity = false\n[damage]\n");
     assert!(e.contains("without plasticity"), "{e}");
 }
+
+/// The elastic energy the diagnostics book for a damaged particle (energy.csv; `energy::elastic_damaged_at`) is that
+/// of the stress it acts with (klippel §2.6, Eqs. 7.27–7.28): at D = 0 the undamaged energy bit for bit; at D = 1
+/// the deviatoric part times e^−2 and, in tension, the volumetric part too, in compression not; at full damage in
+/// tension nothing, in compression V p²/(2K). Against the formula V (k²S:S/(4G) + p_d²/(2K)) written out (1e-12).
+#[test]
+fn a_damaged_particle_books_the_elastic_energy_of_its_degraded_stress() {
+    use swarf::kernels::sph::energy::{elastic_at, elastic_damaged_at};
+    let (bulk, shear, rho0) = (1.2e11, 4.4e10, 4430.0);
+    let p = SphParams::<f64> { rho0, c0sq: bulk / rho0, bulk, shear, ..Default::default() };
+    // (xx, xy, xz, yy, yz, zz)
+    let s = S3f64([3e8, 5e7, -4e7, -1e8, 0.0, -2e8]);
+    let ss = 3e8f64.powi(2) + 1e8f64.powi(2) + 2e8f64.powi(2) + 2.0 * (5e7f64.powi(2) + 4e7f64.powi(2));
+    let m = 1e-9;
+    for rho in [0.99 * rho0, 1.01 * rho0] {
+        let (vol, pr) = (m / rho, p.c0sq * (rho - rho0));
+        let e = |d: f64| elastic_damaged_at::<f64, Dim3>(&p, m, rho, &s, None, d);
+        assert_eq!(e(0.0), elastic_at::<f64, Dim3>(&p, m, rho, &s, None), "D = 0 at ρ = {rho}");
+        let k = (-1.0f64).exp();
+        let pd = if pr < 0.0 { k * pr } else { pr };
+        let want = vol * (k * k * ss / (4.0 * shear) + pd * pd / (2.0 * bulk));
+        assert!((e(1.0) / want - 1.0).abs() < 1e-12, "D = 1 at ρ = {rho}: {} against {want}", e(1.0));
+        let full = if pr < 0.0 { 0.0 } else { vol * pr * pr / (2.0 * bulk) };
+        assert!((e(FULL_DAMAGE) - full).abs() <= 1e-12 * full.max(1e-30), "full damage at ρ = {rho}");
+    }
+}

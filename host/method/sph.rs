@@ -698,7 +698,15 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Method<B> for Solver<B, R, D> {
         let (work, diss) = self.download_dissipated(b)?;
         crate::solver::diagnostics::dissipated(&mut d, &host, work.as_deref(), diss.as_deref());
         let (omega, damage) = (field("damage_initiation"), field("damage"));
-        crate::solver::diagnostics::damaged(&mut d, &host, omega.as_deref(), damage.as_deref());
+        let params = &self.host_params;
+        crate::solver::diagnostics::damaged(
+            &mut d,
+            &host,
+            params,
+            temp.as_deref(),
+            omega.as_deref(),
+            damage.as_deref(),
+        );
         crate::solver::diagnostics::cohesive(&mut d, self.bond_tally(b)?.as_ref());
         let mut now = positions_f64(&host.pos);
         // The mixed precision's positions are hi + lo: the observers and the displacements see them whole.

@@ -1,7 +1,7 @@
 //! Diagnostics of a particle state: energies, momenta and the first non-finite value, summed in f64 in particle
 //! order (deterministic) from the per-particle functions of `kernels::sph::energy`.
 
-use crate::kernels::sph::energy::{elastic_at, kinetic};
+use crate::kernels::sph::energy::{elastic_at, elastic_damaged_at, kinetic};
 use crate::kernels::sph::{SphParams, TensorOps};
 use crate::kernels::{Real, Vector};
 use crate::state::HostParticles;
@@ -176,10 +176,14 @@ pub fn dissipated<R: Real, D: TensorOps<R>>(
 }
 
 /// Adds the damaged and initiated volumes (`omega`, `damage`: the frames' `damage_initiation` and `damage`, where
-/// modelled), Σ m/ρ over the mechanical particles with full damage and with ω ≥ 1, and reports a non-finite one.
+/// modelled), Σ m/ρ over the mechanical particles with full damage and with ω ≥ 1, and reports a non-finite one;
+/// and replaces each damaged particle's elastic energy by that of its degraded stress
+/// (`kernels::sph::energy::elastic_damaged_at`, with the temperatures `temp` of a run with thermal expansion).
 pub fn damaged<R: Real, D: TensorOps<R>>(
     d: &mut Diagnostics,
     p: &HostParticles<R, D>,
+    params: &SphParams<R>,
+    temp: Option<&[f64]>,
     omega: Option<&[f64]>,
     damage: Option<&[f64]>,
 ) {
@@ -194,6 +198,13 @@ pub fn damaged<R: Real, D: TensorOps<R>>(
             continue;
         }
         let vol = p.mass[i].to_f64() / p.rho[i].to_f64();
+        if damage[i] > 0.0 {
+            // The elastic energy of the stress the particle acts with, not of its stored (undamaged) stress: a
+            // fully damaged particle pulled apart stores a growing tensile pressure it no longer exerts.
+            let (m, rho, s, t) = (p.mass[i], p.rho[i], &p.stress[i], temp.map(|t| t[i]));
+            let acting = elastic_damaged_at::<R, D>(params, m, rho, s, t, damage[i]).to_f64();
+            d.elastic += acting - elastic_at::<R, D>(params, m, rho, s, t).to_f64();
+        }
         if crate::kernels::damage::is_full(damage[i]) {
             full += vol;
         }

@@ -27,12 +27,30 @@ pub fn elastic<R: Real, D: TensorOps<R>>(p: &SphParams<R>, m: R, rho: R, s: &D::
 /// The same with the temperature of a run with thermal expansion (the pressure is the mechanical one).
 #[inline(always)]
 pub fn elastic_at<R: Real, D: TensorOps<R>>(p: &SphParams<R>, m: R, rho: R, s: &D::Sym<R>, temp: Option<f64>) -> R {
+    elastic_damaged_at::<R, D>(p, m, rho, s, temp, 0.0)
+}
+
+/// The elastic energy of the stress a particle with damage D acts with (docs/damage.md; klippel §2.6, Eqs.
+/// 7.27–7.28, the interaction's `prepare_damaged`): the stored deviator times k = exp(−D) (`damage::multiplier`,
+/// 0 at full damage) and the pressure times k only in tension (`damage::degraded_pressure`),
+/// V ((kS):(kS)/(4G) + p_d²/(2K)). D = 0 gives the undamaged energy bit for bit (k = 1).
+#[inline(always)]
+pub fn elastic_damaged_at<R: Real, D: TensorOps<R>>(
+    p: &SphParams<R>,
+    m: R,
+    rho: R,
+    s: &D::Sym<R>,
+    temp: Option<f64>,
+    damage: f64,
+) -> R {
     let pr = match temp {
         Some(t) => super::interact::pressure_at(p, rho, t),
         None => pressure(p, rho),
     };
+    let k = R::from_f64(crate::damage::multiplier(damage));
+    let pd = crate::damage::degraded_pressure(k, pr);
     let vol = m / rho;
-    vol * (D::double_dot(s) / (R::from_f64(4.0) * p.shear) + pr * pr / (R::from_f64(2.0) * p.bulk))
+    vol * (k * k * D::double_dot(s) / (R::from_f64(4.0) * p.shear) + pd * pd / (R::from_f64(2.0) * p.bulk))
 }
 
 /// Von Mises equivalent stress √(3/2 S:S).
