@@ -25,6 +25,13 @@ run() { # name, command...
     [ $rc = 0 ] || status=1
     tail -n 40 "$out/$name.log"
 }
+keep_sweeps() { # names...: each /tmp/mpmsweep/<name>'s sweep.md and sweep.csv into $out/mpmsweep-<name>.*
+    local v
+    for v in "$@"; do
+        cp "/tmp/mpmsweep/$v/sweep.md" "$out/mpmsweep-$v.md" 2>/dev/null
+        cp "/tmp/mpmsweep/$v/sweep.csv" "$out/mpmsweep-$v.csv" 2>/dev/null
+    done
+}
 cut() { # a cutting run on the GPU: out-name, scene, extra args; prints its summary and a thinned force trace
     local name=$1 scene=$2; shift 2
     "$here/swarf" --backend gpu run "$scene" --quiet --out "/tmp/swarf-cut/$name" "$@" || return 1
@@ -686,8 +693,7 @@ PY
                   "$here/swarf" --backend gpu sweep cases/mpm/nairn-cut.toml --quiet --batch "$batch" \
                       --out "/tmp/mpmsweep/$name" "$@"
                   echo "$name: batch $batch: $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s wall"
-                  cp "/tmp/mpmsweep/$name/sweep.md" "$out/mpmsweep-$name.md" 2>/dev/null
-                  cp "/tmp/mpmsweep/$name/sweep.csv" "$out/mpmsweep-$name.csv" 2>/dev/null
+                  keep_sweeps "$name"
               }
               mpm_probe() {
                   local short=(--set cut.cut_length=3.0)
@@ -709,8 +715,7 @@ PY
               t0=$(date +%s.%N)
               for ((i = 0; i < limit; i += 5)); do kill -0 $figure 2>/dev/null || break; sleep 5; done
               kill -0 $figure 2>/dev/null && { pkill -INT -f "swarf --backend gpu sweep" ; sleep 5; }
-              cp /tmp/mpmsweep/figure/sweep.md "$out/mpmsweep-figure.md" 2>/dev/null
-              cp /tmp/mpmsweep/figure/sweep.csv "$out/mpmsweep-figure.csv" 2>/dev/null
+              keep_sweeps figure
               echo "figure: $(grep -c ',ok,' /tmp/mpmsweep/figure/sweep.csv 2>/dev/null) points done, \
 $(grep -c ',failed,' /tmp/mpmsweep/figure/sweep.csv 2>/dev/null) failed, after \
 $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s" \
@@ -731,8 +736,7 @@ $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s" \
                       "$here/swarf" --backend gpu sweep cases/mpm/nairn-cut.toml --quiet --batch 24 \
                           --out "/tmp/mpmsweep/$name" "$@"
                       echo "$name: $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s wall"
-                      cp "/tmp/mpmsweep/$name/sweep.md" "$out/mpmsweep-$name.md"
-                      cp "/tmp/mpmsweep/$name/sweep.csv" "$out/mpmsweep-$name.csv"
+                      keep_sweeps "$name"
                   done
               }
               run mpmdamp mpm_damp ;;
@@ -756,9 +760,7 @@ $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s" \
                   done
                   wait
                   echo "all: $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s wall"
-                  for v in v6 v11; do
-                      cp "/tmp/mpmsweep/$v/sweep.md" "$out/mpmsweep-$v.md"; cp "/tmp/mpmsweep/$v/sweep.csv" "$out/mpmsweep-$v.csv"
-                  done
+                  keep_sweeps v6 v11
                   # The last 6 frames of each (VTU; the runs' summaries and forces whole).
                   for r in v16 fail025; do
                       (cd /tmp/mpm && tar czf "$out/logs-mpm-$r.tgz" "$r"/*.json "$r"/*.csv "$r"/particles.pvd \
@@ -779,9 +781,7 @@ $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s" \
                       --set cut.depth=0.9e-3 &
                   wait
                   echo "both: $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s wall"
-                  for v in edge edge-v11; do
-                      cp "/tmp/mpmsweep/$v/sweep.md" "$out/mpmsweep-$v.md"; cp "/tmp/mpmsweep/$v/sweep.csv" "$out/mpmsweep-$v.csv"
-                  done
+                  keep_sweeps edge edge-v11
               }
               run mpmedge mpm_edge ;;
         mpmv5) # issue 26 (docs/mpm.md): `swarf bench mpm` (the default cut at 15 and 31 particles through h, f64 and
@@ -794,7 +794,7 @@ $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s" \
                   "$here/swarf" --backend gpu sweep cases/mpm/nairn-cut.toml --quiet --batch 12 --out /tmp/mpmsweep/v5 \
                       --grid cut.depth=1.5e-3,1.75e-3,2.0e-3 --grid cut.ramp=0.3,0.6 --grid cut.cut_length=12,20
                   echo "v5: $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s wall"
-                  cp /tmp/mpmsweep/v5/sweep.md "$out/mpmsweep-v5.md"; cp /tmp/mpmsweep/v5/sweep.csv "$out/mpmsweep-v5.csv"
+                  keep_sweeps v5
               }
               run mpmv5 mpm_v5 ;;
         mpmv78) # issue 26 (docs/mpm.md "V5, V7, V8"): three batched sweeps at once (30°/15°/45°, mu = 0):
@@ -811,9 +811,7 @@ $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s" \
                       --grid cut.depth=1.25e-3,1.5e-3,1.75e-3,2.0e-3 &
                   wait
                   echo "all: $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s wall"
-                  for v in v7 v8 v5res; do
-                      cp "/tmp/mpmsweep/$v/sweep.md" "$out/mpmsweep-$v.md"; cp "/tmp/mpmsweep/$v/sweep.csv" "$out/mpmsweep-$v.csv"
-                  done
+                  keep_sweeps v7 v8 v5res
               }
               run mpmv78 mpm_v78 ;;
         mpmv5fine) # issue 26 (docs/mpm.md "V5, V7, V8"): V1 and V5 at 31 particles through h (30°, mu = 0: h 0.25-1.0
@@ -828,9 +826,7 @@ $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s" \
                       --grid cut.rake=15,30,45 --grid cut.depth=3.0e-3,5.0e-3,7.0e-3 &
                   wait
                   echo "all: $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s wall"
-                  for v in v5fine v8room; do
-                      cp "/tmp/mpmsweep/$v/sweep.md" "$out/mpmsweep-$v.md"; cp "/tmp/mpmsweep/$v/sweep.csv" "$out/mpmsweep-$v.csv"
-                  done
+                  keep_sweeps v5fine v8room
               }
               run mpmv5fine mpm_v5fine ;;
         mpm26b) # issue 26 (docs/mpm.md): V7 (hardening: E_T 25 and 100 MPa at 30°), V10 (base depth 2 and 4 at

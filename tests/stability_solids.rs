@@ -163,7 +163,7 @@ fn checkerboard_on<B: Backend>(b: &B, overrides: &[String], steps: usize) -> (Ve
     let (mut ek, mut et, mut worst_p) = (Vec::new(), Vec::new(), 0.0f64);
     for k in 0..=steps {
         let p = solver.download(b).expect("download");
-        let d = compute(&p, &solver.host_params, solver.time, solver.steps, None);
+        let d = compute(&p, &solver.host_params, solver.time, solver.steps, None, None);
         assert!(d.non_finite.is_none(), "non-finite {:?} at step {k}", d.non_finite);
         ek.push(d.kinetic);
         et.push(d.total());

@@ -131,7 +131,7 @@ fn impact_on<B: swarf::backend::Backend>(
         if k % 50 == 0 || k == steps {
             let h = solver.download(b).expect("download");
             let (temp, eps, _) = solver.download_internal(b).expect("internal");
-            let d = swarf::solver::diagnostics::compute(&h, &solver.host_params, solver.time, solver.steps, None);
+            let d = swarf::solver::diagnostics::compute(&h, &solver.host_params, solver.time, solver.steps, None, None);
             assert!(d.non_finite.is_none(), "non-finite {:?} at step {k}", d.non_finite);
             let e0 = *e0.get_or_insert(d.total());
             e_max = e_max.max(d.total() / e0);

@@ -227,8 +227,7 @@ impl CutRecorder {
         self.ff.push(row[3]);
         self.thickness.push(row[5].is_finite().then_some(row[5] * 1e-6));
         let cell = |k: usize| row.get(k).copied().unwrap_or(f64::NAN);
-        let (n, w): (Vec<f64>, Vec<f64>) = self.wear_columns.iter().map(|&(n, w)| (cell(n), cell(w))).unzip();
-        self.wear.push(row[0], n.into_iter(), w.into_iter());
+        self.wear.push(row[0], self.wear_columns.iter().map(|&(n, w)| (cell(n), cell(w))));
         while self.next <= row[0] {
             self.next += self.every;
         }

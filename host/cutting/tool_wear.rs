@@ -45,11 +45,11 @@ impl ToolWear {
         ToolWear { tools: vec![ToolTally::default(); tools], last_time: 0.0 }
     }
 
-    /// Adds the sample at `time`: each tool's contact count and mean wear rate (NaN: wear off or no contact).
-    pub fn push(&mut self, time: f64, contacts: impl Iterator<Item = f64>, rates: impl Iterator<Item = f64>) {
+    /// Adds the sample at `time`: each tool's (contact count, mean wear rate) (rate NaN: wear off or no contact).
+    pub fn push(&mut self, time: f64, tools: impl Iterator<Item = (f64, f64)>) {
         let dt = time - self.last_time;
         self.last_time = time;
-        for ((tally, n), w) in self.tools.iter_mut().zip(contacts).zip(rates) {
+        for (tally, (n, w)) in self.tools.iter_mut().zip(tools) {
             if n > 0.0 {
                 tally.contact_time += dt;
                 tally.first.get_or_insert(time);
@@ -94,7 +94,7 @@ mod tests {
         let samples = [(1e-6, [0.0, 0.0], [f64::NAN, f64::NAN]), (2e-6, [3.0, 0.0], [1.0, f64::NAN])];
         let more = [(3e-6, [5.0, 0.0], [100.0, f64::NAN]), (4e-6, [2.0, 0.0], [1.0, f64::NAN])];
         for (t, n, r) in samples.iter().chain(&more) {
-            w.push(*t, n.iter().copied(), r.iter().copied());
+            w.push(*t, n.iter().copied().zip(r.iter().copied()));
         }
         let a = &w.tools[0];
         assert!((a.contact_time - 3e-6).abs() < 1e-18 && a.first == Some(2e-6) && a.last == Some(4e-6));
@@ -103,7 +103,7 @@ mod tests {
         assert_eq!(w.tools[1], ToolTally::default());
         let j = w.json();
         assert!(j[1]["wear_m"].is_null() && j[1]["contact_time_s"] == 0.0);
-        w.push(5e-6, [1.0, 0.0].into_iter(), [f64::NAN, f64::NAN].into_iter());
+        w.push(5e-6, [(1.0, f64::NAN), (0.0, f64::NAN)].into_iter());
         assert!((w.tools[0].contact_time - 4e-6).abs() < 1e-18 && (w.tools[0].wear - 102e-6).abs() < 1e-15);
     }
 }

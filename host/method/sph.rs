@@ -693,20 +693,12 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Method<B> for Solver<B, R, D> {
         }
         let field = |name: &str| fields.iter().find(|f| f.name == name).map(|f| f.values.clone());
         let (temp, eps, rate) = (field("temperature"), field("plastic_strain"), field("plastic_strain_rate"));
-        let mut d = compute(&host, &self.host_params, self.time, self.steps, temp.as_deref());
+        let (omega, damage) = (field("damage_initiation"), field("damage"));
+        let mut d = compute(&host, &self.host_params, self.time, self.steps, temp.as_deref(), damage.as_deref());
         crate::solver::diagnostics::internal(&mut d, &host.id, temp.as_deref(), eps.as_deref());
         let (work, diss) = self.download_dissipated(b)?;
         crate::solver::diagnostics::dissipated(&mut d, &host, work.as_deref(), diss.as_deref());
-        let (omega, damage) = (field("damage_initiation"), field("damage"));
-        let params = &self.host_params;
-        crate::solver::diagnostics::damaged(
-            &mut d,
-            &host,
-            params,
-            temp.as_deref(),
-            omega.as_deref(),
-            damage.as_deref(),
-        );
+        crate::solver::diagnostics::damaged(&mut d, &host, omega.as_deref(), damage.as_deref());
         crate::solver::diagnostics::cohesive(&mut d, self.bond_tally(b)?.as_ref());
         let mut now = positions_f64(&host.pos);
         // The mixed precision's positions are hi + lo: the observers and the displacements see them whole.

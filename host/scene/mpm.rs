@@ -194,3 +194,11 @@ pub fn method_of(text: &str, origin: &str) -> Result<String, SceneError> {
     let doc = super::doc::Doc::parse(text, origin)?;
     super::read::method(&doc)
 }
+
+/// Whether the scene file at `path` asks for the MPM ([`method_of`] of its text): how `sweep` and `study` choose
+/// their planner.
+pub fn is_mpm_file(path: &Path) -> Result<bool, SceneError> {
+    let file = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read { file: file.clone(), source })?;
+    Ok(method_of(&text, &file)? == "mpm")
+}

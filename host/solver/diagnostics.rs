@@ -1,7 +1,7 @@
 //! Diagnostics of a particle state: energies, momenta and the first non-finite value, summed in f64 in particle
 //! order (deterministic) from the per-particle functions of `kernels::sph::energy`.
 
-use crate::kernels::sph::energy::{elastic_at, elastic_damaged_at, kinetic};
+use crate::kernels::sph::energy::{elastic_damaged_at, kinetic};
 use crate::kernels::sph::{SphParams, TensorOps};
 use crate::kernels::{Real, Vector};
 use crate::state::HostParticles;
@@ -81,12 +81,16 @@ impl Diagnostics {
 }
 
 /// `temp`: the particles' temperatures when the run models thermal expansion (the pressure then depends on T).
+/// `damage`: the particles' damage D where modelled: a damaged particle's elastic energy is that of the degraded
+/// stress it acts with (`kernels::sph::energy::elastic_damaged_at`), not of its stored stress (a fully damaged
+/// particle pulled apart stores a growing tensile pressure it no longer exerts).
 pub fn compute<R: Real, D: TensorOps<R>>(
     p: &HostParticles<R, D>,
     params: &SphParams<R>,
     time: f64,
     step: u64,
     temp: Option<&[f64]>,
+    damage: Option<&[f64]>,
 ) -> Diagnostics {
     let mut d = Diagnostics {
         time,
@@ -121,7 +125,8 @@ pub fn compute<R: Real, D: TensorOps<R>>(
             continue;
         }
         d.kinetic += kinetic(m, v).to_f64();
-        d.elastic += elastic_at::<R, D>(params, m, rho, &p.stress[i], temp.map(|t| t[i])).to_f64();
+        let (t, dmg) = (temp.map(|t| t[i]), damage.map_or(0.0, |d| d[i]));
+        d.elastic += elastic_damaged_at::<R, D>(params, m, rho, &p.stress[i], t, dmg).to_f64();
         let mf = m.to_f64();
         let xv: [f64; 3] = std::array::from_fn(|k| x.get(k).to_f64());
         let vv: [f64; 3] = std::array::from_fn(|k| v.get(k).to_f64());
@@ -176,14 +181,10 @@ pub fn dissipated<R: Real, D: TensorOps<R>>(
 }
 
 /// Adds the damaged and initiated volumes (`omega`, `damage`: the frames' `damage_initiation` and `damage`, where
-/// modelled), Σ m/ρ over the mechanical particles with full damage and with ω ≥ 1, and reports a non-finite one;
-/// and replaces each damaged particle's elastic energy by that of its degraded stress
-/// (`kernels::sph::energy::elastic_damaged_at`, with the temperatures `temp` of a run with thermal expansion).
+/// modelled), Σ m/ρ over the mechanical particles with full damage and with ω ≥ 1, and reports a non-finite one.
 pub fn damaged<R: Real, D: TensorOps<R>>(
     d: &mut Diagnostics,
     p: &HostParticles<R, D>,
-    params: &SphParams<R>,
-    temp: Option<&[f64]>,
     omega: Option<&[f64]>,
     damage: Option<&[f64]>,
 ) {
@@ -198,13 +199,6 @@ pub fn damaged<R: Real, D: TensorOps<R>>(
             continue;
         }
         let vol = p.mass[i].to_f64() / p.rho[i].to_f64();
-        if damage[i] > 0.0 {
-            // The elastic energy of the stress the particle acts with, not of its stored (undamaged) stress: a
-            // fully damaged particle pulled apart stores a growing tensile pressure it no longer exerts.
-            let (m, rho, s, t) = (p.mass[i], p.rho[i], &p.stress[i], temp.map(|t| t[i]));
-            let acting = elastic_damaged_at::<R, D>(params, m, rho, s, t, damage[i]).to_f64();
-            d.elastic += acting - elastic_at::<R, D>(params, m, rho, s, t).to_f64();
-        }
         if crate::kernels::damage::is_full(damage[i]) {
             full += vol;
         }

@@ -215,6 +215,16 @@ enum LevelKind {
     Mpm(Box<MpmScene>),
 }
 
+impl LevelScene {
+    /// The level's particle spacing: an SPH scene's dx, an MPM scene's [`MpmScene::spacing`].
+    fn dx(&self) -> f64 {
+        match &self.scene {
+            LevelKind::Sph(s) => s.discretisation.dx,
+            LevelKind::Mpm(s) => s.spacing(),
+        }
+    }
+}
+
 /// Runs one run of the study: an SPH run, or an MPM run at the run's precision (without frames, as an SPH study's
 /// runs). Its particles, steps and the time loop's wall time.
 fn run_level(backend: &AnyBackend, level: &LevelScene, run: &Run, quiet: bool) -> Result<(usize, u64, f64)> {
@@ -247,8 +257,8 @@ struct Planned {
     file: String,
     observables: Vec<Observable>,
     experiment: Vec<Measurement>,
-    /// Each level's scene and spacing.
-    scenes: Vec<(LevelScene, f64)>,
+    /// Each level's scene.
+    scenes: Vec<LevelScene>,
     warnings: Vec<String>,
 }
 
@@ -265,8 +275,7 @@ fn plan_sph(opts: &StudyOptions) -> Result<Planned> {
         let scene = Scene::load(&opts.scene, &sets)
             .map_err(|e| Error::Scene(format!("study level {level} (dx = {dx:e} m): {e}")))?;
         warnings.extend(lattice_warnings(&scene).into_iter().map(|w| format!("level {level}: {w}")));
-        let dx = scene.discretisation.dx;
-        scenes.push((LevelScene { scene: LevelKind::Sph(Box::new(scene)), overrides: sets }, dx));
+        scenes.push(LevelScene { scene: LevelKind::Sph(Box::new(scene)), overrides: sets });
     }
     Ok(Planned {
         name: base.name.clone(),
@@ -302,7 +311,7 @@ fn plan_mpm(opts: &StudyOptions) -> Result<Planned> {
                 level.factor()
             ));
         }
-        scenes.push((LevelScene { scene: LevelKind::Mpm(Box::new(scene)), overrides: sets }, dx));
+        scenes.push(LevelScene { scene: LevelKind::Mpm(Box::new(scene)), overrides: sets });
     }
     Ok(Planned {
         name: base.name.clone(),
@@ -339,10 +348,8 @@ fn plan(backends: &[AnyBackend], opts: &StudyOptions) -> Result<(Study, Vec<Leve
             return refuse(format!("--backends: {} is given twice", b.info().backend));
         }
     }
-    let file = opts.scene.display().to_string();
-    let text = std::fs::read_to_string(&opts.scene).map_err(|e| Error::Scene(format!("{file}: {e}")))?;
-    let method = crate::scene::mpm::method_of(&text, &file).map_err(|e| Error::Scene(e.to_string()))?;
-    let planned = if method == "mpm" { plan_mpm(opts)? } else { plan_sph(opts)? };
+    let mpm = crate::scene::mpm::is_mpm_file(&opts.scene).map_err(|e| Error::Scene(e.to_string()))?;
+    let planned = if mpm { plan_mpm(opts)? } else { plan_sph(opts)? };
     let mut runs = Vec::new();
     for (k, level) in opts.levels.iter().enumerate() {
         for &precision in &opts.precisions {
@@ -350,7 +357,7 @@ fn plan(backends: &[AnyBackend], opts: &StudyOptions) -> Result<(Study, Vec<Leve
                 let backend = b.info().backend.to_string();
                 runs.push(Run {
                     level: *level,
-                    dx: planned.scenes[k].1,
+                    dx: planned.scenes[k].dx(),
                     precision,
                     dir: opts.out_dir.join(format!("level{k}-{}-{backend}", precision.as_str())),
                     backend,
@@ -374,7 +381,7 @@ fn plan(backends: &[AnyBackend], opts: &StudyOptions) -> Result<(Study, Vec<Leve
         reference,
         warnings: planned.warnings,
     };
-    Ok((study, planned.scenes.into_iter().map(|(s, _)| s).collect()))
+    Ok((study, planned.scenes))
 }
 
 /// Bodies whose lattice box is not a whole number of dx (to 1e-6 dx) on some axis: rectangle and box sides, the

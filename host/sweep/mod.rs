@@ -204,10 +204,8 @@ fn plan(opts: &SweepOptions) -> Result<(Sweep, Members, Vec<f64>)> {
         .collect();
     // Which method: the file's `method` key, read as the scene readers read it.
     let file = opts.scene.display().to_string();
-    let text = std::fs::read_to_string(&opts.scene).map_err(|e| Error::Scene(format!("{file}: {e}")))?;
-    let method = crate::scene::mpm::method_of(&text, &file).map_err(|e| Error::Scene(e.to_string()))?;
-    let (name, columns, members, dx) =
-        if method == "mpm" { plan_mpm(opts, &points)? } else { plan_sph(opts, &points)? };
+    let mpm = crate::scene::mpm::is_mpm_file(&opts.scene).map_err(|e| Error::Scene(e.to_string()))?;
+    let (name, columns, members, dx) = if mpm { plan_mpm(opts, &points)? } else { plan_sph(opts, &points)? };
     let sweep = Sweep {
         scene: name,
         file,
