@@ -624,36 +624,42 @@ fn cutting_force_trace_equals_cpu() {
     }
 }
 
-/// Issue 25 on the GPU: damage (JC initiation, Hillerborg softening, the stress degraded in the pre-pass) and the
-/// interaction mask (a fully damaged pre-crack in tension) give the CPU's run bit for bit: a strip pulled apart at
-/// 50 m/s for 10 µs, until its particles yield and its damaged volume has grown beyond the pre-crack's.
+/// Issue 25 on the GPU: damage (JC initiation, Hillerborg softening, the stress degraded in the pre-pass, the plastic
+/// heating of the degraded stress) and the interaction mask (a fully damaged pre-crack in tension) in both its forms
+/// (`damage.mask_form`, printed and invariant) give the CPU's run bit for bit: a strip pulled apart at 50 m/s for
+/// 10 µs, until its particles yield and its damaged volume has grown beyond the pre-crack's.
 #[test]
 fn damaged_strip_equals_cpu() {
     let Some(_) = gpu() else { return };
     use swarf::backend::{AnyBackend, BackendChoice};
     use swarf::run::RunOptions;
     use swarf::scene::Scene;
-    let scene = Scene::from_str(&common::scenes::pulled_strip_scene(50.0, 1.0e-5), "strip.toml", &[]).expect("scene");
-    let mut runs = Vec::new();
-    for (k, choice) in [BackendChoice::Cpu, BackendChoice::Gpu].into_iter().enumerate() {
-        let any = AnyBackend::select(choice).expect("backend").0;
-        let dir = std::env::temp_dir().join(format!("swarf-gpu-strip-{k}-{}", std::process::id()));
-        let (last, yielded) = final_state(&any, &scene, &RunOptions::quiet(dir.clone()));
-        let (header, rows) = swarf::output::csv::read(&dir.join("energy.csv")).expect("energy.csv");
-        let k = header.iter().position(|c| c == "damaged_volume").expect("the damaged volume's column");
-        let damaged: Vec<u64> = rows.iter().map(|r| r[k].to_bits()).collect();
-        runs.push((last, yielded, damaged, rows, k));
+    for form in ["printed", "invariant"] {
+        let over = [format!("damage.mask_form=\"{form}\"")];
+        let text = common::scenes::pulled_strip_scene(50.0, 1.0e-5);
+        let scene = Scene::from_str(&text, "strip.toml", &over).expect("scene");
+        let mut runs = Vec::new();
+        for (k, choice) in [BackendChoice::Cpu, BackendChoice::Gpu].into_iter().enumerate() {
+            let any = AnyBackend::select(choice).expect("backend").0;
+            let dir = std::env::temp_dir().join(format!("swarf-gpu-strip-{form}-{k}-{}", std::process::id()));
+            let (last, yielded) = final_state(&any, &scene, &RunOptions::quiet(dir.clone()));
+            let (header, rows) = swarf::output::csv::read(&dir.join("energy.csv")).expect("energy.csv");
+            let k = header.iter().position(|c| c == "damaged_volume").expect("the damaged volume's column");
+            let damaged: Vec<u64> = rows.iter().map(|r| r[k].to_bits()).collect();
+            runs.push((last, yielded, damaged, rows, k));
+        }
+        let (first, last, k) = (runs[0].3.first().expect("rows"), runs[0].3.last().expect("rows"), runs[0].4);
+        let (d0, d1) = (first[k], last[k]);
+        eprintln!(
+            "damaged strip ({form} mask): {} particles yielded, damaged volume {d0:e} -> {d1:e} m², final state \
+             bitwise equal: {}",
+            runs[0].1,
+            runs[0].0 == runs[1].0
+        );
+        assert!(runs[0].1 > 0 && d1 > d0, "{form}: the strip must yield and its damage grow ({d0} -> {d1})");
+        assert_eq!(runs[0].2, runs[1].2, "{form}: the damaged volume over time differs between CPU and GPU");
+        assert!(runs[0].0 == runs[1].0, "{form}: GPU damaged strip differs from the CPU");
     }
-    let (first, last, k) = (runs[0].3.first().expect("rows"), runs[0].3.last().expect("rows"), runs[0].4);
-    let (d0, d1) = (first[k], last[k]);
-    eprintln!(
-        "damaged strip: {} particles yielded, damaged volume {d0:e} -> {d1:e} m², final state bitwise equal: {}",
-        runs[0].1,
-        runs[0].0 == runs[1].0
-    );
-    assert!(runs[0].1 > 0 && d1 > d0, "the strip must yield and its damage grow (damaged volume {d0} -> {d1})");
-    assert_eq!(runs[0].2, runs[1].2, "the damaged volume over time differs between CPU and GPU");
-    assert!(runs[0].0 == runs[1].0, "GPU damaged strip differs from the CPU");
 }
 
 /// Issue 26 on the GPU: the SPH cohesive path (the bonds' pass and id map, the `_cut` interaction entries) gives

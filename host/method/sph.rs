@@ -217,6 +217,9 @@ pub fn setup_with<R: Real, D: TensorOps<R>>(scene: &Scene, tuning: &Tuning) -> R
     if switches.has(Switch::KernelW6) {
         params.model_flags |= crate::kernels::sph::params::model::C2D_KERNEL_W;
     }
+    if scene.damage.as_ref().is_some_and(|d| d.mask && d.mask_printed) {
+        params.model_flags |= crate::kernels::sph::params::model::MASK_PRINTED;
+    }
     if switches.has(Switch::AbsCutoff) {
         params.min_r2 = R::from_f64(code_units(scene).cutoff_squared());
     }

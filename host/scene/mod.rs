@@ -190,6 +190,9 @@ pub struct Damage {
     pub fracture_energy: f64,
     /// `mask` (optional, default false): the interaction mask of fully damaged neighbours in tension.
     pub mask: bool,
+    /// `mask_form` (optional, `"printed"` (default) or `"invariant"`): Klippel's mask as printed (v_j F_j − v_i: a
+    /// masked neighbour at rest in the lab frame), or the Galilean-invariant pair cut (docs/damage.md).
+    pub mask_printed: bool,
     /// `delete` (optional, default false): fully damaged particles leave the interactions.
     pub delete: bool,
     /// `[[damage.pre_crack]]`: regions of initial damage (`min`, `max` [m]; `damage` D, default full; `omega` ω,

@@ -6,6 +6,7 @@ use super::*;
 const DAMAGE_KEYS: &[&str] = &[
     "model",
     "mask",
+    "mask_form",
     "delete",
     "fracture_energy",
     "fracture_toughness",
@@ -41,6 +42,8 @@ pub(super) fn damage(t: &Tab<'_>, dim: usize, material: &Material, physics: &Phy
         references(t, &model, material, physics, lib_same.as_ref())?;
     let fracture_energy = fracture_energy(t, material, lib.as_ref())?;
     let mask = t.boolean("mask", "true or false")?.unwrap_or(false);
+    let mask_printed = t.string("mask_form", "\"printed\" or \"invariant\"", |s| s == "printed" || s == "invariant")?
+        != Some("invariant");
     let delete = t.boolean("delete", "true or false")?.unwrap_or(false);
     let pre_cracks = pre_cracks(t, dim)?;
     Ok(enabled.then_some(Damage {
@@ -51,6 +54,7 @@ pub(super) fn damage(t: &Tab<'_>, dim: usize, material: &Material, physics: &Phy
         melt_temperature,
         fracture_energy,
         mask,
+        mask_printed,
         delete,
         pre_cracks,
     }))

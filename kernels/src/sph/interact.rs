@@ -470,7 +470,7 @@ unsafe fn add_pair<
     }
     if let Some(g) = geometry::<R, D, PER>(&p, per, o, i, j, &q.x) {
         if DMG {
-            unsafe { masked_pair_term::<R, D, AV, AS, XSPH, CS>(&p, a, o, q, &g, j, sums) }
+            unsafe { masked_pair_term::<R, D, AV, AS, XSPH, CS>(&p, a, o, q, &g, i, j, sums) }
         } else {
             pair_term::<R, D, AV, AS, XSPH, CS>(&p, o, &q, &g, sums)
         }
@@ -485,14 +485,22 @@ pub fn cut_apart(a: u32, b: u32) -> bool {
     a | b == flags::SIDE_MASK
 }
 
-/// [`pair_term`] of a damaged run with the interaction mask F_j of j (klippel §2.6, Eqs. 7.30–7.34): F_j = 1 the
-/// plain term; F_j = 0 (fully damaged, in tension) the neighbour quantities only are masked, v_j F_j = 0 in the
-/// velocity gradient and XSPH, σ_j F_j = 0 in the momentum, μ_ij F_j = 0 (no viscosity); a deleted j
-/// (`damage::DELETED`) takes no part. Only the damaged entries (`DMG`) call it: the others' pair loop is that of a
-/// run without damage, instruction for instruction.
+/// [`pair_term`] of a damaged run with the interaction mask F (klippel §2.6, Eqs. 7.30–7.34; docs/damage.md,
+/// "Interaction mask"): 1 interacting, 0 fully damaged in tension, `damage::DELETED`. A deleted j takes no part.
+/// - `model::MASK_PRINTED` (`damage.mask_form = "printed"`, the default), Klippel's form: for F_j = 0 the neighbour's
+///   quantities only are masked: v_j F_j − v_i in the velocity gradient and XSPH (j at rest in the lab frame),
+///   σ_j F_j = 0 in the momentum, μ_ij F_j = 0 (no viscosity).
+/// - `"invariant"`: a pair with a masked particle exchanges no momentum, viscosity or XSPH; an unmasked i leaves a
+///   masked j out of its velocity gradient, a masked i keeps its unmasked neighbours in it (its density, and so its
+///   mask, follows the material around it). Velocity differences only, so Galilean invariant; and the stress power
+///   σ_i : L_i of each particle that carries stress matches the work of its pair forces.
+///
+/// Only the damaged entries (`DMG`) call it: the others' pair loop is that of a run without damage, instruction for
+/// instruction.
 ///
 /// # Safety
-/// `a.mask` holds j + 1 elements.
+/// `a.mask` holds max(i, j) + 1 elements.
+#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 unsafe fn masked_pair_term<
     R: Real,
@@ -507,16 +515,33 @@ unsafe fn masked_pair_term<
     o: &Own<R, D>,
     q: Partner<R, D>,
     g: &Geometry<R, D::Vec<R>>,
+    i: u32,
     j: u32,
     sums: &mut PairSums<R, D>,
 ) {
-    let f = unsafe { *a.mask.add(j as usize) };
-    if f > 0.0 {
-        pair_term::<R, D, AV, AS, XSPH, CS>(p, o, &q, g, sums)
-    } else if f == 0.0 {
-        let q = Partner { v: Default::default(), sig: Default::default(), ..q };
-        // Without the viscosity's terms: Π_ij F_j = 0 (its dissipation is then 0 as well).
-        pair_term::<R, D, false, AS, XSPH, CS>(p, o, &q, g, sums)
+    let fj = unsafe { *a.mask.add(j as usize) };
+    if fj < 0.0 {
+        return;
+    }
+    if p.model_flags & super::params::model::MASK_PRINTED != 0 {
+        if fj > 0.0 {
+            pair_term::<R, D, AV, AS, XSPH, CS>(p, o, &q, g, sums)
+        } else {
+            let q = Partner { v: Default::default(), sig: Default::default(), ..q };
+            // Without the viscosity's terms: Π_ij F_j = 0 (its dissipation is then 0 as well).
+            pair_term::<R, D, false, AS, XSPH, CS>(p, o, &q, g, sums)
+        }
+    } else if fj > 0.0 {
+        if unsafe { *a.mask.add(i as usize) } > 0.0 {
+            pair_term::<R, D, AV, AS, XSPH, CS>(p, o, &q, g, sums)
+        } else {
+            // A masked i: its velocity gradient only.
+            let mut t = PairSums::<R, D>::default();
+            pair_term::<R, D, false, false, false, CS>(p, o, &q, g, &mut t);
+            for (l, dl) in sums.l.as_mut().iter_mut().zip(t.l.as_ref()) {
+                *l += *dl;
+            }
+        }
     }
 }
 
@@ -751,7 +776,7 @@ unsafe fn heat_and_pair<
     }
     if o.mech {
         if DMG {
-            unsafe { masked_pair_term::<R, D, AV, AS, XSPH, CS>(&p, a, o, q, &g, j, &mut s.mech) };
+            unsafe { masked_pair_term::<R, D, AV, AS, XSPH, CS>(&p, a, o, q, &g, i, j, &mut s.mech) };
         } else {
             pair_term::<R, D, AV, AS, XSPH, CS>(&p, o, &q, &g, &mut s.mech);
         }

@@ -48,6 +48,9 @@ pub mod model {
     /// W for XSPH and the artificial stress's f_ij from [`super::CubicSpline::w_c2d`], 0.25 (2 − q)⁶ on 1 < q < 2
     /// (roethlin-solver.md §11 erratum 24), instead of the spline's cube.
     pub const C2D_KERNEL_W: u32 = 1;
+    /// The damage mask as Klippel prints it (Eqs. 7.30–7.34: the masked neighbour's v_j F_j and σ_j F_j), instead
+    /// of the Galilean-invariant pair cut (`sph::interact`'s masked pair term; `damage.mask_form`).
+    pub const MASK_PRINTED: u32 = 2;
 }
 
 // SAFETY: repr(C), fields of one float type followed by two u32; R is 4 or 8 bytes, so with 18 floats and two

@@ -77,29 +77,11 @@ fn from6<R: Real, S: SymTensor<R>>(v: &[f64; 6], s: &mut S) {
     }
 }
 
-/// The plastic update of one particle. `cp` is the specific heat of its material (unused when t_q = 0).
+/// The plastic update of one particle with swarf's return (`C2D` false; the norm flag read at run time) or [C2D]'s
+/// (true). `cp` is the specific heat of its material (unused when t_q = 0); `carried` the fraction of the stress
+/// the particle acts with (1, or a damaged particle's exp(−D), `damage::multiplier`): the heating is
+/// η_TQ · carried · σ_y Δε̄ (Eq. 3.72 with the stress the particle does work with, docs/damage.md).
 /// Returns the return's result (its flow stress at the temperature before the heating).
-#[allow(clippy::too_many_arguments)]
-#[inline(always)]
-pub fn plastic_update<R: Real, D: TensorOps<R>, M: FlowStress>(
-    model: &M,
-    c: &PlasticConsts,
-    s: &mut D::Sym<R>,
-    eps: &mut f64,
-    rate: &mut f64,
-    temp: &mut f64,
-    rho: R,
-    fl: u32,
-    cp: f64,
-) -> ReturnResult {
-    if c.flags & return_flags::C2D_RETURN != 0 {
-        update_with::<R, D, M, true>(model, c, s, eps, rate, temp, rho, fl, cp)
-    } else {
-        update_with::<R, D, M, false>(model, c, s, eps, rate, temp, rho, fl, cp)
-    }
-}
-
-/// [`plastic_update`] with swarf's return (`C2D` false; the norm flag read at run time) or [C2D]'s (true).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn update_with<R: Real, D: TensorOps<R>, M: FlowStress, const C2D: bool>(
@@ -112,6 +94,7 @@ fn update_with<R: Real, D: TensorOps<R>, M: FlowStress, const C2D: bool>(
     rho: R,
     fl: u32,
     cp: f64,
+    carried: f64,
 ) -> ReturnResult {
     let trial = to6::<R, _>(s);
     let c2d_norm = c.flags & return_flags::C2D_NORM != 0;
@@ -129,7 +112,7 @@ fn update_with<R: Real, D: TensorOps<R>, M: FlowStress, const C2D: bool>(
         // σ_y(ε̄_new, ε̄̇_new, T) before the heating: the return's own flow stress.
         *temp = heated_temperature(
             *temp,
-            plastic_heating(c.taylor_quinney, r.flow_stress, d_eps, rho.to_f64(), cp),
+            plastic_heating(c.taylor_quinney, carried * r.flow_stress, d_eps, rho.to_f64(), cp),
             model.melt_temperature(),
         );
     }
@@ -218,11 +201,16 @@ unsafe fn particle_with<R: Real, D: TensorOps<R>, M: FlowStress, const C2D: bool
         let (e0, t0) = (*a.eps.add(i), *a.temp.add(i));
         let (mut e, mut r, mut t) = (e0, *a.rate.add(i), t0);
         let rho = *a.rho.add(i);
-        let ret = update_with::<R, D, M, C2D>(model, c, &mut *a.stress.add(i), &mut e, &mut r, &mut t, rho, fl, cp);
+        // The fraction of the stress the particle acted with this step: the pre-pass degraded σ with the D it read,
+        // the one before this step's damage update (1 without damage; exactly 1.0, so undamaged entries round
+        // as before).
+        let carried = if DMG { crate::damage::multiplier(*a.damage.add(i)) } else { 1.0 };
+        let ret =
+            update_with::<R, D, M, C2D>(model, c, &mut *a.stress.add(i), &mut e, &mut r, &mut t, rho, fl, cp, carried);
         if !a.work.is_null() && e > e0 {
-            // The dissipation of the step, σ_y Δε̄ per unit volume, at the flow stress the plastic heating uses
-            // (σ_y(ε̄_new, ε̄̇_new, T_old), the return's).
-            *a.work.add(i) += ret.flow_stress * (e - e0) / rho.to_f64();
+            // The dissipation of the step, carried · σ_y Δε̄ per unit volume, at the flow stress the plastic heating
+            // uses (σ_y(ε̄_new, ε̄̇_new, T_old), the return's).
+            *a.work.add(i) += carried * ret.flow_stress * (e - e0) / rho.to_f64();
         }
         if DMG && e > e0 {
             damage_after_return::<R, D::Sym<R>>(a, i, rho.to_f64(), e - e0, ret.flow_stress, r, t0);
