@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# mpm26 mpm26b mpmv78 mpmv5fine mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine tool3d tools24 cspm24 nonfinite24 mill24 wheel24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
+# mpm26 mpm26b mpmv78 mpmv5fine mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine gf25 tool3d tools24 cspm24 nonfinite24 mill24 wheel24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -25,6 +25,53 @@ run() { # name, command...
     [ $rc = 0 ] || status=1
     tail -n 40 "$out/$name.log"
 }
+# The table of damage runs below $1 (docs/damage.md): forces (the steady window of summary.json, else the second half
+# of forces.csv), chip thickness, segmentation, its degree and pitch, damaged and initiated volume, `swarf neck`'s
+# fracture.
+damage_table() {
+    python3 - "$1" <<'PY'
+import csv, glob, json, os, sys
+root = sys.argv[1]
+def last(path, col):
+    try:
+        rows = list(csv.DictReader(open(path)))
+        return float(rows[-1][col]) if rows else None
+    except (OSError, KeyError, ValueError):
+        return None
+def half_mean(path, col):
+    try:
+        v = [float(r[col]) for r in csv.DictReader(open(path))]
+        v = v[len(v) // 2:]
+        return sum(v) / len(v) if v else None
+    except (OSError, KeyError, ValueError):
+        return None
+def f(x, fmt="{:.4g}"):
+    return "–" if x is None else fmt.format(x)
+print("| run | t_end [s] | steps | wall [s] | F_c [N/mm] | F_f [N/mm] | h [µm] | segmentation | degree | pitch [µm] | damaged volume | initiated volume | fracture |")
+print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+for run in sorted(os.path.dirname(p) for p in glob.glob(root + "/**/energy.csv", recursive=True)):
+    s = {}
+    try:
+        s = json.load(open(run + "/summary.json"))
+    except (OSError, ValueError):
+        pass
+    seg = ((s.get("cutting") or {}).get("segments") or {})
+    fc, ff = s.get("fc_n_per_mm"), s.get("ff_n_per_mm")
+    if fc is None:
+        fc, ff = half_mean(run + "/forces.csv", "fc_n_per_mm"), half_mean(run + "/forces.csv", "ff_n_per_mm")
+    neck = "–"
+    if os.path.exists(run + "/neck.json"):
+        n = json.load(open(run + "/neck.json"))
+        neck = "none" if not n.get("fractured") else "ε_f {:.1f} %, d_f {:.3f} mm at {:.3g} s".format(
+            100 * n["fracture_strain"], n["fracture_diameter_mm"], n["fracture_time_s"])
+    cells = [os.path.relpath(run, root), f(last(run + "/energy.csv", "time")), f(s.get("steps"), "{}"),
+             f(s.get("wall_time_s"), "{:.1f}"), f(fc, "{:.1f}"), f(ff, "{:.1f}"), f(s.get("chip_thickness_um"), "{:.1f}"),
+             f(s.get("segmentation"), "{:.3f}"), f(seg.get("degree"), "{:.3f}"), f(seg.get("pitch_um"), "{:.1f}"),
+             f(last(run + "/energy.csv", "damaged_volume")), f(last(run + "/energy.csv", "initiated_volume")), neck]
+    print("| " + " | ".join(cells) + " |")
+PY
+}
+
 keep_sweeps() { # names...: each /tmp/mpmsweep/<name>'s sweep.md and sweep.csv into $out/mpmsweep-<name>.*
     local v
     for v in "$@"; do
@@ -443,51 +490,43 @@ PY
                         --grid damage.enabled=true,false --set discretisation.dx=4.65e-6 \
                         --set time.end="${SWARF_DUCOBU_END:-1.2e-3}" --batch 8 --out $d/ducobu-4.65um --quiet
                 fi
-                python3 - "$d" > "$out/$1.md" <<'PY'
-import csv, glob, json, os, sys
-root = sys.argv[1]
-def last(path, col):
-    try:
-        rows = list(csv.DictReader(open(path)))
-        return float(rows[-1][col]) if rows else None
-    except (OSError, KeyError, ValueError):
-        return None
-def half_mean(path, col):
-    try:
-        v = [float(r[col]) for r in csv.DictReader(open(path))]
-        v = v[len(v) // 2:]
-        return sum(v) / len(v) if v else None
-    except (OSError, KeyError, ValueError):
-        return None
-def f(x, fmt="{:.4g}"):
-    return "–" if x is None else fmt.format(x)
-print("| run | t_end [s] | steps | wall [s] | F_c [N/mm] | F_f [N/mm] | h [µm] | segmentation | degree | pitch [µm] | damaged volume | initiated volume | fracture |")
-print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
-for run in sorted(os.path.dirname(p) for p in glob.glob(root + "/**/energy.csv", recursive=True)):
-    s = {}
-    try:
-        s = json.load(open(run + "/summary.json"))
-    except (OSError, ValueError):
-        pass
-    seg = ((s.get("cutting") or {}).get("segments") or {})
-    fc, ff = s.get("fc_n_per_mm"), s.get("ff_n_per_mm")
-    if fc is None:
-        fc, ff = half_mean(run + "/forces.csv", "fc_n_per_mm"), half_mean(run + "/forces.csv", "ff_n_per_mm")
-    neck = "–"
-    if os.path.exists(run + "/neck.json"):
-        n = json.load(open(run + "/neck.json"))
-        neck = "none" if not n.get("fractured") else "ε_f {:.1f} %, d_f {:.3f} mm at {:.3g} s".format(
-            100 * n["fracture_strain"], n["fracture_diameter_mm"], n["fracture_time_s"])
-    cells = [os.path.relpath(run, root), f(last(run + "/energy.csv", "time")), f(s.get("steps"), "{}"),
-             f(s.get("wall_time_s"), "{:.1f}"), f(fc, "{:.1f}"), f(ff, "{:.1f}"), f(s.get("chip_thickness_um"), "{:.1f}"),
-             f(s.get("segmentation"), "{:.3f}"), f(seg.get("degree"), "{:.3f}"), f(seg.get("pitch_um"), "{:.1f}"),
-             f(last(run + "/energy.csv", "damaged_volume")), f(last(run + "/energy.csv", "initiated_volume")), neck]
-    print("| " + " | ".join(cells) + " |")
-PY
+                damage_table "$d" > "$out/$1.md"
                 cat "$out/$1.md"
                 tar czf "$out/$1.tgz" --exclude='*.vtu' --exclude='*.png' --exclude='*.vtp' --exclude='checkpoint.bin' -C /tmp damage25
             }
             run "$p" damage25 "$p" ;;
+        gf25) # issue 25 (docs/damage.md, "Which fracture energy segments V0060"): V0060 with damage over G_f
+              # (SWARF_GF_VALUES, default the thesis's 44 501.7 J/m² down to 300) × the mask's two forms, at
+              # SWARF_GF_DX (default 10 and 5 µm), one batched sweep each, with frames when SWARF_GF_FRAMES=1; then
+              # SWARF_GF_FINE (spacings, default none) with G_f = 10 kJ/m² and the invariant mask, one run each.
+              # `swarf chip` on every run with frames, pictures (damage, plastic strain) in $OUT/gfpics.
+              # gf25.md (damage_table), gf25-chip.md, gf25.tgz (summaries, traces, no frames).
+            gf25() {
+                local d=/tmp/gf25 dx r frames=
+                [ "${SWARF_GF_FRAMES:-0}" = 1 ] && frames=--frames
+                rm -rf $d; mkdir -p $d "$out/gfpics"
+                for dx in ${SWARF_GF_DX-1.0e-5 5.0e-6}; do
+                    "$here/swarf" --backend gpu sweep cases/cutting/v0060-damage.toml $frames \
+                        --grid damage.fracture_energy=${SWARF_GF_VALUES:-44501.7,10000,3000,1000,300} \
+                        --grid 'damage.mask_form="printed","invariant"' --set discretisation.dx=$dx \
+                        --batch 10 --out $d/dx-$dx --quiet
+                done
+                for dx in ${SWARF_GF_FINE:-}; do
+                    "$here/swarf" --backend gpu run cases/cutting/v0060-damage.toml --quiet --out $d/fine-$dx \
+                        --set discretisation.dx=$dx --set damage.fracture_energy=10000 \
+                        --set 'damage.mask_form="invariant"'
+                done
+                damage_table "$d" > "$out/gf25.md"; cat "$out/gf25.md"
+                for r in $(find $d -name particles.pvd | sort); do
+                    r=$(dirname "$r"); echo "== chip ${r#$d/}"; "$here/swarf" chip "$r" 2>&1 | tail -n 24
+                    for fld in damage eps; do
+                        "$here/swarf" render "$r" --field $fld --frame last \
+                            --out "$out/gfpics/$(echo ${r#$d/} | tr '/' '-')-$fld" 2>&1 | tail -n 1
+                    done
+                done > "$out/gf25-chip.md"
+                tar czf "$out/gf25.tgz" --exclude='*.vtu' --exclude='*.png' --exclude='*.vtp' --exclude='checkpoint.bin' -C /tmp gf25
+            }
+            run gf25 gf25 ;;
         mu22) # issue 22: V0060 (1 mm) with the defaults over μ, twice each (CFL 0.5, 0.4995): can friction alone bring
               # F_f to the measured 115.5 N/mm with F_c within 10 % of 157.5? mu22.tgz
             run mu22 "$here/swarf" --backend gpu sweep cases/cutting/v0060.toml --grid tool.friction=0.35,0.5,0.7,1.0 \

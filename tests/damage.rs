@@ -548,52 +548,18 @@ fn a_damaged_particle_books_the_elastic_energy_of_its_degraded_stress() {
 /// A particle of [`strip_in_moving_frame`]: id, position, velocity, stress components.
 type StripParticle = (f64, [f64; 2], [f64; 2], [f64; 4]);
 
-/// The pre-cracked strip of [`a_pre_cracked_strip_pulled_apart_stays_finite_and_reports_its_damage`] with the mask,
-/// every velocity (the strip's and both pulled boundaries') shifted by `u` along x, and the mask's `form`: its
+/// The pre-cracked strip pulled at ±5 m/s (`common::scenes::moving_pulled_strip_scene`) with XSPH, every velocity
+/// shifted by `u` along x, and the mask's `form`: its
 /// particles after `steps` steps, by id, with positions taken back by u·t and velocities by u. The time step is
 /// given: CFL's depends on the largest speed, and so would differ between the frames.
 fn strip_in_moving_frame<B: Backend>(b: &B, u: f64, form: &str, steps: u64) -> Vec<StripParticle> {
-    let text = format!(
-        r#"
-name = "strip"
-dim = 2
-[discretisation]
-dx = 1.0e-4
-[material]
-name = "Ti6Al4V-Klippel-JC"
-[physics]
-plastic_heating = false
-[[body]]
-name = "strip"
-shape = "rectangle"
-min = [0.0, 0.0]
-max = [2.0e-3, 1.0e-3]
-velocity = [{u}, 0.0]
-[[boundary]]
-kind = "velocity"
-min = [-1.0, -1.0]
-max = [1.0, 1.0e-4]
-velocity = [{u}, -5.0]
-[[boundary]]
-kind = "velocity"
-min = [-1.0, 0.9e-3]
-max = [1.0, 1.0]
-velocity = [{u}, 5.0]
-[stabilisation]
-artificial_viscosity = {{ alpha = 1.0, beta = 1.0, eta = 0.1 }}
-xsph = {{ epsilon = 0.5 }}
-[damage]
-mask = true
-mask_form = "{form}"
-[[damage.pre_crack]]
-min = [-1.0, 0.45e-3]
-max = [1.0e-3, 0.55e-3]
-[time]
-end = 2.0e-6
-dt = 5.0e-9
-"#
-    );
-    let scene = Scene::from_str(&text, "strip.toml", &[]).expect("scene");
+    let text = common::scenes::moving_pulled_strip_scene(5.0, 2.0e-6, u);
+    let over = [
+        "stabilisation.xsph={ epsilon = 0.5 }".to_string(),
+        format!("damage.mask_form=\"{form}\""),
+        "time.dt=5.0e-9".to_string(),
+    ];
+    let scene = Scene::from_str(&text, "strip.toml", &over).expect("scene");
     let set = swarf::run::setup::<f64, Dim2>(&scene).expect("setup");
     let mut solver = swarf::solver::Solver::<_, f64, Dim2>::new(b, &set).expect("solver");
     for _ in 0..steps {

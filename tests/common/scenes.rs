@@ -120,6 +120,11 @@ pub fn run_record(run: &Path) -> (String, String) {
 /// A Ti6Al4V strip (21 × 11 particles, Δx = 100 µm) pulled apart at `speed` m/s top and bottom for `end` s, with
 /// JC damage, Hillerborg softening and the interaction mask, and a fully damaged pre-crack across its left half.
 pub fn pulled_strip_scene(speed: f64, end: f64) -> String {
+    moving_pulled_strip_scene(speed, end, 0.0)
+}
+
+/// [`pulled_strip_scene`] with every velocity (the strip's and both pulled boundaries') shifted by `u` m/s along x.
+pub fn moving_pulled_strip_scene(speed: f64, end: f64, u: f64) -> String {
     format!(
         r#"
 name = "strip"
@@ -136,16 +141,17 @@ name = "strip"
 shape = "rectangle"
 min = [0.0, 0.0]
 max = [2.0e-3, 1.0e-3]
+velocity = [{u:?}, 0.0]
 [[boundary]]
 kind = "velocity"
 min = [-1.0, -1.0]
 max = [1.0, 1.0e-4]
-velocity = [0.0, -{speed}]
+velocity = [{u:?}, -{speed}]
 [[boundary]]
 kind = "velocity"
 min = [-1.0, 0.9e-3]
 max = [1.0, 1.0]
-velocity = [0.0, {speed}]
+velocity = [{u:?}, {speed}]
 [stabilisation]
 artificial_viscosity = {{ alpha = 1.0, beta = 1.0, eta = 0.1 }}
 [damage]
