@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# mpm26 mpm26b mpmv78 mpmv5fine mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine gf25 tool3d tools24 cspm24 nonfinite24 mill24 wheel24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
+# mpm26 mpm26b mpmv78 mpmv5fine mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine gf25 ducobugf tool3d tools24 cspm24 nonfinite24 mill24 wheel24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -25,6 +25,20 @@ run() { # name, command...
     [ $rc = 0 ] || status=1
     tail -n 40 "$out/$name.log"
 }
+# `swarf chip` on the last frame of every run with frames below $1, and pictures (damage, plastic strain) of it in
+# $2/<run path with - for />-<field>/.
+chip_report() {
+    local r
+    mkdir -p "$2"
+    for r in $(find "$1" -name particles.pvd | sort); do
+        r=$(dirname "$r"); echo "== chip ${r#$1/}"; "$here/swarf" chip "$r" 2>&1 | tail -n 24
+        for fld in damage eps; do
+            "$here/swarf" render "$r" --field $fld --frame last \
+                --out "$2/$(echo ${r#$1/} | tr '/' '-')-$fld" 2>&1 | tail -n 1
+        done
+    done
+}
+
 # The table of damage runs below $1 (docs/damage.md): forces (the steady window of summary.json, else the second half
 # of forces.csv), chip thickness, segmentation, its degree and pitch, damaged and initiated volume, `swarf neck`'s
 # fracture.
@@ -504,7 +518,7 @@ PY
             gf25() {
                 local d=/tmp/gf25 dx r frames=
                 [ "${SWARF_GF_FRAMES:-0}" = 1 ] && frames=--frames
-                rm -rf $d; mkdir -p $d "$out/gfpics"
+                rm -rf $d
                 for dx in ${SWARF_GF_DX-1.0e-5 5.0e-6}; do
                     "$here/swarf" --backend gpu sweep cases/cutting/v0060-damage.toml $frames \
                         --grid damage.fracture_energy=${SWARF_GF_VALUES:-44501.7,10000,3000,1000,300} \
@@ -517,16 +531,27 @@ PY
                         --set 'damage.mask_form="invariant"'
                 done
                 damage_table "$d" > "$out/gf25.md"; cat "$out/gf25.md"
-                for r in $(find $d -name particles.pvd | sort); do
-                    r=$(dirname "$r"); echo "== chip ${r#$d/}"; "$here/swarf" chip "$r" 2>&1 | tail -n 24
-                    for fld in damage eps; do
-                        "$here/swarf" render "$r" --field $fld --frame last \
-                            --out "$out/gfpics/$(echo ${r#$d/} | tr '/' '-')-$fld" 2>&1 | tail -n 1
-                    done
-                done > "$out/gf25-chip.md"
+                chip_report $d "$out/gfpics" > "$out/gf25-chip.md"
                 tar czf "$out/gf25.tgz" --exclude='*.vtu' --exclude='*.png' --exclude='*.vtp' --exclude='checkpoint.bin' -C /tmp gf25
             }
             run gf25 gf25 ;;
+        ducobugf) # issue 25 (docs/damage.md, "Ducobu over G_f"): Ducobu at 9.3 µm with damage, the four flow models
+                  # × G_f (SWARF_DUCOBU_GF, default 20 and 10 kJ/m²), the invariant mask, one batched sweep with
+                  # frames (SWARF_DUCOBU_END shortens it); `swarf chip` and pictures of each (tar'd:
+                  # ducobugf-pics.tgz). ducobugf.md (damage_table), ducobugf-chip.md, ducobugf.tgz.
+            ducobugf() {
+                local d=/tmp/ducobugf m models=""
+                rm -rf $d
+                for m in JC TANH2008 TANH2010 TANHSO3; do models="$models${models:+,}\"Ti6Al4V-Klippel-$m\""; done
+                timeout -s INT "${SWARF_DAMAGE_S:-420}" "$here/swarf" --backend gpu sweep cases/cutting/ducobu.toml --frames --grid "material.name=$models" \
+                    --grid damage.fracture_energy=${SWARF_DUCOBU_GF:-20000,10000} --set 'damage.mask_form="invariant"' \
+                    --set time.end="${SWARF_DUCOBU_END:-1.2e-3}" --batch 8 --out $d/sweep --quiet
+                damage_table "$d" > "$out/ducobugf.md"; cat "$out/ducobugf.md"
+                chip_report $d /tmp/ducobugf-pics > "$out/ducobugf-chip.md"
+                tar czf "$out/ducobugf-pics.tgz" -C /tmp ducobugf-pics
+                tar czf "$out/ducobugf.tgz" --exclude='*.vtu' --exclude='*.png' --exclude='*.vtp' --exclude='checkpoint.bin' -C /tmp ducobugf
+            }
+            run ducobugf ducobugf ;;
         mu22) # issue 22: V0060 (1 mm) with the defaults over μ, twice each (CFL 0.5, 0.4995): can friction alone bring
               # F_f to the measured 115.5 N/mm with F_c within 10 % of 157.5? mu22.tgz
             run mu22 "$here/swarf" --backend gpu sweep cases/cutting/v0060.toml --grid tool.friction=0.35,0.5,0.7,1.0 \
