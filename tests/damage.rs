@@ -609,3 +609,81 @@ fn the_interaction_mask_is_galilean_invariant() {
     assert!(ds < 1e-9 && dp < 1e-9, "the invariant mask changed with the frame: stress {ds}, position {dp} dx");
     assert!(ds_p > 1e-2, "the printed mask did not change with the frame: stress {ds_p}");
 }
+
+/// A damaged particle dissipates and heats with the stress it acts with (docs/damage.md, "Dissipation of a damaged
+/// particle"): three particles with the same trial stress beyond yield and D = 0, 1 and full, through the CPU
+/// plastic pass with Taylor–Quinney heating and the work tracked. Their returns are identical (the stored stress is
+/// the undamaged one); the heating ΔT and the work Δw of D = 1 are e^{−1} times those of D = 0 (1e-12), and the
+/// fully damaged particle neither heats nor books work (exactly 0). Before 2026-11-28 all three booked the same.
+#[test]
+fn a_damaged_particle_heats_and_works_with_its_degraded_stress() {
+    use swarf::kernels::sph::heat::ThermalMaterial;
+    let (young, nu, rho, sy, dx) = (113.8e9, 0.34, 4430.0, 800e6, 1e-5);
+    let shear = young / (2.0 * (1.0 + nu));
+    let model = FlowModel::Bilinear(swarf::kernels::material::Bilinear {
+        yield_stress: sy,
+        plastic_modulus: 0.0,
+        melt_temp: 1878.0,
+    });
+    let damage = DamageParams {
+        model: model::JC,
+        d: [0.05, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        ref_rate: 1.0,
+        ref_temp: 273.0,
+        melt_temp: 1878.0,
+        fracture_energy: 2.0e4,
+        rho0: rho,
+        c0sq: young / (3.0 * (1.0 - 2.0 * nu)) / rho,
+        dim: 3.0,
+        ..Default::default()
+    };
+    let b = CpuBackend::new();
+    // Uniaxial trial increment of 2G dε diag(1, −½, −½) with dε = 1e-2: far beyond yield.
+    let inc = 2.0 * shear * 1e-2;
+    let mut trial = S3f64::default();
+    trial.0[0] = inc;
+    trial.0[3] = -0.5 * inc;
+    trial.0[5] = -0.5 * inc;
+    let ds = [0.0, 1.0, FULL_DAMAGE];
+    let mut sb = b.upload(&[trial; 3], "s").unwrap();
+    let mut eb = b.upload(&[0.0f64; 3], "e").unwrap();
+    let mut rb = b.upload(&[0.0f64; 3], "r").unwrap();
+    let mut tb = b.upload(&[300.0f64; 3], "t").unwrap();
+    let mut wb = b.upload(&[0.0f64; 3], "w").unwrap();
+    let rhob = b.upload(&[rho; 3], "rho").unwrap();
+    let massb = b.upload(&[rho * dx * dx * dx; 3], "m").unwrap();
+    let fl = b.upload(&[0u32; 3], "flags").unwrap();
+    let mats = b.upload(&[ThermalMaterial { conductivity: 7.0, specific_heat: 580.0 }], "materials").unwrap();
+    let pb = b.upload(&[damage], "damage params").unwrap();
+    let mut ob = b.upload(&[1.0f64; 3], "omega").unwrap();
+    let mut db = b.upload(&ds, "damage").unwrap();
+    let c = PlasticConsts { shear, dt: 1e-8, taylor_quinney: 0.9, flags: 0, _pad: 0 };
+    b.plastic_step::<f64, Dim3>(
+        3,
+        &model,
+        c,
+        PlasticInputs {
+            stress: &mut sb,
+            rho: &rhob,
+            eps: &mut eb,
+            rate: &mut rb,
+            temp: &mut tb,
+            flags: &fl,
+            materials: Some(&mats),
+            yield_stress: None,
+            work: Some(&mut wb),
+            damage: Some(DamageBufs { params: &pb, omega: &mut ob, damage: &mut db, mass: &massb }),
+        },
+    )
+    .unwrap();
+    let (s, e, t, w) = (b.read(&sb).unwrap(), b.read(&eb).unwrap(), b.read(&tb).unwrap(), b.read(&wb).unwrap());
+    assert!(e[0] > 0.0 && e.iter().all(|&x| x == e[0]) && s.iter().all(|x| *x == s[0]), "the returns differ");
+    let (dt0, dt1) = (t[0] - 300.0, t[1] - 300.0);
+    // The undamaged heating and work: η σ_y Δε̄/(ρ c_p) and σ_y Δε̄/ρ.
+    assert!(rel(dt0, 0.9 * sy * e[0] / (rho * 580.0)) < 1e-12, "ΔT {dt0}");
+    assert!(rel(w[0], sy * e[0] / rho) < 1e-12, "w {}", w[0]);
+    let k = (-1.0f64).exp();
+    assert!(rel(dt1, k * dt0) < 1e-12, "ΔT at D = 1: {dt1} against e^-1 × {dt0}");
+    assert!(rel(w[1], k * w[0]) < 1e-12, "w at D = 1: {} against e^-1 × {}", w[1], w[0]);
+    assert_eq!((t[2], w[2]), (300.0, 0.0), "the fully damaged particle heated or worked");
+}
