@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# mpm26 mpm26b mpmv78 mpmv5fine mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine gf25 ducobugf tool3d tools24 cspm24 nonfinite24 mill24 wheel24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
+# mpm26 mpm26b mpmv78 mpmv5fine mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout mufit identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine gf25 ducobugf tool3d tools24 cspm24 nonfinite24 mill24 wheel24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -242,6 +242,22 @@ for p in $parts; do
                      cat /tmp/swarf-holdout/holdout.md; cp /tmp/swarf-holdout/holdout.csv "$out/holdout.csv"
                  }
                  run holdout holdout ;;
+        mufit) # issue 23 (docs/identification.md, "μ fitted on eight experiments"): cases/identify/ti6al4v-multi.toml
+               # with --only tool.friction (A..n at Klippel's V0060 DE set), DE's first generation (population 15, one
+               # batch) bounded by SWARF_FIT_S s (default 250), then the best μ so far and Klippel's three sets on the
+               # 24 held-out tests (--resume --holdout-only, bounded by SWARF_HOLDOUT_S, default 320).
+               # mufit-history.csv, mufit-holdout.csv; the reports in the log.
+            mufit() {
+                local d=/tmp/swarf-mufit f=cases/identify/ti6al4v-multi.toml
+                rm -rf $d
+                timeout -s INT "${SWARF_FIT_S:-250}" "$here/swarf" --backend gpu identify $f --only tool.friction \
+                    --batch 15 --width "${SWARF_FIT_W:-40}" --out $d
+                cat $d/report.md; cp $d/history.csv "$out/mufit-history.csv"
+                timeout -s INT "${SWARF_HOLDOUT_S:-320}" "$here/swarf" --backend gpu identify $f --resume --holdout-only \
+                    --width "${SWARF_FIT_W:-40}" --out $d
+                cat $d/holdout/holdout.md $d/holdout.md 2>/dev/null; cp $d/holdout.csv $d/holdout/holdout.csv "$out/" 2>/dev/null
+            }
+            run mufit mufit ;;
         identify) # issue 23: Klippel's DE on V0060 (cases/identify/v0060-de.toml) for SWARF_IDENTIFY_S seconds (default
                   # 150), then Ctrl-C (SIGINT): the completed batches are kept; history.csv and report.md come back
                   identify() {

@@ -1001,6 +1001,10 @@ struct IdentifyArgs {
     /// Parameter sets per batch (overrides the file's optimizer.batch).
     #[arg(long)]
     batch: Option<usize>,
+    /// Identify only these of the file's [[parameter]] keys (comma-separated, e.g. tool.friction); the others keep
+    /// the scenes' values. A resumed folder keeps the keys it was started with.
+    #[arg(long, value_delimiter = ',')]
+    only: Option<Vec<String>>,
     /// Runs at once, as one ensemble (default: 8 on a GPU, 1 on the CPU); changes no result.
     #[arg(long, value_parser = parse_width)]
     width: Option<usize>,
@@ -1028,6 +1032,7 @@ fn cmd_identify(backend: BackendChoice, a: &IdentifyArgs) -> Result<()> {
         file: a.file.clone(),
         out_dir: out.clone(),
         batch: a.batch,
+        only: a.only.clone(),
         width: a.width,
         resume: a.resume,
         holdout_only: a.holdout_only,

@@ -129,6 +129,7 @@ fn a_tiny_identification_writes_everything_and_resumes_bitwise() {
         file: file.clone(),
         out_dir: out.clone(),
         batch: None,
+        only: None,
         width: Some(3),
         resume: false,
         holdout_only: false,
@@ -167,6 +168,49 @@ fn a_tiny_identification_writes_everything_and_resumes_bitwise() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// `--only`: the tiny file's two parameters restricted to A. The history has A's column and not μ's, and μ keeps
+/// the scene's 0.35 in every run; the initial population is DE's for one parameter (popsize 2 → 2 evaluations).
+/// An unknown key is refused naming the file's keys, before any folder is written; a resume with other keys is
+/// refused naming the ones the folder was started with; a resume without `--only` keeps them.
+#[test]
+fn only_identifies_the_named_parameters() {
+    let dir = tmp("only");
+    let file = tiny_file(&dir, "");
+    let out = dir.join("out");
+    let opts = IdentifyOptions {
+        file: file.clone(),
+        out_dir: out.clone(),
+        batch: None,
+        only: Some(vec!["material.flow_stress.A".into()]),
+        width: Some(2),
+        resume: false,
+        holdout_only: false,
+        quiet: true,
+    };
+    let bad =
+        IdentifyOptions { only: Some(vec!["material.flow_stress.Q".into()]), out_dir: dir.join("bad"), ..opts.clone() };
+    let e = identify(&cpu(), &bad).unwrap_err().to_string();
+    assert!(e.contains("--only material.flow_stress.Q") && e.contains("tool.friction, material.flow_stress.A"), "{e}");
+    assert!(!dir.join("bad").exists(), "a refused --only wrote a folder");
+    let done = identify(&cpu(), &IdentifyOptions { ..opts.clone() }).expect("identify");
+    assert_eq!(done.spec.parameters.len(), 1);
+    assert!(done.rows.iter().all(|r| r.params.len() == 1));
+    let history = std::fs::read_to_string(out.join("history.csv")).unwrap();
+    let head = history.lines().next().unwrap();
+    assert!(head.contains("material.flow_stress.A") && !head.contains("tool.friction"), "{head}");
+    for r in &done.rows {
+        let run = out.join(format!("runs/{:05}-coarse-V0060/scene.toml", r.evaluation));
+        let mu = Scene::load(&run, &[]).expect("the run's scene").tool.expect("tool").friction;
+        assert_eq!(mu, 0.35, "{}: μ changed", run.display());
+    }
+    let other = IdentifyOptions { only: Some(vec!["tool.friction".into()]), resume: true, ..opts.clone() };
+    let e = identify(&cpu(), &other).unwrap_err().to_string();
+    assert!(e.contains("expected the parameters this folder was started with, material.flow_stress.A"), "{e}");
+    let resumed = identify(&cpu(), &IdentifyOptions { only: None, resume: true, ..opts }).expect("resume");
+    assert_eq!(resumed.spec.parameters.len(), 1);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// Each bad file is refused naming the file, the key and the value expected, and writes no folder.
 #[test]
 fn bad_identification_files_are_refused_before_any_run() {
@@ -202,6 +246,7 @@ fn bad_identification_files_are_refused_before_any_run() {
             file: file.clone(),
             out_dir: out.clone(),
             batch: None,
+            only: None,
             width: Some(3),
             resume: false,
             holdout_only: false,
@@ -257,6 +302,7 @@ fn holdout_tests_run_the_best_set_and_the_compare_materials() {
         file: file.clone(),
         out_dir: out.clone(),
         batch: None,
+        only: None,
         width: Some(3),
         resume: false,
         holdout_only: false,

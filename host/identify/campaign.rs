@@ -36,6 +36,8 @@ pub struct IdentifyOptions {
     pub out_dir: PathBuf,
     /// Overrides the file's `optimizer.batch`.
     pub batch: Option<usize>,
+    /// `--only`: identify these of the file's `[[parameter]]` keys only; the others keep the scenes' values.
+    pub only: Option<Vec<String>>,
     /// Runs at once (the ensemble's width, `--width`; None: [`crate::ensemble::default_width`]). It changes no
     /// result: a run's bits do not depend on the runs beside it (host/ensemble).
     pub width: Option<usize>,
@@ -61,6 +63,9 @@ pub fn identify(backend: &AnyBackend, opts: &IdentifyOptions) -> Result<Identifi
     let mut spec = file::read(&opts.file)?;
     if let Some(b) = opts.batch {
         spec.optimizer.batch = b.max(1);
+    }
+    if let Some(keys) = &opts.only {
+        restrict(&mut spec, keys)?;
     }
     validate(&spec)?;
     let mut rows = open_folder(&mut spec, opts)?;
@@ -185,6 +190,21 @@ fn validate(spec: &Spec) -> Result<()> {
     Ok(())
 }
 
+/// Keeps the file's `[[parameter]]`s whose keys `keys` names (`--only`), in the file's order; a key the file does
+/// not identify is refused, naming the ones it does.
+fn restrict(spec: &mut Spec, keys: &[String]) -> Result<()> {
+    let known: Vec<&str> = spec.parameters.iter().map(|p| p.key.as_str()).collect();
+    if let Some(k) = keys.iter().find(|k| !known.contains(&k.as_str())) {
+        return Err(Error::Scene(format!(
+            "--only {k}: expected keys of {}'s [[parameter]]s: {}",
+            spec.file.display(),
+            known.join(", ")
+        )));
+    }
+    spec.parameters.retain(|p| keys.contains(&p.key));
+    Ok(())
+}
+
 /// Makes the identification folder, or opens it to resume: returns the recorded history. A new identification
 /// refuses a folder that holds one; a resumed one refuses a folder whose file differs, and takes its batch.
 fn open_folder(spec: &mut Spec, opts: &IdentifyOptions) -> Result<Vec<Row>> {
@@ -201,7 +221,9 @@ fn open_folder(spec: &mut Spec, opts: &IdentifyOptions) -> Result<Vec<Row>> {
         }
         std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
         crate::output::write_atomic(&copy, spec.text.as_bytes()).map_err(|e| io(&copy, e))?;
-        let json = serde_json::json!({ "batch": spec.optimizer.batch }).to_string();
+        let only: Option<Vec<&str>> =
+            opts.only.as_ref().map(|_| spec.parameters.iter().map(|p| p.key.as_str()).collect());
+        let json = serde_json::json!({ "batch": spec.optimizer.batch, "only": only }).to_string();
         crate::output::write_atomic(&state, json.as_bytes()).map_err(|e| io(&state, e))?;
         return Ok(Vec::new());
     }
@@ -214,8 +236,22 @@ fn open_folder(spec: &mut Spec, opts: &IdentifyOptions) -> Result<Vec<Row>> {
         )));
     }
     let text = std::fs::read_to_string(&state).map_err(|e| io(&state, e))?;
-    let batch = serde_json::from_str::<serde_json::Value>(&text).ok().and_then(|v| v["batch"].as_u64());
+    let json = serde_json::from_str::<serde_json::Value>(&text).ok();
+    let batch = json.as_ref().and_then(|v| v["batch"].as_u64());
     let batch = batch.ok_or_else(|| Error::Scene(format!("{}: expected {{\"batch\": N}}", state.display())))? as usize;
+    let only: Option<Vec<String>> = json
+        .as_ref()
+        .and_then(|v| v["only"].as_array().map(|a| a.iter().filter_map(|k| k.as_str().map(String::from)).collect()));
+    if opts.only.is_some() && opts.only != only {
+        return Err(Error::Scene(format!(
+            "--only {}: expected the parameters this folder was started with, {}",
+            opts.only.as_deref().unwrap_or_default().join(","),
+            only.as_deref().map_or("all of the file's".into(), |k| k.join(","))
+        )));
+    }
+    if let (Some(keys), None) = (&only, &opts.only) {
+        restrict(spec, keys)?;
+    }
     if opts.batch.is_some_and(|b| b.max(1) != batch) {
         return Err(Error::Scene(format!(
             "--batch {}: expected the batch this folder was started with, {batch}",
