@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# mpm26 mpm26b mpmv78 mpmv5fine mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout mufit identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine gf25 ducobugf tool3d tools24 cspm24 nonfinite24 mill24 wheel24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
+# mpm26 mpm26b mpmv78 mpmv5fine mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout mufit identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine shtb25 gf25 ducobugf tool3d tools24 cspm24 nonfinite24 mill24 wheel24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -525,6 +525,18 @@ PY
                 tar czf "$out/$1.tgz" --exclude='*.vtu' --exclude='*.png' --exclude='*.vtp' --exclude='checkpoint.bin' -C /tmp damage25
             }
             run "$p" damage25 "$p" ;;
+        shtb25) # issue 25 (docs/damage.md, "SHTB"): the SHTB, JC classic and JC-GG, with `swarf neck` (fracture
+                # strain and diameter; to 0.6 ms, past the fracture at 0.43 ms); shtb25.md (damage_table)
+            shtb25() {
+                local d=/tmp/shtb25 r
+                rm -rf $d; mkdir -p $d
+                "$here/swarf" --backend gpu run cases/damage/shtb-50sib8.toml --quiet --out $d/shtb-jc --set time.end=6e-4
+                "$here/swarf" --backend gpu run cases/damage/shtb-50sib8.toml --quiet --out $d/shtb-jcgg --set time.end=6e-4 \
+                    --set 'material.name="50SiB8-Klippel-JCGG"'
+                for r in shtb-jc shtb-jcgg; do "$here/swarf" neck "$d/$r"; tail -n 2 "$d/$r/run.log"; done
+                damage_table "$d" > "$out/shtb25.md"; cat "$out/shtb25.md"
+            }
+            run shtb25 shtb25 ;;
         gf25) # issue 25 (docs/damage.md, "Which fracture energy segments V0060"): V0060 with damage over G_f
               # (SWARF_GF_VALUES, default the thesis's 44 501.7 J/m² down to 300) × the mask's two forms, at
               # SWARF_GF_DX (default 10 and 5 µm), one batched sweep each, with frames when SWARF_GF_FRAMES=1; then
