@@ -583,8 +583,8 @@ fn strip_in_moving_frame<B: Backend>(b: &B, u: f64, form: &str, steps: u64) -> V
 /// ends in the same state up to rounding: the largest difference of a stress component over the largest stress
 /// below 1e-9, of a position (taken back by u·t) below 1e-9 Δx. The printed form (the default, v_j F_j − v_i) sees
 /// the masked neighbours at rest in the lab frame and differs by more than 1 % of the stress: the test can tell the
-/// two apart. Measured (f64, CPU, 200 steps): invariant 5.8e-14 (stress) and 1.4e-13 Δx (position), as without the
-/// mask or without damage; printed 1.19 and 0.66 Δx.
+/// two apart. Measured (f64, CPU, 200 steps): invariant 5.6e-14 (stress) and 1.4e-13 Δx (position), rounding;
+/// printed 1.37 and 0.65 Δx.
 #[test]
 fn the_interaction_mask_is_galilean_invariant() {
     let b = CpuBackend::new();
