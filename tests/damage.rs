@@ -111,6 +111,93 @@ fn rice_tracey_fracture_strain_follows_eq_3_163() {
     }
 }
 
+/// Particles of the CPU plastic pass (3D) with damage, a thermal material (c_p 580) and the work tracked.
+struct PlasticParticles {
+    b: CpuBackend,
+    stress: <CpuBackend as Backend>::Buf<S3f64>,
+    eps: <CpuBackend as Backend>::Buf<f64>,
+    rate: <CpuBackend as Backend>::Buf<f64>,
+    temp: <CpuBackend as Backend>::Buf<f64>,
+    work: <CpuBackend as Backend>::Buf<f64>,
+    rho: <CpuBackend as Backend>::Buf<f64>,
+    mass: <CpuBackend as Backend>::Buf<f64>,
+    flags: <CpuBackend as Backend>::Buf<u32>,
+    materials: <CpuBackend as Backend>::Buf<swarf::kernels::sph::heat::ThermalMaterial>,
+    params: <CpuBackend as Backend>::Buf<DamageParams>,
+    omega: <CpuBackend as Backend>::Buf<f64>,
+    damage: <CpuBackend as Backend>::Buf<f64>,
+}
+
+impl PlasticParticles {
+    /// Particles at 300 K with the given stress, density, mass, ω and D (one entry each), without plastic strain.
+    fn new(stress: &[S3f64], rho: f64, mass: f64, omega: &[f64], damage: &[f64], params: DamageParams) -> Self {
+        let (b, n) = (CpuBackend::new(), stress.len());
+        let zeros = vec![0.0f64; n];
+        let material = swarf::kernels::sph::heat::ThermalMaterial { conductivity: 7.0, specific_heat: 580.0 };
+        PlasticParticles {
+            stress: b.upload(stress, "s").unwrap(),
+            eps: b.upload(&zeros, "e").unwrap(),
+            rate: b.upload(&zeros, "r").unwrap(),
+            temp: b.upload(&vec![300.0f64; n], "t").unwrap(),
+            work: b.upload(&zeros, "w").unwrap(),
+            rho: b.upload(&vec![rho; n], "rho").unwrap(),
+            mass: b.upload(&vec![mass; n], "m").unwrap(),
+            flags: b.upload(&vec![0u32; n], "flags").unwrap(),
+            materials: b.upload(&[material], "materials").unwrap(),
+            params: b.upload(&[params], "damage params").unwrap(),
+            omega: b.upload(omega, "omega").unwrap(),
+            damage: b.upload(damage, "damage").unwrap(),
+            b,
+        }
+    }
+
+    /// One plastic pass (return, heating, work, damage) of every particle.
+    fn step(&mut self, model: &FlowModel, c: PlasticConsts) {
+        let n = self.b.read(&self.eps).unwrap().len();
+        self.b
+            .plastic_step::<f64, Dim3>(
+                n,
+                model,
+                c,
+                PlasticInputs {
+                    stress: &mut self.stress,
+                    rho: &self.rho,
+                    eps: &mut self.eps,
+                    rate: &mut self.rate,
+                    temp: &mut self.temp,
+                    flags: &self.flags,
+                    materials: Some(&self.materials),
+                    yield_stress: None,
+                    work: Some(&mut self.work),
+                    damage: Some(DamageBufs {
+                        params: &self.params,
+                        omega: &mut self.omega,
+                        damage: &mut self.damage,
+                        mass: &self.mass,
+                    }),
+                },
+            )
+            .unwrap();
+    }
+
+    fn read(&self, buf: &<CpuBackend as Backend>::Buf<f64>) -> Vec<f64> {
+        self.b.read(buf).unwrap()
+    }
+}
+
+/// JC damage with a constant fracture strain `ef` (D1 only) and Hillerborg softening with G_f = `gf` J/m².
+fn constant_fracture_strain(ef: f64, gf: f64) -> DamageParams {
+    DamageParams {
+        model: model::JC,
+        d: [ef, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        ref_rate: 1.0,
+        ref_temp: 273.0,
+        melt_temp: 1878.0,
+        fracture_energy: gf,
+        ..Default::default()
+    }
+}
+
 /// (ε̄, ω, D, σ_xx) after a step.
 type Step = (f64, f64, f64, f64);
 
@@ -131,51 +218,24 @@ fn uniaxial_history(dx: f64, d_eps: f64, steps: usize, damage: DamageParams) -> 
     });
     let dt = 1e-8;
     let p = DamageParams { c0sq, rho0, dim: 3.0, ..damage };
-    let b = CpuBackend::new();
-    let mut sb = b.upload(&[S3f64::default()], "s").unwrap();
-    let mut eb = b.upload(&[0.0f64], "e").unwrap();
-    let mut rb = b.upload(&[0.0f64], "r").unwrap();
-    let mut tb = b.upload(&[300.0f64], "t").unwrap();
-    let rhob = b.upload(&[rho], "rho").unwrap();
-    let massb = b.upload(&[mass], "m").unwrap();
-    let fl = b.upload(&[0u32], "flags").unwrap();
-    let pb = b.upload(&[p], "damage params").unwrap();
-    let mut ob = b.upload(&[0.0f64], "omega").unwrap();
-    let mut db = b.upload(&[0.0f64], "damage").unwrap();
+    let mut ps = PlasticParticles::new(&[S3f64::default()], rho, mass, &[0.0], &[0.0], p);
     let c = PlasticConsts { shear, dt, taylor_quinney: 0.0, flags: 0, _pad: 0 };
     let sph = SphParams::<f64> { rho0, c0sq, bulk, shear, ..Default::default() };
     let (mut out, mut rates) = (Vec::new(), Vec::new());
     for _ in 0..steps {
         // The trial increment of a uniaxial plastic strain increment dε diag(1, −½, −½).
-        let mut s = b.read(&sb).unwrap()[0];
+        let mut s = ps.b.read(&ps.stress).unwrap()[0];
         let inc = 2.0 * shear * d_eps;
         s.0[0] += inc;
         s.0[3] -= 0.5 * inc;
         s.0[5] -= 0.5 * inc;
-        b.write(&mut sb, &[s]).unwrap();
-        b.plastic_step::<f64, Dim3>(
-            1,
-            &model,
-            c,
-            PlasticInputs {
-                stress: &mut sb,
-                rho: &rhob,
-                eps: &mut eb,
-                rate: &mut rb,
-                temp: &mut tb,
-                flags: &fl,
-                materials: None,
-                yield_stress: None,
-                work: None,
-                damage: Some(DamageBufs { params: &pb, omega: &mut ob, damage: &mut db, mass: &massb }),
-            },
-        )
-        .unwrap();
-        let (s, e, w, d) =
-            (b.read(&sb).unwrap()[0], b.read(&eb).unwrap()[0], b.read(&ob).unwrap()[0], b.read(&db).unwrap()[0]);
+        ps.b.write(&mut ps.stress, &[s]).unwrap();
+        ps.step(&model, c);
+        let s = ps.b.read(&ps.stress).unwrap()[0];
+        let (e, w, d) = (ps.read(&ps.eps)[0], ps.read(&ps.omega)[0], ps.read(&ps.damage)[0]);
         let (q, _) = prepare_damaged::<f64, Dim3, false, false>(&sph, rho, mass, &s, None, d, 0);
         out.push((e, w, d, q.sig.0[0] * rho * rho));
-        rates.push(b.read(&rb).unwrap()[0]);
+        rates.push(ps.read(&ps.rate)[0]);
     }
     (out, rates)
 }
@@ -235,15 +295,7 @@ fn omega_accumulates_linearly_under_constant_rate_uniaxial_tension() {
 #[test]
 fn dissipated_energy_per_area_equals_fracture_energy_at_three_resolutions() {
     let gf = 2.0e4; // J/m²
-    let damage = DamageParams {
-        model: model::JC,
-        d: [0.05, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-        ref_rate: 1.0,
-        ref_temp: 273.0,
-        melt_temp: 1878.0,
-        fracture_energy: gf,
-        ..Default::default()
-    };
+    let damage = constant_fracture_strain(0.05, gf);
     let mut energies = Vec::new();
     for dx in [4e-5, 2e-5, 1e-5] {
         // Softening ends after ε̄ − ε_f = 4.6 G_f/(dx σ_y) (≈ 2.9 at dx = 40 µm): increments of 1e-3.
@@ -617,7 +669,6 @@ fn the_interaction_mask_is_galilean_invariant() {
 /// fully damaged particle neither heats nor books work (exactly 0). Before 2026-11-28 all three booked the same.
 #[test]
 fn a_damaged_particle_heats_and_works_with_its_degraded_stress() {
-    use swarf::kernels::sph::heat::ThermalMaterial;
     let (young, nu, rho, sy, dx) = (113.8e9, 0.34, 4430.0, 800e6, 1e-5);
     let shear = young / (2.0 * (1.0 + nu));
     let model = FlowModel::Bilinear(swarf::kernels::material::Bilinear {
@@ -626,57 +677,22 @@ fn a_damaged_particle_heats_and_works_with_its_degraded_stress() {
         melt_temp: 1878.0,
     });
     let damage = DamageParams {
-        model: model::JC,
-        d: [0.05, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-        ref_rate: 1.0,
-        ref_temp: 273.0,
-        melt_temp: 1878.0,
-        fracture_energy: 2.0e4,
         rho0: rho,
         c0sq: young / (3.0 * (1.0 - 2.0 * nu)) / rho,
         dim: 3.0,
-        ..Default::default()
+        ..constant_fracture_strain(0.05, 2.0e4)
     };
-    let b = CpuBackend::new();
     // Uniaxial trial increment of 2G dε diag(1, −½, −½) with dε = 1e-2: far beyond yield.
     let inc = 2.0 * shear * 1e-2;
     let mut trial = S3f64::default();
     trial.0[0] = inc;
     trial.0[3] = -0.5 * inc;
     trial.0[5] = -0.5 * inc;
-    let ds = [0.0, 1.0, FULL_DAMAGE];
-    let mut sb = b.upload(&[trial; 3], "s").unwrap();
-    let mut eb = b.upload(&[0.0f64; 3], "e").unwrap();
-    let mut rb = b.upload(&[0.0f64; 3], "r").unwrap();
-    let mut tb = b.upload(&[300.0f64; 3], "t").unwrap();
-    let mut wb = b.upload(&[0.0f64; 3], "w").unwrap();
-    let rhob = b.upload(&[rho; 3], "rho").unwrap();
-    let massb = b.upload(&[rho * dx * dx * dx; 3], "m").unwrap();
-    let fl = b.upload(&[0u32; 3], "flags").unwrap();
-    let mats = b.upload(&[ThermalMaterial { conductivity: 7.0, specific_heat: 580.0 }], "materials").unwrap();
-    let pb = b.upload(&[damage], "damage params").unwrap();
-    let mut ob = b.upload(&[1.0f64; 3], "omega").unwrap();
-    let mut db = b.upload(&ds, "damage").unwrap();
-    let c = PlasticConsts { shear, dt: 1e-8, taylor_quinney: 0.9, flags: 0, _pad: 0 };
-    b.plastic_step::<f64, Dim3>(
-        3,
-        &model,
-        c,
-        PlasticInputs {
-            stress: &mut sb,
-            rho: &rhob,
-            eps: &mut eb,
-            rate: &mut rb,
-            temp: &mut tb,
-            flags: &fl,
-            materials: Some(&mats),
-            yield_stress: None,
-            work: Some(&mut wb),
-            damage: Some(DamageBufs { params: &pb, omega: &mut ob, damage: &mut db, mass: &massb }),
-        },
-    )
-    .unwrap();
-    let (s, e, t, w) = (b.read(&sb).unwrap(), b.read(&eb).unwrap(), b.read(&tb).unwrap(), b.read(&wb).unwrap());
+    let mut ps =
+        PlasticParticles::new(&[trial; 3], rho, rho * dx * dx * dx, &[1.0; 3], &[0.0, 1.0, FULL_DAMAGE], damage);
+    ps.step(&model, PlasticConsts { shear, dt: 1e-8, taylor_quinney: 0.9, flags: 0, _pad: 0 });
+    let s = ps.b.read(&ps.stress).unwrap();
+    let (e, t, w) = (ps.read(&ps.eps), ps.read(&ps.temp), ps.read(&ps.work));
     assert!(e[0] > 0.0 && e.iter().all(|&x| x == e[0]) && s.iter().all(|x| *x == s[0]), "the returns differ");
     let (dt0, dt1) = (t[0] - 300.0, t[1] - 300.0);
     // The undamaged heating and work: η σ_y Δε̄/(ρ c_p) and σ_y Δε̄/ρ.

@@ -116,6 +116,20 @@ de = {{ popsize = 2 }}
     path
 }
 
+/// A new, quiet identification of `file` into `out`, two runs at once.
+fn options(file: &Path, out: &Path) -> IdentifyOptions {
+    IdentifyOptions {
+        file: file.to_path_buf(),
+        out_dir: out.to_path_buf(),
+        batch: None,
+        only: None,
+        width: Some(2),
+        resume: false,
+        holdout_only: false,
+        quiet: true,
+    }
+}
+
 /// The identification writes history (6 evaluations, in 3 batches: 3 + the initial population's last 2 + 1),
 /// report, plots and the best set's material file; that file loads and holds the best A; a resume from the first
 /// batch (history truncated: a stop after it) writes the same history.csv byte for byte, with its runs one at a
@@ -125,16 +139,7 @@ fn a_tiny_identification_writes_everything_and_resumes_bitwise() {
     let dir = tmp("tiny");
     let file = tiny_file(&dir, "");
     let out = dir.join("out");
-    let opts = IdentifyOptions {
-        file: file.clone(),
-        out_dir: out.clone(),
-        batch: None,
-        only: None,
-        width: Some(3),
-        resume: false,
-        holdout_only: false,
-        quiet: true,
-    };
+    let opts = IdentifyOptions { width: Some(3), ..options(&file, &out) };
     let done = identify(&cpu(), &opts).expect("identify");
     assert_eq!(done.rows.len(), 6);
     assert_eq!(done.rows.iter().map(|r| r.batch).collect::<Vec<_>>(), [0, 0, 0, 1, 1, 2]);
@@ -177,16 +182,7 @@ fn only_identifies_the_named_parameters() {
     let dir = tmp("only");
     let file = tiny_file(&dir, "");
     let out = dir.join("out");
-    let opts = IdentifyOptions {
-        file: file.clone(),
-        out_dir: out.clone(),
-        batch: None,
-        only: Some(vec!["material.flow_stress.A".into()]),
-        width: Some(2),
-        resume: false,
-        holdout_only: false,
-        quiet: true,
-    };
+    let opts = IdentifyOptions { only: Some(vec!["material.flow_stress.A".into()]), ..options(&file, &out) };
     let bad =
         IdentifyOptions { only: Some(vec!["material.flow_stress.Q".into()]), out_dir: dir.join("bad"), ..opts.clone() };
     let e = identify(&cpu(), &bad).unwrap_err().to_string();
