@@ -158,13 +158,24 @@ fn a_tiny_identification_writes_everything_and_resumes_bitwise() {
     assert_eq!(a, best.params[1], "A in the material file");
     let lib = swarf::material::search::Search::folder(&out.join("materials")).library().expect("library");
     assert!(lib.get(&m.name).is_ok());
-    // Resume after a stop after the first batch.
+    // Resume after a stop after the first batch. Batch 1's runs (evaluations 3, 4) are made unfinished and run again,
+    // one at a time; batch 2's run (evaluation 5) stands as an interrupted batch's finished run and is taken from its
+    // folder without running (its summary.json is not rewritten).
     let full = std::fs::read_to_string(out.join("history.csv")).unwrap();
     let first: Vec<&str> = full.lines().take(4).collect();
     std::fs::write(out.join("history.csv"), first.join("\n") + "\n").unwrap();
+    let run = |e: usize| out.join(format!("runs/{e:05}-coarse-V0060"));
+    let mtime = |e: usize| std::fs::metadata(run(e).join("summary.json")).and_then(|m| m.modified()).expect("summary");
+    assert!(run(5).join(swarf::identify::scenes::FINISHED).is_file(), "a finished run is not marked");
+    for e in [3, 4] {
+        std::fs::remove_file(run(e).join(swarf::identify::scenes::FINISHED)).expect("the mark");
+    }
+    let (t3, t5) = (mtime(3), mtime(5));
     let resumed = identify(&cpu(), &IdentifyOptions { resume: true, width: Some(1), ..opts.clone() }).expect("resume");
     assert_eq!(resumed.rows.len(), 6);
     assert_eq!(std::fs::read_to_string(out.join("history.csv")).unwrap(), full, "resumed history differs");
+    assert!(mtime(3) != t3, "evaluation 3 was not run again");
+    assert_eq!(mtime(5), t5, "evaluation 5 ran again instead of being taken from its folder");
     // A new identification into the same folder, or a resume with another file, is refused.
     assert!(identify(&cpu(), &opts).unwrap_err().to_string().contains("--resume"));
     let changed = tiny_file(&dir, "# changed\n");

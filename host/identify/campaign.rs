@@ -4,7 +4,8 @@
 //! method converges. After every batch `history.csv`, `report.md`, the plots and the best set's material file are
 //! rewritten (atomically). Everything the file names is checked before any run or folder is made.
 //!
-//! Stop and resume: Ctrl-C stops the batch in flight (its runs are run again on resume); `--resume` rebuilds the
+//! Stop and resume: Ctrl-C stops the batch in flight (its unfinished runs are run again on resume, its finished ones
+//! taken from their folders, `scenes::FINISHED`); `--resume` rebuilds the
 //! optimiser from the file's settings and seed and tells it the recorded history batch by batch, checking that
 //! every asked point equals the recorded one bitwise, then goes on (docs/identification.md "Determinism and
 //! resume"). A folder whose identification file differs is refused.
@@ -290,7 +291,8 @@ fn replay(opt: &mut dyn Optimizer, bounds: &Bounds, spec: &Spec, rows: &[Row]) -
 }
 
 /// Runs one batch: every parameter set of `params` (evaluations `first`, `first + 1`, ...) on every experiment;
-/// returns their history rows. An interruption is returned as the error (the batch is not recorded).
+/// returns their history rows. An interruption is returned as the error (the batch is not recorded); the runs
+/// that had finished keep their folders, marked (`scenes::FINISHED`), and a resume takes their results from there.
 fn evaluate(
     backend: &AnyBackend,
     spec: &Spec,
@@ -300,26 +302,35 @@ fn evaluate(
     batch: usize,
 ) -> Result<Vec<Row>> {
     let ne = spec.experiments.len();
+    let obs = observables();
     let mut results: Vec<std::result::Result<Simulated, String>> = vec![Err("not run".into()); params.len() * ne];
     let (mut jobs, mut slots) = (Vec::new(), Vec::new());
     for (s, x) in params.iter().enumerate() {
         for (e, exp) in spec.experiments.iter().enumerate() {
             let dir = out.join(RUNS).join(format!("{:05}-{}", first + s, exp.name));
-            if dir.exists() {
-                std::fs::remove_dir_all(&dir).map_err(|err| Error::Output(format!("{}: {err}", dir.display())))?;
-            }
             match scene_for(spec, exp, x) {
                 Ok((scene, overrides)) => {
-                    jobs.push(Job { scene, options: RunOptions { overrides, ..RunOptions::quiet(dir) } });
+                    let job = Job { scene, options: RunOptions { overrides, ..RunOptions::quiet(dir.clone()) } };
+                    if super::scenes::finished(&job) {
+                        results[s * ne + e] = super::scenes::measured_in_folder(&job, &obs);
+                        continue;
+                    }
+                    if dir.exists() {
+                        std::fs::remove_dir_all(&dir)
+                            .map_err(|err| Error::Output(format!("{}: {err}", dir.display())))?;
+                    }
+                    jobs.push(job);
                     slots.push(s * ne + e);
                 }
                 Err(why) => results[s * ne + e] = Err(why),
             }
         }
     }
-    let obs = observables();
     crate::ensemble::run(backend, &jobs, width, &mut |k, r| {
         results[slots[k]] = measured(r, &jobs[k], &obs);
+        if results[slots[k]].is_ok() {
+            super::scenes::mark_finished(&jobs[k])?;
+        }
         Ok(())
     })?;
     Ok(params

@@ -66,6 +66,33 @@ pub fn observables() -> Vec<Observable> {
 /// A run's F_c, F_f and chip thickness, or why there are none.
 pub fn measured(r: &Result<RunReport>, job: &Job, obs: &[Observable]) -> std::result::Result<Simulated, String> {
     r.as_ref().map_err(|e| e.to_string())?;
+    measured_in_folder(job, obs)
+}
+
+/// [`measured`] from the summary of `job`'s finished run folder.
+pub fn measured_in_folder(job: &Job, obs: &[Observable]) -> std::result::Result<Simulated, String> {
     let v = observe::measure(&job.options.out_dir, obs, job.scene.discretisation.dx).map_err(|e| e.to_string())?;
     Ok(Simulated { fc: v[0], ff: v[1], chip: v[2] })
+}
+
+/// The file a finished run's folder gets once its result is taken: the job's [`fingerprint`]. A batch interrupted
+/// after some of its runs finished takes theirs from their folders on resume instead of running them again.
+pub const FINISHED: &str = "identify-finished.txt";
+
+/// The identity of `job`: FNV-1a of its scene as JSON (every value, an edited material's included) and overrides.
+pub fn fingerprint(job: &Job) -> String {
+    let text = serde_json::json!({ "scene": job.scene, "overrides": job.options.overrides }).to_string();
+    format!("{:016x}", crate::hash::fnv1a64(text.as_bytes()))
+}
+
+/// Whether `job`'s folder holds its finished run: the [`FINISHED`] file with the job's fingerprint.
+pub fn finished(job: &Job) -> bool {
+    std::fs::read_to_string(job.options.out_dir.join(FINISHED)).is_ok_and(|f| f.trim() == fingerprint(job))
+}
+
+/// Marks `job`'s folder as its finished run (after its result was taken).
+pub fn mark_finished(job: &Job) -> Result<()> {
+    let path = job.options.out_dir.join(FINISHED);
+    crate::output::write_atomic(&path, fingerprint(job).as_bytes())
+        .map_err(|e| crate::Error::Output(format!("{}: {e}", path.display())))
 }
