@@ -243,19 +243,31 @@ for p in $parts; do
                  }
                  run holdout holdout ;;
         mufit) # issue 23 (docs/identification.md, "μ fitted on eight experiments"): cases/identify/ti6al4v-multi.toml
-               # with --only tool.friction (A..n at Klippel's V0060 DE set), DE's first generation (population 15, one
-               # batch) bounded by SWARF_FIT_S s (default 250), then the best μ so far and Klippel's three sets on the
-               # 24 held-out tests (--resume --holdout-only, bounded by SWARF_HOLDOUT_S, default 320).
-               # mufit-history.csv, mufit-holdout.csv; the reports in the log.
+               # with --only tool.friction (A..n at Klippel's V0060 DE set), DE's generations (population 15, one
+               # batch) bounded by SWARF_FIT_S s (default 250); SWARF_FIT_FROM (a mufit-folder.tgz of an earlier call,
+               # carried) resumes it, its finished runs taken from their folders. Then the best μ so far and Klippel's
+               # three sets on the 24 held-out tests (--resume --holdout-only, bounded by SWARF_HOLDOUT_S, default
+               # 320; 0: skipped). mufit-history.csv, mufit-holdout.csv, mufit-folder.tgz (the identification folder,
+               # to carry to the next call); the reports in the log.
             mufit() {
-                local d=/tmp/swarf-mufit f=cases/identify/ti6al4v-multi.toml
+                local d=/tmp/swarf-mufit f=cases/identify/ti6al4v-multi.toml resume=
                 rm -rf $d
+                if [ -n "${SWARF_FIT_FROM:-}" ]; then tar xzf "$SWARF_FIT_FROM" -C /tmp && resume=--resume; fi
                 timeout -s INT "${SWARF_FIT_S:-250}" "$here/swarf" --backend gpu identify $f --only tool.friction \
-                    --batch 15 --width "${SWARF_FIT_W:-40}" --out $d
+                    --batch 15 --width "${SWARF_FIT_W:-40}" --out $d $resume
                 cat $d/report.md; cp $d/history.csv "$out/mufit-history.csv"
-                timeout -s INT "${SWARF_HOLDOUT_S:-320}" "$here/swarf" --backend gpu identify $f --resume --holdout-only \
-                    --width "${SWARF_FIT_W:-40}" --out $d
-                cat $d/holdout/holdout.md $d/holdout.md 2>/dev/null; cp $d/holdout.csv $d/holdout/holdout.csv "$out/" 2>/dev/null
+                echo "finished runs kept: $(find $d/runs -name identify-finished.txt | wc -l)"
+                if [ "${SWARF_HOLDOUT_S:-320}" != 0 ]; then
+                    timeout -s INT "${SWARF_HOLDOUT_S:-320}" "$here/swarf" --backend gpu identify $f --resume \
+                        --holdout-only --width "${SWARF_FIT_W:-40}" --out $d
+                    cat $d/holdout/holdout.md $d/holdout.md 2>/dev/null
+                    cp $d/holdout.csv $d/holdout/holdout.csv "$out/" 2>/dev/null
+                fi
+                # What a resume needs (the whole folder, 44 MB compressed after 165 s, is over what a call returns):
+                # the folder's own files and each finished run's summary.json and mark.
+                (cd /tmp && { find swarf-mufit -maxdepth 1 -type f
+                    find swarf-mufit/runs -name summary.json -o -name identify-finished.txt; } |
+                    tar czf "$out/mufit-folder.tgz" -T -)
             }
             run mufit mufit ;;
         identify) # issue 23: Klippel's DE on V0060 (cases/identify/v0060-de.toml) for SWARF_IDENTIFY_S seconds (default
