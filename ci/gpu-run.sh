@@ -1389,4 +1389,12 @@ archive=logs.tgz k=2
 while [ -e "$out/$archive" ]; do archive=logs-$k.tgz k=$((k + 1)); done
 ( cd "$out" && find . -maxdepth 1 -type f ! -name summary.log ! -name 'logs*.tgz' ! -name '*.tgz.part*' -printf '%P\n' \
     | tar czf "$archive" --remove-files -T - ) || echo "could not archive the logs"
+# A device call returns files of at most 16 MiB (the device README): a bigger archive is split into parts of
+# 15 MiB, to rejoin with `cat logs.tgz.part* | tar xzf -` (a 44 MB archive was lost whole once).
+size=$(stat -c %s "$out/$archive" 2>/dev/null || echo 0)
+if [ "$size" -gt $((16 * 1024 * 1024)) ]; then
+    split -b 15m "$out/$archive" "$out/$archive.part" && rm "$out/$archive"
+    echo "$archive: $size bytes, split into $(ls "$out/$archive".part* | wc -l) parts (cat $archive.part* | tar xzf -)" \
+        | tee -a "$out/summary.log"
+fi
 exit $status
