@@ -114,6 +114,7 @@ fn rice_tracey_fracture_strain_follows_eq_3_163() {
 /// Particles of the CPU plastic pass (3D) with damage, a thermal material (c_p 580) and the work tracked.
 struct PlasticParticles {
     b: CpuBackend,
+    n: usize,
     stress: <CpuBackend as Backend>::Buf<S3f64>,
     eps: <CpuBackend as Backend>::Buf<f64>,
     rate: <CpuBackend as Backend>::Buf<f64>,
@@ -148,15 +149,15 @@ impl PlasticParticles {
             omega: b.upload(omega, "omega").unwrap(),
             damage: b.upload(damage, "damage").unwrap(),
             b,
+            n,
         }
     }
 
     /// One plastic pass (return, heating, work, damage) of every particle.
     fn step(&mut self, model: &FlowModel, c: PlasticConsts) {
-        let n = self.b.read(&self.eps).unwrap().len();
         self.b
             .plastic_step::<f64, Dim3>(
-                n,
+                self.n,
                 model,
                 c,
                 PlasticInputs {

@@ -4,7 +4,7 @@
 //! with V = m/ρ: the deviatoric part S:S/(4G) and the volumetric part ½ K ε_v² with ε_v = p/K, exact for the
 //! small elastic strains the model assumes (roethlin-solver.md §2.3).
 
-use super::interact::pressure;
+use super::interact::pressure_of;
 use super::params::SphParams;
 use super::tensor::TensorOps;
 use crate::real::Real;
@@ -43,10 +43,7 @@ pub fn elastic_damaged_at<R: Real, D: TensorOps<R>>(
     temp: Option<f64>,
     damage: f64,
 ) -> R {
-    let pr = match temp {
-        Some(t) => super::interact::pressure_at(p, rho, t),
-        None => pressure(p, rho),
-    };
+    let pr = pressure_of(p, rho, temp);
     let k = R::from_f64(crate::damage::multiplier(damage));
     let pd = crate::damage::degraded_pressure(k, pr);
     let vol = m / rho;

@@ -58,6 +58,16 @@ pub fn pressure_at<R: Real>(p: &SphParams<R>, rho: R, temp: f64) -> R {
     p.c0sq * (rho - R::from_f64(rho0))
 }
 
+/// The EOS of a particle: [`pressure_at`] its temperature where the run models thermal expansion (`temp` given),
+/// else [`pressure`].
+#[inline(always)]
+pub fn pressure_of<R: Real>(p: &SphParams<R>, rho: R, temp: Option<f64>) -> R {
+    match temp {
+        Some(t) => pressure_at(p, rho, t),
+        None => pressure(p, rho),
+    }
+}
+
 /// The pre-pass of one particle: EOS, σ/ρ², artificial stress, sound speed and volume V = m/ρ (`mass` the
 /// particle's full mass). `temp` is the particle's temperature when the run models thermal expansion.
 #[inline(always)]
@@ -68,10 +78,7 @@ pub fn prepare<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool>(
     s: &D::Sym<R>,
     temp: Option<f64>,
 ) -> Prepared<R, D> {
-    let pr = match temp {
-        Some(t) => pressure_at(p, rho, t),
-        None => pressure(p, rho),
-    };
+    let pr = pressure_of(p, rho, temp);
     Prepared {
         sig: D::stress_over_rho2(s, pr, rho),
         art: if AS { D::artificial_stress(s, pr, rho, p.as_eps) } else { Default::default() },
@@ -104,10 +111,7 @@ pub fn prepare_damaged<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool>
     damage: f64,
     damage_flags: u32,
 ) -> (Prepared<R, D>, f64) {
-    let pr = match temp {
-        Some(t) => pressure_at(p, rho, t),
-        None => pressure(p, rho),
-    };
+    let pr = pressure_of(p, rho, temp);
     let m = R::from_f64(crate::damage::multiplier(damage));
     let (sd, pd) = (scale_sym::<R, D::Sym<R>>(s, m), crate::damage::degraded_pressure(m, pr));
     let q = Prepared {
