@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# mpm26 mpm26b mpmv78 mpmv5fine mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout mufit identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine shtb25 gf25 ducobugf tool3d tools24 cspm24 nonfinite24 mill24 wheel24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
+# mpm26 mpm26b mpm025ck mpmv14 mpmv10 mpmv78 mpmv5fine mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout mufit identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine shtb25 gf25 ducobugf tool3d tools24 cspm24 nonfinite24 mill24 wheel24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -933,6 +933,64 @@ $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s" \
                   keep_sweeps v5fine v8room
               }
               run mpmv5fine mpm_v5fine ;;
+        mpmv14) # issue 26 (docs/mpm.md "Position updates", "Traction laws"): three batched sweeps at once (30°, mu = 0):
+                # V14, the position update second/first/zeroth x h 0.5, 1.0 mm at 15 particles through h, and
+                # second/zeroth at h = 1 mm at 31, each with the glyph test's coverage; V1 with the triangular law
+                # (h 0.25-2.0 mm, 15 through h). Each sweep stops at 540 s. Tables under $out/mpmsweep-*.
+              mpm_v14() {
+                  local sweep=(timeout -s INT 540 "$here/swarf" --backend gpu sweep cases/mpm/nairn-cut.toml --quiet)
+                  local t0=$(date +%s.%N)
+                  "${sweep[@]}" --batch 6 --out /tmp/mpmsweep/v14 --grid damping.position_update='"second"','"first"','"zeroth"' \
+                      --grid cut.depth=0.5e-3,1.0e-3 &
+                  "${sweep[@]}" --batch 2 --out /tmp/mpmsweep/v14fine --set cut.particles_across=31 \
+                      --grid damping.position_update='"second"','"zeroth"' &
+                  "${sweep[@]}" --batch 7 --out /tmp/mpmsweep/tri --set cohesive.law='"triangular"' \
+                      --grid cut.depth=0.25e-3,0.5e-3,0.75e-3,1.0e-3,1.25e-3,1.5e-3,2.0e-3 &
+                  wait
+                  echo "all: $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s wall"
+                  keep_sweeps v14 v14fine tri
+              }
+              run mpmv14 mpm_v14 ;;
+        mpm025ck) # issue 26 (docs/mpm.md "Stability"): V1's h = 0.25 mm at 31 particles through h, which blows up at
+                  # step 213 465 of 266 331 (80.2 %), interrupted (SIGINT) once its progress passes SWARF_CK_PCT %
+                  # (default 70): its checkpoint comes back as mpm025ck.tgz (split if large), to resume on the CPU
+                  # (bitwise the GPU's) with frames close together up to the failure.
+              mpm_025ck() {
+                  local d=/tmp/mpm/ck025 log=/tmp/mpm/ck025.log pct=${SWARF_CK_PCT:-70}
+                  rm -rf $d; mkdir -p /tmp/mpm
+                  "$here/swarf" --backend gpu run cases/mpm/nairn-cut.toml --force --out $d \
+                      --set cut.depth=0.25e-3 --set cut.particles_across=31 > $log 2>&1 &
+                  local pid=$!
+                  while kill -0 $pid 2>/dev/null; do
+                      if grep -qE "\(($pct|[$((${pct:0:1}+1))-9][0-9]) %\)" $log; then kill -INT $pid; break; fi
+                      sleep 0.5
+                  done
+                  wait $pid; tail -n 5 $log
+                  (cd /tmp/mpm && tar czf "$out/mpm025ck.tgz" ck025/checkpoint.bin ck025/scene.toml ck025/forces.csv \
+                      ck025/particles.pvd ck025.log)
+                  ls -la "$out/mpm025ck.tgz"
+              }
+              run mpm025ck mpm_025ck ;;
+        mpmv10) # issue 26 (docs/mpm.md "V10"): the base depth d = 2, 3, 4, 5 h at h = 0.9 mm (30°, mu = 0) at 15
+                # particles through h and d = 3, 5 at 31, since the contact fix; beside them V1's h = 0.25 mm at 31
+                # through h, which blew up, with 80 frames (its last 6 frames come back as logs-mpm-fail025fine.tgz).
+              mpm_v10() {
+                  local sweep=(timeout -s INT 560 "$here/swarf" --backend gpu sweep cases/mpm/nairn-cut.toml --quiet)
+                  local t0=$(date +%s.%N)
+                  "${sweep[@]}" --batch 4 --out /tmp/mpmsweep/v10 --set cut.depth=0.9e-3 --grid cut.base=2,3,4,5 &
+                  "${sweep[@]}" --batch 2 --out /tmp/mpmsweep/v10fine --set cut.depth=0.9e-3 \
+                      --set cut.particles_across=31 --grid cut.base=3,5 &
+                  timeout -s INT 560 "$here/swarf" --backend gpu run cases/mpm/nairn-cut.toml --quiet --force \
+                      --out /tmp/mpm/fail025fine --set cut.depth=0.25e-3 --set cut.particles_across=31 \
+                      --set time.frames=80 2>&1 | tail -3 &
+                  wait
+                  echo "all: $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s wall"
+                  keep_sweeps v10 v10fine
+                  local r=fail025fine
+                  (cd /tmp/mpm && tar czf "$out/logs-mpm-$r.tgz" "$r"/*.json "$r"/*.csv "$r"/*.log "$r"/particles.pvd \
+                      $(ls "$r"/frames/*.vtu | tail -n 6))
+              }
+              run mpmv10 mpm_v10 ;;
         mpm26b) # issue 26 (docs/mpm.md): V7 (hardening: E_T 25 and 100 MPa at 30°), V10 (base depth 2 and 4 at
                 # h = 0.9 mm), and the GPU time of each MPM kernel over two steps (ncu, after 2000 steps)
               mpm_b() {

@@ -1250,6 +1250,7 @@ fn mpm_runs_equal_cpu() {
         assert_eq!(flat4(&a.stress), flat4(&b.stress), "{what}: stresses differ");
         assert_eq!(flat4(&a.be), flat4(&b.be), "{what}: B_e differ");
         assert_eq!(bits(&a.jac), bits(&b.jac), "{what}: J differ");
+        assert_eq!(flat4(&a.def), flat4(&b.def), "{what}: deformation gradients differ");
         assert_eq!(bits(&a.eps), bits(&b.eps), "{what}: plastic strains differ");
         assert_eq!(flat4(&ca), flat4(&cb), "{what}: crack points differ");
         assert_eq!(ta, tb, "{what}: tallies differ");
@@ -1263,4 +1264,11 @@ fn mpm_runs_equal_cpu() {
     compare::<f32>(&g, "cases/mpm/bond-mode1.toml", &[], "bond f32");
     compare::<f64>(&g, "cases/mpm/nairn-cut.toml", &cut, "cut f64");
     compare::<f32>(&g, "cases/mpm/nairn-cut.toml", &cut, "cut f32");
+    // The triangular law and the position updates of Fig. 2 (V14).
+    compare::<f64>(&g, "cases/mpm/bond-mode1.toml", &["cohesive.law=\"triangular\""], "bond triangular f64");
+    for order in ["first", "zeroth"] {
+        let set = format!("damping.position_update=\"{order}\"");
+        let sets: Vec<&str> = cut.iter().copied().chain([set.as_str(), "cohesive.law=\"triangular\""]).collect();
+        compare::<f64>(&g, "cases/mpm/nairn-cut.toml", &sets, &format!("cut {order}-order update, triangular f64"));
+    }
 }

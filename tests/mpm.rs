@@ -3,7 +3,7 @@
 //! mode II, a short cut, and the scene's checks.
 
 use swarf::backend::{AnyBackend, Backend, CpuBackend};
-use swarf::kernels::cohesive::{Cohesive, CubicLaw, FAILED, MODE_I, traction};
+use swarf::kernels::cohesive::{CUBIC, Cohesive, FAILED, MODE_I, TRIANGULAR, TRIANGULAR_PEAK, TractionLaw, traction};
 use swarf::kernels::mpm::hyperelastic::{NeoHookeanJ2, update};
 use swarf::kernels::mpm::shape::ugimp;
 use swarf::mpm::run::{MpmRunOptions, run};
@@ -49,30 +49,11 @@ fn ugimp_is_the_averaged_hat_and_a_partition_of_unity() {
 /// resists only closing with the law's initial stiffness 27σ_c/(4δ_c).
 #[test]
 fn cubic_law_and_its_failure_follow_eqs_3_and_4() {
-    let law = CubicLaw::of_toughness(2000.0, 40e6);
+    let law = TractionLaw::of_toughness(CUBIC, 2000.0, 40e6);
     assert!((law.delta_c - 16.0 * 2000.0 / (9.0 * 40e6)).abs() < 1e-18);
     assert!((law.traction(law.delta_c / 3.0) - 40e6).abs() < 1e-6);
     assert!((law.energy(law.delta_c) - 2000.0).abs() < 1e-9);
-    for f in [0.1, 0.3, 0.7, 1.0] {
-        let d = f * law.delta_c;
-        let n = 2000;
-        let h = d / n as f64;
-        let simpson: f64 = (0..=n)
-            .map(|k| {
-                let w = if k == 0 || k == n {
-                    1.0
-                } else if k % 2 == 1 {
-                    4.0
-                } else {
-                    2.0
-                };
-                w * law.traction(k as f64 * h)
-            })
-            .sum::<f64>()
-            * h
-            / 3.0;
-        assert!((simpson - law.energy(d)).abs() < 1e-9 * law.energy(d), "J({f} δc): {simpson} vs {}", law.energy(d));
-    }
+    energy_is_the_tractions_integral(&law);
     let c = Cohesive { mode1: law, mode2: law };
     let mut st = [0.0f64; 4];
     let (_, t) = traction(&c, &mut st, 0.0, 0.5 * law.delta_c);
@@ -92,6 +73,56 @@ fn cubic_law_and_its_failure_follow_eqs_3_and_4() {
     let _ = traction(&c, &mut st, d, d);
     let share = law.energy(d) / law.toughness();
     assert_eq!(st[FAILED], if 2.0 * share >= 1.0 { 1.0 } else { 0.0 });
+}
+
+/// J(δ) = ∫₀^δ σ (Simpson over 2000 intervals, 1e-9 relative; for the triangular law the kink at δ_p falls
+/// between nodes, so its tolerance is Simpson's O(h²) error across it, 1e-6).
+fn energy_is_the_tractions_integral(law: &TractionLaw) {
+    let tol = if law.shape == TRIANGULAR { 1e-6 } else { 1e-9 };
+    for f in [0.1, 0.3, 0.7, 1.0] {
+        let d = f * law.delta_c;
+        let n = 2000;
+        let h = d / n as f64;
+        let simpson: f64 = (0..=n)
+            .map(|k| {
+                let w = if k == 0 || k == n {
+                    1.0
+                } else if k % 2 == 1 {
+                    4.0
+                } else {
+                    2.0
+                };
+                w * law.traction(k as f64 * h)
+            })
+            .sum::<f64>()
+            * h
+            / 3.0;
+        assert!((simpson - law.energy(d)).abs() < tol * law.energy(d), "J({f} δc): {simpson} vs {}", law.energy(d));
+    }
+}
+
+/// The triangular law (nairn-mpm.md §1.5, "also tried"; docs/mpm.md "Traction laws"): J_c = ½σ_cδ_c = G_c, its
+/// peak σ_c at δ_p = (32/243) δ_c, J(δ) = ∫σ, and its initial (closing) stiffness the cubic law's of the same
+/// σ_c and G_c (1e-12 relative); a point loaded past δ_c in mode I fails with mode-I share 1.
+#[test]
+fn triangular_law_keeps_the_toughness_and_the_cubic_laws_stiffness() {
+    let (g, sc) = (2000.0, 40e6);
+    let law = TractionLaw::of_toughness(TRIANGULAR, g, sc);
+    let cubic = TractionLaw::of_toughness(CUBIC, g, sc);
+    assert!((law.delta_c - 2.0 * g / sc).abs() < 1e-18);
+    assert!((law.toughness() - g).abs() < 1e-9 && (law.energy(law.delta_c) - g).abs() < 1e-9);
+    assert!((law.traction(TRIANGULAR_PEAK * law.delta_c) - sc).abs() < 1e-6 * sc);
+    let tail = 1e-3 / (1.0 - TRIANGULAR_PEAK) * sc;
+    assert!((law.traction(0.999 * law.delta_c) - tail).abs() < 1e-6 * sc && law.traction(law.delta_c) == 0.0);
+    let (k, kc) = (law.stiffness::<f64>(), cubic.stiffness::<f64>());
+    assert!((k - kc).abs() < 1e-12 * kc, "initial stiffness {k:e} vs the cubic's {kc:e}");
+    energy_is_the_tractions_integral(&law);
+    let c = Cohesive { mode1: law, mode2: law };
+    let mut st = [0.0f64; 4];
+    let _ = traction(&c, &mut st, 0.0, 0.9 * law.delta_c);
+    assert_eq!(st[FAILED], 0.0);
+    let _ = traction(&c, &mut st, 0.0, law.delta_c);
+    assert_eq!((st[FAILED], st[MODE_I]), (1.0, 1.0), "mode I fails at δ_c");
 }
 
 /// Small strains: the neo-Hookean update reduces to linear elasticity, σ_xx = (K + 4G/3)ε, σ_yy = σ_zz =
@@ -138,8 +169,9 @@ fn return_mapping_holds_the_yield_surface_in_large_shear() {
     }
 }
 
-fn bond_released(file: &str, dir: &str) -> (f64, f64) {
-    let scene = MpmScene::load(file, &[]).expect("scene");
+fn bond_released(file: &str, dir: &str, sets: &[&str]) -> (f64, f64) {
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    let scene = MpmScene::load(file, &sets).expect("scene");
     let out = std::env::temp_dir().join(dir);
     let _ = std::fs::remove_dir_all(&out);
     let opts = MpmRunOptions { frames: false, ..MpmRunOptions::new(out) };
@@ -153,7 +185,7 @@ fn bond_released(file: &str, dir: &str) -> (f64, f64) {
 /// point fails: 2000 J/m² within 5 %, every point failing in mode I.
 #[test]
 fn bond_releases_its_toughness_in_mode_1() {
-    let (g, share) = bond_released("cases/mpm/bond-mode1.toml", "swarf-mpm-bond1");
+    let (g, share) = bond_released("cases/mpm/bond-mode1.toml", "swarf-mpm-bond1", &[]);
     assert!((g / 2000.0 - 1.0).abs() < 0.05, "mode I: {g} J/m²");
     assert!(share > 0.99, "mode-I share {share}");
 }
@@ -161,13 +193,27 @@ fn bond_releases_its_toughness_in_mode_1() {
 /// V15 in pure mode II: the grip slides the upper block along the plane; 2000 J/m² within 5 %, in mode II.
 #[test]
 fn bond_releases_its_toughness_in_mode_2() {
-    let (g, share) = bond_released("cases/mpm/bond-mode2.toml", "swarf-mpm-bond2");
+    let (g, share) = bond_released("cases/mpm/bond-mode2.toml", "swarf-mpm-bond2", &[]);
     assert!((g / 2000.0 - 1.0).abs() < 0.05, "mode II: {g} J/m²");
     assert!(share < 0.01, "mode-I share {share}");
 }
 
+/// V15 with the triangular law (docs/mpm.md "Traction laws"): the same blocks release G_c = 2000 J/m² within 5 %
+/// in pure mode I and pure mode II, each point failing in its mode.
+#[test]
+fn bond_releases_its_toughness_with_the_triangular_law() {
+    let tri = ["cohesive.law=\"triangular\""];
+    let (g1, share1) = bond_released("cases/mpm/bond-mode1.toml", "swarf-mpm-bond1-tri", &tri);
+    let (g2, share2) = bond_released("cases/mpm/bond-mode2.toml", "swarf-mpm-bond2-tri", &tri);
+    eprintln!("triangular law: mode I {g1:.1} J/m² (share {share1:.4}), mode II {g2:.1} J/m² (share {share2:.4})");
+    assert!((g1 / 2000.0 - 1.0).abs() < 0.05 && share1 > 0.99, "mode I: {g1} J/m², share {share1}");
+    assert!((g2 / 2000.0 - 1.0).abs() < 0.05 && share2 < 0.01, "mode II: {g2} J/m², share {share2}");
+}
+
 /// A short coarse cut: the tool reaches the specimen and pushes it (F_c > 0), the crack opens from the end of
 /// its starter as a contiguous run of failed points (the tool drives it), and the tool's particles ride with it.
+/// Each particle's det F equals its J (1e-12), and the deformed domains tile the specimen (the glyph test, V14:
+/// area mismatch and gaps each below 1 %).
 #[test]
 fn a_short_cut_opens_the_crack_ahead_of_the_tool() {
     let sets: Vec<String> =
@@ -190,6 +236,17 @@ fn a_short_cut_opens_the_crack_ahead_of_the_tool() {
     assert!(last >= starter, "the crack grew beyond its starter ({starter} points): last failed {last}");
     assert!(failed[..=last].iter().all(|&f| f), "the failed points are not contiguous: {failed:?}");
     let snap = m.snapshot(&b).expect("snapshot");
+    // F and J advance by the same f = I + LΔt (docs/mpm.md "Position updates"): det F = J to rounding.
+    let worst = (0..snap.pos.len())
+        .map(|i| {
+            let f = snap.def[i];
+            ((f[0] * f[3] - f[1] * f[2]) / snap.jac[i] - 1.0).abs()
+        })
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-12, "det F against J: {worst:e}");
+    let c = swarf::mpm::coverage::coverage(&snap, |_| true).expect("coverage");
+    eprintln!("short cut: det F/J − 1 ≤ {worst:.2e}; coverage {c:?}");
+    assert!(c.mismatch < 0.01 && c.gap_share < 0.01, "the domains tile the specimen: {c:?}");
     let d = s.tool.expect("tool").0.displacement(m.time);
     for (i, k) in snap.kind.iter().enumerate() {
         if *k == swarf::kernels::mpm::grid::TOOL {
@@ -209,6 +266,7 @@ fn bad_mpm_scenes_are_refused_with_the_key() {
         ("material.tangent_modulus=2e9", "material.tangent_modulus", "below Young's modulus"),
         ("damping.pic=1.5", "damping.pic", "[0, 1]"),
         ("cut.depht=1e-3", "cut.depht", "depth"),
+        ("cohesive.law=\"linear\"", "cohesive.law", "\"triangular\""),
     ];
     for (set, key, expected) in cases {
         let e = MpmScene::from_str(&text, "nairn-cut.toml", &[set.to_string()]).expect_err(set).to_string();

@@ -300,7 +300,7 @@ fn blanking(
 /// row below that faces it (the same x, and z in 3D, within a quarter spacing), of tributary area Δx (2D, per
 /// unit depth) or Δx² (3D). A particle on the plane, or an extent with no facing pair, is refused.
 fn cohesive_setup(scene: &Scene, fl: &mut [u32], pos: &[[f64; 3]]) -> Result<Option<CohesiveSetup>> {
-    use crate::kernels::cohesive::{Cohesive, CubicLaw};
+    use crate::kernels::cohesive::{Cohesive, TractionLaw};
     use crate::kernels::sph::bond::{BondParams, NONE};
     let Some(c) = scene.cohesive.as_ref() else { return Ok(None) };
     let dx = scene.discretisation.dx;
@@ -353,8 +353,8 @@ fn cohesive_setup(scene: &Scene, fl: &mut [u32], pos: &[[f64; 3]]) -> Result<Opt
     }
     let l = &c.law;
     let law = Cohesive {
-        mode1: CubicLaw::of_toughness(l.toughness, l.peak),
-        mode2: CubicLaw::of_toughness(l.toughness_shear, l.peak_shear),
+        mode1: TractionLaw::of_toughness(l.law.kernel(), l.toughness, l.peak),
+        mode2: TractionLaw::of_toughness(l.law.kernel(), l.toughness_shear, l.peak_shear),
     };
     // The damper's time step is the run's, set once it is known.
     Ok(Some(CohesiveSetup { params: BondParams { law, area: scene.bond_area(), dt: 0.0 }, partner, reference }))

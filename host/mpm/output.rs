@@ -18,6 +18,8 @@ pub struct Snapshot {
     pub stress: Vec<[f64; 4]>,
     pub be: Vec<[f64; 4]>,
     pub jac: Vec<f64>,
+    /// The deformation gradient F (xx, xy, yx, yy).
+    pub def: Vec<[f64; 4]>,
     pub eps: Vec<f64>,
     pub kind: Vec<u32>,
     pub mass: Vec<f64>,
@@ -51,6 +53,7 @@ impl<B: Backend, R: Real> MpmSolver<B, R> {
             stress: wide4::<R>(b.read(&p.stress)?),
             be: wide4::<R>(b.read(&p.be)?),
             jac: wide(b.read(&p.jac)?),
+            def: b.read(&p.def)?.iter().map(|f| f.map(|x| x.to_f64())).collect(),
             eps: wide(b.read(&p.eps)?),
             kind: b.read(&p.kind)?,
             mass: wide(b.read(&p.mass)?),
@@ -80,12 +83,13 @@ impl Snapshot {
     }
 
     /// The frame of this state at `time`: kind, velocity, stress (xx, xy, yy, zz), von Mises stress, plastic
-    /// strain and J.
+    /// strain, J and the deformation gradient F (xx, xy, yx, yy: ParaView's glyphs of the particles' domains).
     pub fn frame<'a>(&'a self, time: f64, scratch: &'a mut FrameScratch) -> Frame<'a> {
         scratch.points = self.pos.iter().flat_map(|x| [x[0], x[1], 0.0]).collect();
         scratch.vel = self.vel.iter().flat_map(|v| [v[0], v[1], 0.0]).collect();
         scratch.stress = self.stress.iter().flat_map(|s| *s).collect();
         scratch.mises = self.stress.iter().map(|s| von_mises(*s)).collect();
+        scratch.def = self.def.iter().flat_map(|f| *f).collect();
         Frame {
             time,
             points: Values::F64(&scratch.points),
@@ -96,6 +100,7 @@ impl Snapshot {
                 Array { name: "von_mises", components: 1, values: Values::F64(&scratch.mises) },
                 Array { name: "plastic_strain", components: 1, values: Values::F64(&self.eps) },
                 Array { name: "J", components: 1, values: Values::F64(&self.jac) },
+                Array { name: "F", components: 4, values: Values::F64(&scratch.def) },
             ],
             field_data: Vec::new(),
         }
@@ -116,4 +121,5 @@ pub struct FrameScratch {
     vel: Vec<f64>,
     stress: Vec<f64>,
     mises: Vec<f64>,
+    def: Vec<f64>,
 }

@@ -11,6 +11,7 @@ use crate::analytic::nairn::{self, Specimen};
 use crate::backend::{AnyBackend, Backend};
 use crate::kernels::Real;
 use crate::kernels::cohesive::{FAILED, MODE_I};
+use crate::kernels::mpm::grid::ABOVE;
 use crate::output::csv::TimeSeries;
 use crate::output::{atomic, pvd, vtu};
 use crate::scene::Precision;
@@ -117,6 +118,10 @@ pub struct MpmReport {
     pub mode_i_share: Option<f64>,
     pub steady: Option<Steady>,
     pub released: Option<Released>,
+    /// The particles' deformed domains at the end (`coverage`; V14): the specimen's, and a cut's chip's (the
+    /// particles above the cut plane that the tool's edge has passed).
+    pub coverage: Option<super::coverage::Coverage>,
+    pub chip_coverage: Option<super::coverage::Coverage>,
     pub scene: MpmScene,
     #[serde(skip)]
     pub samples: Vec<Sample>,
@@ -342,6 +347,7 @@ fn report<B: Backend, R: Real>(
     wall: f64,
 ) -> Result<MpmReport> {
     let crack = solver.crack_state(b)?;
+    let snap = solver.snapshot(b)?;
     let p = &s.params;
     let cohesive_failed: Vec<f64> = (0..crack.len())
         .filter(|&k| crack[k][FAILED] != 0.0 && p.crack_x(k as u32) >= s.starter_end)
@@ -374,6 +380,11 @@ fn report<B: Backend, R: Real>(
             .then(|| cohesive_failed.iter().sum::<f64>() / cohesive_failed.len() as f64),
         steady: steady(scene, &samples),
         released,
+        coverage: super::coverage::coverage(&snap, |_| true),
+        chip_coverage: s.tool.and_then(|(ramp, tip)| {
+            let edge = tip[0] + ramp.displacement(solver.time)[0];
+            super::coverage::coverage(&snap, |i| snap.kind[i] == ABOVE && s.points.pos[i][0] < edge)
+        }),
         scene: scene.clone(),
         samples,
     })

@@ -1,7 +1,7 @@
 //! From an MPM scene to its particles, grid, crack and motions (nairn-mpm.md §3; docs/mpm.md "Set-up"): plain
 //! data, before anything is allocated.
 
-use crate::kernels::cohesive::{Cohesive, CubicLaw};
+use crate::kernels::cohesive::{Cohesive, TractionLaw};
 use crate::kernels::mpm::grid::{ABOVE, BELOW, MpmParams, TOOL};
 use crate::kernels::mpm::hyperelastic::NeoHookeanJ2;
 use crate::scene::mpm::{BondSetup, CutSetup, MpmScene, Setup};
@@ -75,6 +75,7 @@ pub fn setup(scene: &MpmScene) -> Result<MpmSetup> {
     let c = &scene.cohesive;
     let base = MpmParams {
         mass_floor: 0.0,
+        position_order: scene.damping.position_update.kernel(),
         material: NeoHookeanJ2 {
             bulk: m.bulk_modulus,
             shear: m.shear_modulus,
@@ -82,8 +83,8 @@ pub fn setup(scene: &MpmScene) -> Result<MpmSetup> {
             plastic_modulus: plastic,
         },
         cohesive: Cohesive {
-            mode1: CubicLaw::of_toughness(c.toughness, c.peak),
-            mode2: CubicLaw::of_toughness(c.toughness_shear, c.peak_shear),
+            mode1: TractionLaw::of_toughness(c.law.kernel(), c.toughness, c.peak),
+            mode2: TractionLaw::of_toughness(c.law.kernel(), c.toughness_shear, c.peak_shear),
         },
         // Contact where the tool's and the field's volumes fill the cell: they meet (docs/mpm.md "Contact").
         contact_fill: 1.0,

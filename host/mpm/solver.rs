@@ -30,6 +30,8 @@ pub struct ParticleBufs<B: Backend, R: Real> {
     pub vol0: B::Buf<R>,
     pub kind: B::Buf<u32>,
     pub fext: B::Buf<R::V2>,
+    /// The deformation gradient F (xx, xy, yx, yy).
+    pub def: B::Buf<[R; 4]>,
 }
 
 /// The nodes' buffers (two specimen fields per node where `kernels::mpm::step::Nodes` says so).
@@ -66,6 +68,7 @@ macro_rules! mpm_state {
         $m!("eps", parts.eps);
         $m!("stress", parts.stress);
         $m!("fext", parts.fext);
+        $m!("def", parts.def);
         $m!("crack_state", crack.state);
         $m!("imp_tool", nodes.imp_tool);
         $m!("imp_grip", nodes.imp_grip);
@@ -135,6 +138,7 @@ impl<B: Backend, R: Real> MpmSolver<B, R> {
             vol0: b.upload(&r(&s.points.vol), "mpm volumes")?,
             kind: b.upload(&s.points.kind, "mpm kinds")?,
             fext: b.alloc(n, "mpm cohesive forces")?,
+            def: b.upload(&vec![[R::ONE, R::ZERO, R::ZERO, R::ONE]; n], "mpm deformation gradients")?,
         };
         let nodes = NodeBufs {
             mass: b.alloc(2 * n_nodes, "mpm node mass")?,
@@ -360,6 +364,7 @@ impl<B: Backend, R: Real> MpmSolver<B, R> {
             vol0: b.address(&p.vol0) as *const R,
             kind: b.address(&p.kind) as *const u32,
             fext: b.address_mut(&mut p.fext) as *mut R::V2,
+            def: b.address_mut(&mut p.def) as *mut [R; 4],
         }
     }
 

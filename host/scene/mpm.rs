@@ -42,15 +42,44 @@ pub struct MpmMaterial {
     pub tangent_modulus: f64,
 }
 
-/// `[cohesive]`: the cubic law of each mode (nairn-mpm.md §1.5, Eq. 3).
+/// `[cohesive]`: the traction law of each mode (nairn-mpm.md §1.5, Eq. 3).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct CohesiveSpec {
+    /// `law` (default "cubic"): the shape of both modes' laws, "cubic" (Eq. 3) or "triangular"
+    /// (`kernels::cohesive::TRIANGULAR`; docs/mpm.md "Traction laws").
+    pub law: LawShape,
     /// `toughness` G_c [J/m²] and `peak` σ_c [Pa] of mode I.
     pub toughness: f64,
     pub peak: f64,
     /// `toughness_shear`, `peak_shear` (default: mode I's).
     pub toughness_shear: f64,
     pub peak_shear: f64,
+}
+
+/// The shape of a cohesive law.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LawShape {
+    Cubic,
+    Triangular,
+}
+
+impl LawShape {
+    /// Each shape: its key value and the kernels' constant, once.
+    pub const ALL: [(LawShape, &'static str, u32); 2] = [
+        (LawShape::Cubic, "cubic", crate::kernels::cohesive::CUBIC),
+        (LawShape::Triangular, "triangular", crate::kernels::cohesive::TRIANGULAR),
+    ];
+
+    /// The shape a key value names.
+    pub fn from_name(name: &str) -> Option<LawShape> {
+        Self::ALL.iter().find(|(_, n, _)| *n == name).map(|(s, _, _)| *s)
+    }
+
+    /// The kernels' constant for this shape (`kernels::cohesive::TractionLaw::shape`).
+    pub fn kernel(self) -> u32 {
+        Self::ALL.iter().find(|(s, _, _)| *s == self).map_or(crate::kernels::cohesive::CUBIC, |(_, _, k)| *k)
+    }
 }
 
 /// The set-up.
@@ -134,6 +163,37 @@ pub struct Damping {
     /// (nairn-mpm.md §1.3), dimensionless: 1/Q = g/(v² t_ramp²), v the ramp's full speed, so that the damping
     /// reaches about g K/(½ M v²)/t_ramp over the ramp whatever the scale (docs/mpm.md "Start-up damping").
     pub feedback: f64,
+    /// `position_update` (default "second"): the particles' position update, "second" (Eq. 10, the paper's),
+    /// "first" (Eq. 10 without its acceleration term) or "zeroth" (Eq. 9): the variants of Fig. 2 (V14).
+    pub position_update: PositionUpdate,
+}
+
+/// The particles' position update of an MPM scene (`[damping] position_update`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PositionUpdate {
+    Zeroth,
+    First,
+    Second,
+}
+
+impl PositionUpdate {
+    /// Each variant: its key value and the kernels' constant, once.
+    pub const ALL: [(PositionUpdate, &'static str, u32); 3] = [
+        (PositionUpdate::Zeroth, "zeroth", crate::kernels::mpm::grid::POSITION_ZEROTH),
+        (PositionUpdate::First, "first", crate::kernels::mpm::grid::POSITION_FIRST),
+        (PositionUpdate::Second, "second", crate::kernels::mpm::grid::POSITION_SECOND),
+    ];
+
+    /// The variant a key value names.
+    pub fn from_name(name: &str) -> Option<PositionUpdate> {
+        Self::ALL.iter().find(|(_, n, _)| *n == name).map(|(v, _, _)| *v)
+    }
+
+    /// The kernels' constant (`kernels::mpm::grid::MpmParams::position_order`).
+    pub fn kernel(self) -> u32 {
+        Self::ALL.iter().find(|(v, _, _)| *v == self).map_or(crate::kernels::mpm::grid::POSITION_SECOND, |e| e.2)
+    }
 }
 
 impl MpmScene {

@@ -58,7 +58,7 @@ pub const SUMMARY_OBSERVABLES: &[(&str, &str)] =
 const AXES: [&str; 3] = ["x", "y", "z"];
 
 /// An MPM cut's results in summary.json (name, unit, JSON pointer): the steady forces beside Nairn's two models
-/// (`mpm::run::Steady`).
+/// (`mpm::run::Steady`), and the glyph test's coverage at the end (`mpm::coverage`, V14).
 const MPM_CUT: &[(&str, &str, &str)] = &[
     ("fc_n_per_m", "N/m", "/steady/fc"),
     ("ft_n_per_m", "N/m", "/steady/ft"),
@@ -69,6 +69,10 @@ const MPM_CUT: &[(&str, &str, &str)] = &[
     ("fc_over_bending", "-", "/steady/fc_over_bending"),
     ("rubbing_n_per_m", "N/m", "/steady/rubbing"),
     ("eta", "-", "/steady/eta"),
+    ("coverage_mismatch", "-", "/coverage/mismatch"),
+    ("gap_share", "-", "/coverage/gap_share"),
+    ("chip_mismatch", "-", "/chip_coverage/mismatch"),
+    ("chip_gap_share", "-", "/chip_coverage/gap_share"),
 ];
 /// An MPM bond's result: the energy its crack released per unit area (`mpm::run::Released`).
 const MPM_BOND: &[(&str, &str, &str)] = &[("released_j_per_m2", "J/m²", "/released/per_area")];

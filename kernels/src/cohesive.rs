@@ -1,5 +1,5 @@
 //! The cohesive crack along the cut plane (nairn-mpm.md §1.5): Needleman's cubic traction law in mode I and mode II
-//! (Eq. 3), Yang and Thouless's decoupled failure criterion (Eq. 4), unloading along the secant to the origin, and
+//! (Eq. 3), or the triangular law the paper also tried, Yang and Thouless's decoupled failure criterion (Eq. 4), unloading along the secant to the origin, and
 //! the law's initial stiffness against closing. Each crack point joins the two particles that faced each other
 //! across the plane at t = 0: the MPM's crack points (`mpm::step::crack_point`; docs/mpm.md "Crack points are
 //! particle pairs") and the SPH's bonds (`sph::bond`; docs/mpm.md "The cohesive path in SPH") share the law.
@@ -7,31 +7,57 @@
 use crate::real::Real;
 use bytemuck::{Pod, Zeroable};
 
-/// One mode's cubic law: σ = (27/4) σ_c (δ/δ_c)(1 − δ/δ_c)², J_c = (9/16) σ_c δ_c (Eq. 3).
+/// [`TractionLaw::shape`]: Needleman's cubic law (nairn-mpm.md §1.5, Eq. 3), the paper's.
+pub const CUBIC: u32 = 0;
+/// [`TractionLaw::shape`]: the triangular law the paper also tried (§1.5): linear to σ_c at δ_p, linear to zero
+/// at δ_c.
+pub const TRIANGULAR: u32 = 1;
+
+/// Where the triangular law peaks, δ_p/δ_c = 32/243: its initial stiffness σ_c/δ_p is then the cubic law's
+/// 27σ_c/(4δ_c) of the same σ_c and G_c (δ_c,cubic = 16 G_c/(9σ_c), δ_c,triangular = 2 G_c/σ_c), so that the two
+/// laws differ only in their shape past the start, and close with the same stiffness (docs/mpm.md "Traction
+/// laws"). The paper does not say where its triangular law peaks.
+pub const TRIANGULAR_PEAK: f64 = 32.0 / 243.0;
+
+/// One mode's traction law of peak σ_c and critical opening δ_c:
+/// - cubic: σ = (27/4) σ_c x(1 − x)², J_c = (9/16) σ_c δ_c (Eq. 3), x = δ/δ_c;
+/// - triangular: σ = σ_c x/p for x ≤ p, σ_c (1 − x)/(1 − p) for p < x < 1, J_c = ½ σ_c δ_c, p = [`TRIANGULAR_PEAK`].
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct CubicLaw {
-    /// Peak traction σ_c [Pa] (at δ = δ_c/3).
+pub struct TractionLaw {
+    /// Peak traction σ_c [Pa].
     pub sigma_c: f64,
     /// Critical opening δ_c [m].
     pub delta_c: f64,
+    /// [`CUBIC`] or [`TRIANGULAR`].
+    pub shape: u32,
+    pub _pad: u32,
 }
 
-impl CubicLaw {
-    /// The law's toughness J_c = (9/16) σ_c δ_c [J/m²].
+impl TractionLaw {
+    /// J_c/(σ_c δ_c): 9/16 (cubic), 1/2 (triangular).
+    fn toughness_factor(shape: u32) -> f64 {
+        if shape == TRIANGULAR { 0.5 } else { 9.0 / 16.0 }
+    }
+
+    /// The law's toughness J_c [J/m²].
     pub fn toughness(&self) -> f64 {
-        9.0 / 16.0 * self.sigma_c * self.delta_c
+        Self::toughness_factor(self.shape) * self.sigma_c * self.delta_c
     }
 
-    /// The law of toughness `g_c` and peak `sigma_c`: δ_c = 16 G_c/(9 σ_c).
-    pub fn of_toughness(g_c: f64, sigma_c: f64) -> Self {
-        CubicLaw { sigma_c, delta_c: 16.0 * g_c / (9.0 * sigma_c) }
+    /// The law of `shape`, toughness `g_c` and peak `sigma_c`: δ_c = G_c/(factor σ_c) (16 G_c/(9 σ_c) cubic,
+    /// 2 G_c/σ_c triangular).
+    pub fn of_toughness(shape: u32, g_c: f64, sigma_c: f64) -> Self {
+        let delta_c = g_c / (Self::toughness_factor(shape) * sigma_c);
+        TractionLaw { sigma_c, delta_c, shape, _pad: 0 }
     }
 
-    /// The initial stiffness dσ/dδ at 0, 27σ_c/(4δ_c), which also resists closing [Pa/m].
+    /// The initial stiffness dσ/dδ at 0, which also resists closing [Pa/m]: 27σ_c/(4δ_c) (cubic),
+    /// σ_c/(p δ_c) (triangular).
     #[inline(always)]
     pub fn stiffness<R: Real>(&self) -> R {
-        R::from_f64(6.75 * self.sigma_c / self.delta_c)
+        let k = if self.shape == TRIANGULAR { 1.0 / TRIANGULAR_PEAK } else { 6.75 };
+        R::from_f64(k * self.sigma_c / self.delta_c)
     }
 
     /// σ(δ) for 0 ≤ δ (0 beyond δ_c).
@@ -41,16 +67,34 @@ impl CubicLaw {
         if x >= R::ONE {
             return R::ZERO;
         }
+        if self.shape == TRIANGULAR {
+            let p = R::from_f64(TRIANGULAR_PEAK);
+            let s = R::from_f64(self.sigma_c);
+            return if x <= p { s * x / p } else { s * (R::ONE - x) / (R::ONE - p) };
+        }
         let y = R::ONE - x;
         R::from_f64(6.75 * self.sigma_c) * x * y * y
     }
 
-    /// J(δ) = ∫₀^δ σ = (27/4) σ_c δ_c (x²/2 − 2x³/3 + x⁴/4), x = min(δ/δ_c, 1) (nairn-mpm.md §1.5).
+    /// J(δ) = ∫₀^δ σ, x = min(δ/δ_c, 1): cubic (27/4) σ_c δ_c (x²/2 − 2x³/3 + x⁴/4) (nairn-mpm.md §1.5);
+    /// triangular ½ σ_c δ_c x²/p for x ≤ p, ½ σ_c δ_c p + σ_c δ_c [(x − p) − (x² − p²)/2]/(1 − p) beyond.
     #[inline(always)]
     pub fn energy<R: Real>(&self, d: R) -> R {
         let x = (d / R::from_f64(self.delta_c)).min(R::ONE);
+        let half = R::from_f64(0.5);
+        if self.shape == TRIANGULAR {
+            let (sd, p) = (R::from_f64(self.sigma_c * self.delta_c), R::from_f64(TRIANGULAR_PEAK));
+            if x >= R::ONE {
+                // The whole J_c, exactly, so that a point opened to δ_c fails whatever the rounding below.
+                return half * sd;
+            }
+            if x <= p {
+                return half * sd * x * x / p;
+            }
+            return half * sd * p + sd * ((x - p) - half * (x * x - p * p)) / (R::ONE - p);
+        }
         let x2 = x * x;
-        let poly = x2 * (R::from_f64(0.5) - x * R::from_f64(2.0 / 3.0) + x2 * R::from_f64(0.25));
+        let poly = x2 * (half - x * R::from_f64(2.0 / 3.0) + x2 * R::from_f64(0.25));
         R::from_f64(6.75 * self.sigma_c * self.delta_c) * poly
     }
 }
@@ -59,8 +103,8 @@ impl CubicLaw {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct Cohesive {
-    pub mode1: CubicLaw,
-    pub mode2: CubicLaw,
+    pub mode1: TractionLaw,
+    pub mode2: TractionLaw,
 }
 
 /// A crack point's history: the largest normal opening and the largest |sliding| reached, whether it has failed
@@ -107,7 +151,7 @@ pub fn traction<R: Real>(c: &Cohesive, st: &mut CrackState<R>, dt_open: R, dn_op
 
 /// The law at 0 < d ≤ dmax: the envelope at d = dmax, the secant σ(dmax) d/dmax below it.
 #[inline(always)]
-fn secant<R: Real>(law: &CubicLaw, dmax: R, d: R) -> R {
+fn secant<R: Real>(law: &TractionLaw, dmax: R, d: R) -> R {
     let t = law.traction(dmax);
     if d >= dmax { t } else { t * d / dmax }
 }

@@ -1,7 +1,9 @@
 //! The MPM scene's tables (`scene::mpm`), validated key by key like the SPH scene's.
 
 use super::super::doc::{Doc, Val};
-use super::super::mpm::{BondSetup, CohesiveSpec, CutSetup, Damping, MpmMaterial, MpmScene, MpmTime, Setup};
+use super::super::mpm::{
+    BondSetup, CohesiveSpec, CutSetup, Damping, LawShape, MpmMaterial, MpmScene, MpmTime, PositionUpdate, Setup,
+};
 use super::{Result, Tab, plain_file_name, positive};
 use crate::scene::Precision;
 
@@ -10,7 +12,7 @@ const ROOT_KEYS: &[&str] = &["method", "name", "precision", "material", "cohesiv
 /// `[time]`'s defaults (its `end` is the set-up's).
 const TIME: MpmTime = MpmTime { end: 0.0, cfl: 0.5, samples: 400, frames: 10 };
 /// `[damping]`'s defaults: full PIC, no start-up damping.
-const DAMPING: Damping = Damping { pic: 1.0, feedback: 0.0 };
+const DAMPING: Damping = Damping { pic: 1.0, feedback: 0.0, position_update: PositionUpdate::Second };
 
 /// The whole MPM scene.
 pub(in crate::scene) fn mpm_scene(doc: &Doc) -> Result<MpmScene> {
@@ -58,16 +60,16 @@ fn material(root: &Tab<'_>) -> Result<MpmMaterial> {
 }
 
 fn cohesive(root: &Tab<'_>) -> Result<CohesiveSpec> {
-    let e = "a table [cohesive] with toughness and peak (and toughness_shear, peak_shear)";
+    let e = "a table [cohesive] with toughness and peak (and law, toughness_shear, peak_shear)";
     let t = root.required("cohesive", e, root.table("cohesive", "cohesive", e)?)?;
     t.check_keys(&LAW_KEYS, &[], "")?;
     cohesive_law(&t)
 }
 
 /// The keys of the cohesive law (MPM's `[cohesive]`; the SPH path's adds its geometry).
-pub(super) const LAW_KEYS: [&str; 4] = ["toughness", "peak", "toughness_shear", "peak_shear"];
+pub(super) const LAW_KEYS: [&str; 5] = ["law", "toughness", "peak", "toughness_shear", "peak_shear"];
 
-/// The cubic law of each mode from a `[cohesive]` table (its keys already checked).
+/// The traction law of each mode from a `[cohesive]` table (its keys already checked).
 pub(super) fn cohesive_law(t: &Tab<'_>) -> Result<CohesiveSpec> {
     let g = "a positive toughness in J/m^2";
     let s = "a positive peak traction in Pa";
@@ -75,7 +77,9 @@ pub(super) fn cohesive_law(t: &Tab<'_>) -> Result<CohesiveSpec> {
     let peak = t.required("peak", s, t.number("peak", s, positive)?)?;
     let toughness_shear = t.number("toughness_shear", g, positive)?.unwrap_or(toughness);
     let peak_shear = t.number("peak_shear", s, positive)?.unwrap_or(peak);
-    Ok(CohesiveSpec { toughness, peak, toughness_shear, peak_shear })
+    let e = "\"cubic\" or \"triangular\"";
+    let law = t.string("law", e, |n| LawShape::from_name(n).is_some())?.and_then(LawShape::from_name);
+    Ok(CohesiveSpec { law: law.unwrap_or(LawShape::Cubic), toughness, peak, toughness_shear, peak_shear })
 }
 
 fn setup(root: &Tab<'_>) -> Result<Setup> {
@@ -200,14 +204,20 @@ fn time(root: &Tab<'_>, setup: &Setup) -> Result<MpmTime> {
 }
 
 fn damping(root: &Tab<'_>) -> Result<Damping> {
-    let Some(t) = root.table("damping", "damping", "a table [damping] with pic and feedback")? else {
+    let e = "a table [damping] with pic, feedback and position_update";
+    let Some(t) = root.table("damping", "damping", e)? else {
         return Ok(DAMPING);
     };
-    t.check_keys(&["pic", "feedback"], &[], "")?;
+    t.check_keys(&["pic", "feedback", "position_update"], &[], "")?;
     let pic =
         t.number("pic", "a PIC fraction 1 - beta in [0, 1]", |x| (0.0..=1.0).contains(&x))?.unwrap_or(DAMPING.pic);
     let feedback = t
         .number("feedback", "a start-up feedback gain in [0, 1e6] (0: off)", |x| (0.0..=1e6).contains(&x))?
         .unwrap_or(DAMPING.feedback);
-    Ok(Damping { pic, feedback })
+    let e = "\"second\", \"first\" or \"zeroth\"";
+    let position_update = t
+        .string("position_update", e, |n| PositionUpdate::from_name(n).is_some())?
+        .and_then(PositionUpdate::from_name)
+        .unwrap_or(DAMPING.position_update);
+    Ok(Damping { pic, feedback, position_update })
 }

@@ -13,6 +13,13 @@ pub const ABOVE: u32 = 1;
 /// A particle of the rigid tool.
 pub const TOOL: u32 = 2;
 
+/// [`MpmParams::position_order`]: x += v_g→p⁽ⁿ⁺¹⁾ Δt (Eq. 9, standard FLIP).
+pub const POSITION_ZEROTH: u32 = 0;
+/// [`MpmParams::position_order`]: Eq. 10 with its damping term only, x += v_g→p⁽ⁿ⁺¹⁾ Δt − ½ α (v_p − v_g→p) Δt².
+pub const POSITION_FIRST: u32 = 1;
+/// [`MpmParams::position_order`]: the whole of Eq. 10, x += v_g→p⁽ⁿ⁺¹⁾ Δt − ½ (a_g→p + α (v_p − v_g→p)) Δt².
+pub const POSITION_SECOND: u32 = 2;
+
 /// The run's constants, by value in every MPM pass. Lengths in metres, f64 whatever the run's precision, so that
 /// a particle's field and a node's place are the same on every backend and in both precisions.
 #[repr(C)]
@@ -28,7 +35,9 @@ pub struct MpmParams {
     pub nodes: [u32; 2],
     /// Crack points on the plane (0: no crack; the starter's points are failed from the start).
     pub crack_points: u32,
-    pub _pad: u32,
+    /// The particles' position update: [`POSITION_SECOND`] (Eq. 10, the paper's with PIC damping),
+    /// [`POSITION_FIRST`] or [`POSITION_ZEROTH`] (Eq. 9), the variants of its Fig. 2 (nairn-mpm.md §1.2, V14).
+    pub position_order: u32,
     /// The cut plane y = crack_y and the crack's extent crack_lo ≤ x ≤ crack_hi, across which the specimen's
     /// fields separate (it reaches past the specimen's edges, so that no node joins the sides around an edge).
     pub crack_y: f64,

@@ -12,7 +12,7 @@
 //! 4. [`g2p_particle`]: each particle reads its nodes' velocities and accelerations, moves by the PIC-damped
 //!    update with the second-order position update (Eqs. 8, 10), and updates its stress.
 
-use super::grid::{MpmParams, MpmStep, TOOL};
+use super::grid::{MpmParams, MpmStep, POSITION_FIRST, POSITION_SECOND, TOOL};
 use super::hyperelastic::update;
 use super::shape::ugimp;
 use crate::cohesive::{CrackState, FAILED, traction};
@@ -39,6 +39,9 @@ pub struct Particles<R: Real> {
     pub kind: *const u32,
     /// The cohesive force on the particle (its crack point's, per unit thickness; zero off the crack).
     pub fext: *mut R::V2,
+    /// The deformation gradient F (xx, xy, yx, yy; F_zz = 1), F ← (I + L Δt) F each step: what draws a particle's
+    /// deformed domain (the glyph test, V14; docs/mpm.md "Position updates").
+    pub def: *mut [R; 4],
 }
 
 /// The nodes' arrays. The specimen's quantities hold two fields per node (index 2·node + field: 0 the node's
@@ -350,8 +353,8 @@ fn constrain<R: Real>(
 /// reads, over its nodes (its own field at each), v_g→p = Σ S v_i, a_g→p = Σ S a_i and the velocity gradient
 /// L = Σ v_i^{n+1} ⊗ ∇S, then (nairn-mpm.md §1.2, Eqs. 8 and 10 in the derived form)
 /// a* = a_g→p − α_PIC (v_p − v_g→p) − α_g v_g→p (α_g the start-up damping, [`feedback`]),
-/// x += (v_g→p + ½ a* Δt) Δt, v += a* Δt,
-/// and updates its stress with L (`hyperelastic::update`). Returns [`NON_FINITE`] | [`ESCAPED`] flags.
+/// x += (v_g→p + ½ a* Δt) Δt (`POSITION_SECOND`; the other orders of Fig. 2 by `MpmParams::position_order`),
+/// v += a* Δt, and updates its stress with L (`hyperelastic::update`) and its deformation gradient F. Returns [`NON_FINITE`] | [`ESCAPED`] flags.
 ///
 /// # Safety
 /// i < particles; the arrays hold the particles and the grid's nodes.
@@ -409,8 +412,21 @@ pub unsafe fn g2p_particle<R: Real>(p: &MpmParams, s: &MpmStep, pa: &Particles<R
     let v = unsafe { *pa.vel.add(i) };
     let ad =
         [ag[0] - alpha * (v.get(0) - vg[0]) - ag_damp * vg[0], ag[1] - alpha * (v.get(1) - vg[1]) - ag_damp * vg[1]];
-    let xn = [x.get(0) + (vg[0] + half * ad[0] * dt) * dt, x.get(1) + (vg[1] + half * ad[1] * dt) * dt];
+    let xn = match p.position_order {
+        POSITION_SECOND => [x.get(0) + (vg[0] + half * ad[0] * dt) * dt, x.get(1) + (vg[1] + half * ad[1] * dt) * dt],
+        // v_g→p⁽ⁿ⁺¹⁾ = v_g→p + a_g→p Δt, less half the damping's part of a* (first) or nothing (zeroth).
+        order => {
+            let d = if order == POSITION_FIRST { half * dt } else { z };
+            let next = |c: usize| vg[c] + ag[c] * dt + d * (ad[c] - ag[c]);
+            [x.get(0) + next(0) * dt, x.get(1) + next(1) * dt]
+        }
+    };
     let vn = [v.get(0) + ad[0] * dt, v.get(1) + ad[1] * dt];
+    // F ← f F, f = I + L Δt (the relative deformation gradient `hyperelastic::update` applies to B̄_e and J).
+    let fd = unsafe { &mut *pa.def.add(i) };
+    let [f00, f01, f10, f11] = *fd;
+    let (g00, g01, g10, g11) = (R::ONE + l[0][0] * dt, l[0][1] * dt, l[1][0] * dt, R::ONE + l[1][1] * dt);
+    *fd = [g00 * f00 + g01 * f10, g00 * f01 + g01 * f11, g10 * f00 + g11 * f10, g10 * f01 + g11 * f11];
     let (be, jac, eps) = unsafe { (&mut *pa.be.add(i), &mut *pa.jac.add(i), &mut *pa.eps.add(i)) };
     let mut b4 = [z; 4];
     b4.copy_from_slice(<R::S2 as crate::vector::SymTensor<R>>::components(be));
