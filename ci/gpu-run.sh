@@ -243,18 +243,21 @@ for p in $parts; do
                  }
                  run holdout holdout ;;
         mufit) # issue 23 (docs/identification.md, "μ fitted on eight experiments"): cases/identify/ti6al4v-multi.toml
-               # with --only tool.friction (A..n at Klippel's V0060 DE set), DE's generations (population 15, one
-               # batch) bounded by SWARF_FIT_S s (default 250); SWARF_FIT_FROM (a mufit-folder.tgz of an earlier call,
+               # (SWARF_FIT_FILE) with --only tool.friction (SWARF_FIT_ONLY; A..n at Klippel's V0060 DE set), DE's
+               # generations (--batch 15, SWARF_FIT_BATCH; both empty: the file's) bounded by SWARF_FIT_S s (default 250); SWARF_FIT_FROM (a mufit-folder.tgz of an earlier call,
                # carried) resumes it, its finished runs taken from their folders. Then the best μ so far and Klippel's
                # three sets on the 24 held-out tests (--resume --holdout-only, bounded by SWARF_HOLDOUT_S, default
                # 320; 0: skipped). mufit-history.csv, mufit-holdout.csv, mufit-folder.tgz (the identification folder,
                # to carry to the next call); the reports in the log.
             mufit() {
-                local d=/tmp/swarf-mufit f=cases/identify/ti6al4v-multi.toml resume=
+                local d=/tmp/swarf-mufit f=${SWARF_FIT_FILE:-cases/identify/ti6al4v-multi.toml} resume= extra=()
                 rm -rf $d
                 if [ -n "${SWARF_FIT_FROM:-}" ]; then tar xzf "$SWARF_FIT_FROM" -C /tmp && resume=--resume; fi
-                timeout -s INT "${SWARF_FIT_S:-250}" "$here/swarf" --backend gpu identify $f --only tool.friction \
-                    --batch 15 --width "${SWARF_FIT_W:-40}" --out $d $resume
+                # SWARF_FIT_ONLY / SWARF_FIT_BATCH empty: the file's parameters and batch.
+                [ -n "${SWARF_FIT_ONLY-tool.friction}" ] && extra+=(--only "${SWARF_FIT_ONLY-tool.friction}")
+                [ -n "${SWARF_FIT_BATCH-15}" ] && extra+=(--batch "${SWARF_FIT_BATCH-15}")
+                timeout -s INT "${SWARF_FIT_S:-250}" "$here/swarf" --backend gpu identify $f "${extra[@]}" \
+                    --width "${SWARF_FIT_W:-40}" --out $d $resume
                 cat $d/report.md; cp $d/history.csv "$out/mufit-history.csv"
                 echo "finished runs kept: $(find $d/runs -name identify-finished.txt | wc -l)"
                 if [ "${SWARF_HOLDOUT_S:-320}" != 0 ]; then
