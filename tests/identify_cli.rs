@@ -371,3 +371,22 @@ fn read_holdout(out: &Path) -> (Vec<String>, Vec<Vec<String>>) {
     let head = lines.next().expect("header");
     (head, lines.collect())
 }
+
+/// Every identification file in cases/identify reads and checks (its data rows, model scenes and parameter keys at
+/// their bounds, as `swarf identify` checks them before any run), and names at least one experiment and one
+/// parameter.
+#[test]
+fn every_identification_case_reads() {
+    let dir = root().join("cases/identify");
+    let mut n = 0;
+    for entry in std::fs::read_dir(&dir).expect("cases/identify") {
+        let path = entry.expect("entry").path();
+        if path.extension().is_none_or(|e| e != "toml") {
+            continue;
+        }
+        let spec = swarf::identify::file::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        assert!(!spec.experiments.is_empty() && !spec.parameters.is_empty(), "{}", path.display());
+        n += 1;
+    }
+    assert!(n >= 3, "expected the identification cases, found {n}");
+}
