@@ -79,7 +79,8 @@ pub fn coverage(snap: &Snapshot, keep: impl Fn(usize) -> bool) -> Option<Coverag
     // One empty pixel of margin on every side, so that the outside is one connected region.
     let origin = [lo[0] - pixel, lo[1] - pixel];
     let (nx, ny) = (((hi[0] - origin[0]) / pixel) as usize + 2, ((hi[1] - origin[1]) / pixel) as usize + 2);
-    if nx.saturating_mul(ny) > 400_000_000 {
+    // A body spread so wide that its raster would pass 10⁸ pixels (100 MB) is not drawn: no coverage.
+    if nx.saturating_mul(ny) > 100_000_000 {
         return None;
     }
     let mut full = vec![false; nx * ny];
