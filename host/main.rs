@@ -637,6 +637,17 @@ fn cmd_run_mpm(
                 e.work, e.kinetic, e.strain, e.area, e.per_area
             );
         }
+        for (what, c) in [("specimen", r.coverage), ("chip", r.chip_coverage)] {
+            if let Some(c) = c {
+                println!(
+                    "glyph test, {what}: area mismatch {:.2} %, gaps {:.2} % ({} holes) of {:.4e} m^2",
+                    100.0 * c.mismatch,
+                    100.0 * c.gap_share,
+                    c.gap_count,
+                    c.volume
+                );
+            }
+        }
         println!("output: {}", out.display());
     }
     Ok(())
