@@ -965,7 +965,8 @@ $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s" \
                       --set cut.depth=0.25e-3 --set cut.particles_across=31 > $log 2>&1 &
                   local pid=$!
                   while kill -0 $pid 2>/dev/null; do
-                      if grep -qE "\(($pct|[$((${pct:0:1}+1))-9][0-9]) %\)" $log; then kill -INT $pid; break; fi
+                      local now=$(grep -oE '\([0-9]+ %\)' $log | tail -1 | tr -dc '0-9')
+                      if [ -n "$now" ] && [ "$now" -ge "$pct" ]; then kill -INT $pid; break; fi
                       sleep 0.5
                   done
                   wait $pid; tail -n 5 $log

@@ -56,29 +56,27 @@ pub struct CohesiveSpec {
     pub peak_shear: f64,
 }
 
-/// The shape of a cohesive law.
+/// The shape of a cohesive law; its discriminant is the kernels' constant (`kernels::cohesive::TractionLaw::shape`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
+#[repr(u32)]
 pub enum LawShape {
-    Cubic,
-    Triangular,
+    Cubic = crate::kernels::cohesive::CUBIC,
+    Triangular = crate::kernels::cohesive::TRIANGULAR,
 }
 
 impl LawShape {
-    /// Each shape: its key value and the kernels' constant, once.
-    pub const ALL: [(LawShape, &'static str, u32); 2] = [
-        (LawShape::Cubic, "cubic", crate::kernels::cohesive::CUBIC),
-        (LawShape::Triangular, "triangular", crate::kernels::cohesive::TRIANGULAR),
-    ];
+    /// Each shape and its key value, once.
+    pub const ALL: [(LawShape, &'static str); 2] = [(LawShape::Cubic, "cubic"), (LawShape::Triangular, "triangular")];
 
     /// The shape a key value names.
     pub fn from_name(name: &str) -> Option<LawShape> {
-        Self::ALL.iter().find(|(_, n, _)| *n == name).map(|(s, _, _)| *s)
+        Self::ALL.iter().find(|(_, n)| *n == name).map(|(s, _)| *s)
     }
 
-    /// The kernels' constant for this shape (`kernels::cohesive::TractionLaw::shape`).
+    /// The kernels' constant for this shape.
     pub fn kernel(self) -> u32 {
-        Self::ALL.iter().find(|(s, _, _)| *s == self).map_or(crate::kernels::cohesive::CUBIC, |(_, _, k)| *k)
+        self as u32
     }
 }
 
@@ -168,31 +166,30 @@ pub struct Damping {
     pub position_update: PositionUpdate,
 }
 
-/// The particles' position update of an MPM scene (`[damping] position_update`).
+/// The particles' position update of an MPM scene (`[damping] position_update`); its discriminant is the kernels'
+/// constant (`kernels::mpm::grid::MpmParams::position_order`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
+#[repr(u32)]
 pub enum PositionUpdate {
-    Zeroth,
-    First,
-    Second,
+    Zeroth = crate::kernels::mpm::grid::POSITION_ZEROTH,
+    First = crate::kernels::mpm::grid::POSITION_FIRST,
+    Second = crate::kernels::mpm::grid::POSITION_SECOND,
 }
 
 impl PositionUpdate {
-    /// Each variant: its key value and the kernels' constant, once.
-    pub const ALL: [(PositionUpdate, &'static str, u32); 3] = [
-        (PositionUpdate::Zeroth, "zeroth", crate::kernels::mpm::grid::POSITION_ZEROTH),
-        (PositionUpdate::First, "first", crate::kernels::mpm::grid::POSITION_FIRST),
-        (PositionUpdate::Second, "second", crate::kernels::mpm::grid::POSITION_SECOND),
-    ];
+    /// Each variant and its key value, once.
+    pub const ALL: [(PositionUpdate, &'static str); 3] =
+        [(PositionUpdate::Zeroth, "zeroth"), (PositionUpdate::First, "first"), (PositionUpdate::Second, "second")];
 
     /// The variant a key value names.
     pub fn from_name(name: &str) -> Option<PositionUpdate> {
-        Self::ALL.iter().find(|(_, n, _)| *n == name).map(|(v, _, _)| *v)
+        Self::ALL.iter().find(|(_, n)| *n == name).map(|(v, _)| *v)
     }
 
-    /// The kernels' constant (`kernels::mpm::grid::MpmParams::position_order`).
+    /// The kernels' constant.
     pub fn kernel(self) -> u32 {
-        Self::ALL.iter().find(|(v, _, _)| *v == self).map_or(crate::kernels::mpm::grid::POSITION_SECOND, |e| e.2)
+        self as u32
     }
 }
 
