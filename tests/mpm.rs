@@ -395,6 +395,39 @@ fn contact_normals_follow_the_fields_side_of_the_crack() {
     }
 }
 
+/// The field a specimen particle joins at a node (`MpmParams::field_of`): across the crack, the other side's; a
+/// workpiece particle a cell above the plane still joins its own side (the other field at a node above), but one
+/// more than `STRAY_CELLS` cells above has left the faces and joins the chip's field there, and the workpiece's
+/// other field below the plane (docs/mpm.md "Stray particles"); beyond the crack's end the sides are one body.
+#[test]
+fn a_particle_far_across_the_plane_joins_the_side_it_is_in() {
+    use swarf::kernels::mpm::grid::{ABOVE, BELOW, STRAY_CELLS};
+    let scene = MpmScene::load("cases/mpm/nairn-cut.toml", &[]).expect("scene");
+    let p = setup(&scene).expect("setup").params;
+    let x = p.crack_lo + 20.0 * p.dx;
+    let (node_up, node_down) = ([x + 0.3 * p.dx, p.crack_y + 0.5 * p.dx], [x + 0.3 * p.dx, p.crack_y - 0.5 * p.dx]);
+    // Each on its side: its own field at its side's nodes, the other field across.
+    assert_eq!(p.field_of(ABOVE, x, p.crack_y + 0.25 * p.dx, node_up), 0);
+    assert_eq!(p.field_of(ABOVE, x, p.crack_y + 0.25 * p.dx, node_down), 1);
+    assert_eq!(p.field_of(BELOW, x, p.crack_y - 0.25 * p.dx, node_up), 1);
+    // A workpiece particle a cell above the plane keeps its side.
+    assert_eq!(p.field_of(BELOW, x, p.crack_y + p.dx, node_up), 1);
+    assert_eq!(p.field_of(BELOW, x, p.crack_y + p.dx, node_down), 0);
+    // Past the band it is in the chip: the chip's field above, the other field below.
+    let far = p.crack_y + (STRAY_CELLS + 0.5) * p.dx;
+    let node_far = [x, far + 0.5 * p.dx];
+    assert_eq!(p.field_of(BELOW, x, far, node_far), 0);
+    assert_eq!(p.field_of(BELOW, x, far, node_up), 0);
+    assert_eq!(p.field_of(BELOW, x, far, node_down), 1);
+    // And a chip particle pushed far below the plane joins the workpiece's.
+    let deep = p.crack_y - (STRAY_CELLS + 0.5) * p.dx;
+    assert_eq!(p.field_of(ABOVE, x, deep, node_down), 0);
+    assert_eq!(p.field_of(ABOVE, x, deep, node_up), 1);
+    // Beyond the crack's end no field parts them.
+    let beyond = p.crack_hi + 3.0 * p.dx;
+    assert_eq!(p.field_of(BELOW, beyond, p.crack_y - 0.25 * p.dx, [beyond, p.crack_y + 0.5 * p.dx]), 0);
+}
+
 fn scene_rake(scene: &MpmScene) -> f64 {
     match scene.setup {
         swarf::scene::mpm::Setup::Cut(c) => c.rake,

@@ -13,6 +13,10 @@ pub const ABOVE: u32 = 1;
 /// A particle of the rigid tool.
 pub const TOOL: u32 = 2;
 
+/// How far across the cut plane, in cells, a specimen particle may stray and still join its own side's fields
+/// (`MpmParams::field_of`).
+pub const STRAY_CELLS: f64 = 2.0;
+
 /// [`MpmParams::position_order`]: x += v_g→p⁽ⁿ⁺¹⁾ Δt (Eq. 9, standard FLIP).
 pub const POSITION_ZEROTH: u32 = 0;
 /// [`MpmParams::position_order`]: Eq. 10 with its damping term only, x += v_g→p⁽ⁿ⁺¹⁾ Δt − ½ α (v_p − v_g→p) Δt².
@@ -112,14 +116,18 @@ impl MpmParams {
     /// The field (0: the node's own side, 1: the other side of the crack) that a specimen particle of side
     /// `kind` at (x, y) joins at the node at `node` (CRAMP's test, nairn-mpm.md §1.5): the other side when the
     /// segment from the particle to the node crosses the crack. The particle's y is first clamped to its side of
-    /// the plane, so that a particle that strays across the plane stays on its side. Without a crack, 0.
+    /// the plane, so that a particle that strays a little across the plane stays on its side. A particle more
+    /// than [`STRAY_CELLS`] cells across has left the crack's faces (a workpiece particle lifted over the cutting
+    /// edge into the chip): it joins the side it is in, so that it moves with the material around it instead of
+    /// alone in the other field (docs/mpm.md "Stray particles"). Without a crack, 0.
     #[inline(always)]
     pub fn field_of(&self, kind: u32, x: f64, y: f64, node: [f64; 2]) -> usize {
         if self.crack_points == 0 {
             return 0;
         }
         let yc = self.crack_y;
-        let p_above = kind == ABOVE;
+        let band = STRAY_CELLS * self.dx;
+        let p_above = if kind == ABOVE { y > yc - band } else { y > yc + band };
         if (node[1] > yc) == p_above {
             return 0;
         }
