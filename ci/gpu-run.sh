@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# mpm26 mpm26b mpm025ck mpmv14 mpmv10 mpmv78 mpmv5fine mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout mufit identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine shtb25 gf25 ducobugf tool3d tools24 cspm24 nonfinite24 mill24 wheel24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
+# mpm26 mpm26b mpm025ck mpmv1frag mpmv14 mpmv10 mpmv78 mpmv5fine mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout mufit identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine shtb25 gf25 ducobugf tool3d tools24 cspm24 nonfinite24 mill24 wheel24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -995,6 +995,23 @@ $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s" \
                       $(ls "$r"/frames/*.vtu | tail -n 6))
               }
               run mpmv10 mpm_v10 ;;
+        mpmv1frag) # issue 26 (docs/mpm.md "Stray particles", "Fragments"): V1 with the stray and fragment rules, two
+                   # batched sweeps at once (30°, mu = 0): h 0.25-1.5 mm at 31 particles through h (the 0.25 mm point
+                   # blew up before the rules) and at 15; runs untouched by the rules give the earlier bits. Each
+                   # sweep stops at SWARF_SWEEP_S s (default 540).
+              mpm_v1frag() {
+                  local sweep=(timeout -s INT "${SWARF_SWEEP_S:-540}" "$here/swarf" --backend gpu sweep
+                      cases/mpm/nairn-cut.toml --quiet)
+                  local t0=$(date +%s.%N)
+                  "${sweep[@]}" --batch 6 --out /tmp/mpmsweep/v1fine --set cut.particles_across=31 \
+                      --grid cut.depth=0.25e-3,0.5e-3,0.75e-3,1.0e-3,1.25e-3,1.5e-3 &
+                  "${sweep[@]}" --batch 6 --out /tmp/mpmsweep/v1 \
+                      --grid cut.depth=0.25e-3,0.5e-3,0.75e-3,1.0e-3,1.25e-3,1.5e-3 &
+                  wait
+                  echo "all: $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s wall"
+                  keep_sweeps v1fine v1
+              }
+              run mpmv1frag mpm_v1frag ;;
         mpm26b) # issue 26 (docs/mpm.md): V7 (hardening: E_T 25 and 100 MPa at 30°), V10 (base depth 2 and 4 at
                 # h = 0.9 mm), and the GPU time of each MPM kernel over two steps (ncu, after 2000 steps)
               mpm_b() {

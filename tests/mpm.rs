@@ -428,6 +428,31 @@ fn a_particle_far_across_the_plane_joins_the_side_it_is_in() {
     assert_eq!(p.field_of(BELOW, beyond, p.crack_y - 0.25 * p.dx, [beyond, p.crack_y + 0.5 * p.dx]), 0);
 }
 
+/// A particle alone on its nodes is a fragment and unloads in one step: σ = 0 and B̄_e = I exactly, and its own
+/// stress moves it by nothing (the forces on its nodes sum to zero: |v| < 1e-9 m/s). The same B̄_e inside the
+/// block and at its corner keeps its stress: σ_xy = G dev B̄_e,xy / J within 1 % after one step (Eq. 1's Kirchhoff
+/// stress; the neighbours' reaction moves it by much less). docs/mpm.md "Fragments".
+#[test]
+fn a_particle_alone_on_its_nodes_unloads_and_the_material_keeps_its_stress() {
+    use common::mpm_fragment::{BE, fragment_setup, fragment_solver};
+    let b = CpuBackend::new();
+    let (s, f) = fragment_setup();
+    let mut m = fragment_solver::<CpuBackend, f64>(&b, &s, &f);
+    m.advance(&b, 1).expect("a step");
+    let snap = m.snapshot(&b).expect("snapshot");
+    assert_eq!(snap.stress[f.lone], [0.0; 4], "the fragment keeps a stress");
+    assert_eq!(snap.be[f.lone], [1.0, 0.0, 1.0, 1.0], "the fragment keeps its elastic strain");
+    let g = s.params.material.shear;
+    for (what, i) in [("interior", f.interior), ("corner", f.corner)] {
+        let want = g * BE[1] / snap.jac[i];
+        let got = snap.stress[i][1];
+        assert!((got - want).abs() < 0.01 * want, "{what}: σ_xy {got} Pa against {want} Pa");
+    }
+    m.advance(&b, 10).expect("steps");
+    let v = m.snapshot(&b).expect("snapshot").vel[f.lone];
+    assert!(v[0].hypot(v[1]) < 1e-9, "the fragment moves at {v:?} m/s");
+}
+
 fn scene_rake(scene: &MpmScene) -> f64 {
     match scene.setup {
         swarf::scene::mpm::Setup::Cut(c) => c.rake,

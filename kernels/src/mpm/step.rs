@@ -96,6 +96,11 @@ pub const NON_FINITE: u32 = 1;
 /// A particle flag: a particle left the part of the grid where all its nodes exist.
 pub const ESCAPED: u32 = 2;
 
+/// The share of its nodes' mass above which a specimen particle is a fragment ([`g2p_particle`]): its own share
+/// Σ S_i (m_p S_i / m_i) over its nodes i (m_i its field's mass there) is 1 for a particle alone on its nodes and
+/// about 0.05–0.5 inside the material and on its surfaces (docs/mpm.md "Fragments").
+pub const FRAGMENT_SHARE: f64 = 0.6;
+
 #[inline(always)]
 fn v2<R: Real>(x: R, y: R) -> R::V2 {
     <R::V2 as Vector<R>>::new([x, y, R::ZERO])
@@ -354,7 +359,9 @@ fn constrain<R: Real>(
 /// L = Σ v_i^{n+1} ⊗ ∇S, then (nairn-mpm.md §1.2, Eqs. 8 and 10 in the derived form)
 /// a* = a_g→p − α_PIC (v_p − v_g→p) − α_g v_g→p (α_g the start-up damping, [`feedback`]),
 /// x += (v_g→p + ½ a* Δt) Δt (`POSITION_SECOND`; the other orders of Fig. 2 by `MpmParams::position_order`),
-/// v += a* Δt, and updates its stress with L (`hyperelastic::update`) and its deformation gradient F. Returns [`NON_FINITE`] | [`ESCAPED`] flags.
+/// v += a* Δt, and updates its stress with L (`hyperelastic::update`) and its deformation gradient F; a fragment
+/// (its own share of its nodes' mass above [`FRAGMENT_SHARE`]) unloads instead. Returns [`NON_FINITE`] |
+/// [`ESCAPED`] flags.
 ///
 /// # Safety
 /// i < particles; the arrays hold the particles and the grid's nodes.
@@ -380,6 +387,8 @@ pub unsafe fn g2p_particle<R: Real>(p: &MpmParams, s: &MpmStep, pa: &Particles<R
     let (dx, lp) = (R::from_f64(p.dx), R::from_f64(p.lp));
     let z = R::ZERO;
     let (mut vg, mut ag, mut l) = ([z; 2], [z; 2], [[z; 2]; 2]);
+    let mq = unsafe { *pa.mass.add(i) };
+    let mut share = z;
     let (a0, b0) = (ca as u32 - 1, cb as u32 - 1);
     let mut b = b0;
     while b < b0 + 4 {
@@ -392,6 +401,10 @@ pub unsafe fn g2p_particle<R: Real>(p: &MpmParams, s: &MpmStep, pa: &Particles<R
             if w != z {
                 let k = 2 * (b * p.nodes[0] + a) as usize + p.field_of(kind, xf, yf, node);
                 let (v, acc, v1) = unsafe { (*nd.vel.add(k), *nd.acc.add(k), *nd.vel1.add(k)) };
+                let mk = unsafe { *nd.mass.add(k) };
+                if mk > z {
+                    share += w * (mq * w / mk);
+                }
                 let (dwx, dwy) = (gx * sy, sx * gy);
                 vg = [vg[0] + w * v.get(0), vg[1] + w * v.get(1)];
                 ag = [ag[0] + w * acc.get(0), ag[1] + w * acc.get(1)];
@@ -430,7 +443,16 @@ pub unsafe fn g2p_particle<R: Real>(p: &MpmParams, s: &MpmStep, pa: &Particles<R
     let (be, jac, eps) = unsafe { (&mut *pa.be.add(i), &mut *pa.jac.add(i), &mut *pa.eps.add(i)) };
     let mut b4 = [z; 4];
     b4.copy_from_slice(<R::S2 as crate::vector::SymTensor<R>>::components(be));
-    let sig = update(&p.material, l, dt, &mut b4, jac, eps);
+    let sig = if share.to_f64() > FRAGMENT_SHARE {
+        // A fragment: a particle the flow has parted from the material (numerical fracture) has no neighbours
+        // to carry its stress, and the tool's contact would throw it off by its own stress's reaction. It
+        // unloads (B̄_e = I, σ = 0) and keeps its volume and plastic strain until it joins the material again.
+        *jac *= g00 * g11 - g01 * g10;
+        b4 = [R::ONE, z, R::ONE, R::ONE];
+        [z; 4]
+    } else {
+        update(&p.material, l, dt, &mut b4, jac, eps)
+    };
     <R::S2 as crate::vector::SymTensor<R>>::components_mut(be).copy_from_slice(&b4);
     unsafe {
         <R::S2 as crate::vector::SymTensor<R>>::components_mut(&mut *pa.stress.add(i)).copy_from_slice(&sig);
