@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# mpm26 mpm26b mpm025ck mpmv1frag mpmv14 mpmv10 mpmv78 mpmv5fine mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout mufit identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine shtb25 gf25 ducobugf tool3d tools24 cspm24 nonfinite24 mill24 wheel24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
+# mpm26 mpm26b mpm025ck mpmv1frag mpmv8fine mpmv14 mpmv10 mpmv78 mpmv5fine mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout mufit identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine shtb25 gf25 ducobugf tool3d tools24 cspm24 nonfinite24 mill24 wheel24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -1012,6 +1012,20 @@ $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s" \
                   keep_sweeps v1fine v1
               }
               run mpmv1frag mpm_v1frag ;;
+        mpmv8fine) # issue 26 (docs/mpm.md "V8 at 31 particles"): V8's bending regime (E_T = 100 MPa, mu = 0) at 31
+                   # particles through h, rakes 15/30/45 x h 3, 5, 7 mm, room 20 h, as one batched sweep (is the
+                   # fall beyond 3-5 mm at 15 particles the resolution's, as V5's early transition was?). Stops at
+                   # SWARF_SWEEP_S s (default 560).
+              mpm_v8fine() {
+                  local t0=$(date +%s.%N)
+                  timeout -s INT "${SWARF_SWEEP_S:-560}" "$here/swarf" --backend gpu sweep cases/mpm/nairn-cut.toml \
+                      --quiet --batch 9 --out /tmp/mpmsweep/v8fine --set cut.particles_across=31 \
+                      --set material.tangent_modulus=100e6 --set cut.room=20 \
+                      --grid cut.rake=15,30,45 --grid cut.depth=3.0e-3,5.0e-3,7.0e-3
+                  echo "all: $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s wall"
+                  keep_sweeps v8fine
+              }
+              run mpmv8fine mpm_v8fine ;;
         mpm26b) # issue 26 (docs/mpm.md): V7 (hardening: E_T 25 and 100 MPa at 30°), V10 (base depth 2 and 4 at
                 # h = 0.9 mm), and the GPU time of each MPM kernel over two steps (ncu, after 2000 steps)
               mpm_b() {
