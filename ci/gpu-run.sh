@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# mpm26 mpm26b mpm025ck mpmv1frag mpmv8fine mpmv14 mpmv10 mpmv78 mpmv5fine mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout mufit identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine shtb25 gf25 ducobugf tool3d tools24 cspm24 nonfinite24 mill24 wheel24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
+# mpm26 mpm26b mpm025ck mpmv1frag mpmv8fine mpmv8path mpmv8long mpmv14 mpmv10 mpmv78 mpmv5fine mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout mufit identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine shtb25 gf25 ducobugf tool3d tools24 cspm24 nonfinite24 mill24 wheel24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -1026,6 +1026,40 @@ $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s" \
                   keep_sweeps v8fine
               }
               run mpmv8fine mpm_v8fine ;;
+        mpmv8path) # issue 26 (docs/mpm.md "V8 and the crack path's end"): V8's bending regime (E_T = 100 MPa, mu = 0,
+                   # room 20 h) with the crack path lengthened from 18 to 24 h (specimen 36 h wide, so that 12 h stay
+                   # uncut) at 15 particles through h (rakes 15/30/45 x h 3, 5, 7 mm) and at 31 (30 deg, 5 and 7 mm),
+                   # and with the tool's travel shortened from 12 to 9 h (30 deg, 3/5/7 mm, 15 through h): three
+                   # batched sweeps at once, each stopped at SWARF_SWEEP_S s (default 560).
+              mpm_v8path() {
+                  local sweep=(timeout -s INT "${SWARF_SWEEP_S:-560}" "$here/swarf" --backend gpu sweep
+                      cases/mpm/nairn-cut.toml --quiet --set material.tangent_modulus=100e6 --set cut.room=20)
+                  local t0=$(date +%s.%N)
+                  "${sweep[@]}" --batch 9 --out /tmp/mpmsweep/v8path --set cut.crack=24 --set cut.width=36 \
+                      --grid cut.rake=15,30,45 --grid cut.depth=3.0e-3,5.0e-3,7.0e-3 &
+                  "${sweep[@]}" --batch 2 --out /tmp/mpmsweep/v8pathfine --set cut.crack=24 --set cut.width=36 \
+                      --set cut.particles_across=31 --set cut.rake=30 --grid cut.depth=5.0e-3,7.0e-3 &
+                  "${sweep[@]}" --batch 3 --out /tmp/mpmsweep/v8short --set cut.cut_length=9 --set cut.rake=30 \
+                      --grid cut.depth=3.0e-3,5.0e-3,7.0e-3 &
+                  wait
+                  echo "all: $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s wall"
+                  keep_sweeps v8path v8pathfine v8short
+              }
+              run mpmv8path mpm_v8path ;;
+        mpmv8long) # issue 26 (docs/mpm.md "V8 and the tool's travel"): V8's bending regime (E_T = 100 MPa, mu = 0, room
+                   # 20 h, 15 particles through h) with the tool's travel lengthened from 12 to 18 h (crack 30 h,
+                   # specimen 42 h wide, so that 12 h stay uncut): rakes 15/30/45 x h 3, 5, 7 mm, one batched sweep
+                   # stopped at SWARF_SWEEP_S s (default 560).
+              mpm_v8long() {
+                  local t0=$(date +%s.%N)
+                  timeout -s INT "${SWARF_SWEEP_S:-560}" "$here/swarf" --backend gpu sweep cases/mpm/nairn-cut.toml \
+                      --quiet --batch 9 --out /tmp/mpmsweep/v8long --set material.tangent_modulus=100e6 \
+                      --set cut.room=20 --set cut.cut_length=18 --set cut.crack=30 --set cut.width=42 \
+                      --grid cut.rake=15,30,45 --grid cut.depth=3.0e-3,5.0e-3,7.0e-3
+                  echo "all: $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s wall"
+                  keep_sweeps v8long
+              }
+              run mpmv8long mpm_v8long ;;
         mpm26b) # issue 26 (docs/mpm.md): V7 (hardening: E_T 25 and 100 MPa at 30°), V10 (base depth 2 and 4 at
                 # h = 0.9 mm), and the GPU time of each MPM kernel over two steps (ncu, after 2000 steps)
               mpm_b() {

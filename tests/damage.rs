@@ -704,3 +704,53 @@ fn a_damaged_particle_heats_and_works_with_its_degraded_stress() {
     assert!(rel(w[1], k * w[0]) < 1e-12, "w at D = 1: {} against e^-1 × {}", w[1], w[0]);
     assert_eq!((t[2], w[2]), (300.0, 0.0), "the fully damaged particle heated or worked");
 }
+
+/// With thermal expansion the triaxiality reads the pre-pass's pressure p = c0²(ρ − ρ0(T)) (docs/solver.md,
+/// `material::eos`): a particle at 800 K and at its stress-free density ρ0(T) (3α = 2.7e-5 /K from 300 K; the EOS
+/// gives p = 0 there exactly) sheared plastically has σ* = 0, so ω = Δε̄/ε_f(0) (JC with D2 only, ε_f(0) = D2;
+/// Eqs. 3.164–3.166, 1e-12). Read against ρ0 instead, ρ0(T) would be a tension of about 1.6 GPa, σ* ≈ 2 and ε_f
+/// 20 times smaller.
+#[test]
+fn the_triaxiality_reads_the_thermally_expanded_reference_density() {
+    use swarf::kernels::material::eos::reference_density;
+    use swarf::kernels::sph::interact::pressure_at;
+    let (young, nu, rho0, sy) = (113.8e9, 0.34, 4430.0, 800e6);
+    let shear = young / (2.0 * (1.0 + nu));
+    let bulk = young / (3.0 * (1.0 - 2.0 * nu));
+    let c0sq = bulk / rho0;
+    let (expansion, t0, temp) = (2.7e-5, 300.0, 800.0);
+    let rho = reference_density(rho0, expansion, t0, temp);
+    let sph = SphParams::<f64> { rho0, c0sq, bulk, shear, expansion, expansion_t0: t0, ..Default::default() };
+    assert_eq!(pressure_at(&sph, rho, temp), 0.0, "the EOS is not stress-free at ρ0(T)");
+    let d2 = 0.1;
+    let damage = DamageParams {
+        model: model::JC,
+        d: [0.0, d2, -1.5, 0.0, 0.0, 0.0, 0.0, 0.0],
+        ref_rate: 1.0,
+        ref_temp: 273.0,
+        melt_temp: 1878.0,
+        c0sq,
+        rho0,
+        expansion,
+        expansion_t0: t0,
+        dim: 3.0,
+        ..Default::default()
+    };
+    let dx = 1e-5;
+    let mass = rho * dx * dx * dx;
+    let model = FlowModel::Bilinear(swarf::kernels::material::Bilinear {
+        yield_stress: sy,
+        plastic_modulus: 0.0,
+        melt_temp: 1878.0,
+    });
+    // A shear trial stress of twice the yield stress in von Mises' measure: σ_eq = √3 |s_xy|.
+    let mut s = S3f64::default();
+    s.0[1] = 2.0 * sy / 3f64.sqrt();
+    let mut ps = PlasticParticles::new(&[s], rho, mass, &[0.0], &[0.0], damage);
+    ps.b.write(&mut ps.temp, &[temp]).unwrap();
+    let c = PlasticConsts { shear, dt: 1e-8, taylor_quinney: 0.0, flags: 0, _pad: 0 };
+    ps.step(&model, c);
+    let (e, w) = (ps.read(&ps.eps)[0], ps.read(&ps.omega)[0]);
+    assert!(e > 1e-4, "the step did not yield (ε̄ = {e})");
+    assert!((w - e / d2).abs() < 1e-12 * (e / d2), "ω = {w}, against Δε̄/ε_f(0) = {}", e / d2);
+}

@@ -634,14 +634,17 @@ fn damaged_strip_equals_cpu() {
     use swarf::backend::{AnyBackend, BackendChoice};
     use swarf::run::RunOptions;
     use swarf::scene::Scene;
-    for form in ["printed", "invariant"] {
-        let over = [format!("damage.mask_form=\"{form}\"")];
+    // The third run models thermal expansion: the triaxiality then reads ρ0(T) (`material::eos`).
+    for (form, expansion) in [("printed", 0.0), ("invariant", 0.0), ("invariant", 9e-6)] {
+        let over = [format!("damage.mask_form=\"{form}\""), format!("physics.thermal_expansion={expansion:e}")];
+        let form = if expansion > 0.0 { format!("{form}, thermal expansion") } else { form.to_string() };
         let text = common::scenes::pulled_strip_scene(50.0, 1.0e-5);
         let scene = Scene::from_str(&text, "strip.toml", &over).expect("scene");
         let mut runs = Vec::new();
         for (k, choice) in [BackendChoice::Cpu, BackendChoice::Gpu].into_iter().enumerate() {
             let any = AnyBackend::select(choice).expect("backend").0;
-            let dir = std::env::temp_dir().join(format!("swarf-gpu-strip-{form}-{k}-{}", std::process::id()));
+            let tag = form.replace([' ', ','], "_");
+            let dir = std::env::temp_dir().join(format!("swarf-gpu-strip-{tag}-{k}-{}", std::process::id()));
             let (last, yielded) = final_state(&any, &scene, &RunOptions::quiet(dir.clone()));
             let (header, rows) = swarf::output::csv::read(&dir.join("energy.csv")).expect("energy.csv");
             let k = header.iter().position(|c| c == "damaged_volume").expect("the damaged volume's column");

@@ -422,6 +422,9 @@ fn damage_setup(scene: &Scene, fl: &[u32], pos: &[[f64; 3]]) -> Option<DamageSet
         fracture_energy: d.fracture_energy,
         c0sq: elastic.bulk_modulus() / elastic.density,
         rho0: elastic.density,
+        // The same ρ0(T) as the EOS's (`SphParams::expansion`, set from the same keys above).
+        expansion: 3.0 * scene.physics.thermal_expansion,
+        expansion_t0: scene.physics.expansion_reference,
         dim: scene.dim as f64,
     };
     let n = pos.len();

@@ -66,9 +66,13 @@ pub struct DamageParams {
     pub melt_temp: f64,
     /// Fracture energy G_f [J/m²]; 0: no softening, full damage at initiation (ω = 1).
     pub fracture_energy: f64,
-    /// c0² and ρ0 of the EOS p = c0²(ρ − ρ0), for the triaxiality in the plastic pass.
+    /// c0² and ρ0 of the EOS p = c0²(ρ − ρ0(T)), for the triaxiality in the plastic pass.
     pub c0sq: f64,
     pub rho0: f64,
+    /// The run's volumetric thermal expansion 3α [1/K] (0: none) and its reference temperature T0 [K]: ρ0(T) of
+    /// `material::eos::reference_density`, the pre-pass's EOS.
+    pub expansion: f64,
+    pub expansion_t0: f64,
     /// Dimension (2 or 3) of L_char: √V in 2D, ∛V in 3D.
     pub dim: f64,
 }

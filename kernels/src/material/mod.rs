@@ -22,6 +22,7 @@
 
 pub mod bilinear;
 pub mod c2d_return;
+pub mod eos;
 pub mod johnson_cook;
 pub mod return_map;
 pub mod scgl;

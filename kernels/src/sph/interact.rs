@@ -22,6 +22,7 @@ use super::lanes::{LaneSum, all_lanes, lane_share, map_real, map_vector};
 use super::params::{SphParams, flags};
 use super::tensor::TensorOps;
 use crate::load::read;
+use crate::material::eos::reference_density;
 use crate::neighbour::Neighbours;
 use crate::neighbour::grid::{Period, unswitch_period};
 use crate::real::Real;
@@ -54,7 +55,7 @@ pub fn pressure_at<R: Real>(p: &SphParams<R>, rho: R, temp: f64) -> R {
     if p.expansion == R::ZERO {
         return pressure(p, rho);
     }
-    let rho0 = p.rho0.to_f64() / (1.0 + p.expansion.to_f64() * (temp - p.expansion_t0.to_f64()));
+    let rho0 = reference_density(p.rho0.to_f64(), p.expansion.to_f64(), p.expansion_t0.to_f64(), temp);
     p.c0sq * (rho - R::from_f64(rho0))
 }
 

@@ -7,6 +7,7 @@ use super::heat::ThermalMaterial;
 use super::params::flags;
 use super::tensor::TensorOps;
 use crate::damage::{DamageParams, DamageState, damage_step, triaxiality};
+use crate::material::eos::reference_density;
 use crate::material::{
     FlowStress, ReturnOptions, ReturnResult, ReturnStatus, c2d_return, heated_temperature, plastic_heating,
     radial_return,
@@ -231,7 +232,8 @@ unsafe fn particle_with<R: Real, D: TensorOps<R>, M: FlowStress, const C2D: bool
 }
 
 /// The damage after the plastic update of particle i (weak coupling, klippel §2.6, §7.4.2), from its Δε̄ `de` and
-/// σ_y, the triaxiality −p/σ_y of the undamaged pressure (no thermal expansion), ε̄̇ and T before the heating.
+/// σ_y, the triaxiality −p/σ_y of the undamaged pressure (the pre-pass's EOS, with ρ0(T) where the run models
+/// thermal expansion), ε̄̇ and T before the heating.
 /// Only the damaged entries (`DMG`) run it: a run without damage keeps its corrector's code and registers.
 ///
 /// # Safety
@@ -248,7 +250,8 @@ unsafe fn damage_after_return<R: Real, S>(
 ) {
     unsafe {
         let dp = &*a.damage_params;
-        let triax = triaxiality(dp.c0sq * (rho - dp.rho0), flow_stress);
+        let rho0 = reference_density(dp.rho0, dp.expansion, dp.expansion_t0, temp);
+        let triax = triaxiality(dp.c0sq * (rho - rho0), flow_stress);
         let vol = (*a.mass.add(i)).to_f64() / rho;
         let st = DamageState { omega: *a.omega.add(i), d: *a.damage.add(i) };
         let st = damage_step(dp, st, de, flow_stress, triax, rate, temp, vol);
