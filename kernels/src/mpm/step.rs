@@ -97,8 +97,8 @@ pub const NON_FINITE: u32 = 1;
 pub const ESCAPED: u32 = 2;
 
 /// The share of its nodes' mass above which a specimen particle is a fragment ([`g2p_particle`]): its own share
-/// Σ S_i (m_p S_i / m_i) over its nodes i (m_i its field's mass there) is 1 for a particle alone on its nodes and
-/// about 0.05–0.5 inside the material and on its surfaces (docs/mpm.md "Fragments").
+/// Σ S_i (m_p S_i / m_i) over its nodes i (m_i its field's mass there) is 1 for a particle alone on its nodes, and
+/// on the set-up's lattice 0.098 inside, 0.18 on a face and 0.33 at a corner (docs/mpm.md "Fragments").
 pub const FRAGMENT_SHARE: f64 = 0.6;
 
 #[inline(always)]
