@@ -42,16 +42,28 @@ pub fn cbrt_near_one<R: Real>(a: R) -> R {
     c
 }
 
-/// One step of the material: the relative deformation gradient f = I + L Δt (f_zz = 1, plane strain) updates
+/// The relative deformation gradient of one step, f = I + L Δt (in-plane; f_zz = 1, plane strain).
+#[inline(always)]
+pub fn relative_gradient<R: Real>(l: [[R; 2]; 2], dt: R) -> [[R; 2]; 2] {
+    [[R::ONE + l[0][0] * dt, l[0][1] * dt], [l[1][0] * dt, R::ONE + l[1][1] * dt]]
+}
+
+/// det f of an in-plane gradient (f_zz = 1): the step's volume ratio J_f.
+#[inline(always)]
+pub fn det<R: Real>(f: [[R; 2]; 2]) -> R {
+    f[0][0] * f[1][1] - f[0][1] * f[1][0]
+}
+
+/// One step of the material: the relative deformation gradient f ([`relative_gradient`]) updates
 /// B̄_e (xx, xy, yy, zz) and J; the trial deviatoric Kirchhoff stress s = G dev B̄_e is returned to the yield
 /// surface ‖s‖ = √(2/3)(σ_y0 + E_p ε) by Simo's radial return (nairn-mpm.md §1.4 steps 1–4), with
 /// Δγ = φ/(2μ̄(1 + E_p/(3μ̄))), μ̄ = G tr(B̄_e)/3, ε += √(2/3) Δγ and B̄_e = s/G + (tr B̄_e/3) I. Returns the Cauchy
 /// stress σ = τ/J, τ = (K/2)(J² − 1) I + s (xx, xy, yy, zz).
 #[inline(always)]
-pub fn update<R: Real>(m: &NeoHookeanJ2, l: [[R; 2]; 2], dt: R, be: &mut [R; 4], jac: &mut R, eps: &mut R) -> [R; 4] {
+pub fn update<R: Real>(m: &NeoHookeanJ2, f: [[R; 2]; 2], be: &mut [R; 4], jac: &mut R, eps: &mut R) -> [R; 4] {
     let one = R::ONE;
-    let (f00, f01, f10, f11) = (one + l[0][0] * dt, l[0][1] * dt, l[1][0] * dt, one + l[1][1] * dt);
-    let jf = f00 * f11 - f01 * f10;
+    let [[f00, f01], [f10, f11]] = f;
+    let jf = det(f);
     let c = cbrt_near_one(jf);
     // f̄ = f / J_f^{1/3}; f̄_zz = 1/J_f^{1/3}.
     let (g00, g01, g10, g11, gzz) = (f00 / c, f01 / c, f10 / c, f11 / c, one / c);

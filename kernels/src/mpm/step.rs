@@ -13,7 +13,7 @@
 //!    update with the second-order position update (Eqs. 8, 10), and updates its stress.
 
 use super::grid::{MpmParams, MpmStep, POSITION_FIRST, POSITION_SECOND, TOOL};
-use super::hyperelastic::update;
+use super::hyperelastic::{det, relative_gradient, update};
 use super::shape::ugimp;
 use crate::cohesive::{CrackState, FAILED, traction};
 use crate::real::Real;
@@ -435,10 +435,11 @@ pub unsafe fn g2p_particle<R: Real>(p: &MpmParams, s: &MpmStep, pa: &Particles<R
         }
     };
     let vn = [v.get(0) + ad[0] * dt, v.get(1) + ad[1] * dt];
-    // F ← f F, f = I + L Δt (the relative deformation gradient `hyperelastic::update` applies to B̄_e and J).
+    // F ← f F with the step's relative gradient f, the one `hyperelastic::update` applies to B̄_e and J.
+    let f = relative_gradient(l, dt);
     let fd = unsafe { &mut *pa.def.add(i) };
     let [f00, f01, f10, f11] = *fd;
-    let (g00, g01, g10, g11) = (R::ONE + l[0][0] * dt, l[0][1] * dt, l[1][0] * dt, R::ONE + l[1][1] * dt);
+    let [[g00, g01], [g10, g11]] = f;
     *fd = [g00 * f00 + g01 * f10, g00 * f01 + g01 * f11, g10 * f00 + g11 * f10, g10 * f01 + g11 * f11];
     let (be, jac, eps) = unsafe { (&mut *pa.be.add(i), &mut *pa.jac.add(i), &mut *pa.eps.add(i)) };
     let mut b4 = [z; 4];
@@ -447,11 +448,11 @@ pub unsafe fn g2p_particle<R: Real>(p: &MpmParams, s: &MpmStep, pa: &Particles<R
         // A fragment: a particle the flow has parted from the material (numerical fracture) has no neighbours
         // to carry its stress, and the tool's contact would throw it off by its own stress's reaction. It
         // unloads (B̄_e = I, σ = 0) and keeps its volume and plastic strain until it joins the material again.
-        *jac *= g00 * g11 - g01 * g10;
+        *jac *= det(f);
         b4 = [R::ONE, z, R::ONE, R::ONE];
         [z; 4]
     } else {
-        update(&p.material, l, dt, &mut b4, jac, eps)
+        update(&p.material, f, &mut b4, jac, eps)
     };
     <R::S2 as crate::vector::SymTensor<R>>::components_mut(be).copy_from_slice(&b4);
     unsafe {
