@@ -211,7 +211,7 @@ pub fn setup_with<R: Real, D: TensorOps<R>>(scene: &Scene, tuning: &Tuning) -> R
     let dx = scene.discretisation.dx;
     let h = scene.h();
     let mut params = sph_params::<R>(&elastic, dx, h, scene.dim, &stabilisers);
-    params.expansion = R::from_f64(3.0 * scene.physics.thermal_expansion);
+    params.expansion = R::from_f64(scene.physics.volumetric_expansion());
     params.expansion_t0 = R::from_f64(scene.physics.expansion_reference);
     let switches = scene.model.switches();
     if switches.has(Switch::KernelW6) {
@@ -422,8 +422,8 @@ fn damage_setup(scene: &Scene, fl: &[u32], pos: &[[f64; 3]]) -> Option<DamageSet
         fracture_energy: d.fracture_energy,
         c0sq: elastic.bulk_modulus() / elastic.density,
         rho0: elastic.density,
-        // The same ρ0(T) as the EOS's (`SphParams::expansion`, set from the same keys above).
-        expansion: 3.0 * scene.physics.thermal_expansion,
+        // The same ρ0(T) as the EOS's (`SphParams::expansion`).
+        expansion: scene.physics.volumetric_expansion(),
         expansion_t0: scene.physics.expansion_reference,
         dim: scene.dim as f64,
     };

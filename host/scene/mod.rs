@@ -427,6 +427,14 @@ pub struct Physics {
     pub expansion_reference: f64,
 }
 
+impl Physics {
+    /// The volumetric expansion 3α [1/K] of the EOS's ρ0(T) (0: off), for the SPH parameters and the damage's
+    /// triaxiality alike.
+    pub fn volumetric_expansion(&self) -> f64 {
+        3.0 * self.thermal_expansion
+    }
+}
+
 /// Heat conduction discretisation (`physics.conduction`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]

@@ -56,6 +56,11 @@ pub struct CohesiveSpec {
     pub peak_shear: f64,
 }
 
+/// The variant of a (variant, key value) table that `name` names.
+fn by_name<T: Copy>(all: &[(T, &str)], name: &str) -> Option<T> {
+    all.iter().find(|(_, n)| *n == name).map(|(v, _)| *v)
+}
+
 /// The shape of a cohesive law; its discriminant is the kernels' constant (`kernels::cohesive::TractionLaw::shape`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -71,7 +76,7 @@ impl LawShape {
 
     /// The shape a key value names.
     pub fn from_name(name: &str) -> Option<LawShape> {
-        Self::ALL.iter().find(|(_, n)| *n == name).map(|(s, _)| *s)
+        by_name(&Self::ALL, name)
     }
 
     /// The kernels' constant for this shape.
@@ -184,7 +189,7 @@ impl PositionUpdate {
 
     /// The variant a key value names.
     pub fn from_name(name: &str) -> Option<PositionUpdate> {
-        Self::ALL.iter().find(|(_, n)| *n == name).map(|(v, _)| *v)
+        by_name(&Self::ALL, name)
     }
 
     /// The kernels' constant.

@@ -136,6 +136,11 @@ impl<'a> Tab<'a> {
         }
     }
 
+    /// A string that `parse` turns into a value (an enum's key names), or the key's error naming `expected`.
+    fn named<T>(&self, k: &str, expected: &str, parse: impl Fn(&str) -> Option<T>) -> Result<Option<T>> {
+        Ok(self.string(k, expected, |s| parse(s).is_some())?.and_then(parse))
+    }
+
     fn boolean(&self, k: &str, expected: &str) -> Result<Option<bool>> {
         let Some(node) = self.get(k) else { return Ok(None) };
         match &node.val {
@@ -265,10 +270,7 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
     let dim_expected = "2 (plane strain) or 3";
     let dim = root.required("dim", dim_expected, root.integer("dim", dim_expected, |d| d == 2 || d == 3)?)? as usize;
     let precision_expected = "\"f32\", \"f64\" or \"mixed\"";
-    let precision = root
-        .string("precision", precision_expected, |s| Precision::from_name(s).is_some())?
-        .and_then(Precision::from_name)
-        .unwrap_or(Precision::F64);
+    let precision = root.named("precision", precision_expected, Precision::from_name)?.unwrap_or(Precision::F64);
 
     let model = model(&root, dim)?;
     let switches = model.switches();
@@ -407,8 +409,8 @@ fn output(root: &Tab<'_>, end: f64) -> Result<Output> {
         }
         use crate::output::vtu::Encoding;
         let e = "\"raw\" or \"base64-zlib\"";
-        if let Some(name) = o.string("vtu_encoding", e, |s| Encoding::from_name(s).is_some())? {
-            output.vtu_encoding = Encoding::from_name(name).unwrap_or_default();
+        if let Some(encoding) = o.named("vtu_encoding", e, Encoding::from_name)? {
+            output.vtu_encoding = encoding;
         }
     }
     Ok(output)

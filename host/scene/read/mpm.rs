@@ -78,8 +78,8 @@ pub(super) fn cohesive_law(t: &Tab<'_>) -> Result<CohesiveSpec> {
     let toughness_shear = t.number("toughness_shear", g, positive)?.unwrap_or(toughness);
     let peak_shear = t.number("peak_shear", s, positive)?.unwrap_or(peak);
     let e = "\"cubic\" or \"triangular\"";
-    let law = t.string("law", e, |n| LawShape::from_name(n).is_some())?.and_then(LawShape::from_name);
-    Ok(CohesiveSpec { law: law.unwrap_or(LawShape::Cubic), toughness, peak, toughness_shear, peak_shear })
+    let law = t.named("law", e, LawShape::from_name)?.unwrap_or(LawShape::Cubic);
+    Ok(CohesiveSpec { law, toughness, peak, toughness_shear, peak_shear })
 }
 
 fn setup(root: &Tab<'_>) -> Result<Setup> {
@@ -215,9 +215,6 @@ fn damping(root: &Tab<'_>) -> Result<Damping> {
         .number("feedback", "a start-up feedback gain in [0, 1e6] (0: off)", |x| (0.0..=1e6).contains(&x))?
         .unwrap_or(DAMPING.feedback);
     let e = "\"second\", \"first\" or \"zeroth\"";
-    let position_update = t
-        .string("position_update", e, |n| PositionUpdate::from_name(n).is_some())?
-        .and_then(PositionUpdate::from_name)
-        .unwrap_or(DAMPING.position_update);
+    let position_update = t.named("position_update", e, PositionUpdate::from_name)?.unwrap_or(DAMPING.position_update);
     Ok(Damping { pic, feedback, position_update })
 }
