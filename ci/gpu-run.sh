@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# mpm26 mpm26b mpm025ck mpmv1frag mpmv8fine mpmv8path mpmv8long mpmv14 mpmv10 mpmv78 mpmv5fine mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout mufit identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine shtb25 gf25 ducobugf tool3d tools24 cspm24 nonfinite24 mill24 wheel24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
+# mpm26 mpm26b mpm025ck mpmv1frag mpmv8fine mpmv8path mpmv8long mpmv14 mpmv10 mpmv78 mpmv5fine mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout mufit identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine shtb25 gf25 ducobugf tool3d tools24 cspm24 nonfinite24 mill24 wheel24 wide24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -725,6 +725,14 @@ PY
                   --set "time.end=${SWARF_GRAIN_END:-2.3e-6}" ${SWARF_GRAIN_CFL:+--set time.cfl=$SWARF_GRAIN_CFL}
               { tail -n 8 "$d/run.log"; force_means "$d/forces.csv" 1e-6 3e-6; } >> "$out/grain2mplain.log"
               cp "$d/forces.csv" "$out/grain2mplain-forces.csv" ;;
+        wide24) # issue 24 (docs/neighbour-search.md "Wide offsets"): bench step, f64, of the 3D scenes with the Verlet
+                # list's 16- and 32-bit offsets side by side (bench step's list rows): the 2 M-particle single grain
+                # (64 steps), the 107k single grain and the extruded V0060 (256 steps)
+              sed 's/^dx = 3.0e-6/dx = 1.13e-6/' cases/3d/single-grain.toml > cases/3d/single-grain-2m.toml
+              run wide24-2m "$here/swarf" --backend gpu bench step --precision f64 --step-count 64 \
+                  --scenes cases/3d/single-grain-2m.toml
+              run wide24 "$here/swarf" --backend gpu bench step --precision f64 --step-count 256 \
+                  --scenes cases/3d/single-grain.toml,cases/3d/orthogonal-v0060.toml ;;
         mpm26) # issue 26 (docs/mpm.md): Nairn's cut with MPM at the paper's resolution (15 particles through h):
                # V1/V2 (rake 30°) and V3 (rake 15°) at h = SWARF_MPM_DEPTHS (default 0.25 0.5 0.75 1.0 1.5 mm), each
                # run's summary line; the V15 bonds in f64 on the GPU. SWARF_MPM_SETS: further --set arguments.

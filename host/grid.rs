@@ -51,6 +51,8 @@ pub fn grid_with_cell(lo: [f64; 3], hi: [f64; 3], dim: usize, cell: f64, stencil
         dim: dim as u32,
         list_capacity: 0,
         list_stride: 0,
+        list_wide: 0,
+        _pad: 0,
     })
 }
 
@@ -113,6 +115,7 @@ pub fn periodic_z(g: &GridParams, hi: [f64; 3], period: f64) -> Result<GridParam
     p.inv_period = 1.0 / period;
     p.list_capacity = g.list_capacity;
     p.list_stride = g.list_stride;
+    p.list_wide = g.list_wide;
     Ok(p)
 }
 

@@ -218,6 +218,18 @@ pub fn buckets(grid: &GridParams, blanking: bool) -> usize {
     grid.n_cells as usize * if blanking { 2 } else { 1 } + 1
 }
 
+/// Whether the Verlet list stores 32-bit offsets (`GridParams::list_wide`): as the scene's `verlet_offsets` says,
+/// else in 3D once the particles outnumber the 16-bit offset's reach. A 3D stencil spans two layers of nx·ny cells
+/// in the sorted order, so beyond that count whole regions of a large 3D domain would have far rows and walk the
+/// stencil (docs/neighbour-search.md, "Wide offsets"); a 2D stencil spans a few cell rows, within reach in any
+/// scene narrower than about 10 000 Δx, where the packed list's half traffic pays.
+pub fn wide_offsets(bits: Option<u32>, dim: usize, n: usize) -> bool {
+    match bits {
+        Some(b) => b == 32,
+        None => dim == 3 && n > crate::kernels::neighbour::verlet::MAX_OFFSET as usize,
+    }
+}
+
 /// The Verlet list's capacity per particle for a grid and the lattice spacing Δx: twice the count of a lattice of
 /// that spacing within the list radius R, 2 ω_d (R/Δx)^d with ω_2 = π, ω_3 = 4π/3 (the lattices of `cases/` hold
 /// about half that), plus 8. A particle with more candidates walks the stencil, so the capacity decides the memory,

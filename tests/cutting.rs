@@ -286,7 +286,6 @@ fn verlet_list_sums_equal_the_stencil_walk() {
         eprintln!("{file}: {ra} rebuilds in 30 steps; eight lanes: max |Δx| = {:.2e} dx", dpos / dx);
         assert!(dpos < 1e-9 * dx, "{file}: eight lanes: positions differ by {:.2e} dx", dpos / dx);
         // Not vacuous: with eight lanes the list deals other candidates to the lanes than the stencil walk, so
-        // bitwise equal eight-lane runs would mean that the list was never read.
         // bitwise equal eight-lane runs would mean that the list was never read (the reference cut's workpiece is
         // at rest before the tool arrives: its temperatures tell).
         assert!(

@@ -53,6 +53,15 @@ fn compare<R: Real, D: Dim>(g: &CudaBackend, pos: &[D::Vec<R>], h: f64, stencil:
     assert_eq!(a.raw_counts, b.raw_counts, "{what}: neighbour counts differ");
     assert_eq!(a.raw_list, b.raw_list, "{what}: neighbour lists (gather order) differ");
     assert!(a.raw_list.len() > pos.len(), "{what}: too few pairs for a meaningful test");
+    if D::D == 3 {
+        // The wide (32-bit) offsets (docs/neighbour-search.md, "Wide offsets"): equal lists, and no row far.
+        let mut wide = grid;
+        wide.list_wide = 1;
+        let (aw, bw) = (search::<_, R, D>(&c, pos, wide, support2), search::<_, R, D>(g, pos, wide, support2));
+        assert_eq!(aw.verlet, bw.verlet, "{what}: wide Verlet lists differ");
+        let far = (0..pos.len()).filter(|&i| aw.verlet[i] == swarf::kernels::neighbour::verlet::FAR).count();
+        assert_eq!(far, 0, "{what}: {far} rows far with 32-bit offsets");
+    }
 
     let n = pos.len();
     let kernel = [CubicSpline::<R>::new(h, D::D)];
@@ -1109,29 +1118,45 @@ fn periodic_cut(end: f64, extra: &[String]) -> swarf::scene::Scene {
 
 /// Issue 24 on the GPU: the periodic z domain (the wrapped stencil rows and nearest-image pairs in every neighbour
 /// pass) with the plane-strain condition gives the CPU's run bit for bit: V0060 extruded by 8 layers
-/// (cases/3d/orthogonal-v0060.toml at Δx = 20 µm, 6 120 particles), 1 µs of cut, f64 and f32.
+/// (cases/3d/orthogonal-v0060.toml at Δx = 20 µm, 6 120 particles), 1 µs of cut, f64 and f32; and f64 again with the
+/// Verlet list's wide offsets (`discretisation.verlet_offsets = 32`, docs/neighbour-search.md "Wide offsets"),
+/// whose run is also the packed f64 run's bit for bit.
 #[test]
 fn periodic_plane_strain_cut_equals_cpu() {
     let Some(_) = gpu() else { return };
     use swarf::backend::{AnyBackend, BackendChoice};
     use swarf::run::RunOptions;
-    for precision in ["f64", "f32"] {
-        let scene = periodic_cut(1.0e-6, &[format!("precision=\"{precision}\"")]);
+    let mut packed_f64 = None;
+    for (precision, bits) in [("f64", 16), ("f32", 16), ("f64", 32)] {
+        let scene = periodic_cut(
+            1.0e-6,
+            &[format!("precision=\"{precision}\""), format!("discretisation.verlet_offsets={bits}")],
+        );
         let mut runs = Vec::new();
         for (k, choice) in [BackendChoice::Cpu, BackendChoice::Gpu].into_iter().enumerate() {
             let any = AnyBackend::select(choice).expect("backend").0;
-            let dir = std::env::temp_dir().join(format!("swarf-gpu-periodic-{precision}-{k}-{}", std::process::id()));
+            let dir =
+                std::env::temp_dir().join(format!("swarf-gpu-periodic-{precision}-{bits}-{k}-{}", std::process::id()));
             let (last, _) = final_state(&any, &scene, &RunOptions::quiet(dir.clone()));
             runs.push((last, std::fs::read_to_string(dir.join("forces.csv")).expect("forces.csv")));
         }
         let fc = runs[0].1.lines().last().and_then(|l| l.split(',').nth(2).map(str::to_string)).unwrap_or_default();
         eprintln!(
-            "periodic extruded cut, {precision}: last F_c {fc} N/mm; final state bitwise equal: {}, forces.csv equal: {}",
+            "periodic extruded cut, {precision}, {bits}-bit offsets: last F_c {fc} N/mm; final state bitwise equal: {}, \
+             forces.csv equal: {}",
             runs[0].0 == runs[1].0,
             runs[0].1 == runs[1].1
         );
-        assert!(runs[0].1 == runs[1].1, "{precision}: GPU forces.csv differs from the CPU's");
-        assert!(runs[0].0 == runs[1].0, "{precision}: GPU final state differs from the CPU's");
+        assert!(runs[0].1 == runs[1].1, "{precision}, {bits} bits: GPU forces.csv differs from the CPU's");
+        assert!(runs[0].0 == runs[1].0, "{precision}, {bits} bits: GPU final state differs from the CPU's");
+        match (precision, bits) {
+            ("f64", 16) => packed_f64 = Some(runs.swap_remove(1)),
+            ("f64", 32) => {
+                let p = packed_f64.as_ref().expect("the packed f64 run came first");
+                assert!(runs[1] == *p, "f64: the wide offsets' GPU run differs from the packed one's");
+            }
+            _ => {}
+        }
     }
 }
 

@@ -420,8 +420,15 @@ fn listed_pairs<R: Real, D: Dim>(
 /// `rebuild_distance`), because both ends of a pair move. Checked against the grid-free search on the moved positions
 /// (displacements up to 0.999 s/2, a quarter at almost exactly s/2), 2D and 3D, f32 and f64; with a capacity of 3
 /// nearly every particle overflows and walks the stencil, with the same pairs. Moving up to 0.999 s instead (what
-/// the cell list alone allows) loses pairs, which shows that the check can fail.
+/// the cell list alone allows) loses pairs, which shows that the check can fail. Both layouts: 16-bit offsets two to
+/// a word, and wide 32-bit ones (`GridParams::list_wide`).
 fn verlet_list_is_exact_within_half_the_skin<R: Real, D: Dim>(n: usize, seed: u64) {
+    for wide in [0, 1] {
+        verlet_list_is_exact_within_half_the_skin_in::<R, D>(n, seed, wide);
+    }
+}
+
+fn verlet_list_is_exact_within_half_the_skin_in<R: Real, D: Dim>(n: usize, seed: u64, wide: u32) {
     use swarf::grid::grid_with_skin;
     let b = CpuBackend::new();
     let h = h_for(n, D::D);
@@ -432,6 +439,7 @@ fn verlet_list_is_exact_within_half_the_skin<R: Real, D: Dim>(n: usize, seed: u6
     let spacing = (n as f64).powf(-1.0 / D::D as f64);
     let support2 = R::from_f64(4.0 * h * h);
     let full = swarf::neighbour::verlet_capacity(&grid, spacing);
+    grid.list_wide = wide;
     for capacity in [full, 3] {
         grid.list_capacity = capacity;
         let (cl, binned) = verlet_list_on::<R, D>(&b, &pos, grid);
@@ -443,7 +451,7 @@ fn verlet_list_is_exact_within_half_the_skin<R: Real, D: Dim>(n: usize, seed: u6
             assert!(overflows > n * 9 / 10, "only {overflows} of {n} particles overflow a capacity of 3");
         }
         let (half, _) = displaced::<R, D>(&binned, &cl.grid, 0.5 * skin, seed);
-        let what = format!("Verlet list (capacity {capacity}) within half the skin");
+        let what = format!("Verlet list (capacity {capacity}, wide {wide}) within half the skin");
         assert_same_pairs(&listed_pairs::<R, D>(&cl, &half, support2), &brute_force(&half, support2), &what);
         if capacity == full {
             let (far, _) = displaced::<R, D>(&binned, &cl.grid, skin, seed);
@@ -489,8 +497,28 @@ fn rebuild_distance_is_half_the_skin_with_a_verlet_list() {
 /// block's are listed, and every particle gets exactly the pairs within the support that the stencil gives.
 #[test]
 fn verlet_rows_beyond_the_offset_range_walk_the_stencil() {
+    let (cl, list, n) = far_strip(0);
+    let far = (0..n).filter(|&i| list[i] == swarf::kernels::neighbour::verlet::FAR).count();
+    let listed = (0..n).filter(|&i| list[i] <= cl.grid.list_capacity).count();
+    assert!(far >= 100_000, "only {far} of the strip's 120 000 rows are marked far (offsets beyond 32 767)");
+    assert!(listed >= 100, "only {listed} rows are listed: the block's 100 must be");
+    assert_eq!(far + listed, n, "rows neither far nor listed: the capacity {} overflowed", cl.grid.list_capacity);
+}
+
+/// With wide (32-bit) offsets (`GridParams::list_wide`, docs/neighbour-search.md "Wide offsets") the same strip's
+/// rows are all listed, none far, and every particle gets exactly the stencil's pairs.
+#[test]
+fn wide_verlet_offsets_list_the_rows_beyond_the_16_bit_range() {
+    let (cl, list, n) = far_strip(1);
+    let listed = (0..n).filter(|&i| list[i] <= cl.grid.list_capacity).count();
+    assert_eq!(listed, n, "{} of {n} rows are not listed with 32-bit offsets", n - listed);
+    assert_eq!(cl.grid.list_words(), (cl.grid.list_capacity as usize + 1) * n, "one word per candidate");
+}
+
+/// The far strip of the two tests above, listed with `wide`; checks every particle's listed pairs against the
+/// stencil's and returns the cell list, its Verlet list's words and the particle count.
+fn far_strip(wide: u32) -> (swarf::neighbour::CellList<CpuBackend>, Vec<u32>, usize) {
     use swarf::grid::grid_with_skin;
-    use swarf::kernels::neighbour::verlet::{FAR, MAX_OFFSET};
     use swarf::kernels::neighbour::{Neighbours, for_each_candidate};
     use swarf::kernels::vector::V2f64;
     let b = CpuBackend::new();
@@ -510,13 +538,9 @@ fn verlet_rows_beyond_the_offset_range_walk_the_stencil() {
     let (lo, hi) = bounding_box::<f64, V2f64>(&pos);
     let mut grid = grid_with_skin(lo, hi, 2, 2.0 * h, 0.1 * h).expect("grid");
     grid.list_capacity = swarf::neighbour::verlet_capacity(&grid, dx);
+    grid.list_wide = wide;
     let (cl, sorted) = verlet_list_on::<f64, Dim2>(&b, &pos, grid);
-    let list = cl.list.as_ref().expect("list");
-    let far = (0..n).filter(|&i| list[i] == FAR).count();
-    let listed = (0..n).filter(|&i| list[i] <= cl.grid.list_capacity).count();
-    assert!(far >= 100_000, "only {far} of the strip's 120 000 rows are marked far (offsets beyond {MAX_OFFSET})");
-    assert!(listed >= 100, "only {listed} rows are listed: the block's 100 must be");
-    assert_eq!(far + listed, n, "rows neither far nor listed: the capacity {} overflowed", cl.grid.list_capacity);
+    let list = cl.list.as_ref().expect("list").to_vec();
     let support2 = 4.0 * h * h;
     let with_list = listed_pairs::<f64, Dim2>(&cl, &sorted, support2);
     // The same walk with no list: the stencil's pairs.
@@ -532,6 +556,11 @@ fn verlet_rows_beyond_the_offset_range_walk_the_stencil() {
                 }
             })
         };
-        assert_eq!(l, &s, "particle {i} (count word {}): the list's pairs differ from the stencil's", list[i]);
+        assert_eq!(
+            l, &s,
+            "particle {i} (count word {}, wide {wide}): the list's pairs differ from the stencil's",
+            list[i]
+        );
     }
+    (cl, list, n)
 }

@@ -120,3 +120,28 @@ fn extruded_cut_in_plane_strain_matches_2d() {
     assert!(d[0].abs() <= 0.05 && d[1].abs() <= 0.05, "3D against 2D: F_c {:+.3}, F_f {:+.3}", d[0], d[1]);
     assert_eq!(vz, 0.0, "plane strain: v_z stays 0");
 }
+
+/// The Verlet list's wide (32-bit) offsets (docs/neighbour-search.md, "Wide offsets") list the same candidates in the
+/// same order as the packed 16-bit ones, so a run is bitwise the same with either, with one lane per particle and
+/// with eight: the coarse extruded cut (periodic in z, so its seam's pairs cross the period), 60 steps on the CPU
+/// (tests/gpu.rs builds both layouts on a GPU).
+#[test]
+fn wide_verlet_offsets_give_the_packed_run_bit_for_bit() {
+    use swarf::solver::Solver;
+    let b = CpuBackend::new();
+    for lanes in [1, 8] {
+        let run = |bits: u32| {
+            let mut o = coarse(true);
+            o.push(format!("discretisation.verlet_offsets={bits}"));
+            let scene = Scene::load("cases/3d/orthogonal-v0060.toml", &o).expect("scene");
+            let s = swarf::run::setup::<f64, Dim3>(&scene).expect("setup");
+            assert_eq!(s.grid.list_wide, u32::from(bits == 32), "verlet_offsets = {bits} did not reach the grid");
+            let mut sv = Solver::<_, f64, Dim3>::new(&b, &s).expect("solver");
+            sv.lanes = lanes;
+            sv.advance(&b, s.dt, 60).expect("steps");
+            sv.download(&b).expect("state")
+        };
+        let (packed, wide) = (run(16), run(32));
+        assert!(wide.bitwise_eq(&packed), "{lanes} lane(s): the wide list's run differs from the packed one's");
+    }
+}

@@ -342,15 +342,27 @@ pub fn checkpoints<B: Backend>(b: &B, dirs: &[std::path::PathBuf], steps: usize)
     Ok(())
 }
 
-/// The setup of `scene` with the pair loops walking the stencil, for the side-by-side row; None where the scene has
-/// no Verlet list anyway.
-fn without_verlet_list<R: Real, D: TensorOps<R>>(scene: &crate::scene::Scene) -> Result<Option<Setup<R, D>>> {
-    if !scene.discretisation.verlet_list {
-        return Ok(None);
+/// The setups of `scene` with its neighbour search changed, each with its label: the pair loops walking the stencil,
+/// and in 3D the Verlet list with the other offset width (docs/neighbour-search.md, "Wide offsets"); none where the
+/// scene has no Verlet list anyway.
+fn list_variants<R: Real, D: TensorOps<R>>(
+    scene: &crate::scene::Scene,
+    base: &Setup<R, D>,
+) -> Result<Vec<(String, Setup<R, D>)>> {
+    let d = &scene.discretisation;
+    if !d.verlet_list {
+        return Ok(Vec::new());
     }
-    let mut sc = scene.clone();
-    sc.discretisation.verlet_list = false;
-    crate::run::setup::<R, D>(&sc).map(Some)
+    let mut walk = scene.clone();
+    walk.discretisation.verlet_list = false;
+    let mut out = vec![("no Verlet list (stencil walk)".to_string(), crate::run::setup::<R, D>(&walk)?)];
+    if scene.dim == 3 {
+        let bits = if base.grid.list_wide != 0 { 16 } else { 32 };
+        let mut other = scene.clone();
+        other.discretisation.verlet_offsets = Some(bits);
+        out.push((format!("Verlet offsets of {bits} bits"), crate::run::setup::<R, D>(&other)?));
+    }
+    Ok(out)
 }
 
 fn saved_rows<B: Backend, R: Real, D: TensorOps<R>>(
@@ -376,8 +388,8 @@ fn saved_rows<B: Backend, R: Real, D: TensorOps<R>>(
     println!("{}", row(&t, peak));
     let t = step::<B, R, D>(b, &s, &format!("{} at t = 0", scene.name), steps, 5, None, true, None)?;
     println!("{}", row(&t, peak));
-    if let Some(sa) = without_verlet_list::<R, D>(scene)? {
-        let t = step::<B, R, D>(b, &sa, &format!("{at}, no Verlet list"), steps, 5, None, true, Some(saved))?;
+    for (what, sa) in list_variants::<R, D>(scene, &s)? {
+        let t = step::<B, R, D>(b, &sa, &format!("{at}, {what}"), steps, 5, None, true, Some(saved))?;
         println!("{}", row(&t, peak));
     }
     Ok(())
@@ -404,10 +416,10 @@ fn one<B: Backend, R: Real, D: TensorOps<R>>(
         let sep = step::<B, R, D>(b, &s, &format!("{label}, separate conduction pass"), steps, 5, None, false, None)?;
         println!("{}", row(&sep, peak));
     }
-    // The Verlet list against the stencil walk (docs/neighbour-search.md, "Verlet list"), side by side.
-    if let Some(sa) = without_verlet_list::<R, D>(scene)? {
-        let t =
-            step::<B, R, D>(b, &sa, &format!("{label}, no Verlet list (stencil walk)"), steps, 5, None, true, None)?;
+    // The Verlet list against the stencil walk and the other offset width (docs/neighbour-search.md, "Verlet
+    // list", "Wide offsets"), side by side.
+    for (what, sa) in list_variants::<R, D>(scene, &s)? {
+        let t = step::<B, R, D>(b, &sa, &format!("{label}, {what}"), steps, 5, None, true, None)?;
         println!("{}", row(&t, peak));
     }
     // The skin (docs/neighbour-search.md, "Skin"): none (a rebuild whenever anything moved) and others beside

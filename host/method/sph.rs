@@ -492,6 +492,8 @@ fn grid(
     }
     if scene.discretisation.verlet_list {
         grid.list_capacity = crate::neighbour::verlet_capacity(&grid, scene.discretisation.dx);
+        grid.list_wide =
+            crate::neighbour::wide_offsets(scene.discretisation.verlet_offsets, scene.dim, pos.len()) as u32;
     }
     Ok(grid)
 }

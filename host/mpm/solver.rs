@@ -436,5 +436,7 @@ fn cell_grid(p: &MpmParams) -> Result<GridParams> {
         dim: 2,
         list_capacity: 0,
         list_stride: 0,
+        list_wide: 0,
+        _pad: 0,
     })
 }

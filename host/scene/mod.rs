@@ -486,6 +486,13 @@ pub struct Discretisation {
     /// a list built with the cell list (docs/neighbour-search.md, "Verlet list") instead of walking the ±2
     /// stencil of cells. With one lane per particle the sums are bitwise the same either way.
     pub verlet_list: bool,
+    /// `verlet_offsets` (optional, 16 or 32; default 32 for a 3D scene of more than 32 767 particles, else 16):
+    /// the bits of each candidate's offset j − i in the Verlet list. 16 halves the list's memory and traffic but
+    /// cannot reach a partner more than 32 767 sorted places away, whose particle then walks the stencil: in 3D
+    /// two layers of cells apart, or across a z period (docs/neighbour-search.md, "Wide offsets"). The sums are
+    /// the same either way.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub verlet_offsets: Option<u32>,
     /// `period_z` (optional, 3D only; unit m), > 0: the domain is periodic in z with this period: a particle near
     /// z = z_0 + P interacts with those near z_0 (nearest images), so an extruded 2D model has no z faces. Give
     /// the bodies' z extent plus dx (a `nodes` lattice from 0 to P − dx; `cells`: 0 to P). At least 5 neighbour

@@ -368,10 +368,10 @@ fn blanking(root: &Tab<'_>, dim: usize, tool: Option<&super::Tool>) -> Result<Op
 
 /// `[discretisation]` (required): its table (the bodies read their spacing from it) and its values.
 fn discretisation<'a>(root: &Tab<'a>, dim: usize) -> Result<(Tab<'a>, Discretisation)> {
-    let disc_expected = "a table [discretisation] with dx (and h_over_dx, skin_over_h, verlet_list)";
+    let disc_expected = "a table [discretisation] with dx (and h_over_dx, skin_over_h, verlet_list, verlet_offsets)";
     let disc =
         root.required("discretisation", disc_expected, root.table("discretisation", "discretisation", disc_expected)?)?;
-    disc.check_keys(&["dx", "h_over_dx", "skin_over_h", "verlet_list", "period_z"], &[], "")?;
+    disc.check_keys(&["dx", "h_over_dx", "skin_over_h", "verlet_list", "verlet_offsets", "period_z"], &[], "")?;
     let dx_expected = "a positive lattice spacing in m";
     let dx = disc.required("dx", dx_expected, disc.number("dx", dx_expected, positive)?)?;
     let h_over_dx = disc.number("h_over_dx", "a ratio h/dx in [1, 3]", |x| (1.0..=3.0).contains(&x))?.unwrap_or(1.7);
@@ -379,11 +379,14 @@ fn discretisation<'a>(root: &Tab<'a>, dim: usize) -> Result<(Tab<'a>, Discretisa
         .number("skin_over_h", "a cell-list skin in units of h, in [0, 1]", |x| (0.0..=1.0).contains(&x))?
         .unwrap_or(0.1);
     let verlet_list = disc.boolean("verlet_list", "true or false")?.unwrap_or(true);
+    let verlet_offsets = disc
+        .number("verlet_offsets", "16 or 32 (bits per Verlet-list offset)", |x| x == 16.0 || x == 32.0)?
+        .map(|x| x as u32);
     let period_z = disc.number("period_z", "a positive period in m (3D only)", positive)?;
     if period_z.is_some() && dim != 3 {
         return Err(disc.invalid("period_z", disc.get("period_z"), "no period_z in 2D (a 3D scene's z period)"));
     }
-    Ok((disc, Discretisation { dx, h_over_dx, skin_over_h, verlet_list, period_z }))
+    Ok((disc, Discretisation { dx, h_over_dx, skin_over_h, verlet_list, verlet_offsets, period_z }))
 }
 
 /// `[time]` (required): end, and the optional cfl, dt and max_steps.

@@ -39,6 +39,11 @@ pub struct GridParams {
     /// The list's row length (the particle count it was sized for): particle i's count is at i, its candidates k
     /// and k + 1 (k even) share the word at (k/2 + 1)·stride + i (`neighbour::verlet`).
     pub list_stride: u32,
+    /// 0: the list stores 16-bit offsets j − i, two to a word; 1 ("wide"): 32-bit offsets, candidate k alone in
+    /// the word at (k + 1)·stride + i, for 3D domains whose stencil spans more than `verlet::MAX_OFFSET` sorted
+    /// places (docs/neighbour-search.md, "Wide offsets").
+    pub list_wide: u32,
+    pub _pad: u32,
 }
 
 /// The blanking's active box [lo, hi] at one step (roethlin-solver.md §7.6.3; the original code's
@@ -192,10 +197,17 @@ impl GridParams {
     }
 
     /// The Verlet list's rows (`neighbour::verlet`): a row of counts and one row for each two candidates of the
-    /// capacity; 0 without a list.
+    /// capacity (each candidate, with wide offsets); 0 without a list.
     #[inline(always)]
     pub fn list_rows(&self) -> usize {
-        if self.list_capacity == 0 { 0 } else { (self.list_capacity as usize).div_ceil(2) + 1 }
+        let cap = self.list_capacity as usize;
+        if cap == 0 {
+            0
+        } else if self.list_wide != 0 {
+            cap + 1
+        } else {
+            cap.div_ceil(2) + 1
+        }
     }
 
     /// The Verlet list's length in words: [`GridParams::list_rows`] rows of `list_stride` words.

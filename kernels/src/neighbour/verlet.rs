@@ -14,7 +14,9 @@
 //! term does. A particle with more candidates than the capacity keeps its true count and walks the stencil
 //! instead; so does one with a candidate more than [`MAX_OFFSET`] sorted places away (count [`FAR`]): neighbours
 //! sit within a few cell rows in the sorted order, far less than that in every 2D scene, but a 3D stencil spans
-//! two layers of cells (nx·ny cells each), so a large 3D domain has far rows.
+//! two layers of cells (nx·ny cells each), so a large 3D domain has far rows. There the host chooses **wide
+//! offsets** (`GridParams::list_wide`): candidate k alone in the word at (k + 1)·stride + i as a 32-bit offset,
+//! twice the memory and traffic, and no row is ever far.
 
 use super::grid::GridParams;
 use super::search::{for_each_neighbour, for_each_neighbour_strided};
@@ -45,10 +47,10 @@ impl Neighbours<'_> {
         if c <= self.grid.list_capacity { Some(c) } else { None }
     }
 
-    /// The word that holds candidates 2m and 2m + 1 of particle i.
+    /// Word m of particle i's row after its count: candidates 2m and 2m + 1, or candidate m with wide offsets.
     ///
     /// # Safety
-    /// i has at least 2m + 1 listed candidates.
+    /// The word holds at least one of i's listed candidates.
     #[inline(always)]
     unsafe fn word(&self, i: u32, m: u32) -> u32 {
         let at = (m as usize + 1) * self.grid.list_stride as usize + i as usize;
@@ -56,7 +58,7 @@ impl Neighbours<'_> {
     }
 }
 
-/// The largest |j − i| the list stores (an i16 offset).
+/// The largest |j − i| the packed list stores (an i16 offset).
 pub const MAX_OFFSET: u32 = i16::MAX as u32;
 
 /// The count of a row with a candidate more than [`MAX_OFFSET`] sorted places away: beyond any capacity, so the
@@ -69,10 +71,43 @@ fn decode(i: u32, half: u32) -> u32 {
     i.wrapping_add(half as u16 as i16 as i32 as u32)
 }
 
-/// Candidate k of a listed row, from the word `w` that holds it.
+/// Candidate k of a listed row, from the word `w` that holds it: with wide offsets the whole word, else its low
+/// (k even) or high (k odd) half.
 #[inline(always)]
-fn candidate(i: u32, w: u32, k: u32) -> u32 {
-    decode(i, if k & 1 == 0 { w } else { w >> 16 })
+fn candidate<const WIDE: bool>(i: u32, w: u32, k: u32) -> u32 {
+    if WIDE { i.wrapping_add(w) } else { decode(i, if k & 1 == 0 { w } else { w >> 16 }) }
+}
+
+/// The word (after the count's) that holds candidate k.
+#[inline(always)]
+fn slot<const WIDE: bool>(k: u32) -> u32 {
+    if WIDE { k } else { k / 2 }
+}
+
+/// Calls `f(j)` for the listed candidates k ≡ lane (mod lanes) of a row of `c`, in increasing k, compiled once for
+/// each layout so that the packed loop carries no test of the layout.
+///
+/// The word of the next candidate is loaded before the current pair term runs: the list streams from DRAM, and its
+/// load would otherwise stand at the head of every iteration's chain (index → position → term). Packed, with one
+/// lane a word serves two iterations, so every other one loads.
+///
+/// # Safety
+/// Particle i's row is listed (`Neighbours::listed` gave `c`).
+#[inline(always)]
+unsafe fn walk_row<const WIDE: bool, F: FnMut(u32)>(nb: &Neighbours, i: u32, c: u32, lane: u32, lanes: u32, mut f: F) {
+    unsafe {
+        let mut w = if lane < c { nb.word(i, slot::<WIDE>(lane)) } else { 0 };
+        let mut k = lane;
+        while k < c {
+            let j = candidate::<WIDE>(i, w, k);
+            let next = k + lanes;
+            if next < c && slot::<WIDE>(next) != slot::<WIDE>(k) {
+                w = nb.word(i, slot::<WIDE>(next));
+            }
+            f(j);
+            k = next;
+        }
+    }
 }
 
 /// Calls `f(j)` for every candidate of sorted particle i at `x`: its listed candidates, or (without a list, or
@@ -82,24 +117,8 @@ fn candidate(i: u32, w: u32, k: u32) -> u32 {
 /// `nb.starts` is the cell list of `nb.grid`; `nb.list` is null or built on it ([`verlet_row`]) with every
 /// particle within [`GridParams::rebuild_distance`] of where it was binned; `x` is particle i's position.
 #[inline(always)]
-pub unsafe fn for_each_candidate<R: Real, V: Vector<R>, F: FnMut(u32)>(nb: &Neighbours, x: &V, i: u32, mut f: F) {
-    unsafe {
-        match nb.listed(i) {
-            Some(c) => {
-                let mut w = if c > 0 { nb.word(i, 0) } else { 0 };
-                let mut k = 0;
-                while k < c {
-                    let j = candidate(i, w, k);
-                    if k & 1 == 1 && k + 1 < c {
-                        w = nb.word(i, k / 2 + 1);
-                    }
-                    f(j);
-                    k += 1;
-                }
-            }
-            None => for_each_neighbour::<R, V, _>(nb.grid, nb.starts, x, f),
-        }
-    }
+pub unsafe fn for_each_candidate<R: Real, V: Vector<R>, F: FnMut(u32)>(nb: &Neighbours, x: &V, i: u32, f: F) {
+    unsafe { for_each_candidate_strided::<R, V, F>(nb, x, i, 0, 1, f) }
 }
 
 /// The share of `lane` (of `lanes`) of [`for_each_candidate`]'s candidates: those numbered k ≡ lane (mod lanes),
@@ -114,26 +133,12 @@ pub unsafe fn for_each_candidate_strided<R: Real, V: Vector<R>, F: FnMut(u32)>(
     i: u32,
     lane: u32,
     lanes: u32,
-    mut f: F,
+    f: F,
 ) {
     unsafe {
         match nb.listed(i) {
-            Some(c) => {
-                // The word of the next candidate is loaded before the current pair term runs: the list streams
-                // from DRAM, and its load would otherwise stand at the head of every iteration's chain (index →
-                // position → term). With one lane a word serves two iterations, so every other one loads.
-                let mut w = if lane < c { nb.word(i, lane / 2) } else { 0 };
-                let mut k = lane;
-                while k < c {
-                    let j = candidate(i, w, k);
-                    let next = k + lanes;
-                    if next < c && next / 2 != k / 2 {
-                        w = nb.word(i, next / 2);
-                    }
-                    f(j);
-                    k = next;
-                }
-            }
+            Some(c) if nb.grid.list_wide != 0 => walk_row::<true, F>(nb, i, c, lane, lanes, f),
+            Some(c) => walk_row::<false, F>(nb, i, c, lane, lanes, f),
             None => for_each_neighbour_strided::<R, V, _>(nb.grid, nb.starts, x, lane, lanes, f),
         }
     }
@@ -141,9 +146,9 @@ pub unsafe fn for_each_candidate_strided<R: Real, V: Vector<R>, F: FnMut(u32)>(
 
 /// Builds sorted particle i's row of the Verlet list: every j ≠ i of the stencil with |x_i − x_j|² <
 /// `grid.list_radius2()` (in f64: positions widen exactly), in increasing j; the first `list_capacity` are stored
-/// as offsets j − i, two to a word (module doc), the count is stored whole (a count beyond the capacity sends the
-/// pair loops to the stencil), or [`FAR`] where an offset exceeds [`MAX_OFFSET`] (the words already written for
-/// that row are never read).
+/// as offsets j − i, two to a word, or one to a word with `grid.list_wide` (module doc); the count is stored whole
+/// (a count beyond the capacity sends the pair loops to the stencil), or, packed, [`FAR`] where an offset exceeds
+/// [`MAX_OFFSET`] (the words already written for that row are never read).
 ///
 /// # Safety
 /// `pos` holds the sorted particles of the cell list `starts`/`grid` (i < n ≤ `grid.list_stride`), and `list` has
@@ -157,6 +162,7 @@ pub unsafe fn verlet_row<R: Real, V: Vector<R>>(
     list: *mut u32,
 ) {
     let (cap, stride) = (grid.list_capacity, grid.list_stride as usize);
+    let wide = grid.list_wide != 0;
     let r2 = grid.list_radius2();
     let iu = i as usize;
     let xi = unsafe { *pos.add(iu) };
@@ -164,16 +170,22 @@ pub unsafe fn verlet_row<R: Real, V: Vector<R>>(
     unsafe {
         for_each_neighbour::<R, V, _>(grid, starts, &xi, |j| {
             if j != i && grid.dist2_f64::<R, V>(&xi, &*pos.add(j as usize)) < r2 {
-                far |= j.abs_diff(i) > MAX_OFFSET;
-                if c < cap {
-                    let half = j.wrapping_sub(i) & 0xffff;
-                    let at = (c as usize / 2 + 1) * stride + iu;
-                    // An even candidate opens its word (the high half 0 until the next one comes).
-                    if c & 1 == 0 {
-                        low = half;
-                        *list.add(at) = half;
-                    } else {
-                        *list.add(at) = low | half << 16;
+                if wide {
+                    if c < cap {
+                        *list.add((c as usize + 1) * stride + iu) = j.wrapping_sub(i);
+                    }
+                } else {
+                    far |= j.abs_diff(i) > MAX_OFFSET;
+                    if c < cap {
+                        let half = j.wrapping_sub(i) & 0xffff;
+                        let at = (c as usize / 2 + 1) * stride + iu;
+                        // An even candidate opens its word (the high half 0 until the next one comes).
+                        if c & 1 == 0 {
+                            low = half;
+                            *list.add(at) = half;
+                        } else {
+                            *list.add(at) = low | half << 16;
+                        }
                     }
                 }
                 c += 1;
