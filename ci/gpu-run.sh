@@ -702,10 +702,11 @@ PY
                  # into the workpiece; CFL SWARF_GRAIN_CFL, default the scene's); first the
                  # step's cost without blanking at t = 0 (bench step: ms/step, roofline); then the run, resumed from
                  # /tmp/grain2m where a checkpoint is (the same warm machine), interrupted with a checkpoint at
-                 # SWARF_GRAIN_DEADLINE s (default 520); log tail, summary, force means over 2-10 µs
+                 # SWARF_GRAIN_DEADLINE s (default 520); log tail, summary, force means over 2-10 µs. SWARF_GRAIN_BENCH=0
+                 # leaves the bench out
               d=/tmp/grain2m
               sed 's/^dx = 3.0e-6/dx = 1.13e-6/' cases/3d/single-grain.toml > cases/3d/single-grain-2m.toml
-              [ -f "$d/checkpoint.bin" ] || run grain2m-bench "$here/swarf" --backend gpu bench step --precision f64 \
+              [ -f "$d/checkpoint.bin" ] || [ "${SWARF_GRAIN_BENCH:-1}" = 0 ] || run grain2m-bench "$here/swarf" --backend gpu bench step --precision f64 \
                   --step-count 64 --scenes cases/3d/single-grain-2m.toml
               if [ -f "$d/checkpoint.bin" ]; then args=(run --resume "$d" --quiet)
               else args=(run cases/3d/single-grain-2m.toml --quiet --out "$d" --set output.every=1.0e-6

@@ -407,7 +407,7 @@ fn one<B: Backend, R: Real, D: TensorOps<R>>(
     // The default lanes per particle, then every other choice side by side.
     let base = step::<B, R, D>(b, &s, label, steps, 5, None, true, None)?;
     println!("{}", row(&base, peak));
-    let default = crate::solver::default_lanes(s.particles.len());
+    let default = crate::solver::default_lanes(s.particles.len(), D::D);
     for l in [1, 2, 4, 8].into_iter().filter(|&l| l != default) {
         let alt = step::<B, R, D>(b, &s, &format!("{label}, {l} lane(s)"), steps, 5, Some(l), true, None)?;
         println!("{}", row(&alt, peak));
