@@ -703,15 +703,17 @@ PY
                  # step's cost without blanking at t = 0 (bench step: ms/step, roofline); then the run, resumed from
                  # /tmp/grain2m where a checkpoint is (the same warm machine), interrupted with a checkpoint at
                  # SWARF_GRAIN_DEADLINE s (default 520); log tail, summary, force means over 2-10 µs. SWARF_GRAIN_BENCH=0
-                 # leaves the bench out
+                 # leaves the bench out; SWARF_GRAIN_REAR (µm, default -200) the box's rear at t = 0, SWARF_GRAIN_GROW=false
+                 # a translating box
               d=/tmp/grain2m
               sed 's/^dx = 3.0e-6/dx = 1.13e-6/' cases/3d/single-grain.toml > cases/3d/single-grain-2m.toml
               [ -f "$d/checkpoint.bin" ] || [ "${SWARF_GRAIN_BENCH:-1}" = 0 ] || run grain2m-bench "$here/swarf" --backend gpu bench step --precision f64 \
                   --step-count 64 --scenes cases/3d/single-grain-2m.toml
               if [ -f "$d/checkpoint.bin" ]; then args=(run --resume "$d" --quiet)
               else args=(run cases/3d/single-grain-2m.toml --quiet --out "$d" --set output.every=1.0e-6
-                         --set 'blanking.min=[-2.0e-4,-1.0,-1.0]' --set "blanking.max=[${SWARF_GRAIN_FRONT:-115}.0e-6,1.0,1.0]"
-                         --set blanking.grow=true ${SWARF_GRAIN_CFL:+--set time.cfl=$SWARF_GRAIN_CFL})
+                         --set "blanking.min=[${SWARF_GRAIN_REAR:--200}.0e-6,-1.0,-1.0]"
+                         --set "blanking.max=[${SWARF_GRAIN_FRONT:-115}.0e-6,1.0,1.0]"
+                         --set "blanking.grow=${SWARF_GRAIN_GROW:-true}" ${SWARF_GRAIN_CFL:+--set time.cfl=$SWARF_GRAIN_CFL})
               fi
               run grain2m timeout -s INT -k 90 "${SWARF_GRAIN_DEADLINE:-520}" "$here/swarf" --backend gpu "${args[@]}"
               { tail -n 8 "$d/run.log"; cat "$d/summary.json" 2>/dev/null; force_means "$d/forces.csv" 2e-6 1e-5; } \
