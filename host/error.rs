@@ -33,12 +33,13 @@ pub enum Error {
     Output(String),
     /// The run produced a non-finite value; the last good frame was written before it. `flagged`: the steps
     /// (first, last) of the batch in which the predictor first saw a non-finite position, where it did (a
-    /// batch's flags are read once, after it).
+    /// batch's flags are read once, after it). `region`: how many particles are non-finite and where
+    /// (`solver::diagnostics::NonFiniteRegion::describe`).
     #[error(
-        "non-finite {field} at particle {id}, t = {time:e} s, step {step}{}; the last good frame is kept",
+        "non-finite {field} at particle {id}, t = {time:e} s, step {step}{}{region}; the last good frame is kept",
         flagged_steps(.flagged)
     )]
-    NonFinite { id: u32, field: &'static str, time: f64, step: u64, flagged: Option<(u64, u64)> },
+    NonFinite { id: u32, field: &'static str, time: f64, step: u64, flagged: Option<(u64, u64)>, region: String },
     /// The largest speed grew so much that the stable time step collapsed: a numerical blow-up.
     #[error(
         "unstable: |v|max = {vmax:.3e} m/s needs dt = {dt:.3e} s, below 1 % of the initial {dt0:.3e} s (t = {time:e} s, step {step}); the last good frame is kept"

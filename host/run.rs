@@ -536,7 +536,8 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
         let out = self.method.output(b)?;
         let (time, steps) = (self.method.time(), self.method.steps());
         if let Some((id, field)) = out.diagnostics.non_finite {
-            return Err(Error::NonFinite { id, field, time, step: steps, flagged: self.flagged });
+            let region = out.diagnostics.non_finite_region.describe();
+            return Err(Error::NonFinite { id, field, time, step: steps, flagged: self.flagged, region });
         }
         let mut stop_early = false;
         if let Some(c) = self.cut.as_mut() {

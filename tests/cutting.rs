@@ -386,7 +386,7 @@ fn predictor_flags_a_non_finite_position() {
 /// A run that blows up reports the batch in which a position first went non-finite: the coarse V0060 cut with
 /// its tool at 3 km/s (about half the sound speed, far beyond what the penalty contact holds; the ensemble's
 /// failing member). The error names the steps (first, last) of that batch, the last being the step it stops
-/// at, and the run folder keeps its earlier frames.
+/// at, and how many particles went non-finite and where; the run folder keeps its earlier frames.
 #[test]
 fn a_blow_up_reports_the_batch_that_went_non_finite() {
     let scene = common::scenes::coarse_cut(&["tool.velocity=[3000.0,0.0]"]);
@@ -396,12 +396,35 @@ fn a_blow_up_reports_the_batch_that_went_non_finite() {
     let err = run(&b, &scene, &RunOptions { frames: true, ..RunOptions::quiet(dir.clone()) }).expect_err("it blows up");
     let msg = err.to_string();
     match err {
-        swarf::Error::NonFinite { step, flagged: Some((first, last)), .. } => {
+        swarf::Error::NonFinite { step, flagged: Some((first, last)), ref region, .. } => {
             assert!(first <= last && last == step, "flagged steps {first}..{last}, stopped at {step}");
             assert!(msg.contains("first went non-finite"), "{msg}");
+            // Where: how many particles went non-finite (at least the one named), and the box of those still at
+            // a finite position.
+            assert!(region.contains("particle(s) non-finite"), "no count of the non-finite particles: {msg}");
         }
         other => panic!("expected a non-finite stop flagged by the predictor, got: {other}"),
     }
     assert!(dir.join("particles.pvd").is_file(), "no frames kept: {msg}");
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The blow-up report's region (`solver::diagnostics::NonFiniteRegion`): it counts every non-finite particle and
+/// boxes those whose position is still finite, exactly; an empty region adds nothing to the message.
+#[test]
+fn the_non_finite_region_counts_and_boxes_the_blown_up_particles() {
+    use swarf::solver::diagnostics::NonFiniteRegion;
+    let mut r = NonFiniteRegion::new(2);
+    assert_eq!(r.describe(), "", "nothing non-finite, nothing said");
+    r.note(Some([1.0e-4, -2.0e-5, 0.0]));
+    r.note(None);
+    r.note(Some([-3.0e-5, 4.0e-5, 0.0]));
+    assert_eq!((r.count, r.located), (3, 2));
+    assert_eq!((r.lo[0], r.hi[0], r.lo[1], r.hi[1]), (-3.0e-5, 1.0e-4, -2.0e-5, 4.0e-5));
+    let d = r.describe();
+    assert_eq!(
+        d,
+        "; 3 particle(s) non-finite, 2 of them with a finite position at x in [-3.0000e-5, 1.0000e-4], y in \
+         [-2.0000e-5, 4.0000e-5] m"
+    );
 }

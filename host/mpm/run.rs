@@ -268,12 +268,17 @@ fn check_flags<B: Backend, R: Real>(b: &B, solver: &mut MpmSolver<B, R>, scene: 
     let bad = |x: &[f64; 2]| !(x[0].is_finite() && x[1].is_finite());
     if non_finite {
         let id = (0..snap.pos.len()).find(|&i| bad(&snap.pos[i]) || bad(&snap.vel[i])).unwrap_or(0);
+        let mut region = crate::solver::diagnostics::NonFiniteRegion::new(2);
+        for (x, _) in snap.pos.iter().zip(&snap.vel).filter(|(x, v)| bad(x) || bad(v)) {
+            region.note((!bad(x)).then_some([x[0], x[1], 0.0]));
+        }
         return Err(Error::NonFinite {
             id: id as u32,
             field: "position or velocity",
             time: solver.time,
             step: solver.steps,
             flagged: None,
+            region: region.describe(),
         });
     }
     let p = &solver.params;

@@ -55,6 +55,62 @@ pub struct Diagnostics {
     pub mode_i_share: f64,
     /// A non-finite value: (particle id, field), of the smallest id that has one ([`Diagnostics::note_non_finite`]).
     pub non_finite: Option<(u32, &'static str)>,
+    /// Where the particles with a non-finite position, velocity, density or stress are.
+    pub non_finite_region: NonFiniteRegion,
+}
+
+/// Where a blow-up is: how many particles have a non-finite value, and the box of those whose position is still
+/// finite. Within a batch of steps a blow-up spreads through the neighbours before the host sees it, so the particle
+/// it names is any of them; the box of their finite positions shows where it happened.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NonFiniteRegion {
+    pub dim: usize,
+    pub count: u64,
+    /// Of `count`, those with a finite position, inside [lo, hi].
+    pub located: u64,
+    pub lo: [f64; 3],
+    pub hi: [f64; 3],
+}
+
+impl Default for NonFiniteRegion {
+    fn default() -> Self {
+        NonFiniteRegion { dim: 3, count: 0, located: 0, lo: [f64::INFINITY; 3], hi: [f64::NEG_INFINITY; 3] }
+    }
+}
+
+impl NonFiniteRegion {
+    /// An empty region of a `dim`-dimensional run.
+    pub fn new(dim: usize) -> Self {
+        NonFiniteRegion { dim, ..Default::default() }
+    }
+
+    /// Counts a particle with a non-finite value at `x` (None where its position is non-finite too).
+    pub fn note(&mut self, x: Option<[f64; 3]>) {
+        self.count += 1;
+        if let Some(x) = x {
+            self.located += 1;
+            for k in 0..self.dim {
+                self.lo[k] = self.lo[k].min(x[k]);
+                self.hi[k] = self.hi[k].max(x[k]);
+            }
+        }
+    }
+
+    /// The error message's part: "; N particles non-finite, M of them at x in [a, b], y in [c, d] m" (empty when
+    /// none was counted).
+    pub fn describe(&self) -> String {
+        if self.count == 0 {
+            return String::new();
+        }
+        let mut s = format!("; {} particle(s) non-finite", self.count);
+        if self.located > 0 {
+            let axes: Vec<String> = (0..self.dim)
+                .map(|k| format!("{} in [{:.4e}, {:.4e}]", ["x", "y", "z"][k], self.lo[k], self.hi[k]))
+                .collect();
+            s += &format!(", {} of them with a finite position at {} m", self.located, axes.join(", "));
+        }
+        s
+    }
 }
 
 impl Diagnostics {
@@ -106,6 +162,7 @@ pub fn compute<R: Real, D: TensorOps<R>>(
         bond_damping: f64::NAN,
         bonds_failed: f64::NAN,
         mode_i_share: f64::NAN,
+        non_finite_region: NonFiniteRegion::new(D::D),
         ..Default::default()
     };
     for i in 0..p.len() {
@@ -118,6 +175,7 @@ pub fn compute<R: Real, D: TensorOps<R>>(
         ];
         if let Some((field, _)) = vals.iter().find(|(_, ok)| !ok) {
             d.note_non_finite(p.id[i], field);
+            d.non_finite_region.note(vals[0].1.then(|| std::array::from_fn(|k| x.get(k).to_f64())));
             continue;
         }
         // The tool's thermal-only particles carry no mechanics (roethlin-solver.md §5.6).
