@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# mpm26 mpm26b mpm025ck mpmv1frag mpmv8fine mpmv8path mpmv8long mpmv14 mpmv10 mpmv78 mpmv5fine mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout mufit identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine shtb25 gf25 ducobugf tool3d tools24 cspm24 nonfinite24 mill24 wheel24 wide24 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
+# mpm26 mpm26b mpm025ck mpmv1frag mpmv8fine mpmv8path mpmv8long mpmv14 mpmv10 mpmv78 mpmv5fine mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout mufit identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine shtb25 gf25 ducobugf tool3d tools24 cspm24 nonfinite24 mill24 wheel24 wide24 grainres whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -719,6 +719,20 @@ PY
               { tail -n 8 "$d/run.log"; cat "$d/summary.json" 2>/dev/null; force_means "$d/forces.csv" 2e-6 1e-5; } \
                   >> "$out/grain2m.log"
               cp "$d/forces.csv" "$out/grain2m-forces.csv" ;;
+        grainres) # issue 24: the single grain (cases/3d/single-grain.toml) whole at Δx = SWARF_GRAIN_DXS µm (default
+                  # "2.0 1.5"), f64, CFL 0.3, blanked as grain2m (a growing box 200 µm behind the workpiece to 115 µm
+                  # into it): does the 2 M run's blow-up near 8 µs come at coarser spacings too? Each run bounded by
+                  # SWARF_GRAIN_DEADLINE s (default 200); its log tail (the non-finite report says where) and force means
+              for dxu in ${SWARF_GRAIN_DXS:-2.0 1.5}; do
+                  d=/tmp/grainres/$dxu; rm -rf "$d"
+                  run "grainres-$dxu" timeout -s INT -k 30 "${SWARF_GRAIN_DEADLINE:-200}" "$here/swarf" --backend gpu run \
+                      cases/3d/single-grain.toml --quiet --out "$d" --set "discretisation.dx=${dxu}e-6" \
+                      --set output.every=1.0e-6 --set time.cfl=0.3 --set 'blanking.min=[-2.0e-4,-1.0,-1.0]' \
+                      --set 'blanking.max=[115.0e-6,1.0,1.0]' --set blanking.grow=true
+                  { echo "## dx = $dxu um"; tail -n 4 "$out/grainres-$dxu.log"; tail -n 12 "$d/run.log"
+                    force_means "$d/forces.csv" 2e-6 1e-5; } >> "$out/grainres.log"
+                  cp "$d/forces.csv" "$out/grainres-$dxu-forces.csv" 2>/dev/null
+              done ;;
         grain2mplain) # issue 24: the 2 M-particle single grain of grain2m without blanking, to SWARF_GRAIN_END s (default
                       # 2.3e-6: past where the blanked runs went non-finite), CFL SWARF_GRAIN_CFL (default the scene's)
               sed 's/^dx = 3.0e-6/dx = 1.13e-6/' cases/3d/single-grain.toml > cases/3d/single-grain-2m.toml
