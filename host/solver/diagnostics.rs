@@ -89,9 +89,9 @@ impl NonFiniteRegion {
         self.count += 1;
         if let Some(x) = x {
             self.located += 1;
-            for k in 0..self.dim {
-                self.lo[k] = self.lo[k].min(x[k]);
-                self.hi[k] = self.hi[k].max(x[k]);
+            for (k, xk) in x.iter().enumerate().take(self.dim) {
+                self.lo[k] = self.lo[k].min(*xk);
+                self.hi[k] = self.hi[k].max(*xk);
             }
         }
     }
