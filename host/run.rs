@@ -1123,6 +1123,11 @@ fn write_frame<R: Real, D: TensorOps<R>>(
     for f in fields {
         point_data.push(Array { name: f.name, components: f.components, values: Values::F64(&f.values) });
     }
+    let acting = fields.iter().find(|f| f.name == "damage").map(|f| acting_stress(&f.values, &vm, &pressure));
+    if let Some((vm_acting, p_acting)) = &acting {
+        point_data.push(Array { name: "von_mises_acting", components: 1, values: Values::F64(vm_acting) });
+        point_data.push(Array { name: "pressure_acting", components: 1, values: Values::F64(p_acting) });
+    }
     let frame = Frame { time, points: Values::F64(&pts), point_data, field_data: vec![("STEP", step as f64)] };
     vtu::write_encoded(path, &frame, encoding).map_err(|e| io_err(path, e))?;
     #[cfg(feature = "hdf5")]
@@ -1133,6 +1138,19 @@ fn write_frame<R: Real, D: TensorOps<R>>(
     #[cfg(not(feature = "hdf5"))]
     let _ = h5;
     Ok(())
+}
+
+/// The von Mises stress and the pressure a damaged particle acts with, from its damage D and its stored ones: the
+/// deviator times e^{−D} and the pressure degraded in tension only (klippel-constitutive.md §2.6, Eqs. 7.27–7.28;
+/// `kernels::damage::multiplier`, `degraded_pressure`). A fully damaged particle has none in tension and only its
+/// pressure in compression, what Klippel's figures show; the frames' `stress`, `von_mises` and `pressure` stay the
+/// stored state that the damage acts on.
+fn acting_stress(damage: &[f64], vm: &[f64], pressure: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    use crate::kernels::damage::{degraded_pressure, multiplier};
+    let m: Vec<f64> = damage.iter().map(|&d| multiplier(d)).collect();
+    let vm = m.iter().zip(vm).map(|(m, s)| m * s).collect();
+    let p = m.iter().zip(pressure).map(|(&m, &p)| degraded_pressure(m, p)).collect();
+    (vm, p)
 }
 
 /// The one-line result of a cutting run.

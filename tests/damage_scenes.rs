@@ -59,12 +59,19 @@ struct Ct {
     syy: f64,
     damage: f64,
     omega: f64,
+    /// The stored von Mises stress and pressure, and those the particle acts with (`von_mises_acting`,
+    /// `pressure_acting`).
+    vm: f64,
+    p: f64,
+    vm_acting: f64,
+    p_acting: f64,
 }
 
 fn ct_particles(f: &ReadFrame) -> Vec<Ct> {
     let p = f64s(&f.points);
     let (id, s, p_eos, d, w) =
         (field(f, "id"), field(f, "stress"), field(f, "pressure"), field(f, "damage"), field(f, "damage_initiation"));
+    let (vm, vma, pa) = (field(f, "von_mises"), field(f, "von_mises_acting"), field(f, "pressure_acting"));
     (0..f.n)
         .map(|i| Ct {
             id: id[i] as usize,
@@ -73,6 +80,10 @@ fn ct_particles(f: &ReadFrame) -> Vec<Ct> {
             syy: s[6 * i + 1] - p_eos[i],
             damage: d[i],
             omega: w[i],
+            vm: vm[i],
+            p: p_eos[i],
+            vm_acting: vma[i],
+            p_acting: pa[i],
         })
         .collect()
 }
@@ -181,7 +192,8 @@ fn ct_with_the_mask_grows_damage_from_the_pre_crack_tip() {
 /// Measured: first at 80 µs, 0.6 mm (1Δx) ahead of the tip; at 160 µs 49 of the ligament's particles fully damaged,
 /// 18 columns from the tip (to x = 21.2 mm); without the mask none (the damage gathers at the bonded pins' corners).
 /// The coarse CT (Δx = 1.25 mm) does not resolve the tip: with the mask or without, its damage runs along the faces
-/// beside the pre-crack, not ahead of it.
+/// beside the pre-crack, not ahead of it. The frames' acting stress on the way: zero von Mises at full damage, the
+/// pressure only in compression, an undamaged particle's stored state.
 #[test]
 fn ct_at_the_scene_spacing_runs_its_crack_from_the_tip_only_with_the_mask() {
     let dx = 6.25e-4;
@@ -216,6 +228,19 @@ fn ct_at_the_scene_spacing_runs_its_crack_from_the_tip_only_with_the_mask() {
             tip * 1e3,
             onset.map(|d| d / dx)
         );
+        // The frames' acting stress (Eqs. 7.27–7.28): a fully damaged particle acts with no deviatoric stress, and
+        // with no pressure in tension but its whole pressure in compression; an undamaged one with its stored state.
+        let last = fr.last().expect("frames");
+        let broken: Vec<&Ct> = last.iter().filter(|p| swarf::kernels::damage::is_full(p.damage)).collect();
+        assert!(broken.iter().any(|p| p.vm > 0.0), "no fully damaged particle with a stored deviator: vacuous");
+        for p in &broken {
+            assert_eq!(p.vm_acting, 0.0, "a fully damaged particle acts with von Mises {}", p.vm_acting);
+            let want = if p.p < 0.0 { 0.0 } else { p.p };
+            assert_eq!(p.p_acting, want, "a fully damaged particle at p = {} acts with {}", p.p, p.p_acting);
+        }
+        for p in last.iter().filter(|p| p.damage == 0.0) {
+            assert_eq!((p.vm_acting, p.p_acting), (p.vm, p.p), "an undamaged particle acts with its stored stress");
+        }
         if mask {
             let d = onset.expect("with the mask the ligament must fail");
             assert!(d <= 2.0 * dx, "the ligament's first full damage {:.2} Δx ahead of the tip", d / dx);
