@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# mpm26 mpm26b mpm025ck mpmv1frag mpmv8fine mpmv8path mpmv8long mpmv14 mpmv10 mpmv78 mpmv5fine mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout mufit identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine shtb25 gf25 ducobugf tool3d tools24 cspm24 nonfinite24 mill24 wheel24 wide24 grainres whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
+# mpm26 mpm26b mpm025ck mpmv1frag mpmv8fine mpmv8path mpmv8long mpmv14 mpmv10 mpmv78 mpmv5fine mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout mufit identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine shtb25 gf25 ducobugf tool3d tools24 cspm24 nonfinite24 mill24 wheel24 wide24 grainres ortho5 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -732,6 +732,21 @@ PY
                   { echo "## dx = $dxu um"; tail -n 4 "$out/grainres-$dxu.log"; tail -n 12 "$d/run.log"
                     force_means "$d/forces.csv" 2e-6 1e-5; } >> "$out/grainres.log"
                   cp "$d/forces.csv" "$out/grainres-$dxu-forces.csv" 2>/dev/null
+              done ;;
+        ortho5) # issue 24 (docs/3d.md, the extruded V0060): the 2D V0060 and its 8-layer periodic extrusion at Δx =
+                # SWARF_ORTHO_DX m (default 5.0e-6; the period 8 Δx), whole, f64: do F_c and F_f converge towards each
+                # other? Each run's summary line and the force means over 0.5-1 mm of cut (t from 7.868e-5 s)
+              dxo=${SWARF_ORTHO_DX:-5.0e-6}
+              per=$(python3 -c "print(8*$dxo)"); zmax=$(python3 -c "print(7*$dxo)")
+              run ortho5-2d "$here/swarf" --backend gpu run cases/cutting/v0060.toml --quiet --force --out /tmp/ortho5/2d \
+                  --set "discretisation.dx=$dxo"
+              run ortho5-3d "$here/swarf" --backend gpu run cases/3d/orthogonal-v0060.toml --quiet --force \
+                  --out /tmp/ortho5/3d --set "discretisation.dx=$dxo" --set "discretisation.period_z=$per" \
+                  --set "body.0.max=[1.87e-3,2.9e-4,$zmax]"
+              for k in 2d 3d; do
+                  { echo "## $k, dx = $dxo"; tail -n 3 "/tmp/ortho5/$k/run.log"; force_means "/tmp/ortho5/$k/forces.csv" 7.868e-5 1.5736e-4; } \
+                      >> "$out/ortho5.log"
+                  cp "/tmp/ortho5/$k/forces.csv" "$out/ortho5-$k-forces.csv" 2>/dev/null
               done ;;
         grain2mplain) # issue 24: the 2 M-particle single grain of grain2m without blanking, to SWARF_GRAIN_END s (default
                       # 2.3e-6: past where the blanked runs went non-finite), CFL SWARF_GRAIN_CFL (default the scene's)
