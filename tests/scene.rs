@@ -405,6 +405,12 @@ fn non_positive_moduli_density_spacing_and_times_are_refused() {
         ("end = 5.882352941176471e-4", "end = 0.0", "time.end = 0.0", "a positive time in seconds"),
         ("end = 5.882352941176471e-4", "end = -1", "time.end = -1", "a positive time in seconds"),
         ("h_over_dx = 1.7", "h_over_dx = 0.5", "discretisation.h_over_dx = 0.5", "a ratio h/dx in [1, 3]"),
+        (
+            "h_over_dx = 1.7",
+            "verlet_offsets = 24\nh_over_dx = 1.7",
+            "discretisation.verlet_offsets = 24",
+            "16 or 32 (bits per Verlet-list offset)",
+        ),
         ("cfl = 0.5", "cfl = 1.5", "time.cfl = 1.5", "a CFL number in (0, 1]"),
         ("epsilon = 0.5 }", "epsilon = 1.5 }", "stabilisation.xsph.epsilon = 1.5", "a value in [0, 1]"),
         ("exponent = 4", "exponent = 0", "stabilisation.artificial_stress.exponent = 0", "an integer >= 1"),
