@@ -342,27 +342,24 @@ pub fn checkpoints<B: Backend>(b: &B, dirs: &[std::path::PathBuf], steps: usize)
     Ok(())
 }
 
-/// The setups of `scene` with its neighbour search changed, each with its label: the pair loops walking the stencil,
-/// and in 3D the Verlet list with the other offset width (docs/neighbour-search.md, "Wide offsets"); none where the
-/// scene has no Verlet list anyway.
-fn list_variants<R: Real, D: TensorOps<R>>(
-    scene: &crate::scene::Scene,
-    base: &Setup<R, D>,
-) -> Result<Vec<(String, Setup<R, D>)>> {
-    let d = &scene.discretisation;
-    if !d.verlet_list {
-        return Ok(Vec::new());
+/// `scene` with its neighbour search changed, each with its label: the pair loops walking the stencil, and in 3D the
+/// Verlet list with the other offset width than `wide` (the base setup's; docs/neighbour-search.md, "Wide offsets");
+/// none where the scene has no Verlet list anyway. Scenes, not setups: each is set up when its row is timed, so
+/// that a large scene's variants are not held in memory together.
+fn list_variants(scene: &crate::scene::Scene, wide: bool) -> Vec<(String, crate::scene::Scene)> {
+    if !scene.discretisation.verlet_list {
+        return Vec::new();
     }
     let mut walk = scene.clone();
     walk.discretisation.verlet_list = false;
-    let mut out = vec![("no Verlet list (stencil walk)".to_string(), crate::run::setup::<R, D>(&walk)?)];
+    let mut out = vec![("no Verlet list (stencil walk)".to_string(), walk)];
     if scene.dim == 3 {
-        let bits = if base.grid.list_wide != 0 { 16 } else { 32 };
+        let bits = if wide { 16 } else { 32 };
         let mut other = scene.clone();
         other.discretisation.verlet_offsets = Some(bits);
-        out.push((format!("Verlet offsets of {bits} bits"), crate::run::setup::<R, D>(&other)?));
+        out.push((format!("Verlet offsets of {bits} bits"), other));
     }
-    Ok(out)
+    out
 }
 
 fn saved_rows<B: Backend, R: Real, D: TensorOps<R>>(
@@ -388,7 +385,8 @@ fn saved_rows<B: Backend, R: Real, D: TensorOps<R>>(
     println!("{}", row(&t, peak));
     let t = step::<B, R, D>(b, &s, &format!("{} at t = 0", scene.name), steps, 5, None, true, None)?;
     println!("{}", row(&t, peak));
-    for (what, sa) in list_variants::<R, D>(scene, &s)? {
+    for (what, sc) in list_variants(scene, s.grid.list_wide != 0) {
+        let sa = crate::run::setup::<R, D>(&sc)?;
         let t = step::<B, R, D>(b, &sa, &format!("{at}, {what}"), steps, 5, None, true, Some(saved))?;
         println!("{}", row(&t, peak));
     }
@@ -418,7 +416,8 @@ fn one<B: Backend, R: Real, D: TensorOps<R>>(
     }
     // The Verlet list against the stencil walk and the other offset width (docs/neighbour-search.md, "Verlet
     // list", "Wide offsets"), side by side.
-    for (what, sa) in list_variants::<R, D>(scene, &s)? {
+    for (what, sc) in list_variants(scene, s.grid.list_wide != 0) {
+        let sa = crate::run::setup::<R, D>(&sc)?;
         let t = step::<B, R, D>(b, &sa, &format!("{label}, {what}"), steps, 5, None, true, None)?;
         println!("{}", row(&t, peak));
     }

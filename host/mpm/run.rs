@@ -267,13 +267,14 @@ fn check_flags<B: Backend, R: Real>(b: &B, solver: &mut MpmSolver<B, R>, scene: 
     let snap = solver.snapshot(b)?;
     let bad = |x: &[f64; 2]| !(x[0].is_finite() && x[1].is_finite());
     if non_finite {
-        let id = (0..snap.pos.len()).find(|&i| bad(&snap.pos[i]) || bad(&snap.vel[i])).unwrap_or(0);
-        let mut region = crate::solver::diagnostics::NonFiniteRegion::new(2);
-        for (x, _) in snap.pos.iter().zip(&snap.vel).filter(|(x, v)| bad(x) || bad(v)) {
+        // One pass: the first non-finite particle is the one named, and every one joins the region.
+        let (mut id, mut region) = (None, crate::solver::diagnostics::NonFiniteRegion::new(2));
+        for (i, (x, _)) in snap.pos.iter().zip(&snap.vel).enumerate().filter(|(_, (x, v))| bad(x) || bad(v)) {
+            id.get_or_insert(i);
             region.note((!bad(x)).then_some([x[0], x[1], 0.0]));
         }
         return Err(Error::NonFinite {
-            id: id as u32,
+            id: id.unwrap_or(0) as u32,
             field: "position or velocity",
             time: solver.time,
             step: solver.steps,
