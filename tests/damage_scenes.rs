@@ -185,8 +185,9 @@ fn ct_with_the_mask_grows_damage_from_the_pre_crack_tip() {
 
 /// Klippel's CT criterion (§4.5, Figs. 7.24–7.27) at the scene's own spacing (Δx = 0.625 mm, 9 797 particles) with a
 /// one-row pre-crack, the pins pulled at ±10 m/s (Klippel's ±20 m/min moves them 84 µm by his 2.52e-4 s, short of
-/// what initiates a crack here; docs/damage.md, "The CT crack"), to 1.6e-4 s: with the interaction mask the crack
-/// runs from the pre-crack's tip, without it no particle ahead of the tip is fully damaged. "Runs from the tip":
+/// what initiates a crack here; docs/damage.md, "The CT crack at the scene's spacing"), to 1.6e-4 s: with the mask
+/// the crack runs from the pre-crack's tip, without it no particle ahead of the tip is fully damaged. "Runs from the
+/// tip":
 /// the first fully damaged particle of the ligament (the rows |y| ≤ Δx ahead of the tip) lies within 2Δx of the
 /// tip, and at the end at least 12 consecutive ligament columns from the tip on hold a fully damaged particle.
 /// Measured: first at 80 µs, 0.6 mm (1Δx) ahead of the tip; at 160 µs 49 of the ligament's particles fully damaged,
