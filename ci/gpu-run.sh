@@ -647,7 +647,9 @@ PY
                   [ -e "$here/mill-$m.tgz" ] && [ ! -d "$d" ] && tar xzf "$here/mill-$m.tgz" -C /tmp/mill24
                   left=$(( ${SWARF_MILL_DEADLINE:-540} - ($(date +%s) - t0) ))
                   [ $left -gt 10 ] || break
-                  if [ -f "$d/checkpoint.bin" ]; then args=(run --resume "$d" --quiet)
+                  # SWARF_GRAIN_STATE_AT (steps, comma separated): state tables before a blow-up, and what stands out in
+              # them (ci/state-anomalies.py: grain2m-state.log, grain2m-state-*.csv)
+              if [ -f "$d/checkpoint.bin" ]; then args=(run --resume "$d" --quiet)
                   else args=(run cases/3d/micro-milling.toml --quiet --out "$d" --set "material.name=\"OFHC-Cu-$m\""
                              ${SWARF_MILL_CFL:+--set time.cfl=$SWARF_MILL_CFL})
                   fi
@@ -709,13 +711,18 @@ PY
               sed 's/^dx = 3.0e-6/dx = 1.13e-6/' cases/3d/single-grain.toml > cases/3d/single-grain-2m.toml
               [ -f "$d/checkpoint.bin" ] || [ "${SWARF_GRAIN_BENCH:-1}" = 0 ] || run grain2m-bench "$here/swarf" --backend gpu bench step --precision f64 \
                   --step-count 64 --scenes cases/3d/single-grain-2m.toml
+              # SWARF_GRAIN_STATE_AT (steps, comma separated): state tables before a blow-up, and what stands out in
+              # them (ci/state-anomalies.py: grain2m-state.log, grain2m-state-*.csv)
               if [ -f "$d/checkpoint.bin" ]; then args=(run --resume "$d" --quiet)
               else args=(run cases/3d/single-grain-2m.toml --quiet --out "$d" --set output.every=1.0e-6
                          --set "blanking.min=[${SWARF_GRAIN_REAR:--200}.0e-6,-1.0,-1.0]"
                          --set "blanking.max=[${SWARF_GRAIN_FRONT:-115}.0e-6,1.0,1.0]"
                          --set "blanking.grow=${SWARF_GRAIN_GROW:-true}" ${SWARF_GRAIN_CFL:+--set time.cfl=$SWARF_GRAIN_CFL})
               fi
-              run grain2m timeout -s INT -k 90 "${SWARF_GRAIN_DEADLINE:-520}" "$here/swarf" --backend gpu "${args[@]}"
+              run grain2m timeout -s INT -k 90 "${SWARF_GRAIN_DEADLINE:-520}" "$here/swarf" --backend gpu "${args[@]}" \
+                  ${SWARF_GRAIN_STATE_AT:+--state-at $SWARF_GRAIN_STATE_AT}
+              [ -d "$d/states" ] && python3 ci/state-anomalies.py "$d/states" "$out/grain2m-state" 1e-5 \
+                  > "$out/grain2m-state.log" 2>&1
               { tail -n 8 "$d/run.log"; cat "$d/summary.json" 2>/dev/null; force_means "$d/forces.csv" 2e-6 1e-5; } \
                   >> "$out/grain2m.log"
               cp "$d/forces.csv" "$out/grain2m-forces.csv" ;;
@@ -1337,7 +1344,9 @@ $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s" \
                         && [ -z "${SWARF_CUT_FRESH:-}" ]; then
                         cat carry150k/whole-150k-$prec.tgz.part* | tar xzf - -C runs
                     fi
-                    if [ -f "$d/checkpoint.bin" ]; then args=(run --resume "$d" --quiet)
+                    # SWARF_GRAIN_STATE_AT (steps, comma separated): state tables before a blow-up, and what stands out in
+              # them (ci/state-anomalies.py: grain2m-state.log, grain2m-state-*.csv)
+              if [ -f "$d/checkpoint.bin" ]; then args=(run --resume "$d" --quiet)
                     else args=(run cases/cutting/reference-cut-150k.toml --precision "$prec" --out "$d" --quiet \
                                --checkpoint-every 5e-5); fi
                     env CUDA_VISIBLE_DEVICES=$gpu ${envs//,/ } setsid nohup "$here/$bin" --backend gpu "${args[@]}" \

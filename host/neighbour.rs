@@ -104,17 +104,19 @@ impl<B: Backend> CellList<B> {
         if self.blanking {
             return Err(Error::Grid("a blanking cell list needs its box".into()));
         }
-        self.bin::<R, D>(b, pos, None, None)
+        self.bin::<R, D>(b, pos, None, None, None)
     }
 
-    /// [`CellList::build`] of a blanking cell list, with the box of the step scalars `blank`.
+    /// [`CellList::build`] of a blanking cell list, with the box of the step scalars `blank` and the velocities
+    /// `vel` its rest speed reads.
     pub fn build_blanked<R: Real, D: Dim>(
         &mut self,
         b: &B,
         pos: &B::Buf<D::Vec<R>>,
+        vel: &B::Buf<D::Vec<R>>,
         blank: ScalarsAt<'_, B>,
     ) -> Result<()> {
-        self.bin::<R, D>(b, pos, None, Some(blank))
+        self.bin::<R, D>(b, pos, Some(vel), None, Some(blank))
     }
 
     /// The counting sort of [`CellList::build`] and [`CellList::rebuild`] (gated, and counted in `rebuilds`).
@@ -122,6 +124,7 @@ impl<B: Backend> CellList<B> {
         &mut self,
         b: &B,
         pos: &B::Buf<D::Vec<R>>,
+        vel: Option<&B::Buf<D::Vec<R>>>,
         gate: Option<ScalarsAt<'_, B>>,
         blank: Option<ScalarsAt<'_, B>>,
     ) -> Result<()> {
@@ -137,7 +140,7 @@ impl<B: Backend> CellList<B> {
             scan: &mut self.scan,
             rebuilds: counted.then_some(&mut self.rebuilds),
         };
-        b.bin_cells::<R, D>(self.n, gate, pos, cells)
+        b.bin_cells::<R, D>(self.n, gate, pos, vel, cells)
     }
 
     /// Builds the Verlet list (when there is one) of the sorted particles at `pos` on these cells: after the
@@ -161,9 +164,16 @@ impl<B: Backend> CellList<B> {
     /// The build of [`CellList::build`] inside the step loop, run only when the step's rebuild flag `gate` is set
     /// (by the host, or by the predictor's skin test); every launch is submitted either way, so that a captured
     /// step replays with each step's decision.
-    pub fn rebuild<R: Real, D: Dim>(&mut self, b: &B, pos: &B::Buf<D::Vec<R>>, gate: ScalarsAt<'_, B>) -> Result<()> {
+    /// `vel`: the velocities, which a blanking list's rest speed reads.
+    pub fn rebuild<R: Real, D: Dim>(
+        &mut self,
+        b: &B,
+        pos: &B::Buf<D::Vec<R>>,
+        vel: &B::Buf<D::Vec<R>>,
+        gate: ScalarsAt<'_, B>,
+    ) -> Result<()> {
         // The step's own scalars hold its blanking box.
-        self.bin::<R, D>(b, pos, Some(gate), Some(gate))
+        self.bin::<R, D>(b, pos, Some(vel), Some(gate), Some(gate))
     }
 }
 

@@ -226,3 +226,69 @@ fn a_growing_box_keeps_what_it_has_passed() {
         let _ = std::fs::remove_dir_all(&dir);
     }
 }
+
+/// The last frame of a run into `dir`: its `blanked` field, points and velocities (x, y, z per particle).
+fn frame_with_velocity(dir: &Path) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let mut vtu: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "vtu"))
+        .collect();
+    vtu.sort();
+    let frame = swarf::output::vtu::read(vtu.last().expect("a frame")).expect("frame");
+    let field =
+        |name: &str| frame.point_data.iter().find(|(n, _, _)| n == name).and_then(|(_, _, v)| v.floats()).expect(name);
+    (field("blanked"), frame.points.floats().expect("points"), field("velocity"))
+}
+
+/// The rest speed (docs/3d.md, "Blanking"): a particle outside the box is frozen only when it moves no faster than
+/// `rest_speed` (default 1 % of the box's speed). The coarse cut with the box's top 5 µm above the surface: the
+/// material the tool pushes up leaves the box through its top while moving, and stays active (the single grain's
+/// chip, frozen where it left the box, was re-activated inside the material behind it and blew the 2 M run up);
+/// every frozen particle outside the box is at rest. With `rest_speed = inf` (the original code's box) every
+/// particle that left is frozen.
+#[test]
+fn a_particle_leaving_the_box_in_motion_stays_active() {
+    let top = 0.285e-3;
+    for rest in ["", "inf"] {
+        let dir = scratch(&format!("rest-{rest}"));
+        let max = format!("blanking.max=[0.6e-3,{top}]");
+        let mut extra = vec!["blanking.min=[-0.2e-3,-1.0e-3]", &max, "time.end=8.0e-6"];
+        let r = format!("blanking.rest_speed={rest}");
+        if !rest.is_empty() {
+            extra.push(&r);
+        }
+        let scene = cut(&extra);
+        let rest_speed = scene.blanking.expect("blanking").rest_speed;
+        run_observed(
+            &common::test_backend(),
+            &scene,
+            &RunOptions { frames: true, ..RunOptions::quiet(dir.clone()) },
+            None,
+        )
+        .expect("run");
+        let (blanked, points, vel) = frame_with_velocity(&dir);
+        let (mut above, mut above_active, mut frozen_fast) = (0, 0, 0);
+        for k in 0..blanked.len() {
+            let speed = (vel[3 * k].powi(2) + vel[3 * k + 1].powi(2)).sqrt();
+            if points[3 * k + 1] > top {
+                above += 1;
+                above_active += (blanked[k] == 0.0) as usize;
+            }
+            if blanked[k] == 1.0 && rest_speed.is_some_and(|s| speed > s) {
+                frozen_fast += 1;
+            }
+        }
+        eprintln!(
+            "rest speed {rest_speed:?}: {above} particles above the box, {above_active} active; {frozen_fast} frozen moving"
+        );
+        assert!(above >= 5, "the cut must push material out through the box's top: {above}");
+        assert_eq!(frozen_fast, 0, "a particle was frozen moving faster than the rest speed");
+        if rest_speed.is_some() {
+            assert_eq!(above_active, above, "material leaving the box in motion must stay active");
+        } else {
+            assert_eq!(above_active, 0, "with rest_speed = inf every particle outside the box is frozen");
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

@@ -73,6 +73,9 @@ fn memory_estimate_equals_the_bytes_allocated_for_every_scene() {
     scenes.push(("cases/disk-rotation.toml".into(), vec!["stabilisation.cspm={}".to_string()]));
     // The SPH cohesive path (issue 26; cases/mpm/ holds it beside the MPM scenes): the bonds.
     scenes.push(("cases/mpm/nairn-cut-sph.toml".into(), vec![]));
+    // Blanking (issue 24): the velocities of the last rebuild.
+    let blank = ["blanking.min=[-0.2e-3,-1.0e-3]", "blanking.max=[0.6e-3,1.0e-3]"].map(String::from).to_vec();
+    scenes.push(("cases/cutting/v0060.toml".into(), blank));
     let mut covered = BTreeSet::new();
     let mut runs = 0;
     for (path, overrides) in &scenes {
@@ -147,6 +150,8 @@ fn checkpoint_names_are_unchanged() {
         "bond_state",
         "bond_work",
         "bond_damping",
+        // Issue 24: the velocities of the last rebuild with blanking (its rest speed).
+        "vel_ref",
     ];
     assert_eq!(names, before);
     let frames: Vec<&str> = FIELDS.iter().filter_map(|f| f.frame).collect();

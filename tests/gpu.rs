@@ -1216,8 +1216,9 @@ fn cspm_runs_equal_cpu() {
 /// Issue 24 on the GPU: blanking (the active count read by every per-particle pass on the device, the blanked
 /// cells' keys, the box's jumps forcing rebuilds inside captured batches) gives the CPU's run bit for bit: the
 /// coarse V0060 cut (2D, fused passes) and the periodic extruded cut (3D, the standalone contact pass and the
-/// Verlet list), each with a box whose front starts 0.3 mm ahead and moves with the tool, f64 and f32 (final
-/// state and forces.csv).
+/// Verlet list), each with a box whose front starts 0.3 mm ahead and moves with the tool, and the 2D cut with the
+/// box's top 5 µm above the surface, through which material leaves in motion (the rest speed reads the
+/// velocities); f64 and f32 (final state and forces.csv).
 #[test]
 fn blanked_cut_equals_cpu() {
     let Some(_) = gpu() else { return };
@@ -1227,7 +1228,10 @@ fn blanked_cut_equals_cpu() {
         let cut2 = common::scenes::coarse_cut(&[&p, "blanking.min=[-0.2e-3,-1.0e-3]", "blanking.max=[0.3e-3,1.0e-3]"]);
         let box3 = ["blanking.min=[-0.2e-3,-1.0e-3,-1.0e-3]", "blanking.max=[0.3e-3,1.0e-3,1.0e-3]"];
         let cut3 = periodic_cut(1.0e-6, &[p.clone(), box3[0].into(), box3[1].into()]);
-        for (scene, what) in [(cut2, "2D"), (cut3, "3D periodic")] {
+        // The box's top 5 µm above the surface: material leaves it in motion and stays active (the rest speed).
+        let top = ["blanking.min=[-0.2e-3,-1.0e-3]", "blanking.max=[0.6e-3,0.285e-3]", "time.end=8.0e-6"];
+        let cut_top = common::scenes::coarse_cut(&[&p, top[0], top[1], top[2]]);
+        for (scene, what) in [(cut2, "2D"), (cut3, "3D periodic"), (cut_top, "2D top-out")] {
             let runs = cpu_and_gpu_runs(&scene, &dir, &format!("{what}-{precision}").replace(' ', "-"));
             let fc = runs[0].1.lines().last().and_then(|l| l.split(',').nth(2).map(str::to_string)).unwrap_or_default();
             eprintln!(

@@ -653,18 +653,37 @@ pub fn blank_ptr<B: Backend>(b: &B, s: Option<&ScalarsAt<'_, B>>) -> Result<*con
     }
 }
 
-/// The hash pass's arguments ([`super::Passes::hash`]), with the blanking box of `blank`'s scalars.
+/// The velocities a blanked hash reads for the box's rest speed: `vel` with a box (required), null without.
+pub fn blank_vel<B: Backend, V: Element>(
+    b: &B,
+    blank: Option<&ScalarsAt<'_, B>>,
+    vel: Option<&B::Buf<V>>,
+) -> Result<*const V> {
+    match (blank, vel) {
+        (None, _) => Ok(null()),
+        (Some(_), Some(v)) => Ok(b.address(v) as *const V),
+        (Some(_), None) => Err(Error::Grid("a blanked hash needs the velocities (the box's rest speed)".into())),
+    }
+}
+
+/// The hash pass's arguments ([`super::Passes::hash`]), with the blanking box of `blank`'s scalars and the
+/// velocities `vel` its rest speed reads.
 pub fn hash_args<B: Backend, R: Real, D: Dim>(
     b: &B,
     n: usize,
     pos: &B::Buf<D::Vec<R>>,
+    vel: Option<&B::Buf<D::Vec<R>>>,
     grid: &B::Buf<GridParams>,
     blank: Option<&ScalarsAt<'_, B>>,
     keys: &mut B::Buf<u32>,
 ) -> Result<HashArgs<R, D>> {
+    if let Some(v) = vel {
+        input(b, "hash vel", n, v)?;
+    }
     Ok(HashArgs {
         n: count(n)?,
         pos: input(b, "hash pos", n, pos)?,
+        vel: blank_vel(b, blank, vel)?,
         grid: input(b, "hash grid", 1, grid)?,
         blank: blank_ptr(b, blank)?,
         keys: output(b, "hash keys", n, keys)?,

@@ -229,6 +229,7 @@ impl Backend for CpuBackend {
         n: usize,
         gate: Option<ScalarsAt<'_, Self>>,
         pos: &Vec<D::Vec<R>>,
+        vel: Option<&Vec<D::Vec<R>>>,
         c: CellBuffers<'_, Self>,
     ) -> Result<()> {
         if let Some(g) = &gate
@@ -242,7 +243,7 @@ impl Backend for CpuBackend {
             r[0] += 1;
         }
         self.fill_zero(c.starts, c.n_buckets + 1)?;
-        let h = super::args::hash_args::<_, R, D>(self, n, pos, c.grid, c.blank.as_ref(), c.keys)?;
+        let h = super::args::hash_args::<_, R, D>(self, n, pos, vel, c.grid, c.blank.as_ref(), c.keys)?;
         // SAFETY: `hash_args` checked the lengths.
         unsafe { self.launch::<crate::kernels::pass::Hash<R, D>>(&h)? };
         count_cells(n, c.keys, c.starts, c.slots)?;

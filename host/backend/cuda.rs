@@ -850,9 +850,10 @@ impl Backend for CudaBackend {
         n: usize,
         gate: Option<ScalarsAt<'_, Self>>,
         pos: &CudaBuf<D::Vec<R>>,
+        vel: Option<&CudaBuf<D::Vec<R>>>,
         c: CellBuffers<'_, Self>,
     ) -> Result<()> {
-        let lens = [pos.len, c.keys.len, c.slots.len, c.perm.len];
+        let lens = [pos.len, c.keys.len, c.slots.len, c.perm.len, vel.map_or(n, |v| v.len)];
         if lens.iter().any(|&l| l < n)
             || c.starts.len < c.n_buckets + 1
             || c.rebuilds.as_ref().is_some_and(|r| r.len < 1)
@@ -875,6 +876,7 @@ impl Backend for CudaBackend {
             gate: g as *const u32,
             n: n as u32,
             pos: self.input(pos),
+            vel: super::args::blank_vel(self, c.blank.as_ref(), vel)?,
             grid: self.input(c.grid),
             blank: super::args::blank_ptr(self, c.blank.as_ref())?,
             keys: self.output(c.keys),

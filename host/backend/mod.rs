@@ -120,12 +120,14 @@ pub trait Backend: Sized + Send + Sync {
     /// (`GridParams::key`) and counted, the exclusive prefix sum of the counts (the cell starts), the scatter into
     /// the permutation and the per-cell sort that makes it the stable one. With a gate (inside the step loop) it
     /// does nothing when the step's rebuild flag is 0 (every launch is still submitted, so a captured step holds
-    /// them) and counts the rebuild in `cells.rebuilds`.
+    /// them) and counts the rebuild in `cells.rebuilds`. `vel`: the velocities, which blanking's rest speed reads
+    /// (required with `cells.blank`).
     fn bin_cells<R: Real, D: Dim>(
         &self,
         n: usize,
         gate: Option<ScalarsAt<'_, Self>>,
         pos: &Self::Buf<D::Vec<R>>,
+        vel: Option<&Self::Buf<D::Vec<R>>>,
         cells: CellBuffers<'_, Self>,
     ) -> Result<()>;
     /// In-place exclusive prefix sum of data[..n]; `levels` is the workspace from [`scan_levels`].

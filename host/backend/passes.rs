@@ -143,7 +143,7 @@ pub trait Passes: Backend {
         grid: &Self::Buf<GridParams>,
         keys: &mut Self::Buf<u32>,
     ) -> Result<()> {
-        let a = args::hash_args::<_, R, D>(self, n, pos, grid, None, keys)?;
+        let a = args::hash_args::<_, R, D>(self, n, pos, None, grid, None, keys)?;
         // SAFETY: `hash_args` checked every length the pass touches.
         unsafe { self.launch::<Hash<R, D>>(&a) }
     }

@@ -283,8 +283,10 @@ fn blanking(
     let Some(b) = scene.blanking else { return Ok(None) };
     let bl = Blanking { scene: b, step: if grid.skin > 0.0 { grid.skin } else { h } };
     let first = bl.box_at(0.0);
-    // 2D positions and boxes have z = 0.
-    if pos.iter().all(|p| first.blanks::<f64, crate::kernels::vector::V3f64>(&crate::kernels::vector::V3f64::new(*p))) {
+    // 2D positions and boxes have z = 0; where the box is, whatever the speeds.
+    use crate::kernels::vector::V3f64;
+    let rest = V3f64::new([0.0; 3]);
+    if pos.iter().all(|p| first.blanks::<f64, V3f64>(&V3f64::new(*p), &rest)) {
         return Err(Error::Scene(format!(
             "{}: blanking.min, blanking.max: the box holds no particle at t = 0; expected a box around the tool's \
              path that holds part of the workpiece",

@@ -157,8 +157,8 @@ pub struct CohesivePath {
 }
 
 /// `[blanking]`: the active box [min, max] at t = 0, moving at `velocity` (roethlin-solver.md §7.6.3; the original
-/// code's `src/blanking.cpp`). Particles outside it are frozen: not integrated, nobody's neighbour, their state
-/// kept. The box advances in jumps of the cell list's skin, each of which rebuilds the cell list, so a particle
+/// code's `src/blanking.cpp`). Particles outside it at rest are frozen: not integrated, nobody's neighbour, their
+/// state kept. The box advances in jumps of the cell list's skin, each of which rebuilds the cell list, so a particle
 /// the box reaches is active within one skin of its travel (docs/3d.md, "Blanking").
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Blanking {
@@ -170,6 +170,17 @@ pub struct Blanking {
     /// `grow` (optional, default false): the rear faces stay put and only the front ones move (the original code's
     /// box with one face held), so the box never leaves behind material it has worked.
     pub grow: bool,
+    /// `rest_speed` (optional, m/s, ≥ 0 or `inf`; default 1 % of |velocity|, `inf` for a box at rest): a particle
+    /// outside the box is frozen only when it moves no faster than this, so that a chip thrown out of the box
+    /// keeps moving instead of freezing in the path of the material behind it. None (`inf`): every particle
+    /// outside, as in the original code.
+    pub rest_speed: Option<f64>,
+}
+
+/// The default rest speed of a box moving at `velocity`: 1 % of its speed (None, the pure box, for a box at rest).
+pub fn default_rest_speed(velocity: [f64; 3]) -> Option<f64> {
+    let speed = velocity.iter().map(|v| v * v).sum::<f64>().sqrt();
+    (speed > 0.0).then_some(0.01 * speed)
 }
 
 /// `[damage]`: ductile damage (`swarf_kernels::damage`, docs/damage.md), its constants from the library material's

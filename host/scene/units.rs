@@ -87,6 +87,7 @@ const KEYS: &[(&str, Quantity)] = &[
     ("blanking.min", Quantity::Length),
     ("blanking.max", Quantity::Length),
     ("blanking.velocity", Quantity::Speed),
+    ("blanking.rest_speed", Quantity::Speed),
     ("boundary.max", Quantity::Length),
     ("boundary.velocity", Quantity::Speed),
     ("boundary.temperature", Quantity::Temperature),

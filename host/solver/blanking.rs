@@ -35,6 +35,7 @@ impl Blanking {
         BlankBox {
             lo: std::array::from_fn(|k| b.min[k] + shift(k, b.velocity[k] < 0.0)),
             hi: std::array::from_fn(|k| b.max[k] + shift(k, b.velocity[k] > 0.0)),
+            rest_speed2: b.rest_speed.map_or(f64::INFINITY, |s| s * s),
             on: 1,
             _pad: 0,
         }

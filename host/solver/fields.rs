@@ -72,10 +72,12 @@ pub enum When {
     Cspm,
     /// A cohesive path (`[cohesive]`): its bonds.
     Cohesive,
+    /// Blanking (`[blanking]`): the velocities its rest speed read at the last rebuild.
+    Blanking,
 }
 
 impl When {
-    pub const ALL: [When; 15] = [
+    pub const ALL: [When; 16] = [
         When::Always,
         When::Temperature,
         When::Conduction,
@@ -91,6 +93,7 @@ impl When {
         When::Compensated,
         When::Cspm,
         When::Cohesive,
+        When::Blanking,
     ];
 
     pub fn holds<R: Real, D: TensorOps<R>>(self, s: &Setup<R, D>) -> bool {
@@ -112,6 +115,7 @@ impl When {
             When::Compensated => s.pos_lo.is_some(),
             When::Cspm => s.stabilisers.cspm.is_some(),
             When::Cohesive => s.cohesive.is_some(),
+            When::Blanking => s.blanking.is_some(),
         }
     }
 }
@@ -372,6 +376,9 @@ registry! {
     "bond_damping": f64 = field [.cohesive?.damping] if Cohesive, save;
     /// The sorted index of each id, rebuilt before the bonds each step.
     "bond_index": u32 = buf [.cohesive?.index] if Cohesive, scratch;
+    /// The velocities the last rebuild's hash read (blanking's rest speed), snapshotted as `pos_ref` is: a restore
+    /// rebuilds the same cells from both.
+    "vel_ref": D::Vec<R> = buf [.vel_ref?] if Blanking, optional;
     /// The pre-pass outputs: σ/ρ², artificial stress, sound speed, volume.
     "sig": D::Sym<R> = buf [.sig] if Always, scratch;
     "art": D::Sym<R> = buf [.art?] if ArtificialStress, scratch;
@@ -435,8 +442,9 @@ pub fn memory_bytes<R: Real, D: TensorOps<R>>(s: &Setup<R, D>) -> usize {
     s.particles.len() * per_particle_bytes(s) + fixed_bytes(s)
 }
 
-/// Most buffers one in-place reorder stages: every reordered field that can exist, and the reference positions'
-/// snapshot.
+/// Most buffers one in-place reorder stages: every reordered field that can exist, and the snapshots of the
+/// reference positions and (with blanking) velocities.
 pub fn max_reorder_entries() -> usize {
-    FIELDS.iter().filter(|f| f.reordered).count() + 1
+    // The snapshots: pos_ref, and vel_ref with blanking.
+    FIELDS.iter().filter(|f| f.reordered).count() + 2
 }

@@ -302,6 +302,9 @@ pub struct Solver<B: Backend, R: Real, D: TensorOps<R>> {
     pub cells: CellList<B>,
     /// Each particle's predicted position when the cell list was last built (sorted order), for the skin test.
     pos_ref: B::Buf<D::Vec<R>>,
+    /// With blanking: each particle's velocity when the cell list was last built, which its hash read (the box's
+    /// rest speed), so that a restored state rebuilds the same cells.
+    vel_ref: Option<B::Buf<D::Vec<R>>>,
     /// The next step rebuilds the cell list whatever the skin test says (the first step, a restored state
     /// without its reference positions).
     force_rebuild: bool,
@@ -685,6 +688,11 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             },
             cells: CellList::with_blanking(b, setup.grid, n, setup.blanking.is_some())?,
             pos_ref: b.alloc(n, "cell-list reference positions")?,
+            vel_ref: if When::Blanking.holds(setup) {
+                Some(b.alloc(n, "cell-list reference velocities")?)
+            } else {
+                None
+            },
             force_rebuild: true,
             blanking: setup.blanking.map(|bl| (bl, 0)),
             params: b.upload(&[setup.params], "SPH parameters")?,
@@ -933,7 +941,8 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         match ph {
             Phase::Predict => self.predict(b, j),
             Phase::CellList => {
-                self.cells.rebuild::<R, D>(b, &self.particles.pos.cur, ScalarsAt { buf: &self.scalars, index: j })
+                let gate = ScalarsAt { buf: &self.scalars, index: j };
+                self.cells.rebuild::<R, D>(b, &self.particles.pos.cur, &self.particles.vel.cur, gate)
             }
             Phase::Reorder => {
                 // On the stack, fixed capacity: the step loop allocates nothing.
@@ -941,6 +950,9 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                 self.stage_fields(b, &mut batch);
                 // The binned positions: the skin test's reference until the next rebuild.
                 batch.snapshot(b, &self.particles.pos.cur, &mut self.pos_ref);
+                if let Some(v) = self.vel_ref.as_mut() {
+                    batch.snapshot(b, &self.particles.vel.cur, v);
+                }
                 batch.run(b, self.n, &self.cells.perm, ScalarsAt { buf: &self.scalars, index: j })?;
                 self.cells.build_list::<R, D>(b, &self.pos_ref, Some(ScalarsAt { buf: &self.scalars, index: j }))
             }
@@ -1435,18 +1447,20 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         self.load_fields(b, s)?;
         // The cell list of the saved state: the particles are in the order of its last build, so building it
         // again on the binned positions gives the same cells and the identity permutation, and the run goes on
-        // bit for bit. A state saved without them rebuilds at the next step.
-        if s.iter().any(|(name, _)| name == "pos_ref") {
-            match self.blanking.as_mut() {
+        // bit for bit. A state saved without them (with blanking: and the velocities its hash read) rebuilds at
+        // the next step.
+        let saved = |f: &str| s.iter().any(|(name, _)| name == f);
+        if saved("pos_ref") && (self.vel_ref.is_none() || saved("vel_ref")) {
+            match (self.blanking.as_mut(), self.vel_ref.as_ref()) {
                 // The box of the last rebuild is the box now: every jump rebuilt.
-                Some((bl, jumps)) => {
+                (Some((bl, jumps)), Some(vel_ref)) => {
                     *jumps = bl.jumps(self.time);
                     self.host_scalars[0] = StepScalars { blank: bl.box_at(self.time), ..Default::default() };
                     b.write(&mut self.scalars, &self.host_scalars[..1])?;
                     let blank = ScalarsAt { buf: &self.scalars, index: 0 };
-                    self.cells.build_blanked::<R, D>(b, &self.pos_ref, blank)?;
+                    self.cells.build_blanked::<R, D>(b, &self.pos_ref, vel_ref, blank)?;
                 }
-                None => self.cells.build::<R, D>(b, &self.pos_ref)?,
+                _ => self.cells.build::<R, D>(b, &self.pos_ref)?,
             }
             self.cells.build_list::<R, D>(b, &self.pos_ref, None)?;
             self.force_rebuild = false;

@@ -350,12 +350,13 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
 }
 
 /// `[blanking]` (optional): `min`, `max` (the active box at t = 0, points in m), `velocity` (m/s; default the
-/// first tool's translation velocity, else zero) and `grow` (the rear faces stay put).
+/// first tool's translation velocity, else zero), `grow` (the rear faces stay put) and `rest_speed` (frozen outside
+/// only when slower).
 fn blanking(root: &Tab<'_>, dim: usize, tool: Option<&super::Tool>) -> Result<Option<super::Blanking>> {
     let Some(t) = root.table("blanking", "blanking", "a table [blanking] with min, max and velocity")? else {
         return Ok(None);
     };
-    t.check_keys(&["min", "max", "velocity", "grow"], &[], "")?;
+    t.check_keys(&["min", "max", "velocity", "grow", "rest_speed"], &[], "")?;
     let (min, max) = t.min_max(dim)?;
     let e = point_text("a velocity", dim, "m/s");
     let velocity = match t.vector("velocity", dim, &e)? {
@@ -363,7 +364,14 @@ fn blanking(root: &Tab<'_>, dim: usize, tool: Option<&super::Tool>) -> Result<Op
         None => tool.map_or([0.0; 3], |tl| tl.velocity),
     };
     let grow = t.boolean("grow", "true or false")?.unwrap_or(false);
-    Ok(Some(super::Blanking { min, max, velocity, grow }))
+    let rest_speed = match t.get("rest_speed") {
+        // `inf`: every particle outside is frozen, whatever its speed.
+        Some(node) if as_number(node) == Some(f64::INFINITY) => None,
+        _ => t
+            .number("rest_speed", "a speed >= 0 in m/s, or inf (every particle outside frozen)", |x| x >= 0.0)?
+            .or(super::default_rest_speed(velocity)),
+    };
+    Ok(Some(super::Blanking { min, max, velocity, grow, rest_speed }))
 }
 
 /// `[discretisation]` (required): its table (the bodies read their spacing from it) and its values.

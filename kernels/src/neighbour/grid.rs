@@ -47,36 +47,44 @@ pub struct GridParams {
 }
 
 /// The blanking's active box [lo, hi] at one step (roethlin-solver.md §7.6.3; the original code's
-/// `src/blanking.cpp`): particles outside it are frozen. `on` 0: no blanking.
+/// `src/blanking.cpp`): particles outside it are frozen unless they move faster than the rest speed (docs/3d.md,
+/// "Blanking"). `on` 0: no blanking.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct BlankBox {
     pub lo: [f64; 3],
     pub hi: [f64; 3],
+    /// The square of the rest speed [m²/s²]: a particle outside the box is frozen only when |v|² ≤ this (+∞: every
+    /// particle outside, the original code's box). A chip thrown out of the box keeps moving, so it stays active
+    /// rather than freeze in the path of the material behind it.
+    pub rest_speed2: f64,
     pub on: u32,
     pub _pad: u32,
 }
 
 impl BlankBox {
-    /// Whether a particle at `p` is blanked: blanking on and p outside [lo, hi] (compared in f64, positions widen
-    /// exactly; a non-finite position is never blanked, so that it reaches the void bucket and stops the run).
+    /// Whether a particle at `p` moving at `v` is blanked: blanking on, p outside [lo, hi] and |v|² ≤
+    /// `rest_speed2` (compared in f64, positions and velocities widen exactly; a non-finite position is never
+    /// blanked, so that it reaches the void bucket and stops the run; nor is a non-finite velocity).
     #[inline(always)]
-    pub fn blanks<R: Real, V: Vector<R>>(&self, p: &V) -> bool {
+    pub fn blanks<R: Real, V: Vector<R>>(&self, p: &V, v: &V) -> bool {
         if self.on == 0 {
             return false;
         }
+        let mut outside = false;
+        let mut speed2 = 0.0f64;
         let mut k = 0;
         while k < V::DIM {
-            let x = p.get(k).to_f64();
+            let (x, u) = (p.get(k).to_f64(), v.get(k).to_f64());
             // SAFETY: k < DIM <= 3.
             let (lo, hi) = unsafe { (*self.lo.get_unchecked(k), *self.hi.get_unchecked(k)) };
             // NaN compares false: not outside.
-            if x < lo || x > hi {
-                return true;
-            }
+            outside |= x < lo || x > hi;
+            speed2 += u * u;
             k += 1;
         }
-        false
+        // NaN compares false: not at rest.
+        outside && speed2 <= self.rest_speed2
     }
 }
 
@@ -278,16 +286,16 @@ impl GridParams {
         (c[2] * self.dims[1] + c[1]) * self.dims[0] + c[0]
     }
 
-    /// The cell-list key of a position with blanking (docs/3d.md, "Blanking"): the buckets are the n_cells cells of
-    /// the active particles, then the n_cells cells of the blanked ones (key n_cells + cell), then the void
-    /// bucket (2 n_cells). Blanked particles thus sort after every active one, cell by cell (so that their order
-    /// is fixed by the same per-cell sort), no neighbour walk lists them, and `starts[n_cells]` counts the active
-    /// ones. A null `blank` (no blanking): [`GridParams::key`].
+    /// The cell-list key of a particle at `p` moving at `*v` with blanking (docs/3d.md, "Blanking"): the buckets
+    /// are the n_cells cells of the active particles, then the n_cells cells of the blanked ones (key n_cells +
+    /// cell), then the void bucket (2 n_cells). Blanked particles thus sort after every active one, cell by cell
+    /// (so that their order is fixed by the same per-cell sort), no neighbour walk lists them, and
+    /// `starts[n_cells]` counts the active ones. A null `blank` (no blanking): [`GridParams::key`], `v` unread.
     ///
     /// # Safety
-    /// A non-null `blank` points at a live box.
+    /// A non-null `blank` points at a live box and `v` at the particle's velocity.
     #[inline(always)]
-    pub unsafe fn key_blanked<R: Real, V: Vector<R>>(&self, p: &V, blank: *const BlankBox) -> u32 {
+    pub unsafe fn key_blanked<R: Real, V: Vector<R>>(&self, p: &V, v: *const V, blank: *const BlankBox) -> u32 {
         let k = self.key(p);
         if blank.is_null() {
             return k;
@@ -295,7 +303,7 @@ impl GridParams {
         if k == self.n_cells {
             return 2 * self.n_cells;
         }
-        if unsafe { (*blank).blanks(p) } { self.n_cells + k } else { k }
+        if unsafe { (*blank).blanks(p, &*v) } { self.n_cells + k } else { k }
     }
 
     /// Cell coordinates of a position; `[u32::MAX; 3]` if a component is non-finite.

@@ -11,12 +11,14 @@ use crate::real::Real;
 use crate::vector::Dim;
 use core::marker::PhantomData;
 
-/// keys[i] = cell key of pos[i] (`GridParams::key_blanked`).
+/// keys[i] = cell key of pos[i] moving at vel[i] (`GridParams::key_blanked`).
 #[repr(C)]
 #[derive(Clone, Copy)]
 pub struct HashArgs<R: Real, D: Dim> {
     pub n: u32,
     pub pos: *const D::Vec<R>,
+    /// The velocities, read with blanking only (its rest speed; null without).
+    pub vel: *const D::Vec<R>,
     pub grid: *const GridParams,
     /// The blanking's box (null: no blanking).
     pub blank: *const BlankBox,
@@ -27,10 +29,13 @@ impl<R: Real, D: Dim> HashArgs<R, D> {
     /// Particle i's cell key.
     ///
     /// # Safety
-    /// i < n; `pos` and `keys` hold n particles; `grid` points at the grid.
+    /// i < n; `pos` and `keys` hold n particles, and `vel` with a `blank`; `grid` points at the grid.
     #[inline(always)]
     pub unsafe fn particle(&self, i: usize) {
-        unsafe { *self.keys.add(i) = (*self.grid).key_blanked::<R, D::Vec<R>>(&*self.pos.add(i), self.blank) }
+        unsafe {
+            let v = self.vel.wrapping_add(i);
+            *self.keys.add(i) = (*self.grid).key_blanked::<R, D::Vec<R>>(&*self.pos.add(i), v, self.blank)
+        }
     }
 }
 
@@ -39,14 +44,16 @@ pub struct Hash<R, D>(PhantomData<(R, D)>);
 crate::simple_pass!(Hash<R, D>, HashArgs<R, D>, entry_index("hash", D::D, size_of::<R>(), 0), Grid::Particles,
     [R: Real, D: Dim]);
 
-/// The counting pass of a gated rebuild: keys[i] = cell key of pos[i] (`GridParams::key_blanked`), slots[i] = its arrival order in the cell,
-/// counts[cell] += 1 (counts zeroed before).
+/// The counting pass of a gated rebuild: keys[i] = cell key of pos[i] moving at vel[i] (`GridParams::key_blanked`),
+/// slots[i] = its arrival order in the cell, counts[cell] += 1 (counts zeroed before).
 #[repr(C)]
 #[derive(Clone, Copy)]
 pub struct HashCountArgs<R: Real, D: Dim> {
     pub gate: *const u32,
     pub n: u32,
     pub pos: *const D::Vec<R>,
+    /// The velocities, read with blanking only (null without).
+    pub vel: *const D::Vec<R>,
     pub grid: *const GridParams,
     /// The blanking's box (null: no blanking).
     pub blank: *const BlankBox,

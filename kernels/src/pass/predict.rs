@@ -60,13 +60,17 @@ impl<R: Real, D: TensorOps<R>> PredictArgs<R, D> {
     }
 
     /// Whether particle i, predicted to `x`, makes the step rebuild the cell list: it moved beyond the skin
-    /// (`GridParams::beyond_skin`, which a non-finite position is) or it left the blanking's box.
+    /// (`GridParams::beyond_skin`, which a non-finite position is) or it is outside the blanking's box at rest (its
+    /// predicted velocity no faster than the box's rest speed: the rebuild's hash then freezes it).
     ///
     /// # Safety
     /// i < n; `grid`, `pos_ref` and `scalars` are live.
     #[inline(always)]
     pub unsafe fn rebuilds(&self, i: usize, x: &D::Vec<R>) -> bool {
-        unsafe { (*self.grid).beyond_skin::<R, D::Vec<R>>(x, &*self.pos_ref.add(i)) || (*self.scalars).blank.blanks(x) }
+        unsafe {
+            (*self.grid).beyond_skin::<R, D::Vec<R>>(x, &*self.pos_ref.add(i))
+                || (*self.scalars).blank.blanks(x, &*self.step.vel.add(i))
+        }
     }
 }
 

@@ -53,14 +53,15 @@ macro_rules! per_vector {
             /// in the cell, counts[cell] += 1 (counts zeroed before), when the gate is open.
             #[unsafe(export_name = $sym)]
             pub unsafe extern "ptx-kernel" fn entry(args: HashCountArgs<$r, $d>) {
-                let HashCountArgs { gate, n, pos, grid, blank, keys, counts, slots } = args;
+                let HashCountArgs { gate, n, pos, vel, grid, blank, keys, counts, slots } = args;
                 if !unsafe { open(gate) } {
                     return;
                 }
                 let mut i = global_index();
                 while i < n {
                     unsafe {
-                        let k = (*grid).key_blanked::<$r, Vec_<$r, $d>>(&*pos.add(i as usize), blank);
+                        let v = vel.wrapping_add(i as usize);
+                        let k = (*grid).key_blanked::<$r, Vec_<$r, $d>>(&*pos.add(i as usize), v, blank);
                         *keys.add(i as usize) = k;
                         *slots.add(i as usize) = atomic_add_u32(counts.add(k as usize), 1);
                     }

@@ -27,7 +27,7 @@ pub struct StepScalars {
     /// batch (it reads the flags after each batch) instead of at its next output.
     pub non_finite: u32,
     /// The blanking's active box at this step's end (`on` 0: no blanking; docs/3d.md, "Blanking"): the predictor
-    /// asks for a rebuild when an active particle leaves it, the rebuild's hash freezes the particles outside it.
+    /// asks for a rebuild when an active particle is outside it at rest, the rebuild's hash freezes those particles.
     pub blank: crate::neighbour::BlankBox,
 }
 
