@@ -34,8 +34,9 @@ fn final_state(scene: &Scene, dir: &Path) -> HashMap<u32, [u64; 6]> {
     last
 }
 
-/// Runs `scene` into `dir` with frames; the last frame's `blanked` field and its points (x, y, z per particle).
-fn run_frames(scene: &Scene, dir: &Path) -> (Vec<f64>, Vec<f64>) {
+/// Runs `scene` into `dir` with frames; the last frame's `blanked` field, its points and its velocities (x, y, z
+/// per particle).
+fn run_frames(scene: &Scene, dir: &Path) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
     let opts = RunOptions { frames: true, ..RunOptions::quiet(dir.to_path_buf()) };
     run_observed(&common::test_backend(), scene, &opts, None).expect("run");
     let mut vtu: Vec<PathBuf> = std::fs::read_dir(dir)
@@ -45,8 +46,11 @@ fn run_frames(scene: &Scene, dir: &Path) -> (Vec<f64>, Vec<f64>) {
         .collect();
     vtu.sort();
     let frame = swarf::output::vtu::read(vtu.last().expect("a frame")).expect("frame");
-    let blanked = frame.point_data.iter().find(|(n, _, _)| n == "blanked").and_then(|(_, _, v)| v.floats());
-    (blanked.expect("the frames carry the blanked field"), frame.points.floats().expect("points"))
+    let field = |name: &str| {
+        let f = frame.point_data.iter().find(|(n, _, _)| n == name).and_then(|(_, _, v)| v.floats());
+        f.unwrap_or_else(|| panic!("the frames carry no {name} field"))
+    };
+    (field("blanked"), frame.points.floats().expect("points"), field("velocity"))
 }
 
 /// The coarse V0060 cut (Δx = 20 µm, 4 µs; the workpiece x ∈ [0, 1] mm, y ∈ [0, 0.28] mm) with `extra`.
@@ -134,7 +138,7 @@ fn particles_outside_the_box_stay_frozen_and_the_forces_converge() {
 fn frames_mark_the_frozen_particles() {
     let dir = scratch("frames");
     let scene = cut(&["blanking.min=[-0.2e-3,-1.0e-3]", "blanking.max=[0.3e-3,1.0e-3]", "time.end=1.0e-6"]);
-    let (blanked, points) = run_frames(&scene, &dir);
+    let (blanked, points, _) = run_frames(&scene, &dir);
     // The box's front starts at 0.3 mm and moves with the tool (6.355 m/s, 1 µs): frozen particles lie beyond its
     // start, and every particle beyond its end is frozen.
     let end_front = 0.3e-3 + 6.355 * scene.time.end;
@@ -210,7 +214,7 @@ fn a_growing_box_keeps_what_it_has_passed() {
         let dir = scratch(&format!("grow-{grow}"));
         let g = format!("blanking.grow={grow}");
         let scene = cut(&["blanking.min=[0.0,-1.0e-3]", "blanking.max=[0.3e-3,1.0e-3]", &g]);
-        let (blanked, points) = run_frames(&scene, &dir);
+        let (blanked, points, _) = run_frames(&scene, &dir);
         // The rear passed x = 6.355 m/s · 4 µs = 25.4 µm less one skin at most: the columns x = 0 and 20 µm.
         let behind = (0..blanked.len()).filter(|&k| points[3 * k] < 2.1e-5 && points[3 * k + 1] < 1.0e-4).count();
         let frozen_behind = (0..blanked.len())
@@ -225,20 +229,6 @@ fn a_growing_box_keeps_what_it_has_passed() {
         }
         let _ = std::fs::remove_dir_all(&dir);
     }
-}
-
-/// The last frame of a run into `dir`: its `blanked` field, points and velocities (x, y, z per particle).
-fn frame_with_velocity(dir: &Path) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
-    let mut vtu: Vec<PathBuf> = std::fs::read_dir(dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "vtu"))
-        .collect();
-    vtu.sort();
-    let frame = swarf::output::vtu::read(vtu.last().expect("a frame")).expect("frame");
-    let field =
-        |name: &str| frame.point_data.iter().find(|(n, _, _)| n == name).and_then(|(_, _, v)| v.floats()).expect(name);
-    (field("blanked"), frame.points.floats().expect("points"), field("velocity"))
 }
 
 /// The rest speed (docs/3d.md, "Blanking"): a particle outside the box is frozen only when it moves no faster than
@@ -260,14 +250,7 @@ fn a_particle_leaving_the_box_in_motion_stays_active() {
         }
         let scene = cut(&extra);
         let rest_speed = scene.blanking.expect("blanking").rest_speed;
-        run_observed(
-            &common::test_backend(),
-            &scene,
-            &RunOptions { frames: true, ..RunOptions::quiet(dir.clone()) },
-            None,
-        )
-        .expect("run");
-        let (blanked, points, vel) = frame_with_velocity(&dir);
+        let (blanked, points, vel) = run_frames(&scene, &dir);
         let (mut above, mut above_active, mut frozen_fast) = (0, 0, 0);
         for k in 0..blanked.len() {
             let speed = (vel[3 * k].powi(2) + vel[3 * k + 1].powi(2)).sqrt();
