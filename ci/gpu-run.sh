@@ -647,9 +647,7 @@ PY
                   [ -e "$here/mill-$m.tgz" ] && [ ! -d "$d" ] && tar xzf "$here/mill-$m.tgz" -C /tmp/mill24
                   left=$(( ${SWARF_MILL_DEADLINE:-540} - ($(date +%s) - t0) ))
                   [ $left -gt 10 ] || break
-                  # SWARF_GRAIN_STATE_AT (steps, comma separated): state tables before a blow-up, and what stands out in
-              # them (ci/state-anomalies.py: grain2m-state.log, grain2m-state-*.csv)
-              if [ -f "$d/checkpoint.bin" ]; then args=(run --resume "$d" --quiet)
+                  if [ -f "$d/checkpoint.bin" ]; then args=(run --resume "$d" --quiet)
                   else args=(run cases/3d/micro-milling.toml --quiet --out "$d" --set "material.name=\"OFHC-Cu-$m\""
                              ${SWARF_MILL_CFL:+--set time.cfl=$SWARF_MILL_CFL})
                   fi
@@ -1344,9 +1342,7 @@ $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s" \
                         && [ -z "${SWARF_CUT_FRESH:-}" ]; then
                         cat carry150k/whole-150k-$prec.tgz.part* | tar xzf - -C runs
                     fi
-                    # SWARF_GRAIN_STATE_AT (steps, comma separated): state tables before a blow-up, and what stands out in
-              # them (ci/state-anomalies.py: grain2m-state.log, grain2m-state-*.csv)
-              if [ -f "$d/checkpoint.bin" ]; then args=(run --resume "$d" --quiet)
+                    if [ -f "$d/checkpoint.bin" ]; then args=(run --resume "$d" --quiet)
                     else args=(run cases/cutting/reference-cut-150k.toml --precision "$prec" --out "$d" --quiet \
                                --checkpoint-every 5e-5); fi
                     env CUDA_VISIBLE_DEVICES=$gpu ${envs//,/ } setsid nohup "$here/$bin" --backend gpu "${args[@]}" \
