@@ -177,10 +177,17 @@ pub struct Blanking {
     pub rest_speed: Option<f64>,
 }
 
-/// The default rest speed of a box moving at `velocity`: 1 % of its speed (None, the pure box, for a box at rest).
-pub fn default_rest_speed(velocity: [f64; 3]) -> Option<f64> {
-    let speed = velocity.iter().map(|v| v * v).sum::<f64>().sqrt();
-    (speed > 0.0).then_some(0.01 * speed)
+impl Blanking {
+    /// The box's speed |velocity| [m/s].
+    pub fn speed(&self) -> f64 {
+        self.velocity.iter().map(|v| v * v).sum::<f64>().sqrt()
+    }
+
+    /// The default rest speed: 1 % of the box's speed (None, the pure box, for a box at rest).
+    pub fn default_rest_speed(&self) -> Option<f64> {
+        let speed = self.speed();
+        (speed > 0.0).then_some(0.01 * speed)
+    }
 }
 
 /// `[damage]`: ductile damage (`swarf_kernels::damage`, docs/damage.md), its constants from the library material's

@@ -17,7 +17,7 @@ pub struct Blanking {
 
 impl Blanking {
     fn speed(&self) -> f64 {
-        self.scene.velocity.iter().map(|v| v * v).sum::<f64>().sqrt()
+        self.scene.speed()
     }
 
     /// How many jumps the box has made by time t: ⌊t |v| / step⌋ (0 for a box at rest).

@@ -364,14 +364,15 @@ fn blanking(root: &Tab<'_>, dim: usize, tool: Option<&super::Tool>) -> Result<Op
         None => tool.map_or([0.0; 3], |tl| tl.velocity),
     };
     let grow = t.boolean("grow", "true or false")?.unwrap_or(false);
-    let rest_speed = match t.get("rest_speed") {
+    let mut b = super::Blanking { min, max, velocity, grow, rest_speed: None };
+    b.rest_speed = match t.get("rest_speed") {
         // `inf`: every particle outside is frozen, whatever its speed.
         Some(node) if as_number(node) == Some(f64::INFINITY) => None,
         _ => t
             .number("rest_speed", "a speed >= 0 in m/s, or inf (every particle outside frozen)", |x| x >= 0.0)?
-            .or(super::default_rest_speed(velocity)),
+            .or(b.default_rest_speed()),
     };
-    Ok(Some(super::Blanking { min, max, velocity, grow, rest_speed }))
+    Ok(Some(b))
 }
 
 /// `[discretisation]` (required): its table (the bodies read their spacing from it) and its values.
