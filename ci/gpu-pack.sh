@@ -20,7 +20,8 @@ for l in sys.stdin:
         print(m["executable"])' "$1"; }
 # SWARF_PACK_TESTS / SWARF_PACK_BENCHES choose fewer (the tree sent is limited to 64 MiB, carried run folders
 # included).
-for t in ${SWARF_PACK_TESTS-gpu ptx stability_solids stability_energy stability_thermal stability_contact}; do
+# (suite: the CPU tests, whose stability_* modules the `hard` part runs on the GPU backend.)
+for t in ${SWARF_PACK_TESTS-gpu ptx suite}; do
     f=$(cargo test --release --no-run --test "$t" --message-format=json 2>/dev/null | exe "$t" | tail -1)
     cp "$f" "$pack/test-$t"
 done

@@ -1184,8 +1184,9 @@ $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s" \
                   SWARF_MAXNREG=$r run "regs-info-$r" "$here/swarf" --backend gpu info --kernels
               done ;;
         hard) # issue 8: the stability suite's tests, the same criteria, on the GPU backend
+              # (the CPU suite's binary, test-suite, filtered to the tests/stability_*.rs modules)
               for t in stability_solids stability_energy stability_thermal stability_contact; do
-                  SWARF_TEST_BACKEND=gpu run "hard-$t" "$here/test-$t" --test-threads=1 --nocapture
+                  SWARF_TEST_BACKEND=gpu run "hard-$t" "$here/test-suite" "$t::" --test-threads=1 --nocapture
               done ;;
         bench) run bench "$here/swarf" --backend gpu bench neighbours --sizes 1e6,4e6,16e6 --dims 2,3 --precision both ;;
         rings) run rings-gpu "$here/swarf" --backend gpu bench rings --precision both

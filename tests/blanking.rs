@@ -2,7 +2,7 @@
 //! are integrated; the rest are frozen (their state kept bit for bit), nobody's neighbour, and skipped by every
 //! per-particle pass. CPU; the GPU twin is tests/gpu.rs's `blanked_cut_equals_cpu`.
 
-mod common;
+use crate::common;
 
 use common::scenes::{coarse_overrides, run_record};
 use std::collections::HashMap;

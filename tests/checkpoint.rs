@@ -1,7 +1,7 @@
 //! Checkpoints (issue 6): a run stopped at a checkpoint and resumed reproduces the uninterrupted run bit for bit
 //! on the same backend and precision; Ctrl-C writes a checkpoint and exits cleanly.
 
-mod common;
+use crate::common;
 
 use common::scenes::{drop_scene_3d, prism_obj};
 use std::path::{Path, PathBuf};
@@ -168,13 +168,13 @@ fn a_mesh_tool_run_resumes_without_its_scene_folder() {
 }
 
 /// A tool whose velocity is ramped and whose thermal particles move with it (the reference cut's tool, 20 m/s
-/// reached over `ramp = 1 µs`), stopped at a checkpoint after the ramp and resumed, equals the uninterrupted run
+/// reached over `ramp = 0.5 µs`), stopped at a checkpoint after the ramp (1 µs) and resumed to 1.5 µs, equals the uninterrupted run
 /// bit for bit. The tool particles' prescribed velocity is the ramp's at each step's midpoint; after the ramp it is
 /// the final velocity in both runs. Before, the uninterrupted run kept its last ramp step's midpoint velocity (a
 /// little below the final one) and the resumed run the velocity restored with the state.
 #[test]
 fn a_ramped_tool_resumes_at_its_velocity() {
-    let ov: Vec<String> = ["tool.velocity=[20.0,0.0]", "tool.ramp=1.0e-6", "time.end=3.0e-6", "output.every=5.0e-7"]
+    let ov: Vec<String> = ["tool.velocity=[20.0,0.0]", "tool.ramp=5.0e-7", "time.end=1.5e-6", "output.every=2.5e-7"]
         .iter()
         .map(|s| s.to_string())
         .collect();
@@ -188,15 +188,15 @@ fn a_ramped_tool_resumes_at_its_velocity() {
     };
     run_observed(&any, &scene, &opts(&a, &ov, None, false), Some(&mut obs)).expect("uninterrupted");
     let b = dir("ramp-b");
-    let mut first = |s: &Snapshot| s.diagnostics.time < 1.5e-6;
-    run_observed(&any, &scene, &opts(&b, &ov, Some(1.5e-6), false), Some(&mut first)).expect("first part");
+    let mut first = |s: &Snapshot| s.diagnostics.time < 1.0e-6;
+    run_observed(&any, &scene, &opts(&b, &ov, Some(1.0e-6), false), Some(&mut first)).expect("first part");
     let (resumed, rov) = resume_scene(&b).expect("resume scene");
     let mut last_b = Vec::new();
     let mut obs = |s: &Snapshot| {
         last_b = bits(s);
         true
     };
-    run_observed(&any, &resumed, &opts(&b, &rov, Some(1.5e-6), true), Some(&mut obs)).expect("second part");
+    run_observed(&any, &resumed, &opts(&b, &rov, Some(1.0e-6), true), Some(&mut obs)).expect("second part");
     assert!(!last_a.is_empty() && last_a == last_b, "the resumed run's final state differs");
     let read = |d: &Path| std::fs::read_to_string(d.join("forces.csv")).expect("forces.csv");
     assert_eq!(read(&a), read(&b), "forces.csv differs after resuming");

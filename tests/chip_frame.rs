@@ -5,7 +5,7 @@
 //! strip; a strip that curls on a circle of known radius. Tolerances are tied to Δx: a lattice resolves a length
 //! to within one spacing.
 
-mod common;
+use crate::common;
 
 use swarf::backend::{AnyBackend, BackendChoice};
 use swarf::cutting::chip_frame::{FrameChip, analyse};

@@ -3,7 +3,7 @@
 //! magnitude and stability; the CI check of issue 5), the thermal tool particles (roethlin-solver.md AT-91), and
 //! the scene's refusals of a tool that overlaps or never meets the workpiece.
 
-mod common;
+use crate::common;
 
 use common::scenes::{STEP_CONTACT, drop_scene, plastic_drop_scene};
 use swarf::backend::{AnyBackend, BackendChoice};

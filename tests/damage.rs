@@ -3,7 +3,7 @@
 //! equals G_f independent of the particle size), the degradation (pressure kept in compression), the interaction
 //! mask, and runs with and without damage.
 
-mod common;
+use crate::common;
 
 use swarf::backend::{AnyBackend, Backend, BackendChoice, CpuBackend, DamageBufs, Passes, PlasticInputs};
 use swarf::kernels::Dim2;

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use swarf::backend::{AnyBackend, BackendChoice};
 use swarf::ensemble::run as run_ensemble;
 
-mod common;
+use crate::common;
 use common::scenes::{coarse_cut, ensemble_jobs as jobs, ensemble_members as members, run_record as record};
 
 fn cpu() -> AnyBackend {

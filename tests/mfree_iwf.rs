@@ -4,7 +4,7 @@
 //! commit before the option, c50d6ee, wrote); and a short coarse cut under the original model, finite and with
 //! other forces.
 
-mod common;
+use crate::common;
 
 use std::path::PathBuf;
 use swarf::backend::{AnyBackend, BackendChoice};

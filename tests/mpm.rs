@@ -12,7 +12,7 @@ use swarf::mpm::solver::MpmSolver;
 use swarf::rng::SplitMix64;
 use swarf::scene::mpm::MpmScene;
 
-mod common;
+use crate::common;
 
 /// The uGIMP weight is the grid's hat averaged over the particle's domain [x − l_p, x + l_p] (Bardenhagen &
 /// Kober 2004; nairn-mpm.md §1.1): against a midpoint quadrature of that average (1e-9), and the weights and
@@ -534,4 +534,51 @@ fn an_interrupted_mpm_run_resumes_to_the_same_bytes() {
     };
     assert_eq!(released(&a).to_bits(), released(&b).to_bits());
     let _ = std::fs::remove_dir_all(root);
+}
+
+// V14's glyph coverage (host/mpm/coverage.rs) on lattices moved by hand.
+use swarf::mpm::coverage::coverage;
+use swarf::mpm::output::Snapshot;
+
+fn lattice(n: usize, side: f64, f: [f64; 4], drop: Option<usize>) -> Snapshot {
+    let mut s = Snapshot::default();
+    for j in 0..n {
+        for i in 0..n {
+            if Some(j * n + i) == drop {
+                continue;
+            }
+            let x0 = [(i as f64 + 0.5) * side, (j as f64 + 0.5) * side];
+            s.pos.push([f[0] * x0[0] + f[1] * x0[1], f[2] * x0[0] + f[3] * x0[1]]);
+            s.def.push(f);
+            s.jac.push(f[0] * f[3] - f[1] * f[2]);
+            s.vol0.push(side * side);
+            s.kind.push(0);
+        }
+    }
+    s
+}
+
+/// A lattice moved by a homogeneous F (shear 0.7, stretch 1.3) tiles its image: the union is Σ J V0 within
+/// the raster's edge error (the boundary's pixels, 1 % here) and no gap; with one particle removed from the
+/// middle, a gap of one domain (within 3 %).
+#[test]
+fn an_affine_motion_tiles_and_a_missing_particle_is_a_gap() {
+    let f = [1.3, 0.7, 0.0, 0.9];
+    let c = coverage(&lattice(20, 1e-4, f, None), |_| true).expect("coverage");
+    assert!(c.mismatch < 0.01 && c.gap_count == 0, "{c:?}");
+    let c = coverage(&lattice(20, 1e-4, f, Some(10 * 20 + 10)), |_| true).expect("coverage");
+    let domain = 1e-8 * (f[0] * f[3] - f[1] * f[2]);
+    assert!(c.gap_count == 1 && (c.gaps / domain - 1.0).abs() < 0.03, "{c:?}");
+}
+
+/// Domains drawn at 1.2 times their spacing overlap: the union falls 1 − 1/1.44 short, less the boundary.
+#[test]
+fn overlapping_domains_fall_short_of_their_volume() {
+    let mut s = lattice(20, 1e-4, [1.0, 0.0, 0.0, 1.0], None);
+    s.def.iter_mut().for_each(|f| *f = [1.2, 0.0, 0.0, 1.2]);
+    s.jac.iter_mut().for_each(|j| *j = 1.44);
+    let c = coverage(&s, |_| true).expect("coverage");
+    // The union is the lattice's square grown by 0.1 of a side all round: (20.2/20)² of 400 domains.
+    let expected = 1.0 - (20.2f64 / 20.0).powi(2) / 1.44;
+    assert!((c.mismatch - expected).abs() < 0.01, "{} vs {expected}", c.mismatch);
 }

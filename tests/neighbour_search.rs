@@ -3,7 +3,7 @@
 //! identical, for 10⁵ particles uniform, clustered and on a lattice with particles exactly on cell faces, in 2D and
 //! 3D, with both grid layouts (cell h / ±2, cell 2h / ±1).
 
-mod common;
+use crate::common;
 
 use common::*;
 use swarf::backend::CpuBackend;

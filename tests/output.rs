@@ -406,3 +406,27 @@ fn an_existing_file_is_replaced_whole() {
     assert_eq!((back.n, back.time, back.points), (1, Some(2.0), OwnedValues::F64(vec![7.0; 3])));
     assert_eq!(entries(&dir), ["f.txt", "f.vtu"]);
 }
+
+// base64 (host/output/base64.rs), the VTU frames' encoding.
+/// RFC 4648 §10's test vectors, both ways.
+#[test]
+fn rfc_4648_vectors() {
+    let cases = [("", ""), ("f", "Zg=="), ("fo", "Zm8="), ("foo", "Zm9v"), ("foob", "Zm9vYg=="), ("fooba", "Zm9vYmE=")];
+    for (plain, coded) in cases {
+        let mut out = Vec::new();
+        swarf::output::base64::encode(plain.as_bytes(), &mut out);
+        assert_eq!(out, coded.as_bytes());
+        assert_eq!(swarf::output::base64::decode(coded.as_bytes()).as_deref(), Some(plain.as_bytes()));
+    }
+    assert_eq!(swarf::output::base64::decode(b"Zg==Zg=="), None, "padding only at the end");
+    assert_eq!(swarf::output::base64::decode(b"Zm9"), None);
+}
+
+// FNV-1a (host/hash.rs), the checksums of checkpoints and provenance.
+/// The published test vectors of FNV-1a 64.
+#[test]
+fn known_values() {
+    assert_eq!(swarf::hash::fnv1a64(b""), 0xcbf2_9ce4_8422_2325);
+    assert_eq!(swarf::hash::fnv1a64(b"a"), 0xaf63_dc4c_8601_ec8c);
+    assert_eq!(swarf::hash::fnv1a64(b"foobar"), 0x8594_4171_f739_67e8);
+}

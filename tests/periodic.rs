@@ -2,7 +2,7 @@
 //! (`kind = "plane_strain"`), docs/3d.md. The periodic neighbour search against a brute force over nearest images,
 //! and V0060 extruded in z against the 2D run.
 
-mod common;
+use crate::common;
 
 use common::*;
 use rayon::prelude::*;

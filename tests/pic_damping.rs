@@ -2,7 +2,7 @@
 //! `stabilisation.xsph.pic`, each step the velocity gives up the fraction pic of its difference from the
 //! kernel-smoothed velocity (Eq. 8 with v̄ for v_g→p, XSPH's sum).
 
-mod common;
+use crate::common;
 
 use swarf::run::{RunOptions, run, run_observed};
 use swarf::scene::Scene;

@@ -455,3 +455,29 @@ fn every_pass_names_its_own_entry() {
     // Every entry but the 9 without variants and the 4 fused hash-counts of the backend's own counting sort.
     assert_eq!(passes, ENTRY_COUNT - 9 - 4);
 }
+
+// The PTX split per entry (host/backend/cuda/split.rs), on a hand-written module.
+use swarf::backend::cuda::split::SplitPtx;
+
+const SPLIT_PTX: &str = ".version 7.0\n.target sm_80\n.address_size 64\n\n\t// .globl\tk1\n\
+    .extern .func ext\n(\n\t.param .b64 ext_param_0\n)\n;\n\
+    .global .align 8 .b8 anon_$_0[16] = {0};\n\n\
+    .func helper(\n\t.param .b64 helper_param_0\n)\n{\n\tld.global.f64 %fd1, [anon_$_0];\n}\n\t// .globl\tk1\n\
+    .visible .entry k1(\n\t.param .u32 k1_param_0\n)\n{\n\tcall.uni helper, (x);\n\tret;\n}\n\t// .globl\tk2\n\
+    .visible .entry k2(\n\t.param .u32 k2_param_0\n)\n{\n\tcall.uni ext, (x);\n\tret;\n}\n";
+
+/// Each entry's module has the header, the items it reaches through its calls (the data a called function
+/// reads included) and no other entry.
+#[test]
+fn a_module_holds_its_entry_and_what_it_reaches() {
+    let s = SplitPtx::parse(SPLIT_PTX).expect("split");
+    let names: Vec<&str> = s.items(SPLIT_PTX).map(|i| i.name).collect();
+    assert_eq!(names, ["ext", "anon_$_0", "helper", "k1", "k2"]);
+    let k1 = s.module(SPLIT_PTX, "k1").expect("k1");
+    assert!(k1.starts_with(".version 7.0\n.target sm_80\n.address_size 64\n"));
+    assert!(k1.contains(".func helper(") && k1.contains("anon_$_0[16]") && !k1.contains(".extern"));
+    assert!(k1.find("anon_$_0[16]") < k1.find(".func helper(") && !k1.contains("k2"));
+    let k2 = s.module(SPLIT_PTX, "k2").expect("k2");
+    assert!(k2.contains(".extern .func ext") && !k2.contains("helper") && !k2.contains("anon_$_0"));
+    assert!(s.module(SPLIT_PTX, "k3").is_none());
+}

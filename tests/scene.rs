@@ -561,3 +561,27 @@ fn syntax_and_read_errors_name_the_file() {
     assert!(matches!(err, SceneError::Read { .. }));
     assert_has(&err.to_string(), &["no-such-scene.toml: cannot read the scene file:"]);
 }
+
+// The units of scene values (host/scene/units.rs).
+use swarf::scene::units::{Quantity, quantity};
+
+/// The conversions the module's documentation names, and the refusals.
+#[test]
+fn conversions() {
+    let close = |a: Option<f64>, b: f64| a.is_some_and(|a| (a - b).abs() <= 1e-12 * b.abs().max(1.0));
+    assert!(close(Quantity::Speed.parse("381.3 m/min"), 6.355));
+    assert!(close(Quantity::Length.parse("33 um"), 33e-6));
+    assert!(close(Quantity::Length.parse("33µm"), 33e-6));
+    assert!(close(Quantity::Length.parse("0.1 mm"), 1e-4));
+    assert!(close(Quantity::Angle.parse("10 deg"), 10.0));
+    assert!(close(Quantity::Angle.parse("-0.5 rad"), -0.5 * 180.0 / std::f64::consts::PI));
+    assert!(close(Quantity::Temperature.parse("25 C"), 298.15));
+    assert!(close(Quantity::Temperature.parse("-5 °C"), 268.15));
+    assert!(close(Quantity::Length.parse("1e-3 m"), 1e-3));
+    for bad in ["33", "33 uM", "m", "nan m", "inf m", "1e400 m", "33 um um", ""] {
+        assert_eq!(Quantity::Length.parse(bad), None, "{bad:?}");
+    }
+    assert_eq!(quantity("body.12.velocity"), Some(Quantity::Speed));
+    assert_eq!(quantity("tool.thermal.temperature"), Some(Quantity::Temperature));
+    assert_eq!(quantity("time.end"), None);
+}

@@ -2,7 +2,7 @@
 //! shape, motion and contact law; a particle inside several is taken by the first; forces.csv gives every further
 //! tool's force, moment and contacts. CPU; the GPU twin is tests/gpu.rs's `several_tools_equal_cpu`.
 
-mod common;
+use crate::common;
 
 use common::scenes::{PRISM_TOOL, drop_scene_3d, drop_scene_3d_tools, prism_mesh_tool, prism_obj_long, twin_cut_scene};
 use std::path::{Path, PathBuf};

@@ -2,7 +2,7 @@
 //! per new crack area in pure mode I and pure mode II, the energy balance with the bonds' work, the pair exclusion
 //! across the plane, and the scenes it refuses.
 
-mod common;
+use crate::common;
 
 use swarf::run::{RunOptions, run, run_observed};
 use swarf::scene::Scene;

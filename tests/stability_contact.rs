@@ -15,7 +15,7 @@
 //! 0.0248 Δx, no sign change, E/E0 never above 1 (0.991 / 0.720 / 0.363 at the end), momentum balance exact to
 //! 3e-15.
 
-mod common;
+use crate::common;
 
 use std::path::PathBuf;
 

@@ -6,7 +6,7 @@
 //! when Δt does (the convergence that shows it is integration error, not a missing term). Measured values in
 //! docs/stability.md.
 
-mod common;
+use crate::common;
 
 use swarf::run::{RunOptions, run};
 use swarf::scene::Scene;

@@ -3,7 +3,8 @@
 //! the checkerboard (zero-energy) mode of a free elastic block (klippel-constitutive.md §8 H3;
 //! cases/hard/checkerboard-block.toml). Each test prints its measurements (`--nocapture`).
 
-mod common;
+use crate::common;
+use crate::on_test_backend;
 
 use swarf::analysis::{components_per_group, min_pair_distances};
 use swarf::backend::{AnyBackend, Backend};

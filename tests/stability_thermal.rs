@@ -3,7 +3,8 @@
 //! towards its melt temperature; the temperature must stay at or below T_m, the flow stress non-negative and the
 //! stress finite (a non-finite value stops a run with an error) — cases/hard/adiabatic-shear.toml.
 
-mod common;
+use crate::common;
+use crate::on_test_backend;
 
 use swarf::run::{RunOptions, Snapshot, run_observed};
 use swarf::scene::Scene;

@@ -2,7 +2,7 @@
 //! mesh, the scene keys of a mesh tool, the forces and moments of `forces.csv` in 3D and the tool's surface beside
 //! the frames. CPU; the GPU twin of these runs is tests/gpu.rs's `tool_3d_runs_equal_cpu`.
 
-mod common;
+use crate::common;
 
 use common::scenes::{PRISM_TOOL, drop_scene_3d, prism_obj};
 use std::path::{Path, PathBuf};

@@ -2,7 +2,7 @@
 //! `ToolState` on the CPU, a scene without the key keeps the translating path, and a bad axis or a rotating thermal
 //! tool is refused with the file, the key and the expected value.
 
-mod common;
+use crate::common;
 
 use common::scenes::drop_scene;
 use swarf::backend::CpuBackend;

@@ -86,3 +86,34 @@ fn info_prints_the_tuning() {
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(text.lines().any(|l| l.starts_with("tuning:") && l.contains("no_fuse = true")), "{text}");
 }
+
+// Moved from host/tuning.rs (the library has no unit tests: one test build, CI time).
+use swarf::tuning::{Order, Tuning, TuningError};
+
+fn with(vars: &[(&str, &str)]) -> Result<Tuning, TuningError> {
+    Tuning::from_vars(|k| vars.iter().find(|(n, _)| *n == k).map(|(_, v)| v.to_string()))
+}
+
+/// Unset variables leave every default to the code that owns it.
+#[test]
+fn unset_is_default() {
+    let t = with(&[]).expect("no variables");
+    assert_eq!((t.lanes, t.pair_block, t.no_graphs, t.fast_math), (None, None, false, false));
+}
+
+/// The values the README names are read as it says.
+#[test]
+fn values() {
+    let t = with(&[("SWARF_LANES", "4"), ("SWARF_PAIR_BLOCK", "128"), ("SWARF_PAIR_ORDER", "forward")]).expect("valid");
+    assert_eq!((t.lanes, t.pair_block, t.pair_order), (Some(4), Some(128), Some(Order::Forward)));
+}
+
+/// A bad value is refused with the variable and the expected values named.
+#[test]
+fn bad_values_name_the_variable() {
+    let e = with(&[("SWARF_PAIR_BLOCK", "100")]).expect_err("not a multiple of 32");
+    assert_eq!(e.var, "SWARF_PAIR_BLOCK");
+    assert!(e.to_string().contains("SWARF_PAIR_BLOCK") && e.to_string().contains("multiple of 32"), "{e}");
+    assert_eq!(with(&[("SWARF_LANES", "3")]).expect_err("lanes").var, "SWARF_LANES");
+    assert_eq!(with(&[("SWARF_NO_GRAPHS", "yes")]).expect_err("flag").var, "SWARF_NO_GRAPHS");
+}

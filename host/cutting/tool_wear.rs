@@ -81,29 +81,3 @@ impl ToolWear {
         )
     }
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Two tools over four samples 1 µs apart: the first touches at the last three with rates 1, 100, 1 m/s (a
-    /// spike), the second never; a NaN rate with contact counts as contact time but no wear. Sums by hand.
-    #[test]
-    fn tallies_sum_the_rectangles_and_the_median_ignores_a_spike() {
-        let mut w = ToolWear::new(2);
-        let samples = [(1e-6, [0.0, 0.0], [f64::NAN, f64::NAN]), (2e-6, [3.0, 0.0], [1.0, f64::NAN])];
-        let more = [(3e-6, [5.0, 0.0], [100.0, f64::NAN]), (4e-6, [2.0, 0.0], [1.0, f64::NAN])];
-        for (t, n, r) in samples.iter().chain(&more) {
-            w.push(*t, n.iter().copied().zip(r.iter().copied()));
-        }
-        let a = &w.tools[0];
-        assert!((a.contact_time - 3e-6).abs() < 1e-18 && a.first == Some(2e-6) && a.last == Some(4e-6));
-        assert!((a.wear - 102e-6).abs() < 1e-15, "{}", a.wear);
-        assert!((a.wear_median() - 3e-6).abs() < 1e-18, "{}", a.wear_median());
-        assert_eq!(w.tools[1], ToolTally::default());
-        let j = w.json();
-        assert!(j[1]["wear_m"].is_null() && j[1]["contact_time_s"] == 0.0);
-        w.push(5e-6, [(1.0, f64::NAN), (0.0, f64::NAN)].into_iter());
-        assert!((w.tools[0].contact_time - 4e-6).abs() < 1e-18 && (w.tools[0].wear - 102e-6).abs() < 1e-15);
-    }
-}

@@ -16,7 +16,7 @@
 //! - [`csv`]: per-step time series.
 
 pub mod atomic;
-mod base64;
+pub mod base64;
 pub mod csv;
 #[cfg(feature = "hdf5")]
 pub mod hdf5;

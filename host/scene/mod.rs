@@ -40,7 +40,7 @@ pub mod model;
 pub mod mpm;
 pub mod observe;
 mod read;
-mod units;
+pub mod units;
 
 use std::fmt::Write as _;
 use std::path::Path;

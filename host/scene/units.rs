@@ -5,7 +5,7 @@
 
 /// A kind of quantity, with the key's unit first among its units.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) enum Quantity {
+pub enum Quantity {
     /// m.
     Length,
     /// m/s.
@@ -57,7 +57,7 @@ impl Quantity {
     }
 
     /// `text` ("381.3 m/min") in the key's unit; None if it is not a finite number and one of the units.
-    pub(super) fn parse(self, text: &str) -> Option<f64> {
+    pub fn parse(self, text: &str) -> Option<f64> {
         let text = text.trim();
         // The unit is a suffix whose rest is a number ("1e-3 m": not the "e").
         let units =
@@ -111,34 +111,8 @@ const KEYS: &[(&str, Quantity)] = &[
 ];
 
 /// The quantity of the dotted key `key` (`body.0.velocity`), if it takes units.
-pub(super) fn quantity(key: &str) -> Option<Quantity> {
+pub fn quantity(key: &str) -> Option<Quantity> {
     let plain: Vec<&str> = key.split('.').filter(|part| part.parse::<usize>().is_err()).collect();
     let plain = plain.join(".");
     KEYS.iter().find(|(k, _)| *k == plain).map(|(_, q)| *q)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::{Quantity, quantity};
-
-    /// The conversions the module's documentation names, and the refusals.
-    #[test]
-    fn conversions() {
-        let close = |a: Option<f64>, b: f64| a.is_some_and(|a| (a - b).abs() <= 1e-12 * b.abs().max(1.0));
-        assert!(close(Quantity::Speed.parse("381.3 m/min"), 6.355));
-        assert!(close(Quantity::Length.parse("33 um"), 33e-6));
-        assert!(close(Quantity::Length.parse("33µm"), 33e-6));
-        assert!(close(Quantity::Length.parse("0.1 mm"), 1e-4));
-        assert!(close(Quantity::Angle.parse("10 deg"), 10.0));
-        assert!(close(Quantity::Angle.parse("-0.5 rad"), -0.5 * 180.0 / std::f64::consts::PI));
-        assert!(close(Quantity::Temperature.parse("25 C"), 298.15));
-        assert!(close(Quantity::Temperature.parse("-5 °C"), 268.15));
-        assert!(close(Quantity::Length.parse("1e-3 m"), 1e-3));
-        for bad in ["33", "33 uM", "m", "nan m", "inf m", "1e400 m", "33 um um", ""] {
-            assert_eq!(Quantity::Length.parse(bad), None, "{bad:?}");
-        }
-        assert_eq!(quantity("body.12.velocity"), Some(Quantity::Speed));
-        assert_eq!(quantity("tool.thermal.temperature"), Some(Quantity::Temperature));
-        assert_eq!(quantity("time.end"), None);
-    }
 }

@@ -1,0 +1,61 @@
+//! The CPU test suite as one binary (Cargo.toml: one compile and link instead of one per file). Each file of
+//! tests/ is a module here and reads as before: `cargo test --release --test suite cutting::` runs the tests of
+//! tests/cutting.rs. The files apart from it are declared in Cargo.toml.
+
+mod common;
+
+mod analytic_nairn;
+mod blanking;
+mod check;
+mod checkpoint;
+mod chip_frame;
+mod contact;
+mod cspm;
+mod cutting;
+mod cutting_analysis;
+mod damage;
+mod damage_scenes;
+mod early_stop;
+mod elastic_benchmarks;
+mod ensemble;
+mod fields;
+mod flow_stress;
+mod frame_tool;
+mod grinding_wheel;
+mod heat_conduction;
+mod hostile_input;
+mod identify_cli;
+mod identify_optim;
+mod install_portability;
+mod material_point;
+mod mesh_tool;
+mod mfree_iwf;
+mod mixed_precision;
+mod mpm;
+mod neighbour_search;
+mod output;
+mod periodic;
+mod pic_damping;
+mod plastic_impact;
+mod plot;
+mod render_sweep;
+mod return_mapping;
+mod run_folder;
+mod run_safety;
+mod scene;
+mod several_tools;
+mod sph_cohesive;
+mod sph_kernel;
+mod stability_contact;
+mod stability_energy;
+mod stability_solids;
+mod stability_thermal;
+mod state_table;
+mod steady_state;
+mod study;
+mod thermal_expansion;
+mod tool_3d;
+mod tool_geometry;
+mod tool_rotation;
+mod tuning;
+mod tutorial;
