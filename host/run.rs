@@ -816,8 +816,13 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
         Ok(())
     }
 
-    /// Writes `checkpoint.bin` (atomically) with the clocks to continue from.
+    /// Writes `checkpoint.bin` (atomically) with the clocks to continue from, after `forces.csv`: a resume keeps
+    /// the file's samples up to the checkpoint's time, and those taken since the last output step were held only
+    /// in memory (an interrupted 2 M grain lost 0.7 µs of them).
     fn save_checkpoint(&self) -> Result<()> {
+        if let Some(c) = self.cut.as_ref() {
+            c.write()?;
+        }
         let state = self.method.save_state(self.b)?;
         let h = crate::checkpoint::Header {
             overrides: self.opts.overrides.clone(),
