@@ -59,3 +59,27 @@ mod tool_geometry;
 mod tool_rotation;
 mod tuning;
 mod tutorial;
+
+/// With `autotests = false` a test file that is neither a module here nor a `[[test]]` of Cargo.toml would
+/// silently never build or run: every tests/*.rs must be exactly one of the two.
+#[test]
+fn every_test_file_builds_in_the_suite_or_its_own_binary() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let read = |p: &str| std::fs::read_to_string(root.join(p)).expect("readable");
+    let (suite, manifest) = (read("tests/suite.rs"), read("Cargo.toml"));
+    let modules: Vec<String> =
+        suite.lines().filter_map(|l| l.strip_prefix("mod ")?.strip_suffix(';').map(String::from)).collect();
+    let apart: Vec<String> = manifest
+        .lines()
+        .filter_map(|l| l.strip_prefix("path = \"tests/")?.strip_suffix(".rs\"").map(String::from))
+        .collect();
+    for entry in std::fs::read_dir(root.join("tests")).expect("tests/") {
+        let name = entry.expect("entry").file_name().into_string().expect("utf-8 name");
+        let Some(stem) = name.strip_suffix(".rs") else { continue };
+        let (m, a) = (modules.iter().any(|x| x == stem), apart.iter().any(|x| x == stem));
+        assert!(
+            m != a,
+            "tests/{name}: a module of tests/suite.rs ({m}) or a [[test]] of Cargo.toml ({a}), one of them"
+        );
+    }
+}
