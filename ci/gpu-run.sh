@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# mpm26 mpm26b mpm025ck mpmv1frag mpmv8fine mpmv8path mpmv8long mpmv14 mpmv10 mpmv78 mpmv5fine mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout mufit identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine shtb25 gf25 ducobugf tool3d tools24 cspm24 nonfinite24 mill24 wheel24 wide24 grainres ortho5 whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
+# mpm26 mpm26b mpm025ck mpmv1frag mpmv8fine mpmv8path mpmv8long mpmv14 mpmv10 mpmv78 mpmv5fine mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout mufit identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine shtb25 gf25 ducobugf tool3d tools24 cspm24 nonfinite24 mill24 wheel24 wide24 grainres ortho5 orthosw whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -114,7 +114,7 @@ else:
     w, label = rows[3 * len(rows) // 4:], "mean last quarter"
 if w:
     for k, c in enumerate(head):
-        if c.startswith(("fc_", "ff_", "fx_", "fy_", "fz_", "contacts")):
+        if c.startswith(("fc_", "ff_", "fx_", "fy_", "fz_", "contacts", "friction")):
             print("%s %-14s %.6g" % (label, c, sum(r[k] for r in w) / len(w)))
 print("samples", len(rows), "last t", rows[-1][0] if rows else None)
 PY
@@ -752,6 +752,56 @@ PY
                   { echo "## $k, dx = $dxo"; tail -n 3 "/tmp/ortho5/$k/run.log"; force_means "/tmp/ortho5/$k/forces.csv" 7.868e-5 1.5736e-4; } \
                       >> "$out/ortho5.log"
                   cp "/tmp/ortho5/$k/forces.csv" "$out/ortho5-$k-forces.csv" 2>/dev/null
+              done ;;
+        orthosw) # issue 24 (docs/3d.md, the F_f gap of the extruded V0060): the 2D V0060 and its 8-layer periodic
+                 # extrusion at Δx = SWARF_ORTHO_DX m (default 1.0e-5), whole, f64, once per variant of
+                 # SWARF_ORTHO_VARIANTS (default: base as0 xsph0 mu0 hproj), each with its --set keys (both runs
+                 # unless named): hproj, the 2D run at h/dx 1.46 (the width of the 3D kernel summed over its layers
+                 # at 1.5); as059, the 3D run's artificial stress at ε = 0.59 (its 2D strength, docs/3d.md); as015,
+                 # the 2D run's at 0.15 (the 3D strength at 0.3). A variant runs only the 2D or 3D side it changes
+                 # when SWARF_ORTHO_ONLY_CHANGED=1. Force means over 0.5-1 mm of cut
+              dxo=${SWARF_ORTHO_DX:-1.0e-5}
+              per=$(python3 -c "print(8*$dxo)"); zmax=$(python3 -c "print(7*$dxo)")
+              asx=stabilisation.artificial_stress.epsilon
+              # SWARF_ORTHO_LONG=1: 2 mm of cut on a workpiece 1 mm longer, means over 0.5-2 mm.
+              l2=(); l3=(); tend=1.5736e-4; xmax=1.87e-3
+              if [ "${SWARF_ORTHO_LONG:-0}" = 1 ]; then
+                  tend=3.1472e-4; xmax=2.87e-3
+                  l2=(--set 'body.0.max=[2.87e-3,2.9e-4]' --set 'boundary.2.min=[2.8699e-3,-1.0]' --set time.end=$tend)
+                  l3=(--set 'boundary.3.min=[2.8699e-3,-1.0,-1.0]' --set time.end=$tend)
+              fi
+              for v in ${SWARF_ORTHO_VARIANTS:-base as0 xsph0 mu0 hproj}; do
+                  s2=(); s3=(); sides="2d 3d"
+                  case $v in
+                      base) ;;
+                      base2d) sides=2d ;;
+                      as0) s2=(--set $asx=0); s3=("${s2[@]}") ;;
+                      xsph0) s2=(--set stabilisation.xsph.epsilon=0); s3=("${s2[@]}") ;;
+                      mu0) s2=(--set tool.friction=0); s3=("${s2[@]}") ;;
+                      hproj) s2=(--set discretisation.h_over_dx=1.46); sides=2d ;;
+                      as059) s3=(--set $asx=0.59); sides=3d ;;
+                      as015) s2=(--set $asx=0.15); sides=2d ;;
+                      as03) s3=(--set $asx=0.3); sides=3d ;;
+                      matched) sides=3d  # every stabilisation at its 2D strength (docs/3d.md): α/0.815, β/0.676, XSPH/0.946
+                          s3=(--set stabilisation.artificial_viscosity.alpha=1.227 --set stabilisation.artificial_viscosity.beta=1.479
+                              --set stabilisation.xsph.epsilon=0.528) ;;
+                      *) echo "orthosw: unknown variant $v" >&2; continue ;;
+                  esac
+                  [ "${SWARF_ORTHO_ONLY_CHANGED:-0}" = 1 ] || [ $v = base ] || sides="2d 3d"
+                  case " $sides " in *" 2d "*)
+                      run orthosw-$v-2d "$here/swarf" --backend gpu run cases/cutting/v0060.toml --quiet --force \
+                          --out /tmp/orthosw/$v/2d --set "discretisation.dx=$dxo" "${l2[@]}" "${s2[@]}" ;; esac
+                  case " $sides " in *" 3d "*)
+                      run orthosw-$v-3d "$here/swarf" --backend gpu run cases/3d/orthogonal-v0060.toml --quiet \
+                          --force --out /tmp/orthosw/$v/3d --set "discretisation.dx=$dxo" \
+                          --set "discretisation.period_z=$per" --set "body.0.max=[$xmax,2.9e-4,$zmax]" "${l3[@]}" "${s3[@]}" ;;
+                  esac
+                  for k in 2d 3d; do
+                      [ -f "/tmp/orthosw/$v/$k/forces.csv" ] || continue
+                      { echo "## $v $k, dx = $dxo"; tail -n 2 "/tmp/orthosw/$v/$k/run.log"
+                        force_means "/tmp/orthosw/$v/$k/forces.csv" 7.868e-5 $tend; } >> "$out/orthosw.log"
+                      cp "/tmp/orthosw/$v/$k/forces.csv" "$out/orthosw-$v-$k-forces.csv"
+                  done
               done ;;
         grain2mplain) # issue 24: the 2 M-particle single grain of grain2m without blanking, to SWARF_GRAIN_END s (default
                       # 2.3e-6: past where the blanked runs went non-finite), CFL SWARF_GRAIN_CFL (default the scene's)
