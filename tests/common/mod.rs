@@ -50,33 +50,48 @@ pub fn lattice<R: Real, D: Dim>(per_side: usize, dx: f64, seed: u64) -> Vec<D::V
 }
 
 /// Sorted neighbour lists (j ≠ i with |x_ij|² < support2, evaluated exactly as the kernels do, `Vector::dist2`),
-/// found without any grid: sweep and prune on x. The finite particles are sorted by x, and each tests the sorted
-/// particles on either side of it until fl(Δx)² ≥ support2. That stop loses no pair: fl(Δx)² is `dist2`'s first
-/// term and the others only add non-negative terms under monotone rounding, so `dist2` ≥ fl(Δx)²; and fl(Δx)²
-/// grows monotonically along the sorted order. The same predicate as an O(N²) double loop, at a fraction of its
-/// cost (10⁵ particles: a strip of about 2·support of the box instead of all of it).
+/// found without the cell list: strips in x, swept on y. The finite particles go into strips of width w = 1.01·s
+/// (s = √support2, in f64) by ⌊(x − x_min)/w⌋, each strip sorted by y; a particle tests its own and the two
+/// adjacent strips, from its y outwards until fl(Δy)² ≥ support2. Nothing is lost: a pair within the support has
+/// fl(Δx)² ≤ dist2 < support2, so |Δx| < s and the two strip indices differ by at most one (the 1 % margin is far
+/// above the rounding of the index); and `dist2` ≥ fl(Δy)² (one of its terms, the others non-negative, under
+/// monotone rounding), which grows monotonically along each strip's y order. The same predicate as an O(N²) double
+/// loop, at a fraction of its cost.
 pub fn brute_force<R: Real, V: Vector<R>>(pos: &[V], support2: R) -> Vec<Vec<u32>> {
-    let mut order: Vec<usize> = (0..pos.len()).filter(|&i| (0..V::DIM).all(|k| pos[i].get(k).is_finite())).collect();
-    order.sort_by(|&a, &b| pos[a].get(0).to_f64().total_cmp(&pos[b].get(0).to_f64()));
-    let near = |r: usize, s: usize| {
-        let d = pos[order[r]].get(0) - pos[order[s]].get(0);
-        d * d < support2
-    };
-    let found: Vec<Vec<u32>> = (0..order.len())
-        .into_par_iter()
-        .map(|r| {
-            let pi = pos[order[r]];
-            let up = (r + 1..order.len()).take_while(|&s| near(r, s));
-            let down = (0..r).rev().take_while(|&s| near(r, s));
-            let mut l: Vec<u32> =
-                up.chain(down).map(|s| order[s]).filter(|&j| pi.dist2(&pos[j]) < support2).map(|j| j as u32).collect();
+    let finite: Vec<usize> = (0..pos.len()).filter(|&i| (0..V::DIM).all(|k| pos[i].get(k).is_finite())).collect();
+    let x0 = finite.iter().map(|&i| pos[i].get(0).to_f64()).fold(f64::INFINITY, f64::min);
+    let w = 1.01 * support2.to_f64().sqrt();
+    let strip_of = |i: usize| ((pos[i].get(0).to_f64() - x0) / w).floor() as i64;
+    let mut strips: std::collections::BTreeMap<i64, Vec<usize>> = std::collections::BTreeMap::new();
+    for &i in &finite {
+        strips.entry(strip_of(i)).or_default().push(i);
+    }
+    for v in strips.values_mut() {
+        v.sort_by(|&a, &b| pos[a].get(1).to_f64().total_cmp(&pos[b].get(1).to_f64()));
+    }
+    let found: Vec<(usize, Vec<u32>)> = finite
+        .par_iter()
+        .map(|&i| {
+            let pi = pos[i];
+            let near_y = |j: usize| {
+                let d = pos[j].get(1) - pi.get(1);
+                d * d < support2
+            };
+            let mut l = Vec::new();
+            let k = strip_of(i);
+            for v in (k - 1..=k + 1).filter_map(|k| strips.get(&k)) {
+                let at = v.partition_point(|&j| pos[j].get(1) < pi.get(1));
+                let up = v[at..].iter().take_while(|&&j| near_y(j));
+                let down = v[..at].iter().rev().take_while(|&&j| near_y(j));
+                l.extend(up.chain(down).filter(|&&j| j != i && pi.dist2(&pos[j]) < support2).map(|&j| j as u32));
+            }
             l.sort_unstable();
-            l
+            (i, l)
         })
         .collect();
     let mut lists = vec![Vec::new(); pos.len()];
-    for (r, l) in found.into_iter().enumerate() {
-        lists[order[r]] = l;
+    for (i, l) in found {
+        lists[i] = l;
     }
     lists
 }
