@@ -142,7 +142,7 @@ fn the_extruded_scene_carries_the_2d_artificial_stress_strength() {
     };
     let ((e2, n), (e3, n3)) = (eps(&s2), eps(&s3));
     assert_eq!(n, n3, "the exponent is the 2D model's");
-    // Σ_j V_j f_ij^n ∂W/∂y over the half-space y_j ≤ y_i (V_j = Δx^dim, ρ and R uniform): the surface particle's
+    // Σ_j V_j f_ij^n ∂W/∂y over the half-space y_j ≥ y_i (V_j = Δx^dim, ρ and R uniform): the surface particle's
     // acceleration per unit R/ρ. In 3D the layers z = kΔx, nearest images of the period.
     let sum = |dim: usize| {
         let k = CubicSpline::<f64>::new(h, dim);
