@@ -119,6 +119,58 @@ if w:
 print("samples", len(rows), "last t", rows[-1][0] if rows else None)
 PY
 }
+# The 2D V0060 and its 8-layer periodic extrusion (cases/3d/orthogonal-v0060.toml) at Δx = $1 m, whole, f64,
+# once per variant named after it, each on the side(s) it changes (base: both; docs/3d.md, "The artificial stress
+# under extrusion"): as0, xsph0, mu0 switch a term off in both; hproj, the 2D run at h/dx 1.46 (the width of the
+# 3D kernel summed over its layers at 1.5); as059 / as03, the 3D run's artificial stress at ε 0.59 / 0.3; as015,
+# the 2D run's at 0.15 (the 3D strength at 0.3); matched, the 3D run's viscosity and XSPH at their 2D strengths;
+# base2d, the 2D run alone. SWARF_ORTHO_LONG=1: 2 mm of cut on a workpiece 1 mm longer. Each run's summary line
+# and force means over 0.5 mm to the end of the cut go to $out/orthosw.log, its forces.csv beside it.
+ortho_variants() {
+    local dxo=$1 v k s2 s3 sides per zmax asx l2 l3 tend xmax
+    shift
+    per=$(python3 -c "print(8*$dxo)"); zmax=$(python3 -c "print(7*$dxo)")
+    asx=stabilisation.artificial_stress.epsilon
+    # SWARF_ORTHO_LONG=1: 2 mm of cut on a workpiece 1 mm longer, means over 0.5-2 mm.
+    l2=(); l3=(); tend=1.5736e-4; xmax=1.87e-3
+    if [ "${SWARF_ORTHO_LONG:-0}" = 1 ]; then
+        tend=3.1472e-4; xmax=2.87e-3
+        l2=(--set 'body.0.max=[2.87e-3,2.9e-4]' --set 'boundary.2.min=[2.8699e-3,-1.0]' --set time.end=$tend)
+        l3=(--set 'boundary.3.min=[2.8699e-3,-1.0,-1.0]' --set time.end=$tend)
+    fi
+    for v in "$@"; do
+        s2=(); s3=(); sides="2d 3d"
+        case $v in
+            base) ;;
+            base2d) sides=2d ;;
+            as0) s2=(--set $asx=0); s3=("${s2[@]}") ;;
+            xsph0) s2=(--set stabilisation.xsph.epsilon=0); s3=("${s2[@]}") ;;
+            mu0) s2=(--set tool.friction=0); s3=("${s2[@]}") ;;
+            hproj) s2=(--set discretisation.h_over_dx=1.46); sides=2d ;;
+            as059) s3=(--set $asx=0.59); sides=3d ;;
+            as015) s2=(--set $asx=0.15); sides=2d ;;
+            as03) s3=(--set $asx=0.3); sides=3d ;;
+            matched) sides=3d  # every stabilisation at its 2D strength (docs/3d.md): α/0.815, β/0.676, XSPH/0.946
+                s3=(--set stabilisation.artificial_viscosity.alpha=1.227 --set stabilisation.artificial_viscosity.beta=1.479
+                    --set stabilisation.xsph.epsilon=0.528) ;;
+            *) echo "orthosw: unknown variant $v" >&2; continue ;;
+        esac
+        case " $sides " in *" 2d "*)
+            run orthosw-$v-2d "$here/swarf" --backend gpu run cases/cutting/v0060.toml --quiet --force \
+                --out /tmp/orthosw/$v/2d --set "discretisation.dx=$dxo" "${l2[@]}" "${s2[@]}" ;; esac
+        case " $sides " in *" 3d "*)
+            run orthosw-$v-3d "$here/swarf" --backend gpu run cases/3d/orthogonal-v0060.toml --quiet \
+                --force --out /tmp/orthosw/$v/3d --set "discretisation.dx=$dxo" \
+                --set "discretisation.period_z=$per" --set "body.0.max=[$xmax,2.9e-4,$zmax]" "${l3[@]}" "${s3[@]}" ;;
+        esac
+        for k in 2d 3d; do
+            [ -f "/tmp/orthosw/$v/$k/forces.csv" ] || continue
+            { echo "## $v $k, dx = $dxo"; tail -n 2 "/tmp/orthosw/$v/$k/run.log"
+              force_means "/tmp/orthosw/$v/$k/forces.csv" 7.868e-5 $tend; } >> "$out/orthosw.log"
+            cp "/tmp/orthosw/$v/$k/forces.csv" "$out/orthosw-$v-$k-forces.csv"
+        done
+    done
+}
 from_dirs() { # the checkpoints of fromcut/abfrom (made once per machine): prints their folders, comma separated
     local d=/tmp/swarf-from; mkdir -p $d
     # A carried 6k state (carry150k/ref6k.tgz, made by an earlier build), so that builds compare on one state.
@@ -738,71 +790,12 @@ PY
                     force_means "$d/forces.csv" 2e-6 1e-5; } >> "$out/grainres.log"
                   cp "$d/forces.csv" "$out/grainres-$dxu-forces.csv" 2>/dev/null
               done ;;
-        ortho5) # issue 24 (docs/3d.md, the extruded V0060): the 2D V0060 and its 8-layer periodic extrusion at Δx =
-                # SWARF_ORTHO_DX m (default 5.0e-6; the period 8 Δx), whole, f64: do F_c and F_f converge towards each
-                # other? Each run's summary line and the force means over 0.5-1 mm of cut (t from 7.868e-5 s)
-              dxo=${SWARF_ORTHO_DX:-5.0e-6}
-              per=$(python3 -c "print(8*$dxo)"); zmax=$(python3 -c "print(7*$dxo)")
-              run ortho5-2d "$here/swarf" --backend gpu run cases/cutting/v0060.toml --quiet --force --out /tmp/ortho5/2d \
-                  --set "discretisation.dx=$dxo"
-              run ortho5-3d "$here/swarf" --backend gpu run cases/3d/orthogonal-v0060.toml --quiet --force \
-                  --out /tmp/ortho5/3d --set "discretisation.dx=$dxo" --set "discretisation.period_z=$per" \
-                  --set "body.0.max=[1.87e-3,2.9e-4,$zmax]"
-              for k in 2d 3d; do
-                  { echo "## $k, dx = $dxo"; tail -n 3 "/tmp/ortho5/$k/run.log"; force_means "/tmp/ortho5/$k/forces.csv" 7.868e-5 1.5736e-4; } \
-                      >> "$out/ortho5.log"
-                  cp "/tmp/ortho5/$k/forces.csv" "$out/ortho5-$k-forces.csv" 2>/dev/null
-              done ;;
-        orthosw) # issue 24 (docs/3d.md, the F_f gap of the extruded V0060): the 2D V0060 and its 8-layer periodic
-                 # extrusion at Δx = SWARF_ORTHO_DX m (default 1.0e-5), whole, f64, once per variant of
-                 # SWARF_ORTHO_VARIANTS (default: base as0 xsph0 mu0 hproj), each with its --set keys (both runs
-                 # unless named): hproj, the 2D run at h/dx 1.46 (the width of the 3D kernel summed over its layers
-                 # at 1.5); as059, the 3D run's artificial stress at ε = 0.59 (its 2D strength, docs/3d.md); as015,
-                 # the 2D run's at 0.15 (the 3D strength at 0.3). A variant runs only the 2D or 3D side it changes
-                 # when SWARF_ORTHO_ONLY_CHANGED=1. Force means over 0.5-1 mm of cut
-              dxo=${SWARF_ORTHO_DX:-1.0e-5}
-              per=$(python3 -c "print(8*$dxo)"); zmax=$(python3 -c "print(7*$dxo)")
-              asx=stabilisation.artificial_stress.epsilon
-              # SWARF_ORTHO_LONG=1: 2 mm of cut on a workpiece 1 mm longer, means over 0.5-2 mm.
-              l2=(); l3=(); tend=1.5736e-4; xmax=1.87e-3
-              if [ "${SWARF_ORTHO_LONG:-0}" = 1 ]; then
-                  tend=3.1472e-4; xmax=2.87e-3
-                  l2=(--set 'body.0.max=[2.87e-3,2.9e-4]' --set 'boundary.2.min=[2.8699e-3,-1.0]' --set time.end=$tend)
-                  l3=(--set 'boundary.3.min=[2.8699e-3,-1.0,-1.0]' --set time.end=$tend)
-              fi
-              for v in ${SWARF_ORTHO_VARIANTS:-base as0 xsph0 mu0 hproj}; do
-                  s2=(); s3=(); sides="2d 3d"
-                  case $v in
-                      base) ;;
-                      base2d) sides=2d ;;
-                      as0) s2=(--set $asx=0); s3=("${s2[@]}") ;;
-                      xsph0) s2=(--set stabilisation.xsph.epsilon=0); s3=("${s2[@]}") ;;
-                      mu0) s2=(--set tool.friction=0); s3=("${s2[@]}") ;;
-                      hproj) s2=(--set discretisation.h_over_dx=1.46); sides=2d ;;
-                      as059) s3=(--set $asx=0.59); sides=3d ;;
-                      as015) s2=(--set $asx=0.15); sides=2d ;;
-                      as03) s3=(--set $asx=0.3); sides=3d ;;
-                      matched) sides=3d  # every stabilisation at its 2D strength (docs/3d.md): α/0.815, β/0.676, XSPH/0.946
-                          s3=(--set stabilisation.artificial_viscosity.alpha=1.227 --set stabilisation.artificial_viscosity.beta=1.479
-                              --set stabilisation.xsph.epsilon=0.528) ;;
-                      *) echo "orthosw: unknown variant $v" >&2; continue ;;
-                  esac
-                  [ "${SWARF_ORTHO_ONLY_CHANGED:-0}" = 1 ] || [ $v = base ] || sides="2d 3d"
-                  case " $sides " in *" 2d "*)
-                      run orthosw-$v-2d "$here/swarf" --backend gpu run cases/cutting/v0060.toml --quiet --force \
-                          --out /tmp/orthosw/$v/2d --set "discretisation.dx=$dxo" "${l2[@]}" "${s2[@]}" ;; esac
-                  case " $sides " in *" 3d "*)
-                      run orthosw-$v-3d "$here/swarf" --backend gpu run cases/3d/orthogonal-v0060.toml --quiet \
-                          --force --out /tmp/orthosw/$v/3d --set "discretisation.dx=$dxo" \
-                          --set "discretisation.period_z=$per" --set "body.0.max=[$xmax,2.9e-4,$zmax]" "${l3[@]}" "${s3[@]}" ;;
-                  esac
-                  for k in 2d 3d; do
-                      [ -f "/tmp/orthosw/$v/$k/forces.csv" ] || continue
-                      { echo "## $v $k, dx = $dxo"; tail -n 2 "/tmp/orthosw/$v/$k/run.log"
-                        force_means "/tmp/orthosw/$v/$k/forces.csv" 7.868e-5 $tend; } >> "$out/orthosw.log"
-                      cp "/tmp/orthosw/$v/$k/forces.csv" "$out/orthosw-$v-$k-forces.csv"
-                  done
-              done ;;
+        ortho5) # issue 24 (docs/3d.md, the extruded V0060): orthosw's base at Δx = SWARF_ORTHO_DX (default 5.0e-6):
+                # do F_c and F_f converge towards each other?
+              ortho_variants "${SWARF_ORTHO_DX:-5.0e-6}" base ;;
+        orthosw) # issue 24: ortho_variants at Δx = SWARF_ORTHO_DX (default 1.0e-5) for each of SWARF_ORTHO_VARIANTS
+                 # (default: base as0 xsph0 mu0 hproj)
+              ortho_variants "${SWARF_ORTHO_DX:-1.0e-5}" ${SWARF_ORTHO_VARIANTS:-base as0 xsph0 mu0 hproj} ;;
         grain2mplain) # issue 24: the 2 M-particle single grain of grain2m without blanking, to SWARF_GRAIN_END s (default
                       # 2.3e-6: past where the blanked runs went non-finite), CFL SWARF_GRAIN_CFL (default the scene's)
               sed 's/^dx = 3.0e-6/dx = 1.13e-6/' cases/3d/single-grain.toml > cases/3d/single-grain-2m.toml
