@@ -1176,13 +1176,15 @@ $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s" \
                  # (cases/3d/grinding-wheel-*.toml; SWARF_WHEEL_PATTERNS, default "a b c"), one after another (three
                  # processes at once ran 1.47x slower in all: they time-slice the GPU), each stopped with a checkpoint
                  # at SWARF_WHEEL_DEADLINE s (default 480); per-grain wear and forces (ci/wheel-wear.py), and pictures
-                 # of the last frames seen from above (plastic strain, temperature) in $OUT/wheelpics/
+                 # of the last frames seen from above (plastic strain, temperature) in $OUT/wheelpics/;
+                 # SWARF_WHEEL_SETS: extra `--set` arguments for every pattern (e.g. CSPM)
               wheel() {
                   local patterns=${SWARF_WHEEL_PATTERNS:-a b c}
                   for p in $patterns; do
                       local t0=$(date +%s.%N)
                       timeout -s INT -k 30 "${SWARF_WHEEL_DEADLINE:-480}" "$here/swarf" --backend gpu run \
-                          "cases/3d/grinding-wheel-$p.toml" --quiet --force --out "/tmp/wheel/$p" > "/tmp/wheel-$p.log" 2>&1
+                          "cases/3d/grinding-wheel-$p.toml" --quiet --force --out "/tmp/wheel/$p" ${SWARF_WHEEL_SETS:-} \
+                          > "/tmp/wheel-$p.log" 2>&1
                       echo "$p: $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s wall"
                   done
                   mkdir -p "$out/wheelpics"
