@@ -1194,8 +1194,10 @@ $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s" \
                       cp "/tmp/wheel/$p/summary.json" "$out/wheel-$p-summary.json" 2>/dev/null
                       python3 ci/wheel-wear.py "/tmp/wheel/$p/forces.csv" "pattern $p"
                       for fld in eps T; do
+                          # the workpiece (z ±50 µm, x 0-400 µm) and the chips just ahead of it: stray particles
+                          # thrown far out would otherwise shrink it to a sliver
                           "$here/swarf" render "/tmp/wheel/$p" --field $fld --frame last --along y \
-                              --out "$out/wheelpics/$p-top" 2>&1 | tail -n 1
+                              --window=-7e-5,7e-5,-2e-5,5e-4 --out "$out/wheelpics/$p-top" 2>&1 | tail -n 1
                       done
                   done
               }

@@ -890,6 +890,10 @@ struct RenderArgs {
     /// A 3D run: draw only the particles with MIN <= coordinate <= MAX along --along (in m; default: all of them).
     #[arg(long, value_name = "MIN,MAX", value_parser = parse_slab)]
     slab: Option<(f64, f64)>,
+    /// The region shown, in m along the page's axes (default: every particle drawn and the tool), widened on one
+    /// axis to equal scales: for a close-up, or a 3D run whose stray particles would shrink the workpiece.
+    #[arg(long, value_name = "X0,X1,Y0,Y1", value_parser = parse_window)]
+    window: Option<swarf::render::draw::Region>,
 }
 
 /// An axis of a 3D run's picture.
@@ -900,16 +904,29 @@ enum Axis {
     Z,
 }
 
-/// `--slab MIN,MAX`: two finite numbers, MIN <= MAX.
-fn parse_slab(s: &str) -> std::result::Result<(f64, f64), String> {
+/// Comma-separated finite numbers for `flag`, `form` naming them (e.g. "MIN,MAX").
+fn parse_numbers(s: &str, flag: &str, form: &str) -> std::result::Result<Vec<f64>, String> {
     let v: Vec<f64> = s
         .split(',')
         .map(|x| x.trim().parse::<f64>())
         .collect::<std::result::Result<_, _>>()
-        .map_err(|e| format!("--slab {s}: expected MIN,MAX in m ({e})"))?;
-    match v[..] {
-        [a, b] if a.is_finite() && b.is_finite() && a <= b => Ok((a, b)),
+        .map_err(|e| format!("{flag} {s}: expected {form} in m ({e})"))?;
+    if v.iter().all(|x| x.is_finite()) { Ok(v) } else { Err(format!("{flag} {s}: expected finite numbers {form}")) }
+}
+
+/// `--slab MIN,MAX`: two finite numbers, MIN <= MAX.
+fn parse_slab(s: &str) -> std::result::Result<(f64, f64), String> {
+    match parse_numbers(s, "--slab", "MIN,MAX")?[..] {
+        [a, b] if a <= b => Ok((a, b)),
         _ => Err(format!("--slab {s}: expected two finite numbers MIN,MAX in m with MIN <= MAX")),
+    }
+}
+
+/// `--window X0,X1,Y0,Y1`: four finite numbers, X0 < X1 and Y0 < Y1.
+fn parse_window(s: &str) -> std::result::Result<swarf::render::draw::Region, String> {
+    match parse_numbers(s, "--window", "X0,X1,Y0,Y1")?[..] {
+        [x0, x1, y0, y1] if x0 < x1 && y0 < y1 => Ok(((x0, x1), (y0, y1))),
+        _ => Err(format!("--window {s}: expected four finite numbers X0,X1,Y0,Y1 in m with X0 < X1 and Y0 < Y1")),
     }
 }
 
@@ -950,6 +967,7 @@ fn cmd_render(a: &RenderArgs) -> Result<()> {
         out: a.out.clone(),
         slab: a.slab,
         along: a.along as usize,
+        window: a.window,
     };
     let done = swarf::render::render(&opts)?;
     for w in &done.warnings {

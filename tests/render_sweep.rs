@@ -82,8 +82,15 @@ fn coloured(p: &[u8; 3]) -> bool {
 fn render_draws_a_cut_with_its_colour_bar_and_tool() {
     let dir = test_dir("cut");
     short_cut(&dir);
-    let opts =
-        RenderOptions { run: dir.clone(), field: "T".into(), frames: Frames::Last, out: None, slab: None, along: 2 };
+    let opts = RenderOptions {
+        run: dir.clone(),
+        field: "T".into(),
+        frames: Frames::Last,
+        out: None,
+        slab: None,
+        along: 2,
+        window: None,
+    };
     let done = render(&opts).expect("render");
     assert!(done.warnings.is_empty(), "{:?}", done.warnings);
     assert_eq!(done.files, vec![dir.join("render").join("temperature_00004.png")]);
@@ -126,6 +133,7 @@ fn render_all_frames_fields_and_refusals() {
         out: None,
         slab: None,
         along: 2,
+        window: None,
     };
     let done = render(&opts).expect("render all");
     let names: Vec<String> = done.files.iter().map(|f| f.file_name().unwrap().to_string_lossy().into_owned()).collect();
@@ -164,13 +172,27 @@ fn render_all_frames_fields_and_refusals() {
     c.write().unwrap();
     // Without a scene, z ≠ 0 makes it 3D: every particle, seen along −z; a slab keeps the particles in it; a slab
     // with none is refused before anything is written, as is a slab for a 2D run.
-    let all =
-        RenderOptions { run: d3.clone(), field: "T".into(), frames: Frames::Last, out: None, slab: None, along: 2 };
+    let all = RenderOptions {
+        run: d3.clone(),
+        field: "T".into(),
+        frames: Frames::Last,
+        out: None,
+        slab: None,
+        along: 2,
+        window: None,
+    };
     let empty = RenderOptions { slab: Some((2e-3, 3e-3)), out: Some(d3.join("empty")), ..all.clone() };
     let e = render(&empty).expect_err("an empty slab").to_string();
     assert!(e.contains("--slab") && e.contains("no particle"), "{e}");
     assert!(!d3.join("empty").exists());
     assert_eq!(render(&all).expect("3D, all").drawn, vec![2]);
+    // A window (page axes x, y seen along −z) shows the particles in it; one holding none is refused the same way.
+    let near = RenderOptions { window: Some(((-1e-4, 5e-4), (-1e-4, 1e-4))), out: Some(d3.join("w")), ..all.clone() };
+    assert_eq!(render(&near).expect("a window").drawn, vec![1], "the window holds the particle at the origin only");
+    let far = RenderOptions { window: Some(((2e-3, 3e-3), (0.0, 1e-3))), out: Some(d3.join("far")), ..all.clone() };
+    let e = render(&far).expect_err("an empty window").to_string();
+    assert!(e.contains("--window") && e.contains("no particle"), "{e}");
+    assert!(!d3.join("far").exists());
     std::fs::copy("cases/cylinders-3d.toml", d3.join("scene.toml")).unwrap();
     let upper = RenderOptions { slab: Some((0.5e-3, 2e-3)), ..all.clone() };
     let done = render(&upper).expect("3D, a slab");
@@ -181,6 +203,25 @@ fn render_all_frames_fields_and_refusals() {
     let flat = RenderOptions { run: dir.clone(), slab: Some((0.0, 1.0)), ..all };
     let e = render(&flat).expect_err("a slab for a 2D run").to_string();
     assert!(e.contains("--slab") && e.contains("2D run"), "{e}");
+}
+
+/// `--window`'s geometry: the view is the window widened on one axis to the plot area's proportions (a 200 × 100
+/// pixel area shows the unit square as x −0.5..1.5, y 0..1); the tool's outline is clipped to the view exactly
+/// (a 2 × 2 square cut by x 0.5..1.5, y −1..1 keeps area 1 to rounding, every corner inside the view), where
+/// plotters' clamping of corners to the plot area would change it.
+#[test]
+fn a_window_sets_the_view_and_clips_the_tool() {
+    use swarf::render::draw::{clip, view};
+    let ((x0, x1), (y0, y1)) = view(&[[5.0, 5.0]], None, (200, 100), Some(((0.0, 1.0), (0.0, 1.0))));
+    for (got, want) in [(x0, -0.5), (x1, 1.5), (y0, 0.0), (y1, 1.0)] {
+        assert!((got - want).abs() < 1e-15, "view ({x0}, {x1}), ({y0}, {y1})");
+    }
+    let square = [[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]];
+    let cut = clip(&square, ((0.5, 1.5), (-1.0, 1.0)));
+    let area = 0.5 * cut.iter().zip(cut.iter().cycle().skip(1)).map(|(p, q)| p[0] * q[1] - q[0] * p[1]).sum::<f64>();
+    assert!((area - 1.0).abs() < 1e-12, "clipped area {area}: {cut:?}");
+    assert!(cut.iter().all(|p| (0.5..=1.5).contains(&p[0]) && (-1.0..=1.0).contains(&p[1])), "{cut:?}");
+    assert!(clip(&square, ((3.0, 4.0), (0.0, 1.0))).is_empty(), "a polygon outside the view leaves nothing");
 }
 
 /// The grid syntax: values split at top-level commas (a bracketed value keeps its commas); refused: no '=',

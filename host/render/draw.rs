@@ -38,7 +38,7 @@ pub struct Picture<'a> {
     /// The tool's outline (world frame), if drawn.
     pub tool: Option<&'a [[f64; 2]]>,
     /// The region shown, ((x0, x1), (y0, y1)) in m.
-    pub view: ((f64, f64), (f64, f64)),
+    pub view: Region,
     /// The page's horizontal and vertical axes, e.g. ("x", "y").
     pub axes: (&'a str, &'a str),
     /// The particle spacing [m]: the squares' side.
@@ -50,19 +50,27 @@ pub fn draw(path: &Path, pic: &Picture, size: (u32, u32)) -> Result<(), PlotErro
     draw_atomic(path, 0, |target| render(target, pic, size)).map(|_| ())
 }
 
-/// The view: the bounding box of `points` and `tool`, padded by 4 %, then widened on one axis so that a plot area
-/// of `plot` = (width, height) pixels shows it at equal scales.
-pub fn view(points: &[[f64; 2]], tool: Option<&[[f64; 2]]>, plot: (u32, u32)) -> ((f64, f64), (f64, f64)) {
-    let all = points.iter().chain(tool.unwrap_or(&[])).filter(|p| p[0].is_finite() && p[1].is_finite());
-    let (mut x, mut y) = ((f64::INFINITY, f64::NEG_INFINITY), (f64::INFINITY, f64::NEG_INFINITY));
-    for p in all {
-        x = (x.0.min(p[0]), x.1.max(p[0]));
-        y = (y.0.min(p[1]), y.1.max(p[1]));
-    }
-    if !(x.0.is_finite() && y.0.is_finite()) {
-        return ((-1.0, 1.0), (-1.0, 1.0));
-    }
-    let (x, y) = (pad(x, 0.04), pad(y, 0.04));
+/// A region of the page, ((x0, x1), (y0, y1)) in m.
+pub type Region = ((f64, f64), (f64, f64));
+
+/// The view: `window` if given, else the bounding box of `points` and `tool` padded by 4 %; then widened on one
+/// axis so that a plot area of `plot` = (width, height) pixels shows it at equal scales.
+pub fn view(points: &[[f64; 2]], tool: Option<&[[f64; 2]]>, plot: (u32, u32), window: Option<Region>) -> Region {
+    let (x, y) = match window {
+        Some(w) => w,
+        None => {
+            let all = points.iter().chain(tool.unwrap_or(&[])).filter(|p| p[0].is_finite() && p[1].is_finite());
+            let (mut x, mut y) = ((f64::INFINITY, f64::NEG_INFINITY), (f64::INFINITY, f64::NEG_INFINITY));
+            for p in all {
+                x = (x.0.min(p[0]), x.1.max(p[0]));
+                y = (y.0.min(p[1]), y.1.max(p[1]));
+            }
+            if !(x.0.is_finite() && y.0.is_finite()) {
+                return ((-1.0, 1.0), (-1.0, 1.0));
+            }
+            (pad(x, 0.04), pad(y, 0.04))
+        }
+    };
     let scale = ((x.1 - x.0) / f64::from(plot.0.max(1))).max((y.1 - y.0) / f64::from(plot.1.max(1)));
     let widen = |(lo, hi): (f64, f64), pixels: u32| {
         let half = 0.5 * scale * f64::from(pixels);
@@ -70,6 +78,33 @@ pub fn view(points: &[[f64; 2]], tool: Option<&[[f64; 2]]>, plot: (u32, u32)) ->
         (mid - half, mid + half)
     };
     (widen(x, plot.0), widen(y, plot.1))
+}
+
+/// `polygon` clipped to the rectangle `view` (Sutherland–Hodgman, one edge of the rectangle at a time): exact
+/// for the tool's convex outline, where clamping its corners to the plot area, as plotters does, would bend it.
+pub fn clip(polygon: &[[f64; 2]], view: Region) -> Vec<[f64; 2]> {
+    let ((x0, x1), (y0, y1)) = view;
+    // Each edge: the axis, its coordinate, and whether the inside lies above it.
+    let edges = [(0, x0, true), (0, x1, false), (1, y0, true), (1, y1, false)];
+    let mut out = polygon.to_vec();
+    for (a, c, above) in edges {
+        let inside = |p: &[f64; 2]| if above { p[a] >= c } else { p[a] <= c };
+        let cut = |p: &[f64; 2], q: &[f64; 2]| {
+            let t = (c - p[a]) / (q[a] - p[a]);
+            [p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])]
+        };
+        let input = std::mem::take(&mut out);
+        for (k, q) in input.iter().enumerate() {
+            let p = &input[(k + input.len() - 1) % input.len()];
+            match (inside(p), inside(q)) {
+                (true, true) => out.push(*q),
+                (true, false) => out.push(cut(p, q)),
+                (false, true) => out.extend([cut(p, q), *q]),
+                (false, false) => {}
+            }
+        }
+    }
+    out
 }
 
 /// The layout of an image of `size`: (the colour bar's width, the plot area's (width, height)), so that
@@ -131,12 +166,15 @@ fn render(target: &Path, pic: &Picture, size: (u32, u32)) -> Result<(), String> 
     // to whole pixels leave no seam of white between them.
     let mm_per_px = (x1 - x0) / f64::from(cc.plotting_area().dim_in_pixel().0.max(1));
     let half = 0.5 * pic.dx * 1e3 + 0.6 * mm_per_px;
-    let cells = pic.points.iter().zip(pic.values).map(|(p, &v)| {
+    // plotters clamps each corner to the plot area, which cuts a square that crosses the border exactly but
+    // would pile those wholly outside (a --window's) onto the border: they are left out.
+    let seen = |x: f64, y: f64| x + half > x0 && x - half < x1 && y + half > y0 && y - half < y1;
+    let cells = pic.points.iter().zip(pic.values).filter(|(p, _)| seen(p[0] * 1e3, p[1] * 1e3)).map(|(p, &v)| {
         let (x, y) = (p[0] * 1e3, p[1] * 1e3);
         Rectangle::new([(x - half, y - half), (x + half, y + half)], colour(v, pic.range).filled())
     });
     cc.draw_series(cells).map_err(|e| err(&e))?;
-    if let Some(tool) = pic.tool {
+    if let Some(tool) = pic.tool.map(|t| clip(t, pic.view)).filter(|t| t.len() > 2) {
         let pts: Vec<(f64, f64)> = tool.iter().map(|p| (p[0] * 1e3, p[1] * 1e3)).collect();
         cc.draw_series(std::iter::once(Polygon::new(pts.clone(), RGBColor(150, 150, 150).mix(0.7))))
             .map_err(|e| err(&e))?;

@@ -70,6 +70,9 @@ pub struct RenderOptions {
     pub slab: Option<(f64, f64)>,
     /// The axis a 3D run is seen along (0, 1, 2: x, y, z), from its positive side.
     pub along: usize,
+    /// The region shown, ((x0, x1), (y0, y1)) in m along the page's axes, widened on one axis to equal scales
+    /// (None: every particle drawn and the tool).
+    pub window: Option<draw::Region>,
 }
 
 /// The page's (horizontal, vertical) axes of a view along axis `along`, right-handed (page right × page up points
@@ -88,7 +91,7 @@ pub struct Rendered {
     pub files: Vec<PathBuf>,
     /// E.g. the scene could not be read, so the tool is not drawn.
     pub warnings: Vec<String>,
-    /// The particles drawn in each picture.
+    /// The particles drawn in each picture (those whose centre lies in the region shown).
     pub drawn: Vec<usize>,
 }
 
@@ -135,14 +138,25 @@ pub fn render(opts: &RenderOptions) -> Result<Rendered> {
                 path.display()
             )));
         }
+        let within = |((x0, x1), (y0, y1)): draw::Region| {
+            points.iter().any(|p| p[0] >= x0 && p[0] <= x1 && p[1] >= y0 && p[1] <= y1)
+        };
+        if let Some(w) = opts.window.filter(|&w| !within(w)) {
+            return Err(Error::Scene(format!(
+                "render: --window {:?}: no particle of {} lies in it (x0, x1, y0, y1 in m, along the page's axes)",
+                [w.0.0, w.0.1, w.1.0, w.1.1],
+                path.display()
+            )));
+        }
         pictures.push((k, path, frame, points, order));
     }
     std::fs::create_dir_all(&out).map_err(|e| Error::Output(format!("{}: {e}", out.display())))?;
     for (k, path, frame, points, order) in pictures {
         let file = out.join(format!("{}_{k:05}.png", field.name));
         let shown = Shown { points: &points, order: &order, dim3, slab: opts.slab, along: opts.along.min(2) };
-        picture(&run, &field, &path, &frame, run.frames[k].0, range, &shown, &file)?;
-        done.drawn.push(points.len());
+        let view = picture(&run, &field, &path, &frame, run.frames[k].0, range, &shown, opts.window, &file)?;
+        let ((x0, x1), (y0, y1)) = view;
+        done.drawn.push(points.iter().filter(|p| p[0] >= x0 && p[0] <= x1 && p[1] >= y0 && p[1] <= y1).count());
         done.files.push(file);
     }
     Ok(done)
@@ -157,7 +171,7 @@ struct Shown<'a> {
     along: usize,
 }
 
-/// Draws one frame to `file`.
+/// Draws one frame to `file`; returns the region shown.
 #[allow(clippy::too_many_arguments)]
 fn picture(
     run: &RunFolder,
@@ -167,8 +181,9 @@ fn picture(
     pvd_time: f64,
     range: (f64, f64),
     shown: &Shown<'_>,
+    window: Option<draw::Region>,
     file: &Path,
-) -> Result<()> {
+) -> Result<draw::Region> {
     let all = field.values(frame).ok_or_else(|| field::missing(&field.name, frame, path))?;
     let values: Vec<f64> = shown.order.iter().map(|&i| all[i]).collect();
     let points = shown.points;
@@ -178,7 +193,7 @@ fn picture(
         None => None,
     };
     let (_, plot) = draw::layout(SIZE);
-    let view = draw::view(points, tool.as_deref(), plot);
+    let view = draw::view(points, tool.as_deref(), plot, window);
     let dx = run.scene.as_ref().map_or_else(|| spacing(points), |s| s.discretisation.dx);
     let unit = if field.unit.is_empty() { String::new() } else { format!(" ({})", field.unit) };
     const NAMES: [&str; 3] = ["x", "y", "z"];
@@ -202,7 +217,8 @@ fn picture(
         axes: (NAMES[h], NAMES[v]),
         dx,
     };
-    draw::draw(file, &pic, SIZE).map_err(|e| Error::Output(e.to_string()))
+    draw::draw(file, &pic, SIZE).map_err(|e| Error::Output(e.to_string()))?;
+    Ok(view)
 }
 
 /// The run folder's frames and scene (a scene that cannot be read is a warning: the tool is then not drawn).
