@@ -47,6 +47,19 @@ fn short_cut(dir: &Path) {
 }
 
 /// A decoded PNG: (width, height, RGB pixels).
+/// The last frame's temperature, every particle, into `<run>/render` (a 3D run seen along −z).
+fn last_temperature(run: &Path) -> RenderOptions {
+    RenderOptions {
+        run: run.to_path_buf(),
+        field: "T".into(),
+        frames: Frames::Last,
+        out: None,
+        slab: None,
+        along: 2,
+        window: None,
+    }
+}
+
 fn decode(path: &Path) -> (u32, u32, Vec<[u8; 3]>) {
     let file = std::fs::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     let mut reader = png::Decoder::new(std::io::BufReader::new(file)).read_info().expect("a PNG");
@@ -82,15 +95,7 @@ fn coloured(p: &[u8; 3]) -> bool {
 fn render_draws_a_cut_with_its_colour_bar_and_tool() {
     let dir = test_dir("cut");
     short_cut(&dir);
-    let opts = RenderOptions {
-        run: dir.clone(),
-        field: "T".into(),
-        frames: Frames::Last,
-        out: None,
-        slab: None,
-        along: 2,
-        window: None,
-    };
+    let opts = last_temperature(&dir);
     let done = render(&opts).expect("render");
     assert!(done.warnings.is_empty(), "{:?}", done.warnings);
     assert_eq!(done.files, vec![dir.join("render").join("temperature_00004.png")]);
@@ -172,15 +177,7 @@ fn render_all_frames_fields_and_refusals() {
     c.write().unwrap();
     // Without a scene, z ≠ 0 makes it 3D: every particle, seen along −z; a slab keeps the particles in it; a slab
     // with none is refused before anything is written, as is a slab for a 2D run.
-    let all = RenderOptions {
-        run: d3.clone(),
-        field: "T".into(),
-        frames: Frames::Last,
-        out: None,
-        slab: None,
-        along: 2,
-        window: None,
-    };
+    let all = last_temperature(&d3);
     let empty = RenderOptions { slab: Some((2e-3, 3e-3)), out: Some(d3.join("empty")), ..all.clone() };
     let e = render(&empty).expect_err("an empty slab").to_string();
     assert!(e.contains("--slab") && e.contains("no particle"), "{e}");
