@@ -46,7 +46,6 @@ fn short_cut(dir: &Path) {
     run(&cpu(), &scene, &opts).expect("the short cut runs");
 }
 
-/// A decoded PNG: (width, height, RGB pixels).
 /// The last frame's temperature, every particle, into `<run>/render` (a 3D run seen along −z).
 fn last_temperature(run: &Path) -> RenderOptions {
     RenderOptions {
@@ -60,6 +59,7 @@ fn last_temperature(run: &Path) -> RenderOptions {
     }
 }
 
+/// A decoded PNG: (width, height, RGB pixels).
 fn decode(path: &Path) -> (u32, u32, Vec<[u8; 3]>) {
     let file = std::fs::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     let mut reader = png::Decoder::new(std::io::BufReader::new(file)).read_info().expect("a PNG");
@@ -131,15 +131,7 @@ fn render_draws_a_cut_with_its_colour_bar_and_tool() {
 fn render_all_frames_fields_and_refusals() {
     let dir = test_dir("frames");
     short_cut(&dir);
-    let opts = RenderOptions {
-        run: dir.clone(),
-        field: "vmises".into(),
-        frames: Frames::All,
-        out: None,
-        slab: None,
-        along: 2,
-        window: None,
-    };
+    let opts = RenderOptions { field: "vmises".into(), frames: Frames::All, ..last_temperature(&dir) };
     let done = render(&opts).expect("render all");
     let names: Vec<String> = done.files.iter().map(|f| f.file_name().unwrap().to_string_lossy().into_owned()).collect();
     assert_eq!(names, (0..5).map(|k| format!("von_mises_{k:05}.png")).collect::<Vec<_>>());

@@ -53,6 +53,11 @@ pub fn draw(path: &Path, pic: &Picture, size: (u32, u32)) -> Result<(), PlotErro
 /// A region of the page, ((x0, x1), (y0, y1)) in m.
 pub type Region = ((f64, f64), (f64, f64));
 
+/// Whether the point `p` lies in `region` (its edges included).
+pub fn contains(((x0, x1), (y0, y1)): Region, p: &[f64; 2]) -> bool {
+    p[0] >= x0 && p[0] <= x1 && p[1] >= y0 && p[1] <= y1
+}
+
 /// The view: `window` if given, else the bounding box of `points` and `tool` padded by 4 %; then widened on one
 /// axis so that a plot area of `plot` = (width, height) pixels shows it at equal scales.
 pub fn view(points: &[[f64; 2]], tool: Option<&[[f64; 2]]>, plot: (u32, u32), window: Option<Region>) -> Region {

@@ -138,10 +138,7 @@ pub fn render(opts: &RenderOptions) -> Result<Rendered> {
                 path.display()
             )));
         }
-        let within = |((x0, x1), (y0, y1)): draw::Region| {
-            points.iter().any(|p| p[0] >= x0 && p[0] <= x1 && p[1] >= y0 && p[1] <= y1)
-        };
-        if let Some(w) = opts.window.filter(|&w| !within(w)) {
+        if let Some(w) = opts.window.filter(|&w| !points.iter().any(|p| draw::contains(w, p))) {
             return Err(Error::Scene(format!(
                 "render: --window {:?}: no particle of {} lies in it (x0, x1, y0, y1 in m, along the page's axes)",
                 [w.0.0, w.0.1, w.1.0, w.1.1],
@@ -155,8 +152,7 @@ pub fn render(opts: &RenderOptions) -> Result<Rendered> {
         let file = out.join(format!("{}_{k:05}.png", field.name));
         let shown = Shown { points: &points, order: &order, dim3, slab: opts.slab, along: opts.along.min(2) };
         let view = picture(&run, &field, &path, &frame, run.frames[k].0, range, &shown, opts.window, &file)?;
-        let ((x0, x1), (y0, y1)) = view;
-        done.drawn.push(points.iter().filter(|p| p[0] >= x0 && p[0] <= x1 && p[1] >= y0 && p[1] <= y1).count());
+        done.drawn.push(points.iter().filter(|p| draw::contains(view, p)).count());
         done.files.push(file);
     }
     Ok(done)
