@@ -8,7 +8,6 @@ use crate::common;
 
 use std::path::PathBuf;
 use swarf::backend::{AnyBackend, BackendChoice};
-use swarf::kernels::Dim2;
 use swarf::kernels::contact::penalty::{ContactParams, contact_force, slip};
 use swarf::kernels::contact::tool2d::{Tool2d, ToolShape};
 use swarf::kernels::contact::{ToolGeometry, ToolState};
@@ -18,6 +17,7 @@ use swarf::kernels::material::{
 };
 use swarf::kernels::sph::CubicSpline;
 use swarf::kernels::sph::params::flags;
+use swarf::kernels::{Dim2, Vector};
 use swarf::run::{RunOptions, run};
 use swarf::scene::{Model, Scene, Switch};
 
@@ -412,4 +412,40 @@ fn measure_each_switch_on_the_coarse_cut() {
             100.0 * (ff / ff0 - 1.0)
         );
     }
+}
+
+/// The original's tool (`setup_ref_cut`: top-left corner, 0.413176 mm along the top, 0.431 mm down the back, rake
+/// 10°, clearance 8°, r = 20 µm) measured from its edge's lowest point: 0.4771 mm to the back, 0.4979 mm to the
+/// top (docs/original-code.md, "The thermal tool").
+const C2D_TOOL: [&str; 2] = ["tool.length=4.771269497498491e-4", "tool.height=4.978592683264774e-4"];
+
+/// `[tool.thermal] lattice = "nodes"` samples the tool as the original's `tool::sample_tool` does: on the reference
+/// cut with the original's tool it gives the original's 1 970 tool particles (its run's 7 610 particles less the
+/// 5 640 of the workpiece: docs/measurements/h100-issue22-speed.txt), and with `fixed_width` = Δx holds the
+/// original's set, the samples within Δx/2 of the extreme column at the back and row at the top. The default cells
+/// keep the 1 429 of the scene's own tool.
+#[test]
+fn the_original_tool_sampling_gives_its_1970_particles_and_held_layer() {
+    let tool = |sets: &[&str]| {
+        let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+        let scene = Scene::load("cases/cutting/reference-cut.toml", &sets).expect("scene");
+        let s = swarf::run::setup::<f64, Dim2>(&scene).expect("setup");
+        let p = &s.particles;
+        (0..p.len())
+            .filter(|&i| p.flags[i] & flags::THERMAL_ONLY != 0)
+            .map(|i| ([p.pos[i].get(0), p.pos[i].get(1)], p.flags[i] & flags::FIXED_TEMPERATURE != 0))
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(tool(&[]).len(), 1429);
+    let dx = 1.03448275862069e-5;
+    let width = format!("tool.thermal.fixed_width={dx:e}");
+    let nodes = tool(&[C2D_TOOL[0], C2D_TOOL[1], "tool.thermal.lattice=\"nodes\"", &width]);
+    assert_eq!(nodes.len(), 1970);
+    let min_x = nodes.iter().map(|(p, _)| p[0]).fold(f64::INFINITY, f64::min);
+    let max_y = nodes.iter().map(|(p, _)| p[1]).fold(f64::NEG_INFINITY, f64::max);
+    for (p, held) in &nodes {
+        assert_eq!(*held, p[0] < min_x + dx / 2.0 || p[1] > max_y - dx / 2.0, "{p:?}");
+    }
+    let held = nodes.iter().filter(|(_, h)| *h).count();
+    assert!(held > 40 && held < 120, "{held} held");
 }

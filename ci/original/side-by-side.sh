@@ -29,6 +29,13 @@ status=0
 # centre (17.126949749849073, 520) um against its first column at 50 um and top row at 600 um, read from its
 # tool_000000.csv dump); its dt is 1.4473417988558209 ns (meta.json).
 place=(--set 'tool.position=[-3.2873050250150927e-5, 2.0e-4]')
+# ORIG_TOOL=1: the original's tool too (docs/original-code.md, "The thermal tool"): its extent from the edge's lowest
+# point (0.4771 mm back, 0.4979 mm up; the scene's is 0.4132 x 0.431) and its thermal particles, the nodes of its
+# bounding box inside it with one held layer (1 970 against the scene's 1 429 cell centres).
+if [ "${ORIG_TOOL:-0}" = 1 ]; then
+    place+=(--set tool.length=4.771269497498491e-4 --set tool.height=4.978592683264774e-4
+        --set 'tool.thermal.lattice="nodes"' --set tool.thermal.fixed_width=1.03448275862069e-5)
+fi
 dt=1.4473417988558209e-9
 ref=cases/cutting/reference-cut.toml
 ref150=cases/cutting/reference-cut-150k.toml

@@ -419,6 +419,11 @@ pub struct ToolThermal {
     /// `fixed_width` (optional, default 2·dx; unit m), ≥ 0: tool particles closer than this to the top or back
     /// face are held at `temperature` (the tool's far boundary).
     pub fixed_width: f64,
+    /// `lattice` (optional, default "cells"): "cells" keeps the centres of the cells of spacing dx from the tool's
+    /// back and edge that lie at least dx/2 inside the tool; "nodes" the original code's sampling
+    /// (`tool::sample_tool`): the nodes of spacing dx from its bounding box's lower-left corner less 0.1 dx that lie
+    /// inside it (parametric tools only).
+    pub lattice: Lattice,
 }
 
 /// `[physics]`: what the run models beyond elasticity; everything off by default except what the material

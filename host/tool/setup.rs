@@ -5,7 +5,7 @@ use crate::kernels::contact::penalty::{cap, law, slip};
 use crate::kernels::contact::tool2d::{BACK, TOP};
 use crate::kernels::contact::{ContactParams, Tool2d, ToolGeometry, ToolShape};
 use crate::material::FlowModel;
-use crate::scene::{ContactLawKind, FrictionCap, Scene, Switch, Tool};
+use crate::scene::{ContactLawKind, FrictionCap, Lattice, Scene, Switch, Tool};
 use crate::{Error, Result};
 
 use super::motion::{Rotation, ToolMotion};
@@ -79,8 +79,8 @@ pub fn contact_params(scene: &Scene, t: &Tool, model: Option<&FlowModel>) -> Con
     }
 }
 
-/// Thermal-only particles filling the tool: cell centres of a lattice of spacing `dx` in the tool frame, kept
-/// when at least dx/2 inside the tool; `held` marks its far boundary (the parametric tool's top and back faces, a
+/// Thermal-only particles filling the tool: by default cell centres of a lattice of spacing `dx` in the tool frame,
+/// kept when at least dx/2 inside the tool (`[tool.thermal].lattice` names the other sampling); `held` marks its far boundary (the parametric tool's top and back faces, a
 /// mesh tool's top: its fixture), held at the tool's temperature.
 pub struct ToolParticles {
     /// World positions at t = 0 (z = 0 in 2D).
@@ -125,14 +125,38 @@ pub fn mesh_tool_particles(m: &crate::mesh::MeshGridData, t: &Tool, dx: f64, ban
     out
 }
 
+/// The parametric tool's particles on the lattice `[tool.thermal].lattice` names (its doc), in the tool frame;
+/// held: those within `band` of the top or back face.
 pub fn tool_particles(tool: &Tool2d, t: &Tool, dx: f64, band: f64) -> ToolParticles {
-    let nx = (t.length / dx).ceil() as usize + 2;
-    let ny = (t.height / dx).ceil() as usize + 2;
+    let lattice = t.thermal.as_ref().map_or(Lattice::Cells, |th| th.lattice);
+    let (corner, n) = match lattice {
+        Lattice::Cells => {
+            ([-t.length, 0.0], [(t.length / dx).ceil() as usize + 2, (t.height / dx).ceil() as usize + 2])
+        }
+        Lattice::Nodes => {
+            // The original's bounding box (`tool::safe_bb(0.1 dx)`): from the back and the edge's lowest point to
+            // the top and the arc's front-most point, grown by 0.1 dx; nodes at corner + k dx, k = 0 ..= floor(extent
+            // / dx), kept when inside (its `tool::inside`).
+            let front = tool.seg.iter().fold(tool.centre[0] + tool.radius, |m, s| m.max(s[0]).max(s[2]));
+            let lo = [-t.length - 0.1 * dx, -0.1 * dx];
+            let hi = [front + 0.1 * dx, t.height + 0.1 * dx];
+            (lo, std::array::from_fn(|k| ((hi[k] - lo[k]) / dx) as usize + 1))
+        }
+    };
     let mut out = ToolParticles { pos: Vec::new(), held: Vec::new() };
-    for j in 0..ny {
-        for i in 0..nx {
-            let p = [-t.length + (i as f64 + 0.5) * dx, (j as f64 + 0.5) * dx];
-            if tool.closest(p).distance > -0.5 * dx {
+    for j in 0..n[1] {
+        for i in 0..n[0] {
+            let (p, kept) = match lattice {
+                Lattice::Cells => {
+                    let p = [corner[0] + (i as f64 + 0.5) * dx, corner[1] + (j as f64 + 0.5) * dx];
+                    (p, tool.closest(p).distance <= -0.5 * dx)
+                }
+                Lattice::Nodes => {
+                    let p = [corner[0] + i as f64 * dx, corner[1] + j as f64 * dx];
+                    (p, tool.closest(p).distance < 0.0)
+                }
+            };
+            if !kept {
                 continue;
             }
             let top = tool.seg[TOP][1] - p[1];

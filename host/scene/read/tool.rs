@@ -88,7 +88,7 @@ pub(super) fn tool(
     let rotation = tool_rotation(t, mesh.is_some())?;
     let law = tool_contact(t, physics, switches)?;
     let chip_station = t.number("chip_station", "a positive distance in m", positive)?;
-    let thermal = tool_thermal(t, doc, dx, physics)?;
+    let thermal = tool_thermal(t, doc, dx, physics, mesh.is_some())?;
     if law.friction_heating > 0.0 && !(physics.plastic_heating || physics.conduction != Conduction::Off) {
         return Err(t.invalid(
             "friction_heating",
@@ -386,11 +386,12 @@ fn tool_contact(t: &Tab<'_>, physics: &Physics, switches: super::model::ModelSwi
 }
 
 /// `[tool.thermal]`: the tool as a heat sink of thermal-only particles.
-fn tool_thermal(t: &Tab<'_>, doc: &Doc, dx: f64, physics: &Physics) -> Result<Option<ToolThermal>> {
+fn tool_thermal(t: &Tab<'_>, doc: &Doc, dx: f64, physics: &Physics, mesh: bool) -> Result<Option<ToolThermal>> {
     let Some(th) = t.table("thermal", "tool.thermal", "a table [tool.thermal] with material")? else {
         return Ok(None);
     };
-    th.check_keys(&["material", "temperature", "fixed_width"], &[], "")?;
+    th.check_keys(&["material", "temperature", "fixed_width", "lattice"], &[], "")?;
+    let lattice_expected = if mesh { "\"cells\" (a mesh tool is filled by cells)" } else { "\"nodes\" or \"cells\"" };
     let material = library_material(&th, doc, "material")?;
     let ok =
         material.thermal.is_some_and(|m| m.density.is_some() && m.specific_heat.is_some() && m.conductivity.is_some());
@@ -414,6 +415,11 @@ fn tool_thermal(t: &Tab<'_>, doc: &Doc, dx: f64, physics: &Physics) -> Result<Op
             .number("temperature", "a positive temperature in K", positive)?
             .unwrap_or(physics.initial_temperature),
         fixed_width: th.number("fixed_width", "a non-negative width in m", non_negative)?.unwrap_or(2.0 * dx),
+        // The nodes are the original code's sampling of its 2D outline's bounding box; a mesh is filled by cells.
+        lattice: match th.string("lattice", lattice_expected, |s| s == "nodes" && !mesh || s == "cells")? {
+            Some("nodes") => Lattice::Nodes,
+            _ => Lattice::Cells,
+        },
     }))
 }
 
