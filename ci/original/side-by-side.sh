@@ -21,7 +21,7 @@ parts=${*:-forces replicas speed}
 swarf=$root/gpu-pack/swarf
 [ -x "$swarf" ] || { gunzip -f "$swarf.gz" && chmod +x "$swarf"; }
 export SWARF_REQUIRE_GPU=1
-work=/tmp/side-by-side
+work=${SBS_WORK:-/tmp/side-by-side} # SBS_WORK: another folder, for two invocations at once
 mkdir -p "$work"
 status=0
 # The original's reference cut in swarf's frame (docs/original-code.md, "tool placement"): the edge's lowest point
@@ -31,11 +31,15 @@ status=0
 place=(--set 'tool.position=[-3.2873050250150927e-5, 2.0e-4]')
 # ORIG_TOOL=1: the original's tool too (docs/original-code.md, "The thermal tool"): its extent from the edge's lowest
 # point (0.4771 mm back, 0.4979 mm up; the scene's is 0.4132 x 0.431) and its thermal particles, the nodes of its
-# bounding box inside it with one held layer (1 970 against the scene's 1 429 cell centres).
-if [ "${ORIG_TOOL:-0}" = 1 ]; then
-    place+=(--set tool.length=4.771269497498491e-4 --set tool.height=4.978592683264774e-4
-        --set 'tool.thermal.lattice="nodes"' --set tool.thermal.fixed_width=1.03448275862069e-5)
-fi
+# bounding box inside it with one held layer (1 970 against the scene's 1 429 cell centres). ORIG_TOOL=shape: the
+# extent alone; ORIG_TOOL=lattice: the sampling alone, on the scene's tool.
+c2d_shape=(--set tool.length=4.771269497498491e-4 --set tool.height=4.978592683264774e-4)
+c2d_lattice=(--set 'tool.thermal.lattice="nodes"' --set tool.thermal.fixed_width=1.03448275862069e-5)
+case ${ORIG_TOOL:-0} in
+    1) place+=("${c2d_shape[@]}" "${c2d_lattice[@]}") ;;
+    shape) place+=("${c2d_shape[@]}") ;;
+    lattice) place+=("${c2d_lattice[@]}") ;;
+esac
 dt=1.4473417988558209e-9
 ref=cases/cutting/reference-cut.toml
 ref150=cases/cutting/reference-cut-150k.toml
