@@ -448,4 +448,7 @@ fn the_original_tool_sampling_gives_its_1970_particles_and_held_layer() {
     }
     let held = nodes.iter().filter(|(_, h)| *h).count();
     assert!(held > 40 && held < 120, "{held} held");
+    let bad = ["tool.thermal.lattice=\"grid\"".to_string()];
+    let e = Scene::load("cases/cutting/reference-cut.toml", &bad).expect_err("refused").to_string();
+    assert!(e.contains("tool.thermal.lattice") && e.contains("expected \"nodes\" or \"cells\""), "{e}");
 }

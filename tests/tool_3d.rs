@@ -204,6 +204,10 @@ fn a_mesh_tool_filled_with_thermal_particles_takes_heat_and_conserves_it() {
         .replace("contact_stiffness = 0.1\nfriction = 0.35\n", "")
         .replace("[tool]\n", "[tool]\ncontact_stiffness = 0.1\nfriction = 0.35\n");
     let scene = Scene::from_str(&text, "drop3d.toml", &[]).expect("scene");
+    // The original code's node sampling is of a 2D outline's bounding box: a mesh tool is filled by cells only.
+    let e = Scene::from_str(&text, "drop3d.toml", &["tool.thermal.lattice=\"nodes\"".into()]).expect_err("nodes");
+    let e = e.to_string();
+    assert!(e.contains("tool.thermal.lattice: expected \"cells\" (a mesh tool is filled by cells)"), "{e}");
     let lib = |name: &str| {
         swarf::material::search::Search::for_scene("drop3d.toml")
             .library()
