@@ -80,8 +80,9 @@ pub fn contact_params(scene: &Scene, t: &Tool, model: Option<&FlowModel>) -> Con
 }
 
 /// Thermal-only particles filling the tool: by default cell centres of a lattice of spacing `dx` in the tool frame,
-/// kept when at least dx/2 inside the tool (`[tool.thermal].lattice` names the other sampling); `held` marks its far boundary (the parametric tool's top and back faces, a
-/// mesh tool's top: its fixture), held at the tool's temperature.
+/// kept when at least dx/2 inside the tool (`[tool.thermal].lattice` names the other sampling); `held` marks its
+/// far boundary (the parametric tool's top and back faces, a mesh tool's top: its fixture), held at the tool's
+/// temperature.
 pub struct ToolParticles {
     /// World positions at t = 0 (z = 0 in 2D).
     pub pos: Vec<[f64; 3]>,
