@@ -141,7 +141,10 @@ replicas() { # replicas k: the tool's speed × (1 + k·1e-7); ORIG_REPS, MFREE_R
 speed() { # one code at a time: per-step wall time and the original's own step-loop time (timing.json)
     local n6=${SPEED_STEPS_6K:-60000} n150=${SPEED_STEPS_150K:-3000}
     echo -e "size\tcode\tparticles\tsteps\twall_s\tloop_s\tus_per_step" > "$out/speed.tsv"
-    local rows steps scene tag
+    local rows steps scene tag speed_tool=()
+    # ORIG_TOOL=1: the original's tool and its node sampling, so that both codes carry the same tool particles
+    # (the held band does not change the work).
+    [ "${ORIG_TOOL:-0}" = 1 ] && speed_tool=("${c2d_shape[@]}" --set 'tool.thermal.lattice="nodes"')
     for cfg in "30 $n6 $ref 6k" "150 $n150 $ref150 150k"; do
         read -r rows steps scene tag <<< "$cfg"
         local od=$work/orig-$tag/cut
@@ -161,7 +164,7 @@ PY
         local dts
         dts=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["dt"] * 1e-6)' "$od/meta.json") || { status=1; continue; }
         local t0=$(date +%s.%N)
-        "$swarf" --backend gpu run "$scene" --quiet --out "$work/speed-$tag" --set 'model="mfree_iwf"' \
+        "$swarf" --backend gpu run "$scene" --quiet --out "$work/speed-$tag" --set 'model="mfree_iwf"' "${speed_tool[@]}" \
             --set time.dt="$dts" --set time.end="$(python3 -c "print(($steps + 0.5) * $dts)")" --set output.every=1.0 \
             > "$work/speed-$tag.stdout" 2>&1 || status=1
         local t1=$(date +%s.%N)
