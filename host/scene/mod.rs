@@ -593,6 +593,11 @@ impl Lattice {
             Lattice::Cells => "cells",
         }
     }
+
+    /// The lattice a scene's `lattice` key names ("nodes" or "cells").
+    pub fn parse(s: &str) -> Option<Lattice> {
+        [Lattice::Nodes, Lattice::Cells].into_iter().find(|l| l.as_str() == s)
+    }
 }
 
 /// A `[[body]]` entry.

@@ -130,9 +130,10 @@ pub fn mesh_tool_particles(m: &crate::mesh::MeshGridData, t: &Tool, dx: f64, ban
 /// held: those within `band` of the top or back face.
 pub fn tool_particles(tool: &Tool2d, t: &Tool, dx: f64, band: f64) -> ToolParticles {
     let lattice = t.thermal.as_ref().map_or(Lattice::Cells, |th| th.lattice);
-    let (corner, n) = match lattice {
+    // The lattice's first point, its size, and the offset of its points within a spacing (cells: the centres).
+    let (corner, n, shift) = match lattice {
         Lattice::Cells => {
-            ([-t.length, 0.0], [(t.length / dx).ceil() as usize + 2, (t.height / dx).ceil() as usize + 2])
+            ([-t.length, 0.0], [(t.length / dx).ceil() as usize + 2, (t.height / dx).ceil() as usize + 2], 0.5)
         }
         Lattice::Nodes => {
             // The original's bounding box (`tool::safe_bb(0.1 dx)`): from the back and the edge's lowest point to
@@ -141,21 +142,17 @@ pub fn tool_particles(tool: &Tool2d, t: &Tool, dx: f64, band: f64) -> ToolPartic
             let front = tool.seg.iter().fold(tool.centre[0] + tool.radius, |m, s| m.max(s[0]).max(s[2]));
             let lo = [-t.length - 0.1 * dx, -0.1 * dx];
             let hi = [front + 0.1 * dx, t.height + 0.1 * dx];
-            (lo, std::array::from_fn(|k| ((hi[k] - lo[k]) / dx) as usize + 1))
+            (lo, std::array::from_fn(|k| ((hi[k] - lo[k]) / dx) as usize + 1), 0.0)
         }
     };
     let mut out = ToolParticles { pos: Vec::new(), held: Vec::new() };
     for j in 0..n[1] {
         for i in 0..n[0] {
-            let (p, kept) = match lattice {
-                Lattice::Cells => {
-                    let p = [corner[0] + (i as f64 + 0.5) * dx, corner[1] + (j as f64 + 0.5) * dx];
-                    (p, tool.closest(p).distance <= -0.5 * dx)
-                }
-                Lattice::Nodes => {
-                    let p = [corner[0] + i as f64 * dx, corner[1] + j as f64 * dx];
-                    (p, tool.closest(p).distance < 0.0)
-                }
+            let p = [corner[0] + (i as f64 + shift) * dx, corner[1] + (j as f64 + shift) * dx];
+            let d = tool.closest(p).distance;
+            let kept = match lattice {
+                Lattice::Cells => d <= -0.5 * dx,
+                Lattice::Nodes => d < 0.0,
             };
             if !kept {
                 continue;

@@ -858,11 +858,7 @@ fn body(t: &Tab<'_>, index: usize, dim: usize, dx: f64, earlier: &[Body]) -> Res
     let e = point_text("a velocity", dim, "m/s");
     let velocity = t.vector("velocity", dim, &e)?.unwrap_or([0.0; 3]);
     let angular_velocity = t.number("angular_velocity", "an angular velocity in rad/s", any)?.unwrap_or(0.0);
-    let lattice = match t.string("lattice", "\"nodes\" or \"cells\"", |s| s == "nodes" || s == "cells")? {
-        Some("nodes") => Lattice::Nodes,
-        Some(_) => Lattice::Cells,
-        None => shape.default_lattice(),
-    };
+    let lattice = t.named("lattice", "\"nodes\" or \"cells\"", Lattice::parse)?.unwrap_or(shape.default_lattice());
     let points = (0..dim).map(|k| points_on_axis(extents[k], dx, lattice) as f64).product();
     // A body's own library material supplies its thermal data (per-material conductivity and heat capacity);
     // mechanics uses the scene's material, so a body material must not disagree with it elastically.

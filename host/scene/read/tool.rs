@@ -416,10 +416,9 @@ fn tool_thermal(t: &Tab<'_>, doc: &Doc, dx: f64, physics: &Physics, mesh: bool) 
             .unwrap_or(physics.initial_temperature),
         fixed_width: th.number("fixed_width", "a non-negative width in m", non_negative)?.unwrap_or(2.0 * dx),
         // The nodes are the original code's sampling of its 2D outline's bounding box; a mesh is filled by cells.
-        lattice: match th.string("lattice", lattice_expected, |s| s == "nodes" && !mesh || s == "cells")? {
-            Some("nodes") => Lattice::Nodes,
-            _ => Lattice::Cells,
-        },
+        lattice: th
+            .named("lattice", lattice_expected, |s| Lattice::parse(s).filter(|l| !mesh || *l == Lattice::Cells))?
+            .unwrap_or(Lattice::Cells),
     }))
 }
 
