@@ -115,7 +115,11 @@ replicas() { # replicas k: the tool's speed × (1 + k·1e-7); ORIG_REPS, MFREE_R
     # about 18-fold (4 at once, H100); swarf's runs are separate processes, concurrent with them.
     local k
     vel() { python3 -c "print(repr(1.166666592e-4 * (1 + $1 * 1e-7)))"; } # cm/µs
-    [ -x /tmp/swarf-original/build/mfree_gpu ] || OUT=$out bash ci/original/run-original.sh build > /dev/null 2>&1
+    # Built only when originals run: invocations of swarf's runs alone (ORIG_REPS="") beside one that runs them would
+    # otherwise all build into the same folder at once.
+    if [ -n "${ORIG_REPS-0 1 2 3}" ] && [ ! -x /tmp/swarf-original/build/mfree_gpu ]; then
+        OUT=$out bash ci/original/run-original.sh build > /dev/null 2>&1
+    fi
     (
         for k in ${ORIG_REPS-0 1 2 3}; do
             OUT=$work/rep-$k ORIG_ARGS="-v $(vel $k)" FORCE_EVERY=100 WORK=$work/orig-rep-$k \
