@@ -632,14 +632,20 @@ PY
             run gf25 gf25 ;;
         ducobugf) # issue 25 (docs/damage.md, "Ducobu over G_f"): Ducobu at 9.3 µm with damage, the four flow models
                   # × G_f (SWARF_DUCOBU_GF, default 20 and 10 kJ/m²), the invariant mask, one batched sweep with
-                  # frames (SWARF_DUCOBU_END shortens it); `swarf chip` and pictures of each (tar'd:
+                  # frames (SWARF_DUCOBU_END sets its end, SWARF_DUCOBU_LEN the workpiece's length, SWARF_DUCOBU_DX the
+                  # spacing, SWARF_DUCOBU_MODELS the flow models); `swarf chip` and pictures of each (tar'd:
                   # ducobugf-pics.tgz). ducobugf.md (damage_table), ducobugf-chip.md, ducobugf.tgz.
             ducobugf() {
-                local d=/tmp/ducobugf m models=""
+                local d=/tmp/ducobugf m models="" len=${SWARF_DUCOBU_LEN:-1.0e-3} geo=() dmg=()
                 rm -rf $d
-                for m in JC TANH2008 TANH2010 TANHSO3; do models="$models${models:+,}\"Ti6Al4V-Klippel-$m\""; done
+                for m in ${SWARF_DUCOBU_MODELS:-JC TANH2008 TANH2010 TANHSO3}; do models="$models${models:+,}\"Ti6Al4V-Klippel-$m\""; done
+                # SWARF_DUCOBU_LEN: a longer workpiece (its fixed right side moved with it), so that the chip leaves
+                # the start and segments can follow each other; SWARF_DUCOBU_NODAMAGE=1 adds the runs without damage.
+                geo=(--set "body.0.max=[$len,0.75e-3]" --set "boundary.2.min=[$(python3 -c "print($len-1e-5)"),-1.0]")
+                [ "${SWARF_DUCOBU_NODAMAGE:-0}" = 1 ] && dmg=(--grid damage.enabled=true,false)
                 timeout -s INT "${SWARF_DAMAGE_S:-420}" "$here/swarf" --backend gpu sweep cases/cutting/ducobu.toml --frames --grid "material.name=$models" \
-                    --grid damage.fracture_energy=${SWARF_DUCOBU_GF:-20000,10000} --set 'damage.mask_form="invariant"' \
+                    --grid damage.fracture_energy=${SWARF_DUCOBU_GF:-20000,10000} "${dmg[@]}" --set 'damage.mask_form="invariant"' \
+                    "${geo[@]}" --set discretisation.dx=${SWARF_DUCOBU_DX:-9.3e-6} --set output.every=${SWARF_DUCOBU_EVERY:-2.4e-5} \
                     --set time.end="${SWARF_DUCOBU_END:-1.2e-3}" --batch 8 --out $d/sweep --quiet
                 damage_table "$d" > "$out/ducobugf.md"; cat "$out/ducobugf.md"
                 chip_report $d /tmp/ducobugf-pics > "$out/ducobugf-chip.md"
