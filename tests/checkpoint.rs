@@ -55,6 +55,13 @@ fn resumed_mixed_run_equals_uninterrupted() {
     resume_equals_uninterrupted(&["precision=\"mixed\"".to_string()], "mixed");
 }
 
+/// The same with the viscosity's Balsara switch, whose factors (written by the interaction, read by the next
+/// pre-pass) carry state from step to step.
+#[test]
+fn resumed_balsara_run_equals_uninterrupted() {
+    resume_equals_uninterrupted(&["stabilisation.artificial_viscosity.switch=\"balsara\"".to_string()], "balsara");
+}
+
 fn resume_equals_uninterrupted(extra: &[String], tag: &str) {
     let mut ov: Vec<String> =
         vec!["discretisation.dx=2e-3".into(), "physics.conduction=\"brookshaw\"".into(), "time.end=1e-4".into()];

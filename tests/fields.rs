@@ -46,7 +46,8 @@ fn check_scene<R: Real, D: TensorOps<R>>(scene: &Scene, what: &str) -> Vec<When>
 }
 
 /// Every scene in f64, f32 and mixed precision (the scenes accept each), and a cut with the current-yield friction
-/// cap and the wear rate, a damaged cut and the disk with CSPM (no scene file turns them on). Every condition of the registry holds in at least one of
+/// cap and the wear rate, a damaged cut, the disk with CSPM and with the Balsara switch (no scene file turns them
+/// on). Every condition of the registry holds in at least one of
 /// them, so every entry's size and condition is compared with an allocation.
 #[test]
 fn memory_estimate_equals_the_bytes_allocated_for_every_scene() {
@@ -76,6 +77,9 @@ fn memory_estimate_equals_the_bytes_allocated_for_every_scene() {
     // Blanking (issue 24): the velocities of the last rebuild.
     let blank = ["blanking.min=[-0.2e-3,-1.0e-3]", "blanking.max=[0.6e-3,1.0e-3]"].map(String::from).to_vec();
     scenes.push(("cases/cutting/v0060.toml".into(), blank));
+    // The viscosity's Balsara switch: its factors.
+    let switch = vec!["stabilisation.artificial_viscosity.switch=\"balsara\"".to_string()];
+    scenes.push(("cases/disk-rotation.toml".into(), switch));
     let mut covered = BTreeSet::new();
     let mut runs = 0;
     for (path, overrides) in &scenes {
@@ -152,6 +156,8 @@ fn checkpoint_names_are_unchanged() {
         "bond_damping",
         // Issue 24: the velocities of the last rebuild with blanking (its rest speed).
         "vel_ref",
+        // The viscosity's Balsara switch (present only with `switch = "balsara"`).
+        "av_switch",
     ];
     assert_eq!(names, before);
     let frames: Vec<&str> = FIELDS.iter().filter_map(|f| f.frame).collect();
@@ -169,7 +175,9 @@ fn checkpoint_names_are_unchanged() {
             "contact_tool",
             "damage_mask",
             // Issue 26: the work each SPH bond has absorbed (on its owner).
-            "cohesive_work"
+            "cohesive_work",
+            // The viscosity's Balsara factor.
+            "av_switch"
         ]
     );
 }

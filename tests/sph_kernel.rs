@@ -141,6 +141,7 @@ mod pre_pass {
                 None,
                 None,
                 None,
+                None,
             )
             .expect("pre-pass");
             for i in 0..n {

@@ -5,6 +5,7 @@
 mod common;
 
 mod analytic_nairn;
+mod av_switch;
 mod blanking;
 mod check;
 mod checkpoint;

@@ -72,9 +72,11 @@ pub fn rates_args<B: Backend, R: Real, D: Dim>(
     i: &SphInputs<'_, B, R, D>,
     out: FieldsMut<'_, B, R, D>,
     dissipation: Option<&mut B::Buf<R>>,
+    av_switch: Option<&mut B::Buf<R>>,
     heat: Option<FusedHeat<'_, B, R, D>>,
 ) -> Result<RatesArgs<R, D>> {
     let n = c.n;
+    viscosity_for_switch(stab, av_switch.is_some(), "sph_rates (the Balsara switch without the viscosity)")?;
     let art = if stab.stress { input(b, "sph_rates art", n, i.art.ok_or(missing("sph_rates art"))?)? } else { null() };
     let sound = if stab.viscosity {
         input(b, "sph_rates sound", n, i.sound.ok_or(missing("sph_rates sound"))?)?
@@ -123,6 +125,7 @@ pub fn rates_args<B: Backend, R: Real, D: Dim>(
         rho_t: output(b, "rho_t", n, out.rho)?,
         stress_t: output(b, "stress_t", n, out.stress)?,
         dissipation_t: output_opt(b, "sph_rates dissipation", n, dissipation)?,
+        av_switch: output_opt(b, "sph_rates av_switch", n, av_switch)?,
         heat_vol,
         temp,
         materials,
@@ -174,6 +177,15 @@ fn null<T>() -> *const T {
 /// A stabiliser's buffer that is on but was not given.
 fn missing(what: &'static str) -> Error {
     Error::Length { op: what, expected: 1, got: 0 }
+}
+
+/// The Balsara switch's factors scale the viscosity's sound speed: given without the viscosity, they would be
+/// written or read for nothing (a set-up error).
+fn viscosity_for_switch(stab: Stabilisers, switch: bool, op: &'static str) -> Result<()> {
+    if switch && !stab.viscosity {
+        return Err(Error::Length { op, expected: 0, got: 1 });
+    }
+    Ok(())
 }
 
 /// The address of the step's scalars (entry `s.index` of `s.buf`).
@@ -424,6 +436,8 @@ pub struct PrepareBufs<'a, B: Backend, R: Real, D: Dim> {
     pub art: Option<&'a mut B::Buf<D::Sym<R>>>,
     pub sound: Option<&'a mut B::Buf<R>>,
     pub vol: &'a mut B::Buf<R>,
+    /// The Balsara switch's factors (present iff the switch is on).
+    pub av_switch: Option<&'a B::Buf<R>>,
     pub temp: Option<&'a B::Buf<f64>>,
     pub damage: Option<PrepassDamageBufs<'a, B>>,
 }
@@ -437,6 +451,7 @@ pub fn prepare_args<B: Backend, R: Real, D: Dim>(
     gate: Option<&ScalarsAt<'_, B>>,
 ) -> Result<PrepareArgs<R, D>> {
     let n = c.n;
+    viscosity_for_switch(stab, q.av_switch.is_some(), "sph_prepare (the Balsara switch without the viscosity)")?;
     let (art, sound) = stabiliser_outputs(b, n, stab, q.art, q.sound, "sph_prepare (stabiliser buffer missing)")?;
     Ok(PrepareArgs {
         gate: gate_ptr(b, gate)?,
@@ -449,6 +464,7 @@ pub fn prepare_args<B: Backend, R: Real, D: Dim>(
         art,
         sound,
         vol: output(b, "sph_prepare vol", n, q.vol)?,
+        av_switch: input_opt(b, "sph_prepare av_switch", n, q.av_switch)?,
         temp: input_opt(b, "sph_prepare temp", n, q.temp)?,
         damage: prepass_damage(b, n, q.damage)?,
     })
@@ -541,15 +557,18 @@ pub fn predict_args<B: Backend, R: Real, D: Dim>(
         art: std::ptr::null_mut(),
         sound: std::ptr::null_mut(),
         vol: std::ptr::null_mut(),
+        av_switch: null(),
         damage: PrepassDamage::OFF,
     };
     if let Some(q) = prepare {
+        viscosity_for_switch(q.stab, q.av_switch.is_some(), "step_predict (the Balsara switch without the viscosity)")?;
         (a.art, a.sound) =
             stabiliser_outputs(b, n, q.stab, q.art, q.sound, "step_predict (stabiliser buffer missing)")?;
         a.params = *q.params;
         a.mass = input(b, "step_predict mass", n, q.mass)?;
         a.sig = output(b, "step_predict sig", n, q.sig)?;
         a.vol = output(b, "step_predict vol", n, q.vol)?;
+        a.av_switch = input_opt(b, "step_predict av_switch", n, q.av_switch)?;
         a.damage = prepass_damage(b, n, q.damage)?;
     }
     Ok(a)

@@ -408,6 +408,8 @@ pub struct FusedPrepare<'a, B: Backend, R: Real, D: Dim> {
     pub art: Option<&'a mut B::Buf<D::Sym<R>>>,
     pub sound: Option<&'a mut B::Buf<R>>,
     pub vol: &'a mut B::Buf<R>,
+    /// The Balsara switch's factors the sound speed is scaled by (present iff the switch is on).
+    pub av_switch: Option<&'a B::Buf<R>>,
     /// The damage (present iff the run models damage).
     pub damage: Option<PrepassDamageBufs<'a, B>>,
 }

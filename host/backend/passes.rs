@@ -196,9 +196,10 @@ pub trait Passes: Backend {
     }
 
     /// SPH pre-pass (`sph::interact::prepare`): sig = σ/ρ², art = artificial stress (if on), sound = √(K/ρ)
-    /// (if the viscosity is on), vol = m/ρ with `mass` the particles' full masses (the thermal-only ones
-    /// included: they conduct); `temp` is given when the EOS has thermal expansion. With `gate` it runs only when
-    /// the step's rebuild flag is set (the predictor ran the pre-pass; a rebuild's reorder needs it again).
+    /// (if the viscosity is on; times the Balsara factor of `av_switch` where given), vol = m/ρ with `mass` the
+    /// particles' full masses (the thermal-only ones included: they conduct); `temp` is given when the EOS has
+    /// thermal expansion. With `gate` it runs only when the step's rebuild flag is set (the predictor ran the
+    /// pre-pass; a rebuild's reorder needs it again).
     #[allow(clippy::too_many_arguments)]
     fn sph_prepare<'c, R: Real, D: TensorOps<R>>(
         &self,
@@ -212,13 +213,14 @@ pub trait Passes: Backend {
         art: Option<&mut Self::Buf<D::Sym<R>>>,
         sound: Option<&mut Self::Buf<R>>,
         vol: &mut Self::Buf<R>,
+        av_switch: Option<&Self::Buf<R>>,
         temp: Option<&Self::Buf<f64>>,
         gate: Option<ScalarsAt<'_, Self>>,
         damage: Option<PrepassDamageBufs<'_, Self>>,
     ) -> Result<()> {
         let count: Count<'c, Self> = n.into();
         let dmg = damage.is_some();
-        let q = PrepareBufs::<_, R, D> { params, rho, mass, stress, sig, art, sound, vol, temp, damage };
+        let q = PrepareBufs::<_, R, D> { params, rho, mass, stress, sig, art, sound, vol, av_switch, temp, damage };
         let a = args::prepare_args(self, count, stab, q, gate.as_ref())?;
         with_bools!(AV = stab.viscosity, AS = stab.stress, DMG = dmg; {
             // SAFETY: the builder checked the lengths and that the stabilisers' and the damage's buffers exist
@@ -231,7 +233,8 @@ pub trait Passes: Backend {
     /// lanes (1, 2, 4 or 8; the sums' order depends on it, equally on every backend). With `heat`, the same
     /// neighbour walk also sums the Brookshaw conduction (`sph::interact::rates_heat`), equal bit for bit to
     /// [`Passes::heat_rates`] on this cell list. With `list` (built by [`Passes::verlet_build`] on this cell
-    /// list) the pair loops read it instead of walking the stencil.
+    /// list) the pair loops read it instead of walking the stencil. With `av_switch` (the viscosity on) each
+    /// particle's Balsara factor of its velocity gradient is written there (`sph::interact::balsara`).
     #[allow(clippy::too_many_arguments)]
     fn sph_rates<'c, R: Real, D: TensorOps<R>>(
         &self,
@@ -245,6 +248,7 @@ pub trait Passes: Backend {
         input: &SphInputs<'_, Self, R, D>,
         out: FieldsMut<'_, Self, R, D>,
         dissipation: Option<&mut Self::Buf<R>>,
+        av_switch: Option<&mut Self::Buf<R>>,
         heat: Option<FusedHeat<'_, Self, R, D>>,
     ) -> Result<()> {
         let count: Count<'c, Self> = n.into();
@@ -255,7 +259,21 @@ pub trait Passes: Backend {
             check_bodies(self, "sph_rates (fused conduction)", n, h.input.flags, h.input.materials.len())?;
         }
         let (fused, dmg, cs, cut) = (heat.is_some(), input.mask.is_some(), input.correction.is_some(), input.cut);
-        let a = args::rates_args(self, count, lanes, stab, params, grid, starts, list, input, out, dissipation, heat)?;
+        let a = args::rates_args(
+            self,
+            count,
+            lanes,
+            stab,
+            params,
+            grid,
+            starts,
+            list,
+            input,
+            out,
+            dissipation,
+            av_switch,
+            heat,
+        )?;
         if dmg && cs {
             return Err(Error::Length { op: "sph_rates (CSPM has no damage entries)", expected: 0, got: 1 });
         }

@@ -206,6 +206,7 @@ pub fn setup_with<R: Real, D: TensorOps<R>>(scene: &Scene, tuning: &Tuning) -> R
         stress: st.artificial_stress.as_ref().map(|a| (a.epsilon, a.exponent)),
         xsph: st.xsph.as_ref().map(|x| x.epsilon),
         cspm: st.cspm.as_ref().map(|c| c.min_determinant),
+        balsara: st.artificial_viscosity.as_ref().is_some_and(|a| a.switch == crate::scene::ViscositySwitch::Balsara),
     };
     let elastic = scene.material.elastic();
     let dx = scene.discretisation.dx;

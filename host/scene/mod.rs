@@ -738,7 +738,7 @@ impl BoundaryKind {
 /// `[stabilisation]`: `None` = off. A table that is present is on unless it says `enabled = false`.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct Stabilisation {
-    /// `artificial_viscosity = { alpha, beta, eta, enabled }`: Monaghan's artificial viscosity.
+    /// `artificial_viscosity = { alpha, beta, eta, switch, enabled }`: Monaghan's artificial viscosity.
     pub artificial_viscosity: Option<ArtificialViscosity>,
     /// `artificial_stress = { epsilon, exponent, enabled }`: Monaghan–Gray artificial stress against the tensile
     /// instability.
@@ -768,6 +768,43 @@ pub struct ArtificialViscosity {
     pub beta: f64,
     /// `eta` (optional, default 0.1; dimensionless), > 0: the singularity guard, η² h² added to r² in μ_ij.
     pub eta: f64,
+    /// `switch` (optional, default "none"): "balsara" scales the linear term's sound speeds by Balsara's
+    /// compression share f = |∇·v| / (|∇·v| + |∇×v| + 1e-4 c/h) (`kernels::sph::interact::balsara`,
+    /// docs/solver.md "The Balsara switch"); refused with `enabled = false`. Absent from `summary.json` when "none".
+    #[serde(skip_serializing_if = "ViscositySwitch::is_none")]
+    pub switch: ViscositySwitch,
+}
+
+/// `[stabilisation.artificial_viscosity] switch`: which particles' viscosity is turned down.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ViscositySwitch {
+    /// Monaghan's viscosity everywhere (α and β as given).
+    #[default]
+    None,
+    /// Balsara's switch (J. Comput. Phys. 121 (1995) 357) on the linear term.
+    Balsara,
+}
+
+impl ViscositySwitch {
+    /// The values the scene key takes, in its order.
+    pub const ALL: [ViscositySwitch; 2] = [ViscositySwitch::None, ViscositySwitch::Balsara];
+
+    pub fn as_str(self) -> &'static str {
+        match self {
+            ViscositySwitch::None => "none",
+            ViscositySwitch::Balsara => "balsara",
+        }
+    }
+
+    /// The switch named `name` as [`ViscositySwitch::as_str`] writes it, if any.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|s| s.as_str() == name)
+    }
+
+    fn is_none(&self) -> bool {
+        *self == ViscositySwitch::None
+    }
 }
 
 /// `[stabilisation.artificial_stress]`.
@@ -975,7 +1012,11 @@ impl Scene {
         let st = &self.stabilisation;
         let mut on = Vec::new();
         if let Some(av) = &st.artificial_viscosity {
-            on.push(format!("AV (alpha {}, beta {}, eta {})", num(av.alpha), num(av.beta), num(av.eta)));
+            let switch = match av.switch {
+                ViscositySwitch::None => String::new(),
+                s => format!(", {} switch", s.as_str()),
+            };
+            on.push(format!("AV (alpha {}, beta {}, eta {}{switch})", num(av.alpha), num(av.beta), num(av.eta)));
         }
         if let Some(a) = &st.artificial_stress {
             on.push(format!("AS (epsilon {}, n {})", num(a.epsilon), a.exponent));

@@ -11,7 +11,8 @@
 //! - checkpoint role: `save` (saved under `name` and required on restore), `optional` (a restore without it goes
 //!   on: `pos_ref`) or `scratch` (not saved; the path is then not read);
 //! - `frame "vtu name"`: written to every frame under that name, as a Float64 scalar (f64 fields); `frame "vtu
-//!   name" vector`: a vector field written as three Float64 components (z = 0 in 2D).
+//!   name" vector`: a vector field written as three Float64 components (z = 0 in 2D); `frame "vtu name" real`: an
+//!   R field written as a Float64 scalar; `frame "vtu name" integer`: a u32 field.
 //!
 //! The order is the checkpoint's order (`checkpoint.bin` lists the saved fields in it) and the frames' order.
 //!
@@ -74,10 +75,12 @@ pub enum When {
     Cohesive,
     /// Blanking (`[blanking]`): the velocities its rest speed read at the last rebuild.
     Blanking,
+    /// The viscosity's Balsara switch (`stabilisation.artificial_viscosity.switch = "balsara"`).
+    AvSwitch,
 }
 
 impl When {
-    pub const ALL: [When; 16] = [
+    pub const ALL: [When; 17] = [
         When::Always,
         When::Temperature,
         When::Conduction,
@@ -94,6 +97,7 @@ impl When {
         When::Cspm,
         When::Cohesive,
         When::Blanking,
+        When::AvSwitch,
     ];
 
     pub fn holds<R: Real, D: TensorOps<R>>(self, s: &Setup<R, D>) -> bool {
@@ -116,6 +120,7 @@ impl When {
             When::Cspm => s.stabilisers.cspm.is_some(),
             When::Cohesive => s.cohesive.is_some(),
             When::Blanking => s.blanking.is_some(),
+            When::AvSwitch => s.stabilisers.balsara_on(),
         }
     }
 }
@@ -232,6 +237,12 @@ macro_rules! frame_one {
             let v: Vec<f64> =
                 $b.read(cur!($kind, f))?.iter().flat_map(|x| (0..3).map(move |k| x.get(k).to_f64())).collect();
             $out.push(FrameField { name: $vtu, components: 3, values: v });
+        }
+    };
+    ($kind:ident, $s:ident, $b:ident, $out:ident, [$($path:tt)*], $vtu:literal real) => {
+        if let Some(f) = reach!(ref Some($s); $($path)*) {
+            let v: Vec<f64> = $b.read(cur!($kind, f))?.iter().map(|x: &R| x.to_f64()).collect();
+            $out.push(FrameField { name: $vtu, components: 1, values: v });
         }
     };
     ($kind:ident, $s:ident, $b:ident, $out:ident, [$($path:tt)*], $vtu:literal integer) => {
@@ -379,6 +390,9 @@ registry! {
     /// The velocities the last rebuild's hash read (blanking's rest speed), snapshotted as `pos_ref` is: a restore
     /// rebuilds the same cells from both.
     "vel_ref": D::Vec<R> = buf [.vel_ref?] if Blanking, optional;
+    /// The Balsara switch's factor f_i of the last interaction (`kernels::sph::interact::balsara`), which the next
+    /// pre-pass scales the sound speed by: state from step to step (1 before the first interaction).
+    "av_switch": R = field [.av_switch?] if AvSwitch, save, frame "av_switch" real;
     /// The pre-pass outputs: σ/ρ², artificial stress, sound speed, volume.
     "sig": D::Sym<R> = buf [.sig] if Always, scratch;
     "art": D::Sym<R> = buf [.art?] if ArtificialStress, scratch;

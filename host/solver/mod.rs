@@ -297,6 +297,8 @@ pub struct Solver<B: Backend, R: Real, D: TensorOps<R>> {
     /// V = m/ρ of the pre-pass with the full masses, read by the interaction and the conduction instead of a
     /// division per pair.
     vol: B::Buf<R>,
+    /// The viscosity's Balsara factors (with the switch): written by the interaction, read by the next pre-pass.
+    av_switch: Option<Field<B, R>>,
     /// The CSPM correction of the step's correction pass (with CSPM).
     correction: Option<Correction<B, R, D>>,
     pub cells: CellList<B>,
@@ -680,6 +682,12 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             art: if When::ArtificialStress.holds(setup) { Some(b.alloc(n, "artificial stress")?) } else { None },
             sound: if When::Viscosity.holds(setup) { Some(b.alloc(n, "sound speed")?) } else { None },
             vol: b.alloc(n, "particle volume")?,
+            // Full viscosity until the first interaction has a velocity gradient.
+            av_switch: if When::AvSwitch.holds(setup) {
+                Some(Field::upload(b, &vec![R::ONE; n], "viscosity switch")?)
+            } else {
+                None
+            },
             correction: match setup.stabilisers.cspm {
                 Some(min_det) => {
                     Some(Correction { buf: b.alloc(n, "CSPM correction")?, min_det: R::from_f64(min_det) })
@@ -991,6 +999,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                 art: self.art.as_mut(),
                 sound: self.sound.as_mut(),
                 vol: &mut self.vol,
+                av_switch: self.av_switch.as_ref().map(|f| &f.cur),
                 damage: self.damage.as_mut().map(|d| PrepassDamageBufs {
                     damage: &d.damage.cur,
                     mask: &mut d.mask,
@@ -1017,6 +1026,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             self.art.as_mut(),
             self.sound.as_mut(),
             &mut self.vol,
+            self.av_switch.as_ref().map(|f| &f.cur),
             if self.host_params.expansion != R::ZERO { self.temp.as_ref().map(|t| &t.cur) } else { None },
             // Fused into the predictor, the pass runs again only after a rebuild's reorder.
             fuse_prepare.then_some(ScalarsAt { buf: &self.scalars, index: j }),
@@ -1084,6 +1094,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             &input,
             FieldsMut { pos: &mut r.pos, vel: &mut r.vel, rho: &mut r.rho, stress: &mut r.stress },
             self.dissipation.as_mut().map(|(_, rate)| rate),
+            self.av_switch.as_mut().map(|f| &mut f.cur),
             heat,
         )?;
         if let Some(c) = self.cohesive.as_mut() {

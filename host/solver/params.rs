@@ -13,12 +13,26 @@ pub struct StabiliserSettings {
     pub xsph: Option<f64>,
     /// The CSPM kernel-gradient correction's smallest determinant (`kernels::sph::correction`); None: off.
     pub cspm: Option<f64>,
+    /// The viscosity's Balsara switch (`kernels::sph::interact::balsara`; with `viscosity` only, which the scene
+    /// reader enforces).
+    pub balsara: bool,
 }
 
 impl StabiliserSettings {
     /// All three on with the theses' constants: α = β = 1, η = 0.1; ε_s = 0.3, n = 4; ε_X = 0.5.
     pub fn theses() -> Self {
-        StabiliserSettings { viscosity: Some((1.0, 1.0, 0.1)), stress: Some((0.3, 4)), xsph: Some(0.5), cspm: None }
+        StabiliserSettings {
+            viscosity: Some((1.0, 1.0, 0.1)),
+            stress: Some((0.3, 4)),
+            xsph: Some(0.5),
+            cspm: None,
+            balsara: false,
+        }
+    }
+
+    /// Whether the Balsara switch acts: on, with the viscosity on.
+    pub fn balsara_on(&self) -> bool {
+        self.balsara && self.viscosity.is_some()
     }
 
     pub fn switches(&self) -> Stabilisers {

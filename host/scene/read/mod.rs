@@ -695,17 +695,9 @@ fn stabilisation(root: &Tab<'_>) -> Result<Stabilisation> {
     let stab_expected = "a table [stabilisation] with artificial_viscosity, artificial_stress, xsph and/or cspm";
     if let Some(st) = root.table("stabilisation", "stabilisation", stab_expected)? {
         st.check_keys(&["artificial_viscosity", "artificial_stress", "xsph", "cspm"], &[], "")?;
-        let e = "a table { alpha, beta, eta, enabled }";
+        let e = "a table { alpha, beta, eta, switch, enabled }";
         if let Some(t) = st.table("artificial_viscosity", "stabilisation.artificial_viscosity", e)? {
-            t.check_keys(&["alpha", "beta", "eta", "enabled"], &[], "")?;
-            let av = ArtificialViscosity {
-                alpha: t.number("alpha", "a non-negative coefficient", non_negative)?.unwrap_or(1.0),
-                beta: t.number("beta", "a non-negative coefficient", non_negative)?.unwrap_or(1.0),
-                eta: t.number("eta", "a positive coefficient", positive)?.unwrap_or(0.1),
-            };
-            if t.boolean("enabled", "true or false")?.unwrap_or(true) {
-                stabilisation.artificial_viscosity = Some(av);
-            }
+            stabilisation.artificial_viscosity = artificial_viscosity(&t)?;
         }
         let e = "a table { epsilon, exponent, enabled }";
         if let Some(t) = st.table("artificial_stress", "stabilisation.artificial_stress", e)? {
@@ -742,6 +734,27 @@ fn stabilisation(root: &Tab<'_>) -> Result<Stabilisation> {
         }
     }
     Ok(stabilisation)
+}
+
+/// `[stabilisation.artificial_viscosity]` (None: `enabled = false`). The Balsara switch scales the viscosity, so
+/// it is refused where the viscosity is off rather than ignored.
+fn artificial_viscosity(t: &Tab<'_>) -> Result<Option<ArtificialViscosity>> {
+    t.check_keys(&["alpha", "beta", "eta", "switch", "enabled"], &[], "")?;
+    let switch_expected = "\"none\" or \"balsara\" (Balsara's switch on the linear term, docs/solver.md)";
+    let av = ArtificialViscosity {
+        alpha: t.number("alpha", "a non-negative coefficient", non_negative)?.unwrap_or(1.0),
+        beta: t.number("beta", "a non-negative coefficient", non_negative)?.unwrap_or(1.0),
+        eta: t.number("eta", "a positive coefficient", positive)?.unwrap_or(0.1),
+        switch: t.named("switch", switch_expected, ViscositySwitch::from_name)?.unwrap_or_default(),
+    };
+    if t.boolean("enabled", "true or false")?.unwrap_or(true) {
+        return Ok(Some(av));
+    }
+    if av.switch != ViscositySwitch::None {
+        let e = "\"none\" with enabled = false (the switch scales the artificial viscosity, which is off)";
+        return Err(t.invalid("switch", t.get("switch"), e));
+    }
+    Ok(None)
 }
 
 /// The `[experiment]` table: each key names an observable of the scene (`catalogue`), each value is

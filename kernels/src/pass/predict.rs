@@ -36,6 +36,8 @@ pub struct PredictArgs<R: Real, D: Dim> {
     pub art: *mut D::Sym<R>,
     pub sound: *mut R,
     pub vol: *mut R,
+    /// The fused pre-pass's Balsara factors (`sph::interact::balsara`; null: the switch is off).
+    pub av_switch: *const R,
     /// The fused pre-pass's damage (D null: none).
     pub damage: PrepassDamage,
 }
@@ -51,7 +53,13 @@ impl<R: Real, D: TensorOps<R>> PredictArgs<R, D> {
         unsafe {
             let x = predict_particle(&self.step.arrays(), (*self.scalars).dt, i);
             if !self.sig.is_null() {
-                let o = PrepassArrays { sig: self.sig, art: self.art, sound: self.sound, vol: self.vol };
+                let o = PrepassArrays {
+                    sig: self.sig,
+                    art: self.art,
+                    sound: self.sound,
+                    vol: self.vol,
+                    av_switch: self.av_switch,
+                };
                 let (r, m) = (*self.step.rho.add(i), *self.mass.add(i));
                 prepare_particle::<R, D, DMG>(&self.params, &o, &self.damage, i, r, m, &*self.step.stress.add(i));
             }

@@ -36,6 +36,9 @@ pub struct RatesArgs<R: Real, D: Dim> {
     pub stress_t: *mut D::Sym<R>,
     /// Null: the dissipation rate is not stored.
     pub dissipation_t: *mut R,
+    /// The Balsara switch's factor f_i of this step's L_i (`sph::interact::balsara`), which the next pre-pass
+    /// reads; null: the switch is off (a uniform branch per particle, after the pair loop).
+    pub av_switch: *mut R,
     /// The fused conduction's inputs (volumes from the full masses) and Ṫ; null in the plain entries.
     pub heat_vol: *const R,
     pub temp: *const f64,
@@ -66,7 +69,8 @@ impl<R: Real, D: Dim> RatesArgs<R, D> {
         Neighbours { grid: unsafe { &*self.grid }, starts: self.starts, list: self.list }
     }
 
-    /// Stores particle i's rates (the dissipation rate where `dissipation_t` is set).
+    /// Stores particle i's rates (the dissipation rate where `dissipation_t` is set, the Balsara factor where
+    /// `av_switch` is).
     ///
     /// # Safety
     /// i < n, and the output arrays hold n particles.
@@ -79,6 +83,9 @@ impl<R: Real, D: Dim> RatesArgs<R, D> {
             *self.stress_t.add(i) = o.stress_t;
             if !self.dissipation_t.is_null() {
                 *self.dissipation_t.add(i) = o.dissipation_t;
+            }
+            if !self.av_switch.is_null() {
+                *self.av_switch.add(i) = o.av_switch;
             }
         }
     }

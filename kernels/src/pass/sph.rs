@@ -55,8 +55,9 @@ pub struct Density<R, D>(PhantomData<(R, D)>);
 crate::simple_pass!(Density<R, D>, DensityArgs<R, D>, entry_index("density", D::D, size_of::<R>(), 0),
     Grid::Particles, [R: Real, D: Dim]);
 
-/// The pre-pass: sig = σ/ρ², art = artificial stress (AS), sound = √(K/ρ) (AV), vol = m/ρ (`mass` the full
-/// masses), gated on a step's rebuild flag (`gate`; null: always) where the predictor runs the pre-pass.
+/// The pre-pass: sig = σ/ρ², art = artificial stress (AS), sound = √(K/ρ) (AV; times the Balsara factor where
+/// `av_switch` is set), vol = m/ρ (`mass` the full masses), gated on a step's rebuild flag (`gate`; null: always)
+/// where the predictor runs the pre-pass.
 #[repr(C)]
 #[derive(Clone, Copy)]
 pub struct PrepareArgs<R: Real, D: Dim> {
@@ -73,6 +74,8 @@ pub struct PrepareArgs<R: Real, D: Dim> {
     /// Null unless the viscosity is on.
     pub sound: *mut R,
     pub vol: *mut R,
+    /// The Balsara switch's factors (`sph::interact::balsara`): `sound` gets f_i √(K/ρ_i); null: off.
+    pub av_switch: *const R,
     /// Null without temperature.
     pub temp: *const f64,
     /// The damage (D null: none) and its mask's output.
@@ -84,13 +87,19 @@ impl<R: Real, D: TensorOps<R>> PrepareArgs<R, D> {
     /// degradation and mask with `DMG`.
     ///
     /// # Safety
-    /// i < n; every array holds n particles, `art`/`sound` where `AS`/`AV`, `damage`'s where `DMG`; `params`
-    /// points at the parameters.
+    /// i < n; every array holds n particles, `art`/`sound` where `AS`/`AV`, `av_switch` where not null, `damage`'s
+    /// where `DMG`; `params` points at the parameters.
     #[inline(always)]
     pub unsafe fn particle<const AV: bool, const AS: bool, const DMG: bool>(&self, i: usize) {
         unsafe {
             let t = if self.temp.is_null() { None } else { Some(*self.temp.add(i)) };
-            let o = PrepassArrays { sig: self.sig, art: self.art, sound: self.sound, vol: self.vol };
+            let o = PrepassArrays {
+                sig: self.sig,
+                art: self.art,
+                sound: self.sound,
+                vol: self.vol,
+                av_switch: self.av_switch,
+            };
             let (r, m, s) = (*self.rho.add(i), *self.mass.add(i), &*self.stress.add(i));
             prepare_store::<R, D, AV, AS, DMG>(&*self.params, &o, &self.damage, i, r, m, s, t);
         }

@@ -11,7 +11,9 @@
 //!   ẋ_i   = v_i + ε_X Σ_j (m_j/ρ̄_ij)(v_j − v_i) W_ij
 //!   ρ̇_i   = −ρ_i tr L_i
 //!   Ṡ_i   = 2G (D_i − ⅓ tr D_i I) + W_i S_i − S_i W_i
-//! with Π_ij = μ (−α c̄ + β μ)/ρ̄ for v_ij·x_ij < 0 (else 0), μ = h v_ij·x_ij/(r² + η²h²).
+//! with Π_ij = μ (−α c̄ + β μ)/ρ̄ for v_ij·x_ij < 0 (else 0), μ = h v_ij·x_ij/(r² + η²h²), c̄ = (c_i + c_j)/2.
+//! With the Balsara switch ([`balsara`]) the pre-pass writes f_i √(K/ρ_i) as c_i, so the linear term reads
+//! c̄ = (f_i c_i + f_j c_j)/2 and the pair loop is the same code.
 //! Every pair term is evaluated in the same order on CPU and GPU (the cell-list gather order).
 //!
 //! Divisions are costly in f64 on the GPU, so the pair term avoids them: V_j comes from the pre-pass, 1/ρ̄ is
@@ -142,19 +144,40 @@ impl PrepassDamage {
 }
 
 /// Where the pre-pass writes (sorted order): σ/ρ² and V always, the artificial stress and the sound speed where
-/// their stabiliser is on (null otherwise).
+/// their stabiliser is on (null otherwise); `av_switch` is what it reads of the Balsara switch (null: off).
 #[derive(Clone, Copy)]
 pub struct PrepassArrays<R: Real, S> {
     pub sig: *mut S,
     pub art: *mut S,
     pub sound: *mut R,
     pub vol: *mut R,
+    /// The Balsara factor f_i of the last interaction ([`balsara`]): the sound speed written is f_i c_i. Null:
+    /// c_i (a uniform branch; the pair loop reads `sound` either way).
+    pub av_switch: *const R,
+}
+
+/// Balsara's switch of the artificial viscosity (D. S. Balsara, J. Comput. Phys. 121 (1995) 357; a project
+/// decision, outside the reference digests: docs/solver.md, "The Balsara switch"):
+///   f_i = |∇·v|_i / (|∇·v|_i + |∇×v|_i + 1e-4 c_i/h),  c_i = √(K/ρ_i),  f_i ∈ [0, 1],
+/// with ∇·v = tr L_i and |∇×v| from L_i's antisymmetric part ([`TensorOps::curl_norm`]). 1 in compression (up to
+/// the 1e-4 c/h guard), 0 in rigid rotation, simple shear and isochoric pure strain, so the viscosity stays at
+/// shocks and leaves plastic shear flow. The interaction writes it from its L_i ([`finish_rates`]), the next
+/// pre-pass scales the sound speed by it ([`prepare_store`]): Balsara multiplies the whole Π_ij by (f_i + f_j)/2,
+/// here only the linear term α c̄ μ is switched, through c̄ = (f_i c_i + f_j c_j)/2, and the quadratic β μ² term,
+/// which matters only at shocks (where f ≈ 1), is not: no change of the pair loop. A deleted particle (damage)
+/// and a thermal-only one have L = 0, so f = 0; neither takes part in a viscous pair.
+#[inline(always)]
+pub fn balsara<R: Real, D: TensorOps<R>>(p: &SphParams<R>, l: &D::Grad, rho: R) -> R {
+    let div = D::trace(l).abs();
+    let c = (p.bulk / rho).sqrt();
+    div / (div + D::curl_norm(l) + R::from_f64(1e-4) * c / p.kernel.h)
 }
 
 /// The pre-pass of particle i with stabilisers `AV`, `AS`, damaged with `DMG` (writing its mask).
 ///
 /// # Safety
-/// The arrays of `o` (`art`, `sound` where `AS`, `AV`) and of `dmg` (with `DMG`) hold i + 1 elements.
+/// The arrays of `o` (`art`, `sound` where `AS`, `AV`; `av_switch` where not null) and of `dmg` (with `DMG`) hold
+/// i + 1 elements.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub unsafe fn prepare_store<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const DMG: bool>(
@@ -181,7 +204,7 @@ pub unsafe fn prepare_store<R: Real, D: TensorOps<R>, const AV: bool, const AS: 
             *o.art.add(i) = q.art;
         }
         if AV {
-            *o.sound.add(i) = q.c;
+            *o.sound.add(i) = if o.av_switch.is_null() { q.c } else { *o.av_switch.add(i) * q.c };
         }
     }
 }
@@ -221,6 +244,9 @@ pub struct Rates<R: Real, D: Dim> {
     pub stress_t: D::Sym<R>,
     /// The artificial viscosity's dissipation rate per unit mass (0 without it).
     pub dissipation_t: R,
+    /// The Balsara factor of L_i ([`balsara`]), stored only where the switch is on (`pass::RatesArgs::store`;
+    /// where it is not, nothing reads it and the compiler drops it).
+    pub av_switch: R,
 }
 
 /// Read-only views of the sorted particle arrays (raw pointers: the same code runs on CPU and GPU). `#[repr(C)]`:
@@ -239,7 +265,7 @@ pub struct Arrays<R: Real, D: Dim> {
     pub sig: *const D::Sym<R>,
     /// Null unless the artificial stress is on.
     pub art: *const D::Sym<R>,
-    /// Null unless the viscosity is on.
+    /// Null unless the viscosity is on (f_i √(K/ρ_i) with the Balsara switch, [`balsara`]).
     pub sound: *const R,
     pub flags: *const u32,
     /// Prescribed velocities, indexed by the flags' velocity index.
@@ -865,6 +891,7 @@ pub unsafe fn finish_rates<R: Real, D: TensorOps<R>, const XSPH: bool, const DMG
         rho_t: -rhoi * D::trace(&l),
         stress_t: D::jaumann(&l, &si, p.shear),
         dissipation_t: sums.dissipation,
+        av_switch: balsara::<R, D>(p, &l, rhoi),
     };
     if XSPH {
         axpy(&mut out.pos_t, p.xsph_eps, &xsph);

@@ -16,6 +16,9 @@ pub trait TensorOps<R: Real>: Dim {
     fn outer_add(l: &mut Self::Grad, w: R, a: &Self::Vec<R>, b: &Self::Vec<R>);
     /// tr L (= ∇·v).
     fn trace(l: &Self::Grad) -> R;
+    /// |∇×v| from the antisymmetric part of L: 2D |L_yx − L_xy|, 3D the norm of the curl vector
+    /// (L_zy − L_yz, L_xz − L_zx, L_yx − L_xy). The Balsara switch's rotation measure (`sph::interact::balsara`).
+    fn curl_norm(l: &Self::Grad) -> R;
     /// Jaumann rate of the deviatoric stress: Ṡ = 2G (D − ⅓ tr D I) + W S − S W.
     fn jaumann(l: &Self::Grad, s: &Self::Sym<R>, shear: R) -> Self::Sym<R>;
     /// The same without the spin terms (2G dev D): the non-objective rate, a negative control in tests.
@@ -83,6 +86,11 @@ impl<R: Real> TensorOps<R> for Dim2 {
     #[inline(always)]
     fn trace(l: &[R; 4]) -> R {
         l[0] + l[3]
+    }
+
+    #[inline(always)]
+    fn curl_norm(l: &[R; 4]) -> R {
+        (l[2] - l[1]).abs()
     }
 
     #[inline(always)]
@@ -203,6 +211,12 @@ impl<R: Real> TensorOps<R> for Dim3 {
     #[inline(always)]
     fn trace(l: &[R; 9]) -> R {
         l[0] + l[4] + l[8]
+    }
+
+    #[inline(always)]
+    fn curl_norm(l: &[R; 9]) -> R {
+        let (x, y, z) = (l[7] - l[5], l[2] - l[6], l[3] - l[1]);
+        (x * x + y * y + z * z).sqrt()
     }
 
     #[inline(always)]
