@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# mpm26 mpm26b mpm025ck mpmv1frag mpmv8fine mpmv8path mpmv8long mpmv14 mpmv10 mpmv78 mpmv5fine mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout mufit identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine shtb25 gf25 ducobugf tool3d tools24 cspm24 nonfinite24 mill24 wheel24 wide24 grainres ortho5 orthosw whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
+# mpm26 mpm26b mpm025ck mpmv1frag mpmv8fine mpmv8path mpmv8long mpmv14 mpmv10 mpmv78 mpmv5fine mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout mufit identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine shtb25 gf25 ducobugf taylor24 tool3d tools24 cspm24 nonfinite24 mill24 wheel24 wide24 grainres ortho5 orthosw whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -634,9 +634,12 @@ PY
                   # × G_f (SWARF_DUCOBU_GF, default 20 and 10 kJ/m²), the invariant mask, one batched sweep with
                   # frames (SWARF_DUCOBU_END sets its end, SWARF_DUCOBU_LEN the workpiece's length, SWARF_DUCOBU_DX the
                   # spacing, SWARF_DUCOBU_MODELS the flow models); `swarf chip` and pictures of each (tar'd:
-                  # ducobugf-pics.tgz). ducobugf.md (damage_table), ducobugf-chip.md, ducobugf.tgz.
+                  # ducobugf-pics.tgz). ducobugf.md (damage_table), ducobugf-chip.md, ducobugf.tgz. SWARF_DUCOBU_TAG
+                  # suffixes every folder and file name, so that two sweeps (two spacings) can run side by side in one
+                  # call: `SWARF_DUCOBU_TAG=-fine … gpu-run.sh ducobugf & SWARF_DUCOBU_TAG=-coarse … gpu-run.sh ducobugf`.
             ducobugf() {
-                local d=/tmp/ducobugf m models="" len=${SWARF_DUCOBU_LEN:-1.0e-3} geo=() dmg=()
+                local t=${SWARF_DUCOBU_TAG:-} m models="" len=${SWARF_DUCOBU_LEN:-1.0e-3} geo=() dmg=()
+                local d=/tmp/ducobugf$t
                 rm -rf $d
                 for m in ${SWARF_DUCOBU_MODELS:-JC TANH2008 TANH2010 TANHSO3}; do models="$models${models:+,}\"Ti6Al4V-Klippel-$m\""; done
                 # SWARF_DUCOBU_LEN: a longer workpiece (its fixed right side moved with it), so that the chip leaves
@@ -647,12 +650,31 @@ PY
                     --grid damage.fracture_energy=${SWARF_DUCOBU_GF:-20000,10000} "${dmg[@]}" --set 'damage.mask_form="invariant"' \
                     "${geo[@]}" --set discretisation.dx=${SWARF_DUCOBU_DX:-9.3e-6} --set output.every=${SWARF_DUCOBU_EVERY:-2.4e-5} \
                     --set time.end="${SWARF_DUCOBU_END:-1.2e-3}" --batch 8 --out $d/sweep --quiet
-                damage_table "$d" > "$out/ducobugf.md"; cat "$out/ducobugf.md"
-                chip_report $d /tmp/ducobugf-pics > "$out/ducobugf-chip.md"
-                tar czf "$out/ducobugf-pics.tgz" -C /tmp ducobugf-pics
-                tar czf "$out/ducobugf.tgz" --exclude='*.vtu' --exclude='*.png' --exclude='*.vtp' --exclude='checkpoint.bin' -C /tmp ducobugf
+                damage_table "$d" > "$out/ducobugf$t.md"; cat "$out/ducobugf$t.md"
+                chip_report $d /tmp/ducobugf$t-pics > "$out/ducobugf$t-chip.md"
+                tar czf "$out/ducobugf$t-pics.tgz" -C /tmp ducobugf$t-pics
+                tar czf "$out/ducobugf$t.tgz" --exclude='*.vtu' --exclude='*.png' --exclude='*.vtp' --exclude='checkpoint.bin' -C /tmp ducobugf$t
             }
-            run ducobugf ducobugf ;;
+            run ducobugf${SWARF_DUCOBU_TAG:-} ducobugf ;;
+        taylor24) # issue 24 (docs/3d.md "The Taylor bar on the rigid wall"): cases/3d/taylor-bar-wall.toml with Balsara's
+                  # switch at each "dx:cfl" of SWARF_TAYLOR_RUNS (default 0.4, 0.2, 0.1 mm at CFL 0.3 and 0.2 mm at 0.1), f64,
+                  # one run at a time (the finest fills the GPU); ci/taylor-foot.py measures each last frame.
+                  # taylor24.md, taylor24.tgz (summaries, energy.csv, run.log; no frames).
+            taylor24() {
+                local d=/tmp/taylor24 spec dx cfl
+                rm -rf $d
+                for spec in ${SWARF_TAYLOR_RUNS:-0.4e-3:0.3 0.2e-3:0.3 0.1e-3:0.3 0.2e-3:0.1}; do
+                    dx=${spec%%:*} cfl=${spec##*:}
+                    local t0=$SECONDS
+                    "$here/swarf" --backend gpu run cases/3d/taylor-bar-wall.toml --quiet \
+                        --out $d/dx$dx-cfl$cfl --set discretisation.dx=$dx --set time.cfl=$cfl --set output.every=8e-5 \
+                        --set 'stabilisation.artificial_viscosity.switch="balsara"' 2>&1 | tail -n 3
+                    echo "dx $dx cfl $cfl: $((SECONDS - t0)) s wall" | tee -a "$out/taylor24.md"
+                    python3 ci/taylor-foot.py $d/dx$dx-cfl$cfl $dx | tee -a "$out/taylor24.md"
+                done
+                tar czf "$out/taylor24.tgz" --exclude='*.vtu' --exclude='checkpoint.bin' -C /tmp taylor24
+            }
+            run taylor24 taylor24 ;;
         mu22) # issue 22: V0060 (1 mm) with the defaults over μ, twice each (CFL 0.5, 0.4995): can friction alone bring
               # F_f to the measured 115.5 N/mm with F_c within 10 % of 157.5? mu22.tgz
             run mu22 "$here/swarf" --backend gpu sweep cases/cutting/v0060.toml --grid tool.friction=0.35,0.5,0.7,1.0 \
