@@ -99,7 +99,7 @@ fn gradient_over_r_matches_the_division() {
 /// stabiliser combination, in f64 and f32, 2D and 3D.
 mod pre_pass {
 
-    use swarf::backend::{CpuBackend, Passes};
+    use swarf::backend::{CpuBackend, Passes, PrepassBufs};
     use swarf::kernels::sph::{CubicSpline, SphParams, Stabilisers, TensorOps};
     use swarf::kernels::{Dim2, Dim3, Real};
     use swarf::rng::SplitMix64;
@@ -134,11 +134,13 @@ mod pre_pass {
                 &rho,
                 &mass,
                 &stress,
-                &mut sig,
-                Some(&mut art),
-                Some(&mut sound),
-                &mut vol,
-                None,
+                PrepassBufs {
+                    sig: &mut sig,
+                    art: Some(&mut art),
+                    sound: Some(&mut sound),
+                    vol: &mut vol,
+                    av_switch: None,
+                },
                 None,
                 None,
                 None,

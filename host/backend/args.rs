@@ -5,8 +5,8 @@
 
 use super::{
     Backend, BondBufs, Buffer, ContactInputs, DamageBufs, Element, FieldsMut, FusedContact, FusedHeat, FusedPrepare,
-    HeatInputs, PlasticInputs, PlasticPass, PrepassDamageBufs, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields,
-    ToolStatesAt, tool::DeviceTools,
+    HeatInputs, PlasticInputs, PlasticPass, PrepassBufs, PrepassDamageBufs, ScalarsAt, ScalarsMut, SkinTest, SphInputs,
+    StepFields, ToolStatesAt, tool::DeviceTools,
 };
 use crate::kernels::contact::penalty::ToolSet;
 use crate::kernels::contact::{ToolArg, ToolState};
@@ -18,7 +18,7 @@ use crate::kernels::pass::{
 };
 use crate::kernels::sph::correction::CorrectionArrays;
 use crate::kernels::sph::heat::HeatParams;
-use crate::kernels::sph::interact::{Arrays, PrepassDamage};
+use crate::kernels::sph::interact::{Arrays, PrepassArrays, PrepassDamage};
 use crate::kernels::sph::plastic::PlasticConsts;
 use crate::kernels::sph::step::StepScalars;
 use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers};
@@ -432,12 +432,7 @@ pub struct PrepareBufs<'a, B: Backend, R: Real, D: Dim> {
     pub rho: &'a B::Buf<R>,
     pub mass: &'a B::Buf<R>,
     pub stress: &'a B::Buf<D::Sym<R>>,
-    pub sig: &'a mut B::Buf<D::Sym<R>>,
-    pub art: Option<&'a mut B::Buf<D::Sym<R>>>,
-    pub sound: Option<&'a mut B::Buf<R>>,
-    pub vol: &'a mut B::Buf<R>,
-    /// The Balsara switch's factors (present iff the switch is on).
-    pub av_switch: Option<&'a B::Buf<R>>,
+    pub out: PrepassBufs<'a, B, R, D>,
     pub temp: Option<&'a B::Buf<f64>>,
     pub damage: Option<PrepassDamageBufs<'a, B>>,
 }
@@ -451,8 +446,6 @@ pub fn prepare_args<B: Backend, R: Real, D: Dim>(
     gate: Option<&ScalarsAt<'_, B>>,
 ) -> Result<PrepareArgs<R, D>> {
     let n = c.n;
-    viscosity_for_switch(stab, q.av_switch.is_some(), "sph_prepare (the Balsara switch without the viscosity)")?;
-    let (art, sound) = stabiliser_outputs(b, n, stab, q.art, q.sound, "sph_prepare (stabiliser buffer missing)")?;
     Ok(PrepareArgs {
         gate: gate_ptr(b, gate)?,
         n: span(b, &c)?,
@@ -460,36 +453,34 @@ pub fn prepare_args<B: Backend, R: Real, D: Dim>(
         rho: input(b, "sph_prepare rho", n, q.rho)?,
         mass: input(b, "sph_prepare mass", n, q.mass)?,
         stress: input(b, "sph_prepare stress", n, q.stress)?,
-        sig: output(b, "sph_prepare sig", n, q.sig)?,
-        art,
-        sound,
-        vol: output(b, "sph_prepare vol", n, q.vol)?,
-        av_switch: input_opt(b, "sph_prepare av_switch", n, q.av_switch)?,
+        out: prepass_arrays(b, n, stab, q.out, "sph_prepare")?,
         temp: input_opt(b, "sph_prepare temp", n, q.temp)?,
         damage: prepass_damage(b, n, q.damage)?,
     })
 }
 
-/// The artificial stress's and the viscosity's pre-pass outputs: required where on, null where off.
-fn stabiliser_outputs<B: Backend, R: Real, S: Element>(
+/// The pre-pass's arrays for `op`: σ/ρ² and V always; the artificial stress's and the viscosity's outputs required
+/// where their stabiliser is on and null where off; the Balsara factors only with the viscosity (they scale its
+/// sound speed).
+fn prepass_arrays<B: Backend, R: Real, D: Dim>(
     b: &B,
     n: usize,
     stab: Stabilisers,
-    art: Option<&mut B::Buf<S>>,
-    sound: Option<&mut B::Buf<R>>,
-    what: &'static str,
-) -> Result<(*mut S, *mut R)> {
-    let art = if stab.stress {
-        output(b, "art", n, art.ok_or(Error::Length { op: what, expected: n, got: 0 })?)?
-    } else {
-        std::ptr::null_mut()
-    };
-    let sound = if stab.viscosity {
-        output(b, "sound", n, sound.ok_or(Error::Length { op: what, expected: n, got: 0 })?)?
-    } else {
-        std::ptr::null_mut()
-    };
-    Ok((art, sound))
+    q: PrepassBufs<'_, B, R, D>,
+    op: &'static str,
+) -> Result<PrepassArrays<R, D::Sym<R>>> {
+    let missing = || Error::Length { op, expected: n, got: 0 };
+    viscosity_for_switch(stab, q.av_switch.is_some(), "pre-pass (the Balsara switch without the viscosity)")?;
+    let art = if stab.stress { output(b, "art", n, q.art.ok_or_else(missing)?)? } else { std::ptr::null_mut() };
+    let sound =
+        if stab.viscosity { output(b, "sound", n, q.sound.ok_or_else(missing)?)? } else { std::ptr::null_mut() };
+    Ok(PrepassArrays {
+        sig: output(b, "sig", n, q.sig)?,
+        art,
+        sound,
+        vol: output(b, "vol", n, q.vol)?,
+        av_switch: input_opt(b, "av_switch", n, q.av_switch)?,
+    })
 }
 
 /// The conduction's arguments ([`super::Passes::heat_rates`]); PSE reaches beyond a Verlet list, so it takes none.
@@ -553,22 +544,13 @@ pub fn predict_args<B: Backend, R: Real, D: Dim>(
         condition: skin.condition,
         params: SphParams::default(),
         mass: null(),
-        sig: std::ptr::null_mut(),
-        art: std::ptr::null_mut(),
-        sound: std::ptr::null_mut(),
-        vol: std::ptr::null_mut(),
-        av_switch: null(),
+        out: PrepassArrays::NONE,
         damage: PrepassDamage::OFF,
     };
     if let Some(q) = prepare {
-        viscosity_for_switch(q.stab, q.av_switch.is_some(), "step_predict (the Balsara switch without the viscosity)")?;
-        (a.art, a.sound) =
-            stabiliser_outputs(b, n, q.stab, q.art, q.sound, "step_predict (stabiliser buffer missing)")?;
         a.params = *q.params;
         a.mass = input(b, "step_predict mass", n, q.mass)?;
-        a.sig = output(b, "step_predict sig", n, q.sig)?;
-        a.vol = output(b, "step_predict vol", n, q.vol)?;
-        a.av_switch = input_opt(b, "step_predict av_switch", n, q.av_switch)?;
+        a.out = prepass_arrays(b, n, q.stab, q.out, "step_predict")?;
         a.damage = prepass_damage(b, n, q.damage)?;
     }
     Ok(a)

@@ -397,6 +397,17 @@ pub struct PlasticPass<'a, B: Backend, R: Real> {
     pub damage: Option<DamageBufs<'a, B, R>>,
 }
 
+/// What the pre-pass writes, standalone ([`Passes::sph_prepare`]) or fused ([`FusedPrepare`]): σ/ρ², the
+/// artificial stress and the viscosity's sound speed (present iff their stabiliser is on), the volumes, and the
+/// Balsara factors it reads (present iff the switch is on); the kernels' `sph::interact::PrepassArrays`.
+pub struct PrepassBufs<'a, B: Backend, R: Real, D: Dim> {
+    pub sig: &'a mut B::Buf<D::Sym<R>>,
+    pub art: Option<&'a mut B::Buf<D::Sym<R>>>,
+    pub sound: Option<&'a mut B::Buf<R>>,
+    pub vol: &'a mut B::Buf<R>,
+    pub av_switch: Option<&'a B::Buf<R>>,
+}
+
 /// The pre-pass fused into the predictor ([`Passes::step_predict`]; no thermal expansion). Its other inputs are
 /// the predictor's own: the predicted densities and stresses.
 pub struct FusedPrepare<'a, B: Backend, R: Real, D: Dim> {
@@ -404,12 +415,7 @@ pub struct FusedPrepare<'a, B: Backend, R: Real, D: Dim> {
     pub params: &'a SphParams<R>,
     /// The particles' full masses.
     pub mass: &'a B::Buf<R>,
-    pub sig: &'a mut B::Buf<D::Sym<R>>,
-    pub art: Option<&'a mut B::Buf<D::Sym<R>>>,
-    pub sound: Option<&'a mut B::Buf<R>>,
-    pub vol: &'a mut B::Buf<R>,
-    /// The Balsara switch's factors the sound speed is scaled by (present iff the switch is on).
-    pub av_switch: Option<&'a B::Buf<R>>,
+    pub out: PrepassBufs<'a, B, R, D>,
     /// The damage (present iff the run models damage).
     pub damage: Option<PrepassDamageBufs<'a, B>>,
 }

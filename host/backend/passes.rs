@@ -9,7 +9,7 @@ use super::args::{self, PrepareBufs, check_len};
 use super::tool::{DeviceShapes, DeviceTools};
 use super::{
     Backend, BondBufs, Buffer, ContactInputs, Count, FieldsMut, FusedContact, FusedHeat, FusedPrepare, HeatInputs,
-    PlasticInputs, PlasticPass, PrepassDamageBufs, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields,
+    PlasticInputs, PlasticPass, PrepassBufs, PrepassDamageBufs, ScalarsAt, ScalarsMut, SkinTest, SphInputs, StepFields,
     ToolStatesAt,
 };
 use crate::kernels::contact::{MeshTool, Tool2d};
@@ -196,7 +196,7 @@ pub trait Passes: Backend {
     }
 
     /// SPH pre-pass (`sph::interact::prepare`): sig = σ/ρ², art = artificial stress (if on), sound = √(K/ρ)
-    /// (if the viscosity is on; times the Balsara factor of `av_switch` where given), vol = m/ρ with `mass` the
+    /// (if the viscosity is on; times the Balsara factor of `out.av_switch` where given), vol = m/ρ with `mass` the
     /// particles' full masses (the thermal-only ones included: they conduct); `temp` is given when the EOS has
     /// thermal expansion. With `gate` it runs only when the step's rebuild flag is set (the predictor ran the
     /// pre-pass; a rebuild's reorder needs it again).
@@ -209,18 +209,14 @@ pub trait Passes: Backend {
         rho: &Self::Buf<R>,
         mass: &Self::Buf<R>,
         stress: &Self::Buf<D::Sym<R>>,
-        sig: &mut Self::Buf<D::Sym<R>>,
-        art: Option<&mut Self::Buf<D::Sym<R>>>,
-        sound: Option<&mut Self::Buf<R>>,
-        vol: &mut Self::Buf<R>,
-        av_switch: Option<&Self::Buf<R>>,
+        out: PrepassBufs<'_, Self, R, D>,
         temp: Option<&Self::Buf<f64>>,
         gate: Option<ScalarsAt<'_, Self>>,
         damage: Option<PrepassDamageBufs<'_, Self>>,
     ) -> Result<()> {
         let count: Count<'c, Self> = n.into();
         let dmg = damage.is_some();
-        let q = PrepareBufs::<_, R, D> { params, rho, mass, stress, sig, art, sound, vol, av_switch, temp, damage };
+        let q = PrepareBufs::<_, R, D> { params, rho, mass, stress, out, temp, damage };
         let a = args::prepare_args(self, count, stab, q, gate.as_ref())?;
         with_bools!(AV = stab.viscosity, AS = stab.stress, DMG = dmg; {
             // SAFETY: the builder checked the lengths and that the stabilisers' and the damage's buffers exist

@@ -13,7 +13,7 @@ use crate::material::FlowModel;
 use crate::scene::{Bc, Conduction, ParticleSet, Precision, Scene, Switch};
 use crate::solver::blanking::Blanking;
 use crate::solver::diagnostics::compute;
-use crate::solver::params::{StabiliserSettings, cfl_time_step, sph_params};
+use crate::solver::params::{StabiliserSettings, Viscosity, cfl_time_step, sph_params};
 use crate::solver::{CohesiveSetup, ContactSetup, DamageSetup, PlasticSetup, Solver, ThermalSetup, ToolSetup};
 use crate::state::HostParticles;
 use crate::tool::ToolLoad;
@@ -202,11 +202,15 @@ pub fn setup_with<R: Real, D: TensorOps<R>>(scene: &Scene, tuning: &Tuning) -> R
     };
     let st = &scene.stabilisation;
     let stabilisers = StabiliserSettings {
-        viscosity: st.artificial_viscosity.as_ref().map(|a| (a.alpha, a.beta, a.eta)),
+        viscosity: st.artificial_viscosity.as_ref().map(|a| Viscosity {
+            alpha: a.alpha,
+            beta: a.beta,
+            eta: a.eta,
+            balsara: a.switch == crate::scene::ViscositySwitch::Balsara,
+        }),
         stress: st.artificial_stress.as_ref().map(|a| (a.epsilon, a.exponent)),
         xsph: st.xsph.as_ref().map(|x| x.epsilon),
         cspm: st.cspm.as_ref().map(|c| c.min_determinant),
-        balsara: st.artificial_viscosity.as_ref().is_some_and(|a| a.switch == crate::scene::ViscositySwitch::Balsara),
     };
     let elastic = scene.material.elastic();
     let dx = scene.discretisation.dx;

@@ -28,8 +28,8 @@ pub use crate::tool::motion::ToolMotion;
 use crate::Result;
 use crate::backend::{
     Backend, BondBufs, Conduction, ContactInputs, DamageBufs, DeviceTools, FieldsMut, FieldsRef, FusedContact,
-    FusedHeat, FusedPrepare, HeatInputs, Passes, PlasticPass, PrepassDamageBufs, ScalarsAt, ScalarsMut, SkinTest,
-    SphInputs, StepFields, ToolStatesAt,
+    FusedHeat, FusedPrepare, HeatInputs, Passes, PlasticPass, PrepassBufs, PrepassDamageBufs, ScalarsAt, ScalarsMut,
+    SkinTest, SphInputs, StepFields, ToolStatesAt,
 };
 use crate::kernels::contact::{ContactParams, ToolState};
 use crate::kernels::damage::DamageParams;
@@ -995,11 +995,13 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                 stab: self.stab,
                 params: &self.host_params,
                 mass: &p.mass.cur,
-                sig: &mut self.sig,
-                art: self.art.as_mut(),
-                sound: self.sound.as_mut(),
-                vol: &mut self.vol,
-                av_switch: self.av_switch.as_ref().map(|f| &f.cur),
+                out: PrepassBufs {
+                    sig: &mut self.sig,
+                    art: self.art.as_mut(),
+                    sound: self.sound.as_mut(),
+                    vol: &mut self.vol,
+                    av_switch: self.av_switch.as_ref().map(|f| &f.cur),
+                },
                 damage: self.damage.as_mut().map(|d| PrepassDamageBufs {
                     damage: &d.damage.cur,
                     mask: &mut d.mask,
@@ -1022,11 +1024,13 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             // The full masses: the thermal-only particles' volumes serve the conduction.
             &p.mass.cur,
             &p.stress.cur,
-            &mut self.sig,
-            self.art.as_mut(),
-            self.sound.as_mut(),
-            &mut self.vol,
-            self.av_switch.as_ref().map(|f| &f.cur),
+            PrepassBufs {
+                sig: &mut self.sig,
+                art: self.art.as_mut(),
+                sound: self.sound.as_mut(),
+                vol: &mut self.vol,
+                av_switch: self.av_switch.as_ref().map(|f| &f.cur),
+            },
             if self.host_params.expansion != R::ZERO { self.temp.as_ref().map(|t| &t.cur) } else { None },
             // Fused into the predictor, the pass runs again only after a rebuild's reorder.
             fuse_prepare.then_some(ScalarsAt { buf: &self.scalars, index: j }),

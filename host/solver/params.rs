@@ -5,34 +5,40 @@ use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers};
 
 pub use crate::material::Elastic;
 
+/// The artificial viscosity's constants (roethlin-solver.md §4.1) and its Balsara switch
+/// (`kernels::sph::interact::balsara`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Viscosity {
+    pub alpha: f64,
+    pub beta: f64,
+    pub eta: f64,
+    pub balsara: bool,
+}
+
 /// Stabiliser constants (roethlin-solver.md §4.1 defaults); `Default` is all off.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct StabiliserSettings {
-    pub viscosity: Option<(f64, f64, f64)>,
+    pub viscosity: Option<Viscosity>,
     pub stress: Option<(f64, u32)>,
     pub xsph: Option<f64>,
     /// The CSPM kernel-gradient correction's smallest determinant (`kernels::sph::correction`); None: off.
     pub cspm: Option<f64>,
-    /// The viscosity's Balsara switch (`kernels::sph::interact::balsara`; with `viscosity` only, which the scene
-    /// reader enforces).
-    pub balsara: bool,
 }
 
 impl StabiliserSettings {
     /// All three on with the theses' constants: α = β = 1, η = 0.1; ε_s = 0.3, n = 4; ε_X = 0.5.
     pub fn theses() -> Self {
         StabiliserSettings {
-            viscosity: Some((1.0, 1.0, 0.1)),
+            viscosity: Some(Viscosity { alpha: 1.0, beta: 1.0, eta: 0.1, balsara: false }),
             stress: Some((0.3, 4)),
             xsph: Some(0.5),
             cspm: None,
-            balsara: false,
         }
     }
 
-    /// Whether the Balsara switch acts: on, with the viscosity on.
+    /// Whether the Balsara switch acts (it belongs to the viscosity, so it cannot be on without it).
     pub fn balsara_on(&self) -> bool {
-        self.balsara && self.viscosity.is_some()
+        self.viscosity.is_some_and(|v| v.balsara)
     }
 
     pub fn switches(&self) -> Stabilisers {
@@ -43,7 +49,8 @@ impl StabiliserSettings {
 /// The parameter block for material `m`, lattice spacing `dx`, smoothing length `h` and dimension `dim`.
 pub fn sph_params<R: Real>(m: &Elastic, dx: f64, h: f64, dim: usize, s: &StabiliserSettings) -> SphParams<R> {
     let kernel = CubicSpline::<f64>::new(h, dim);
-    let (alpha, beta, eta) = s.viscosity.unwrap_or((0.0, 0.0, 0.1));
+    let Viscosity { alpha, beta, eta, .. } =
+        s.viscosity.unwrap_or(Viscosity { alpha: 0.0, beta: 0.0, eta: 0.1, balsara: false });
     let (eps, exponent) = s.stress.unwrap_or((0.0, 4));
     SphParams {
         kernel: CubicSpline::new(h, dim),

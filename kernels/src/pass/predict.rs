@@ -1,4 +1,4 @@
-//! The predictor's arguments (`sph::step::predict_particle`), with the skin test and, where `sig` is not null,
+//! The predictor's arguments (`sph::step::predict_particle`), with the skin test and, where `out.sig` is not null,
 //! the pre-pass of the predicted particle (`sph::interact::prepare_particle`).
 
 use super::StepPtrs;
@@ -30,20 +30,16 @@ pub struct PredictArgs<R: Real, D: Dim> {
     pub condition: u64,
     /// The fused pre-pass's parameters (default without it).
     pub params: SphParams<R>,
-    /// The fused pre-pass's inputs and outputs; `sig` null: no fused pre-pass; `art`/`sound` null where off.
+    /// The fused pre-pass's masses (null without it).
     pub mass: *const R,
-    pub sig: *mut D::Sym<R>,
-    pub art: *mut D::Sym<R>,
-    pub sound: *mut R,
-    pub vol: *mut R,
-    /// The fused pre-pass's Balsara factors (`sph::interact::balsara`; null: the switch is off).
-    pub av_switch: *const R,
+    /// `out.sig` null: no fused pre-pass ([`PrepassArrays::NONE`]).
+    pub out: PrepassArrays<R, D::Sym<R>>,
     /// The fused pre-pass's damage (D null: none).
     pub damage: PrepassDamage,
 }
 
 impl<R: Real, D: TensorOps<R>> PredictArgs<R, D> {
-    /// Particle i's prediction followed by its pre-pass where `sig` is set (damaged with `DMG`); returns the
+    /// Particle i's prediction followed by its pre-pass where `out.sig` is set (damaged with `DMG`); returns the
     /// predicted position.
     ///
     /// # Safety
@@ -52,16 +48,17 @@ impl<R: Real, D: TensorOps<R>> PredictArgs<R, D> {
     pub unsafe fn particle<const DMG: bool>(&self, i: usize) -> D::Vec<R> {
         unsafe {
             let x = predict_particle(&self.step.arrays(), (*self.scalars).dt, i);
-            if !self.sig.is_null() {
-                let o = PrepassArrays {
-                    sig: self.sig,
-                    art: self.art,
-                    sound: self.sound,
-                    vol: self.vol,
-                    av_switch: self.av_switch,
-                };
+            if !self.out.sig.is_null() {
                 let (r, m) = (*self.step.rho.add(i), *self.mass.add(i));
-                prepare_particle::<R, D, DMG>(&self.params, &o, &self.damage, i, r, m, &*self.step.stress.add(i));
+                prepare_particle::<R, D, DMG>(
+                    &self.params,
+                    &self.out,
+                    &self.damage,
+                    i,
+                    r,
+                    m,
+                    &*self.step.stress.add(i),
+                );
             }
             x
         }

@@ -68,14 +68,8 @@ pub struct PrepareArgs<R: Real, D: Dim> {
     pub rho: *const R,
     pub mass: *const R,
     pub stress: *const D::Sym<R>,
-    pub sig: *mut D::Sym<R>,
-    /// Null unless the artificial stress is on.
-    pub art: *mut D::Sym<R>,
-    /// Null unless the viscosity is on.
-    pub sound: *mut R,
-    pub vol: *mut R,
-    /// The Balsara switch's factors (`sph::interact::balsara`): `sound` gets f_i √(K/ρ_i); null: off.
-    pub av_switch: *const R,
+    /// σ/ρ², V, the stabilisers' outputs (null where off) and the Balsara factors (null: off).
+    pub out: PrepassArrays<R, D::Sym<R>>,
     /// Null without temperature.
     pub temp: *const f64,
     /// The damage (D null: none) and its mask's output.
@@ -87,21 +81,14 @@ impl<R: Real, D: TensorOps<R>> PrepareArgs<R, D> {
     /// degradation and mask with `DMG`.
     ///
     /// # Safety
-    /// i < n; every array holds n particles, `art`/`sound` where `AS`/`AV`, `av_switch` where not null, `damage`'s
+    /// i < n; every array holds n particles, `out.art`/`out.sound` where `AS`/`AV`, `out.av_switch` where not null, `damage`'s
     /// where `DMG`; `params` points at the parameters.
     #[inline(always)]
     pub unsafe fn particle<const AV: bool, const AS: bool, const DMG: bool>(&self, i: usize) {
         unsafe {
             let t = if self.temp.is_null() { None } else { Some(*self.temp.add(i)) };
-            let o = PrepassArrays {
-                sig: self.sig,
-                art: self.art,
-                sound: self.sound,
-                vol: self.vol,
-                av_switch: self.av_switch,
-            };
             let (r, m, s) = (*self.rho.add(i), *self.mass.add(i), &*self.stress.add(i));
-            prepare_store::<R, D, AV, AS, DMG>(&*self.params, &o, &self.damage, i, r, m, s, t);
+            prepare_store::<R, D, AV, AS, DMG>(&*self.params, &self.out, &self.damage, i, r, m, s, t);
         }
     }
 }

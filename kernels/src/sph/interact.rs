@@ -144,7 +144,10 @@ impl PrepassDamage {
 }
 
 /// Where the pre-pass writes (sorted order): σ/ρ² and V always, the artificial stress and the sound speed where
-/// their stabiliser is on (null otherwise); `av_switch` is what it reads of the Balsara switch (null: off).
+/// their stabiliser is on (null otherwise); `av_switch` is what it reads of the Balsara switch (null: off). One
+/// struct in the standalone pre-pass's and the predictor's argument blocks (`pass::PrepareArgs`,
+/// `pass::PredictArgs`), so that both launch it the same way.
+#[repr(C)]
 #[derive(Clone, Copy)]
 pub struct PrepassArrays<R: Real, S> {
     pub sig: *mut S,
@@ -154,6 +157,17 @@ pub struct PrepassArrays<R: Real, S> {
     /// The Balsara factor f_i of the last interaction ([`balsara`]): the sound speed written is f_i c_i. Null:
     /// c_i (a uniform branch; the pair loop reads `sound` either way).
     pub av_switch: *const R,
+}
+
+impl<R: Real, S> PrepassArrays<R, S> {
+    /// Every array null: no pre-pass (the predictor without a fused one).
+    pub const NONE: Self = PrepassArrays {
+        sig: core::ptr::null_mut(),
+        art: core::ptr::null_mut(),
+        sound: core::ptr::null_mut(),
+        vol: core::ptr::null_mut(),
+        av_switch: core::ptr::null(),
+    };
 }
 
 /// Balsara's switch of the artificial viscosity (D. S. Balsara, J. Comput. Phys. 121 (1995) 357; a project
