@@ -18,14 +18,10 @@ import sys
 
 import numpy as np
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from frames import last_frame  # noqa: E402
+
 TYPES = {"Float32": "<f4", "Float64": "<f8", "UInt32": "<u4", "Int32": "<i4", "Int64": "<i8", "UInt8": "u1"}
-
-
-def last_frame(run):
-    frames = sorted(f for f in os.listdir(run) if re.fullmatch(r"frame_\d+\.vtu", f))
-    if not frames:
-        sys.exit(f"{run}: no frame_*.vtu")
-    return os.path.join(run, frames[-1])
 
 
 def read_raw(path):

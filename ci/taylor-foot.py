@@ -10,9 +10,7 @@ cannot move, from the raw VTU frame (pure Python: the GPU machine has no numpy):
 
 - L: centres' z extent, and + dx (the material's, each particle standing for a cell of side dx);
 - r_max: the largest centre radius, and + dx/2;
-- in the foot's slab (centres within 2 dx of the lowest): the radius quantiles 0.99 and 0.999, and the
-  area-equivalent radius sqrt(N dx^3 / (2 dx) / pi) (N particles of volume dx^3 in a slab 2 dx thick, the
-  material's volume being nearly conserved in J2 plasticity);
+- in the foot's slab (centres within 2 dx of the lowest): the radius quantiles 0.99 and 0.999;
 - lone: slab particles with no other slab particle within 1.5 dx (detached lip particles), and r_max without them.
 """
 
@@ -23,12 +21,8 @@ import re
 import struct
 import sys
 
-
-def last_frame(run):
-    frames = sorted(f for f in os.listdir(run) if re.fullmatch(r"frame_\d+\.vtu", f))
-    if not frames:
-        sys.exit(f"{run}: no frame_*.vtu")
-    return os.path.join(run, frames[-1])
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from frames import last_frame  # noqa: E402
 
 
 def points(path):
@@ -87,8 +81,7 @@ def main():
     print(
         f"{run}: {len(zs)} particles, dx {dx * mm:.3f} mm | L centres {(zmax - zmin) * mm:.2f} (+dx {(zmax - zmin + dx) * mm:.2f}) mm"
         f" | r_max {max(radii) * mm:.2f} (+dx/2 {(max(radii) + dx / 2) * mm:.2f}) mm"
-        f" | slab {len(slab)}: q0.99 {quantile(rs, 0.99) * mm:.2f}, q0.999 {quantile(rs, 0.999) * mm:.2f},"
-        f" r_eq {math.sqrt(len(slab) * dx * dx / 2.0 / math.pi) * mm:.2f} mm"
+        f" | slab {len(slab)}: q0.99 {quantile(rs, 0.99) * mm:.2f}, q0.999 {quantile(rs, 0.999) * mm:.2f} mm"
         f" | lone {len(lone)}, r_max without them {bound[-1] * mm:.2f} mm"
     )
 
