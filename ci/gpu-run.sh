@@ -601,7 +601,8 @@ PY
                 local d=/tmp/shtb25 r set
                 rm -rf $d; mkdir -p $d
                 for r in ${SWARF_SHTB_RUNS:-jc jcgg}; do
-                    set=(--set time.end=${SWARF_SHTB_END:-6e-4} --set output.every=${SWARF_SHTB_EVERY:-1.0e-5})
+                    set=(--set time.end=${SWARF_SHTB_END:-6e-4})
+                    [ -n "${SWARF_SHTB_EVERY:-}" ] && set+=(--set output.every=$SWARF_SHTB_EVERY)
                     case $r in
                         jc) ;;
                         jcgg) set+=(--set 'material.name="50SiB8-Klippel-JCGG"') ;;
