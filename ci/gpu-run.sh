@@ -596,13 +596,14 @@ PY
                 # strain and diameter; to SWARF_SHTB_END, default 0.6 ms, past the fracture at 0.43 ms); frames every
                 # SWARF_SHTB_EVERY (default the scene's 10 µs: the neck is measured at the last frame before the
                 # fracture); SWARF_SHTB_RUNS picks runs among jc, jcgg and jcgg-dt1e8 (JC-GG at Klippel's Δt = 1e-8 s);
-                # shtb25.md (damage_table)
+                # SWARF_SHTB_DX the spacing (default the scene's 0.2 mm); shtb25.md (damage_table)
             shtb25() {
                 local d=/tmp/shtb25 r set
                 rm -rf $d; mkdir -p $d
                 for r in ${SWARF_SHTB_RUNS:-jc jcgg}; do
                     set=(--set time.end=${SWARF_SHTB_END:-6e-4})
                     [ -n "${SWARF_SHTB_EVERY:-}" ] && set+=(--set output.every=$SWARF_SHTB_EVERY)
+                    [ -n "${SWARF_SHTB_DX:-}" ] && set+=(--set discretisation.dx=$SWARF_SHTB_DX)
                     case $r in
                         jc) ;;
                         jcgg) set+=(--set 'material.name="50SiB8-Klippel-JCGG"') ;;
@@ -814,7 +815,12 @@ PY
                   > "$out/grain2m-state.log" 2>&1
               { tail -n 8 "$d/run.log"; cat "$d/summary.json" 2>/dev/null; force_means "$d/forces.csv" 2e-6 1e-5; } \
                   >> "$out/grain2m.log"
-              cp "$d/forces.csv" "$out/grain2m-forces.csv" ;;
+              cp "$d/forces.csv" "$out/grain2m-forces.csv"
+              # a finished run: its last frame's plastic strain seen along z and along x (PNG)
+              [ -f "$d/summary.json" ] && [ "${SWARF_GRAIN_RENDER:-1}" = 1 ] && for ax in z x; do
+                  "$here/swarf" render "$d" --field eps --frame last --along $ax --out "$out/grain2m-render-$ax" \
+                      >> "$out/grain2m.log" 2>&1
+              done ;;
         grainres) # issue 24: the single grain (cases/3d/single-grain.toml) whole at Δx = SWARF_GRAIN_DXS µm (default
                   # "2.0 1.5"), f64, CFL 0.3, blanked as grain2m (a growing box 200 µm behind the workpiece to 115 µm
                   # into it): does the 2 M run's blow-up near 8 µs come at coarser spacings too? Each run bounded by

@@ -99,6 +99,7 @@ pub const ENERGY_COLUMNS: &[&str] = &[
     "bond_damping",
     "bonds_failed",
     "mode_i_share",
+    "damage_dissipation",
 ];
 
 /// The built-in default scene, `swarf run` without a scene: the V0060 orthogonal cut (cases/cutting/v0060.toml),
@@ -986,6 +987,7 @@ impl<R: Real, D: TensorOps<R>> OutputJob<R, D> {
             d.bond_damping,
             d.bonds_failed,
             d.mode_i_share,
+            d.damage_dissipation,
         ])
         .map_err(|e| io_err(csv.path(), e))?;
         csv.write().map_err(|e| io_err(csv.path(), e))?;

@@ -13,9 +13,9 @@ use swarf::kernels::damage::{
     jc_gg_fracture_strain, jc_gg_temperature_term, mask_value, model, multiplier, rice_tracey_fracture_strain,
     switches,
 };
-use swarf::kernels::sph::SphParams;
 use swarf::kernels::sph::interact::{prepare, prepare_damaged};
 use swarf::kernels::sph::plastic::PlasticConsts;
+use swarf::kernels::sph::{SphParams, TensorOps};
 use swarf::kernels::vector::{S2f64, S3f64};
 use swarf::material::{FlowModel, Library};
 use swarf::run::RunOptions;
@@ -127,6 +127,8 @@ struct PlasticParticles {
     params: <CpuBackend as Backend>::Buf<DamageParams>,
     omega: <CpuBackend as Backend>::Buf<f64>,
     damage: <CpuBackend as Backend>::Buf<f64>,
+    /// The specific elastic energy the degradation has released [J/kg].
+    released: <CpuBackend as Backend>::Buf<f64>,
 }
 
 impl PlasticParticles {
@@ -148,6 +150,7 @@ impl PlasticParticles {
             params: b.upload(&[params], "damage params").unwrap(),
             omega: b.upload(omega, "omega").unwrap(),
             damage: b.upload(damage, "damage").unwrap(),
+            released: b.upload(&zeros, "released").unwrap(),
             b,
             n,
         }
@@ -175,10 +178,25 @@ impl PlasticParticles {
                         omega: &mut self.omega,
                         damage: &mut self.damage,
                         mass: &self.mass,
+                        work: Some(&mut self.released),
                     }),
                 },
             )
             .unwrap();
+    }
+
+    /// One plastic pass after a trial increment 2G dε diag(1, −½, −½) of every particle's stored deviator (a
+    /// uniaxial plastic strain increment dε).
+    fn pull(&mut self, model: &FlowModel, c: PlasticConsts, d_eps: f64) {
+        let inc = 2.0 * c.shear * d_eps;
+        let mut s = self.b.read(&self.stress).unwrap();
+        for s in &mut s {
+            s.0[0] += inc;
+            s.0[3] -= 0.5 * inc;
+            s.0[5] -= 0.5 * inc;
+        }
+        self.b.write(&mut self.stress, &s).unwrap();
+        self.step(model, c);
     }
 
     fn read(&self, buf: &<CpuBackend as Backend>::Buf<f64>) -> Vec<f64> {
@@ -224,14 +242,7 @@ fn uniaxial_history(dx: f64, d_eps: f64, steps: usize, damage: DamageParams) -> 
     let sph = SphParams::<f64> { rho0, c0sq, bulk, shear, ..Default::default() };
     let (mut out, mut rates) = (Vec::new(), Vec::new());
     for _ in 0..steps {
-        // The trial increment of a uniaxial plastic strain increment dε diag(1, −½, −½).
-        let mut s = ps.b.read(&ps.stress).unwrap()[0];
-        let inc = 2.0 * shear * d_eps;
-        s.0[0] += inc;
-        s.0[3] -= 0.5 * inc;
-        s.0[5] -= 0.5 * inc;
-        ps.b.write(&mut ps.stress, &[s]).unwrap();
-        ps.step(&model, c);
+        ps.pull(&model, c, d_eps);
         let s = ps.b.read(&ps.stress).unwrap()[0];
         let (e, w, d) = (ps.read(&ps.eps)[0], ps.read(&ps.omega)[0], ps.read(&ps.damage)[0]);
         let (q, _) = prepare_damaged::<f64, Dim3, false, false>(&sph, rho, mass, &s, None, d, 0);
@@ -441,17 +452,19 @@ fn a_damage_that_never_initiates_changes_no_bit_of_a_cut() {
     let (fa, ea) = common::scenes::run_record(&a);
     let (fb, eb) = common::scenes::run_record(&b);
     assert_eq!(fa, fb, "forces.csv");
-    // energy.csv: equal but for the two damage columns (NaN without damage, 0 here).
+    // energy.csv: equal but for the three damage columns (NaN without damage, 0 here).
     let strip = |t: &str| {
         let head: Vec<&str> = t.lines().next().unwrap_or("").split(',').collect();
-        let skip = |k: usize| matches!(head.get(k), Some(&"damaged_volume") | Some(&"initiated_volume"));
+        let skip = |k: usize| {
+            matches!(head.get(k), Some(&"damaged_volume") | Some(&"initiated_volume") | Some(&"damage_dissipation"))
+        };
         let keep =
             |l: &str| l.split(',').enumerate().filter(|(k, _)| !skip(*k)).map(|(_, v)| v).collect::<Vec<_>>().join(",");
         t.lines().map(keep).collect::<Vec<_>>()
     };
     assert_eq!(strip(&ea), strip(&eb), "energy.csv");
     let last = rep.history.last().expect("history");
-    assert_eq!((last.damaged_volume, last.initiated_volume), (0.0, 0.0));
+    assert_eq!((last.damaged_volume, last.initiated_volume, last.damage_dissipation), (0.0, 0.0, 0.0));
     let _ = std::fs::remove_dir_all(&a);
     let _ = std::fs::remove_dir_all(&b);
 }
@@ -572,12 +585,14 @@ fn damage_scene_errors_name_file_key_and_expectation() {
     assert!(e.contains("damage.mask_form") && e.contains("\"printed\" or \"invariant\""), "{e}");
 }
 
-/// The elastic energy the diagnostics book for a damaged particle (energy.csv; `energy::elastic_damaged_at`) is that
-/// of the stress it acts with (klippel §2.6, Eqs. 7.27–7.28): at D = 0 the undamaged energy bit for bit; at D = 1
-/// the deviatoric part times e^−2 and, in tension, the volumetric part too, in compression not; at full damage in
-/// tension nothing, in compression V p²/(2K). Against the formula V (k²S:S/(4G) + p_d²/(2K)) written out (1e-12).
+/// The elastic energy the diagnostics book for a damaged particle (energy.csv; `energy::elastic_damaged_at`) is
+/// that of continuum damage with the effective stress (docs/damage.md, "Energy"): the degraded stress kS in the
+/// damaged moduli kG and, in tension, kK, V (k S:S/(4G) + k_p p²/(2K)) with k = e^−D, k_p = k in tension and 1 in
+/// compression: at D = 0 the undamaged energy bit for bit; at D = 1 the deviatoric part times e^−1 and, in tension,
+/// the volumetric part too; at full damage in tension nothing, in compression V p²/(2K). Against the formula
+/// written out (1e-12).
 #[test]
-fn a_damaged_particle_books_the_elastic_energy_of_its_degraded_stress() {
+fn a_damaged_particle_books_the_elastic_energy_of_continuum_damage() {
     use swarf::kernels::sph::energy::{elastic_at, elastic_damaged_at};
     let (bulk, shear, rho0) = (1.2e11, 4.4e10, 4430.0);
     let p = SphParams::<f64> { rho0, c0sq: bulk / rho0, bulk, shear, ..Default::default() };
@@ -590,11 +605,57 @@ fn a_damaged_particle_books_the_elastic_energy_of_its_degraded_stress() {
         let e = |d: f64| elastic_damaged_at::<f64, Dim3>(&p, m, rho, &s, None, d);
         assert_eq!(e(0.0), elastic_at::<f64, Dim3>(&p, m, rho, &s, None), "D = 0 at ρ = {rho}");
         let k = (-1.0f64).exp();
-        let pd = if pr < 0.0 { k * pr } else { pr };
-        let want = vol * (k * k * ss / (4.0 * shear) + pd * pd / (2.0 * bulk));
+        let kp = if pr < 0.0 { k } else { 1.0 };
+        let want = vol * (k * ss / (4.0 * shear) + kp * pr * pr / (2.0 * bulk));
         assert!((e(1.0) / want - 1.0).abs() < 1e-12, "D = 1 at ρ = {rho}: {} against {want}", e(1.0));
         let full = if pr < 0.0 { 0.0 } else { vol * pr * pr / (2.0 * bulk) };
         assert!((e(FULL_DAMAGE) - full).abs() <= 1e-12 * full.max(1e-30), "full damage at ρ = {rho}");
+    }
+}
+
+/// The plastic pass books the elastic energy the step's degradation releases (`damage::released_density`): one
+/// particle (3D, ideally plastic σ_y = 800 MPa, so S:S stays 2σ_y²/3 once it yields) pulled in uniaxial plastic
+/// flow while D grows by Hillerborg's law accumulates Σ (k_old − k_new)(S:S/(4G) + [p < 0] p²/(2K))/ρ, which at a
+/// fixed state telescopes to (1 − k) times the undamaged energies: held ψ(k) plus released equals ψ(1) at every
+/// step (1e-9 relative, rounding of the sums). In tension the volumetric energy is released with k; in compression
+/// it is not (k_p = 1).
+#[test]
+fn the_plastic_pass_books_the_energy_the_degradation_releases() {
+    use swarf::kernels::damage::{elastic_density, multiplier};
+    let (young, nu, rho0, sy, dx) = (113.8e9, 0.34, 4430.0, 800e6, 5e-6);
+    let shear = young / (2.0 * (1.0 + nu));
+    let bulk = young / (3.0 * (1.0 - 2.0 * nu));
+    let c0sq = bulk / rho0;
+    let model = FlowModel::Bilinear(swarf::kernels::material::Bilinear {
+        yield_stress: sy,
+        plastic_modulus: 0.0,
+        melt_temp: 1878.0,
+    });
+    let c = PlasticConsts { shear, dt: 1e-8, taylor_quinney: 0.0, flags: 0, _pad: 0 };
+    for (label, sign) in [("tension", -1.0), ("compression", 1.0)] {
+        let rho = rho0 + sign * sy / (3.0 * c0sq); // p = ∓σ_y/3
+        let pr = c0sq * (rho - rho0);
+        let params = DamageParams { c0sq, rho0, bulk, dim: 3.0, ..constant_fracture_strain(0.01, 200.0) };
+        let mut ps = PlasticParticles::new(&[S3f64::default()], rho, rho * dx * dx * dx, &[0.0], &[0.0], params);
+        let mut grew = 0;
+        for step in 0..60 {
+            ps.pull(&model, c, 1e-3);
+            let (d, w) = (ps.read(&ps.damage)[0], ps.read(&ps.released)[0]);
+            let ss = Dim3::double_dot(&ps.b.read(&ps.stress).unwrap()[0]);
+            let (held, undamaged) =
+                (elastic_density(multiplier(d), ss, shear, pr, bulk), elastic_density(1.0, ss, shear, pr, bulk));
+            if d == 0.0 {
+                assert_eq!(w, 0.0, "{label}, step {step}: nothing released before D grows");
+                continue;
+            }
+            grew += 1;
+            let k = multiplier(d);
+            let vol = if pr < 0.0 { pr * pr / (2.0 * bulk) } else { 0.0 };
+            let want = (1.0 - k) * (ss / (4.0 * shear) + vol);
+            assert!((w * rho / want - 1.0).abs() < 1e-9, "{label}, step {step}: released {} against {want}", w * rho);
+            assert!((held + w * rho - undamaged).abs() <= 1e-9 * undamaged, "{label}, step {step}: held + released");
+        }
+        assert!(grew > 10 && multiplier(ps.read(&ps.damage)[0]) < 0.5, "{label}: D grew at {grew} steps");
     }
 }
 

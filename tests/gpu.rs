@@ -636,7 +636,8 @@ fn cutting_force_trace_equals_cpu() {
 /// Issue 25 on the GPU: damage (JC initiation, Hillerborg softening, the stress degraded in the pre-pass, the plastic
 /// heating of the degraded stress) and the interaction mask (a fully damaged pre-crack in tension) in both its forms
 /// (`damage.mask_form`, printed and invariant) give the CPU's run bit for bit: a strip pulled apart at 50 m/s for
-/// 10 µs, until its particles yield and its damaged volume has grown beyond the pre-crack's.
+/// 10 µs, until its particles yield and its damaged volume has grown beyond the pre-crack's; the damaged volume and the
+/// elastic energy the degradation released (energy.csv) equal over time.
 #[test]
 fn damaged_strip_equals_cpu() {
     let Some(_) = gpu() else { return };
@@ -656,8 +657,10 @@ fn damaged_strip_equals_cpu() {
             let dir = std::env::temp_dir().join(format!("swarf-gpu-strip-{tag}-{k}-{}", std::process::id()));
             let (last, yielded) = final_state(&any, &scene, &RunOptions::quiet(dir.clone()));
             let (header, rows) = swarf::output::csv::read(&dir.join("energy.csv")).expect("energy.csv");
-            let k = header.iter().position(|c| c == "damaged_volume").expect("the damaged volume's column");
-            let damaged: Vec<u64> = rows.iter().map(|r| r[k].to_bits()).collect();
+            // The damaged volume and the energy the degradation released, over time.
+            let col = |name: &str| header.iter().position(|c| c == name).expect("an energy.csv column");
+            let (k, kr) = (col("damaged_volume"), col("damage_dissipation"));
+            let damaged: Vec<[u64; 2]> = rows.iter().map(|r| [r[k].to_bits(), r[kr].to_bits()]).collect();
             runs.push((last, yielded, damaged, rows, k));
         }
         let (first, last, k) = (runs[0].3.first().expect("rows"), runs[0].3.last().expect("rows"), runs[0].4);
@@ -669,7 +672,10 @@ fn damaged_strip_equals_cpu() {
             runs[0].0 == runs[1].0
         );
         assert!(runs[0].1 > 0 && d1 > d0, "{form}: the strip must yield and its damage grow ({d0} -> {d1})");
-        assert_eq!(runs[0].2, runs[1].2, "{form}: the damaged volume over time differs between CPU and GPU");
+        let released = runs[0].2.last().map_or(f64::NAN, |r| f64::from_bits(r[1]));
+        eprintln!("damaged strip ({form} mask): the degradation released {released:e} J/m");
+        assert!(released > 0.0, "{form}: the degradation must release energy ({released})");
+        assert_eq!(runs[0].2, runs[1].2, "{form}: the damaged volume or released energy differs between CPU and GPU");
         assert!(runs[0].0 == runs[1].0, "{form}: GPU damaged strip differs from the CPU");
     }
 }

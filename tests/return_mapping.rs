@@ -428,7 +428,7 @@ fn newton_uses_the_total_path_derivative() {
 fn flow_stress_from_the_return_equals_sigma_y_bitwise() {
     use swarf_kernels::material::{heated_temperature, plastic_heating};
     use swarf_kernels::sph::heat::ThermalMaterial;
-    use swarf_kernels::sph::plastic::{PlasticArrays, PlasticConsts, plastic_particle};
+    use swarf_kernels::sph::plastic::{DamageArrays, PlasticArrays, PlasticConsts, plastic_particle};
     use swarf_kernels::vector::{Dim2, S2f64};
 
     fn check<M: FlowStress + Copy>(name: &str, m: &M, g: f64, rho: f64, seed: u64) -> (u32, u32) {
@@ -468,10 +468,7 @@ fn flow_stress_from_the_return_equals_sigma_y_bitwise() {
                 materials: &mat,
                 yield_stress: &mut ys,
                 work: &mut work,
-                damage_params: std::ptr::null(),
-                omega: std::ptr::null_mut(),
-                damage: std::ptr::null_mut(),
-                mass: std::ptr::null(),
+                damage: DamageArrays::NONE,
             };
             let c = PlasticConsts { shear: g, dt, taylor_quinney: tq, flags: 0, _pad: 0 };
             unsafe { plastic_particle::<f64, Dim2, M, false>(m, &c, &a, 0) };

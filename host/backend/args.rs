@@ -10,7 +10,6 @@ use super::{
 };
 use crate::kernels::contact::penalty::ToolSet;
 use crate::kernels::contact::{ToolArg, ToolState};
-use crate::kernels::damage::DamageParams;
 use crate::kernels::neighbour::{BlankBox, GridParams};
 use crate::kernels::pass::{
     BondArgs, BondIndexArgs, ContactArgs, CorrectionArgs, DensityArgs, FinishArgs, FinishPlasticArgs, HashArgs,
@@ -19,7 +18,7 @@ use crate::kernels::pass::{
 use crate::kernels::sph::correction::CorrectionArrays;
 use crate::kernels::sph::heat::HeatParams;
 use crate::kernels::sph::interact::{Arrays, PrepassArrays, PrepassDamage};
-use crate::kernels::sph::plastic::PlasticConsts;
+use crate::kernels::sph::plastic::{DamageArrays, PlasticConsts};
 use crate::kernels::sph::step::StepScalars;
 use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers};
 use crate::kernels::{Dim, Real};
@@ -284,10 +283,7 @@ pub fn finish_plastic_args<B: Backend, R: Real, D: Dim, M>(
         materials: p.materials.map_or(null(), |m| b.address(m) as *const _),
         yield_stress,
         work: output_opt(b, "plastic work", n, p.work)?,
-        damage_params: null(),
-        omega: std::ptr::null_mut(),
-        damage: std::ptr::null_mut(),
-        damage_mass: null(),
+        damage: p.damage.map_or(Ok(DamageArrays::NONE), |d| damage_arrays(b, n, d))?,
         contact: null(),
         contact_tool: null(),
         contact_state: null(),
@@ -298,9 +294,6 @@ pub fn finish_plastic_args<B: Backend, R: Real, D: Dim, M>(
         contact_yield: null(),
         wear: std::ptr::null_mut(),
     };
-    if let Some(d) = p.damage {
-        (a.damage_params, a.omega, a.damage, a.damage_mass) = damage_ptrs(b, n, d)?;
-    }
     if let Some(c) = contact {
         if c.yield_stress && yield_stress.is_null() {
             return Err(Error::Length { op: "step_finish (the friction cap's yield stresses)", expected: 1, got: 0 });
@@ -318,16 +311,15 @@ pub fn finish_plastic_args<B: Backend, R: Real, D: Dim, M>(
     Ok(a)
 }
 
-/// The damage's addresses in the plastic pass (constants, ω, D, masses), each checked.
-type DamagePtrs<R> = (*const DamageParams, *mut f64, *mut f64, *const R);
-
-fn damage_ptrs<B: Backend, R: Real>(b: &B, n: usize, d: DamageBufs<'_, B, R>) -> Result<DamagePtrs<R>> {
-    Ok((
-        input(b, "damage parameters", 1, d.params)?,
-        output(b, "damage omega", n, d.omega)?,
-        output(b, "damage", n, d.damage)?,
-        input(b, "damage mass", n, d.mass)?,
-    ))
+/// The damage's addresses in the plastic pass (constants, ω, D, masses, released energy), each checked.
+fn damage_arrays<B: Backend, R: Real>(b: &B, n: usize, d: DamageBufs<'_, B, R>) -> Result<DamageArrays<R>> {
+    Ok(DamageArrays {
+        params: input(b, "damage parameters", 1, d.params)?,
+        omega: output(b, "damage omega", n, d.omega)?,
+        damage: output(b, "damage", n, d.damage)?,
+        mass: input(b, "damage mass", n, d.mass)?,
+        work: output_opt(b, "damage work", n, d.work)?,
+    })
 }
 
 /// The pre-pass's damage view (null: off).
@@ -569,10 +561,6 @@ pub fn plastic_args<B: Backend, R: Real, D: Dim, M>(
     if consts.taylor_quinney > 0.0 && a.materials.is_none() {
         return Err(Error::Length { op: "plastic_step (thermal materials missing)", expected: 1, got: 0 });
     }
-    let (damage_params, omega, damage, damage_mass) = match a.damage {
-        Some(d) => damage_ptrs(b, n, d)?,
-        None => (null(), std::ptr::null_mut(), std::ptr::null_mut(), null()),
-    };
     Ok(PlasticArgs {
         n: span(b, &c)?,
         model,
@@ -586,10 +574,7 @@ pub fn plastic_args<B: Backend, R: Real, D: Dim, M>(
         materials: a.materials.map_or(null(), |m| b.address(m) as *const _),
         yield_stress: output_opt(b, "yield_stress", n, a.yield_stress)?,
         work: output_opt(b, "plastic work", n, a.work)?,
-        damage_params,
-        omega,
-        damage,
-        damage_mass,
+        damage: a.damage.map_or(Ok(DamageArrays::NONE), |d| damage_arrays(b, n, d))?,
     })
 }
 

@@ -257,13 +257,15 @@ pub struct PlasticInputs<'a, B: Backend, R: Real, D: Dim> {
     pub damage: Option<DamageBufs<'a, B, R>>,
 }
 
-/// The damage's buffers in the plastic pass (`kernels::damage`): its constants (one element), ω and D, and the
-/// particles' full masses (the volume m/ρ of L_char).
+/// The damage's buffers in the plastic pass (`kernels::damage`): its constants (one element), ω and D, the
+/// particles' full masses (the volume m/ρ of L_char), and where tracked the specific energy the degradation has
+/// released (`kernels::sph::plastic::DamageArrays`).
 pub struct DamageBufs<'a, B: Backend, R: Real> {
     pub params: &'a B::Buf<DamageParams>,
     pub omega: &'a mut B::Buf<f64>,
     pub damage: &'a mut B::Buf<f64>,
     pub mass: &'a B::Buf<R>,
+    pub work: Option<&'a mut B::Buf<f64>>,
 }
 
 /// The damage's buffers in the pre-pass: D, the mask it writes and the `damage::switches`.

@@ -433,6 +433,7 @@ fn damage_setup(scene: &Scene, fl: &[u32], pos: &[[f64; 3]]) -> Option<DamageSet
         expansion: scene.physics.volumetric_expansion(),
         expansion_t0: scene.physics.expansion_reference,
         dim: scene.dim as f64,
+        bulk: elastic.bulk_modulus(),
     };
     let n = pos.len();
     let (mut omega, mut damage) = (vec![0.0; n], vec![0.0; n]);
@@ -711,8 +712,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Method<B> for Solver<B, R, D> {
         let (omega, damage) = (field("damage_initiation"), field("damage"));
         let mut d = compute(&host, &self.host_params, self.time, self.steps, temp.as_deref(), damage.as_deref());
         crate::solver::diagnostics::internal(&mut d, &host.id, temp.as_deref(), eps.as_deref());
-        let (work, diss) = self.download_dissipated(b)?;
-        crate::solver::diagnostics::dissipated(&mut d, &host, work.as_deref(), diss.as_deref());
+        crate::solver::diagnostics::dissipated(&mut d, &host, &self.download_dissipated(b)?);
         crate::solver::diagnostics::damaged(&mut d, &host, omega.as_deref(), damage.as_deref());
         crate::solver::diagnostics::cohesive(&mut d, self.bond_tally(b)?.as_ref());
         let mut now = positions_f64(&host.pos);

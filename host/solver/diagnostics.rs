@@ -43,6 +43,9 @@ pub struct Diagnostics {
     pub damaged_volume: f64,
     /// Volume of the particles where damage has initiated (ω ≥ 1) (NaN without damage).
     pub initiated_volume: f64,
+    /// The elastic energy the damage's degradation has released so far, Σ m_i Σ_steps (k_old − k_new)(S:S/(4G) +
+    /// [p < 0] p²/(2K))/ρ [J, per m of depth in 2D] (NaN without damage; docs/damage.md, "Energy").
+    pub damage_dissipation: f64,
     /// The work the cohesive path's bonds have taken from the motion, Σ ∫ t·dδ A [J, per m of depth in 2D]:
     /// stored while a bond holds, dissipated once it fails (NaN without a cohesive path).
     pub cohesive_work: f64,
@@ -127,12 +130,13 @@ impl Diagnostics {
         self.kinetic + self.elastic
     }
 
-    /// The energy balance's left side: kinetic + elastic + plastic work + viscous dissipation (+ the cohesive
-    /// path's work). Constant up to the time-integration error and the work of prescribed motions and the tool
+    /// The energy balance's left side: kinetic + elastic + plastic work + viscous dissipation (+ the damage's
+    /// release, + the cohesive path's work). Constant up to the time-integration error and the work of prescribed motions and the tool
     /// (docs/stability.md).
     pub fn balance(&self) -> f64 {
         let cohesive = if self.cohesive_work.is_nan() { 0.0 } else { self.cohesive_work + self.bond_damping };
-        self.kinetic + self.elastic + self.plastic_work + self.viscous_dissipation + cohesive
+        let damage = if self.damage_dissipation.is_nan() { 0.0 } else { self.damage_dissipation };
+        self.kinetic + self.elastic + self.plastic_work + self.viscous_dissipation + cohesive + damage
     }
 }
 
@@ -158,6 +162,7 @@ pub fn compute<R: Real, D: TensorOps<R>>(
         min_contact_midpoint: [f64::NAN; 3],
         damaged_volume: f64::NAN,
         initiated_volume: f64::NAN,
+        damage_dissipation: f64::NAN,
         cohesive_work: f64::NAN,
         bond_damping: f64::NAN,
         bonds_failed: f64::NAN,
@@ -224,18 +229,25 @@ fn finite_max(d: &mut Diagnostics, id: &[u32], field: &'static str, v: &[f64]) -
     max
 }
 
-/// Adds the dissipated energies Σ m_i w_i of the per-particle specific plastic work and viscous dissipation
-/// (thermal-only particles carry no mechanics and are left out).
-pub fn dissipated<R: Real, D: TensorOps<R>>(
-    d: &mut Diagnostics,
-    p: &HostParticles<R, D>,
-    work: Option<&[f64]>,
-    viscous: Option<&[f64]>,
-) {
+/// The per-particle specific dissipated energies [J/kg] (state order), each where modelled.
+#[derive(Clone, Debug, Default)]
+pub struct Dissipated {
+    /// The plastic work Σ e^{−D} σ_y Δε̄/ρ.
+    pub plastic: Option<Vec<f64>>,
+    /// The artificial viscosity's dissipation.
+    pub viscous: Option<Vec<f64>>,
+    /// The elastic energy the damage's degradation has released (`kernels::damage::released_density`).
+    pub damage: Option<Vec<f64>>,
+}
+
+/// Adds the dissipated energies Σ m_i w_i of the per-particle specific plastic work, viscous dissipation and
+/// damage release (thermal-only particles carry no mechanics and are left out; the damage's is NaN without damage).
+pub fn dissipated<R: Real, D: TensorOps<R>>(d: &mut Diagnostics, p: &HostParticles<R, D>, w: &Dissipated) {
     let mech = |i: usize| p.flags[i] & crate::kernels::sph::params::flags::THERMAL_ONLY == 0;
-    let sum = |w: &[f64]| (0..p.len()).filter(|&i| mech(i)).map(|i| p.mass[i].to_f64() * w[i]).sum::<f64>();
-    d.plastic_work = work.map_or(0.0, sum);
-    d.viscous_dissipation = viscous.map_or(0.0, sum);
+    let sum = |w: &Vec<f64>| (0..p.len()).filter(|&i| mech(i)).map(|i| p.mass[i].to_f64() * w[i]).sum::<f64>();
+    d.plastic_work = w.plastic.as_ref().map_or(0.0, sum);
+    d.viscous_dissipation = w.viscous.as_ref().map_or(0.0, sum);
+    d.damage_dissipation = w.damage.as_ref().map_or(f64::NAN, sum);
 }
 
 /// Adds the damaged and initiated volumes (`omega`, `damage`: the frames' `damage_initiation` and `damage`, where

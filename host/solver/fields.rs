@@ -393,6 +393,9 @@ registry! {
     /// The Balsara switch's factor f_i of the last interaction (`kernels::sph::interact::balsara`), which the next
     /// pre-pass scales the sound speed by: state from step to step (1 before the first interaction).
     "av_switch": R = field [.av_switch?] if AvSwitch, save, frame "av_switch" real;
+    /// The specific elastic energy the damage's degradation has released [J/kg] (energy.csv's `damage_dissipation`);
+    /// a checkpoint written before it resumes with zeros.
+    "damage_work": f64 = field [.damage?.work] if Damage, optional;
     /// The pre-pass outputs: σ/ρ², artificial stress, sound speed, volume.
     "sig": D::Sym<R> = buf [.sig] if Always, scratch;
     "art": D::Sym<R> = buf [.art?] if ArtificialStress, scratch;

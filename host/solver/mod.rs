@@ -190,6 +190,8 @@ struct DamageState<B: Backend> {
     damage: Field<B, f64>,
     /// The interaction mask of the last pre-pass (1 interacting, 0 masked, −1 deleted; rewritten every step).
     mask: B::Buf<f64>,
+    /// The specific elastic energy the degradation has released [J/kg], for the energy balance.
+    work: Field<B, f64>,
 }
 
 /// The cohesive path's bonds on the backend (registry entries "bond_*").
@@ -550,6 +552,7 @@ fn damage_state<B: Backend, R: Real, D: TensorOps<R>>(
         omega: Field::upload(b, &d.omega, "damage initiation")?,
         damage: Field::upload(b, &d.damage, "damage")?,
         mask: b.upload(&vec![1.0f64; n], "damage mask")?,
+        work: Field::upload(b, &vec![0.0f64; n], "damage work")?,
     }))
 }
 
@@ -1179,6 +1182,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             omega: &mut d.omega.cur,
             damage: &mut d.damage.cur,
             mass,
+            work: Some(&mut d.work.cur),
         });
         let plastic = self.plastic.as_mut().map(|pl| PlasticPass {
             model: &pl.model,
@@ -1421,19 +1425,14 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         Ok(Some(t))
     }
 
-    /// Host copies of the accumulated specific plastic work and viscous dissipation [J/kg] (state order), where
-    /// modelled: the energy balance's dissipated terms.
-    #[allow(clippy::type_complexity)]
-    pub fn download_dissipated(&self, b: &B) -> Result<(Option<Vec<f64>>, Option<Vec<f64>>)> {
-        let w = match &self.plastic {
-            Some(p) => Some(p.work.read(b)?),
-            None => None,
-        };
-        let d = match &self.dissipation {
-            Some((d, _)) => Some(d.read(b)?),
-            None => None,
-        };
-        Ok((w, d))
+    /// Host copies of the accumulated specific plastic work, viscous dissipation and damage release [J/kg] (state
+    /// order), where modelled: the energy balance's dissipated terms.
+    pub fn download_dissipated(&self, b: &B) -> Result<diagnostics::Dissipated> {
+        Ok(diagnostics::Dissipated {
+            plastic: self.plastic.as_ref().map(|p| p.work.read(b)).transpose()?,
+            viscous: self.dissipation.as_ref().map(|(d, _)| d.read(b)).transpose()?,
+            damage: self.damage.as_ref().map(|d| d.work.read(b)).transpose()?,
+        })
     }
 
     /// Host copies of the rates of the last step (x, v, ρ, S), in the state's order.

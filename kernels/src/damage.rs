@@ -49,7 +49,7 @@ pub const JC_GG_T_CAP: f64 = 2.5;
 pub const DELETED: f64 = -1.0;
 
 /// Damage constants of a run (one block, read by the plastic pass and the pre-pass). `#[repr(C)]`, two u32 then
-/// f64s only: no padding (136 bytes).
+/// f64s only: no padding (144 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct DamageParams {
@@ -75,6 +75,8 @@ pub struct DamageParams {
     pub expansion_t0: f64,
     /// Dimension (2 or 3) of L_char: √V in 2D, ∛V in 3D.
     pub dim: f64,
+    /// The bulk modulus K [Pa] of the volumetric elastic energy p²/(2K) ([`released_density`]).
+    pub bulk: f64,
 }
 
 /// Stress triaxiality σ* = σ_H/σ_eq = −p/σ_eq (Eq. 3.164, tension positive; p positive in compression). 0 where
@@ -233,6 +235,28 @@ pub fn is_full(d: f64) -> bool {
 #[inline(always)]
 pub fn degraded_pressure<R: Real>(m: R, pressure: R) -> R {
     if pressure < R::ZERO { m * pressure } else { pressure }
+}
+
+/// The elastic energy per unit volume of a particle acting with multiplier k ([`multiplier`]), stored deviator
+/// S:S = `ss` and undamaged pressure p (positive in compression), in the effective-stress reading (Lemaitre's
+/// continuum damage: the degraded stress kS̄ is the stress of the damaged moduli kG, kK):
+///   ψ = k S̄:S̄/(4G) + k_p p²/(2K),  k_p = k in tension (p < 0), 1 in compression.
+/// Its rate is the power of the degraded stress on the elastic strain rate plus (dk/dt) times the undamaged
+/// energies, which the degradation releases ([`released_density`]; docs/damage.md, "Energy"). k = 1 gives the
+/// undamaged V-free energy S̄:S̄/(4G) + p²/(2K) bit for bit.
+#[inline(always)]
+pub fn elastic_density<R: Real>(k: R, ss: R, shear: R, pressure: R, bulk: R) -> R {
+    let kp = if pressure < R::ZERO { k } else { R::ONE };
+    k * ss / (R::from_f64(4.0) * shear) + kp * pressure * pressure / (R::from_f64(2.0) * bulk)
+}
+
+/// The elastic energy per unit volume the degradation releases when the multiplier falls from `k_old` to `k_new`
+/// at fixed stress: ψ(k_old) − ψ(k_new) of [`elastic_density`] = (k_old − k_new)(S̄:S̄/(4G) + [p < 0] p²/(2K)),
+/// ≥ 0 since D never falls. Booked as dissipation in the energy balance (energy.csv's `damage_dissipation`).
+#[inline(always)]
+pub fn released_density(k_old: f64, k_new: f64, ss: f64, shear: f64, pressure: f64, bulk: f64) -> f64 {
+    let vol = if pressure < 0.0 { pressure * pressure / (2.0 * bulk) } else { 0.0 };
+    (k_old - k_new) * (ss / (4.0 * shear) + vol)
 }
 
 /// The interaction mask F_j (Eqs. 7.30–7.34) of a particle with damage D and undamaged pressure p: 0 for a fully

@@ -6,12 +6,11 @@ use super::launch::{Grid, Pass, Span};
 use super::table::{entry_index, model_variant};
 use crate::contact::penalty::{ContactArrays, ContactParams, ToolSet, contact_particle};
 use crate::contact::{Tool2d, ToolState};
-use crate::damage::DamageParams;
 use crate::material::FlowStress;
 use crate::real::Real;
 use crate::sph::TensorOps;
 use crate::sph::heat::ThermalMaterial;
-use crate::sph::plastic::{PlasticArrays, PlasticConsts, plastic_particle};
+use crate::sph::plastic::{DamageArrays, PlasticArrays, PlasticConsts, plastic_particle};
 use crate::sph::step::{StepArrays, StepScalars, correct_particle};
 use crate::vector::Dim;
 use core::marker::PhantomData;
@@ -118,11 +117,8 @@ pub struct FinishPlasticArgs<R: Real, D: Dim, M> {
     pub yield_stress: *mut f64,
     /// Accumulates the specific plastic work (null: not tracked).
     pub work: *mut f64,
-    /// The damage constants (null: no damage; `sph::plastic::PlasticArrays`), ω, D and the full masses.
-    pub damage_params: *const DamageParams,
-    pub omega: *mut f64,
-    pub damage: *mut f64,
-    pub damage_mass: *const R,
+    /// The damage's arrays ([`DamageArrays::NONE`]: no damage).
+    pub damage: DamageArrays<R>,
     /// The contact pass's parameters; null: no contact pass.
     pub contact: *const ContactParams,
     /// The tool's shape and its motion this step (with `contact`).
@@ -169,10 +165,7 @@ impl<R: Real, D: TensorOps<R>, M: FlowStress + Copy> FinishPlasticArgs<R, D, M> 
                 materials: self.materials,
                 yield_stress: self.yield_stress,
                 work: self.work,
-                damage_params: self.damage_params,
-                omega: self.omega,
                 damage: self.damage,
-                mass: self.damage_mass,
             };
             plastic_particle::<R, D, M, DMG>(model, &c, &p, i);
             if !self.contact.is_null() {

@@ -7,7 +7,6 @@ use super::launch::{Grid, Pass, Span};
 use super::table::{entry_index, model_variant, prepare_variant};
 use crate::contact::ToolArg;
 use crate::contact::penalty::{ContactArrays, ToolSet, contact_particle};
-use crate::damage::DamageParams;
 use crate::material::FlowStress;
 use crate::neighbour::{GridParams, Neighbours};
 use crate::real::Real;
@@ -19,7 +18,7 @@ use crate::sph::heat::heat_rate;
 use crate::sph::heat::{HeatArrays, HeatParams, ThermalMaterial};
 use crate::sph::interact::{PrepassArrays, PrepassDamage, prepare_store};
 use crate::sph::params::SphParams;
-use crate::sph::plastic::{PlasticArrays, PlasticConsts, plastic_particle};
+use crate::sph::plastic::{DamageArrays, PlasticArrays, PlasticConsts, plastic_particle};
 use crate::vector::Dim;
 use core::marker::PhantomData;
 
@@ -208,11 +207,8 @@ pub struct PlasticArgs<R: Real, D: Dim, M> {
     pub yield_stress: *mut f64,
     /// Accumulates the specific plastic work (null: not tracked).
     pub work: *mut f64,
-    /// The damage constants (null: no damage; `sph::plastic::PlasticArrays`), ω, D and the full masses.
-    pub damage_params: *const DamageParams,
-    pub omega: *mut f64,
-    pub damage: *mut f64,
-    pub damage_mass: *const R,
+    /// The damage's arrays ([`DamageArrays::NONE`]: no damage).
+    pub damage: DamageArrays<R>,
 }
 
 impl<R: Real, D: TensorOps<R>, M: FlowStress + Copy> PlasticArgs<R, D, M> {
@@ -232,10 +228,7 @@ impl<R: Real, D: TensorOps<R>, M: FlowStress + Copy> PlasticArgs<R, D, M> {
             materials: self.materials,
             yield_stress: self.yield_stress,
             work: self.work,
-            damage_params: self.damage_params,
-            omega: self.omega,
             damage: self.damage,
-            mass: self.damage_mass,
         };
         unsafe { plastic_particle::<R, D, M, DMG>(model, &self.consts, &a, i) }
     }

@@ -30,10 +30,11 @@ pub fn elastic_at<R: Real, D: TensorOps<R>>(p: &SphParams<R>, m: R, rho: R, s: &
     elastic_damaged_at::<R, D>(p, m, rho, s, temp, 0.0)
 }
 
-/// The elastic energy of the stress a particle with damage D acts with (docs/damage.md; klippel §2.6, Eqs.
-/// 7.27–7.28, the interaction's `prepare_damaged`): the stored deviator times k = exp(−D) (`damage::multiplier`,
-/// 0 at full damage) and the pressure times k only in tension (`damage::degraded_pressure`),
-/// V ((kS):(kS)/(4G) + p_d²/(2K)). D = 0 gives the undamaged energy bit for bit (k = 1).
+/// The elastic energy of a particle with damage D (docs/damage.md, "Energy"; klippel §2.6, Eqs. 7.27–7.28, the
+/// interaction's `prepare_damaged`): V ψ with ψ of `damage::elastic_density` at k = exp(−D)
+/// (`damage::multiplier`, 0 at full damage), V (k S:S/(4G) + k_p p²/(2K)), k_p = k in tension, 1 in compression:
+/// the energy of the degraded stress kS in the damaged moduli kG, kK. D = 0 gives the undamaged energy bit for
+/// bit (k = 1).
 #[inline(always)]
 pub fn elastic_damaged_at<R: Real, D: TensorOps<R>>(
     p: &SphParams<R>,
@@ -45,9 +46,8 @@ pub fn elastic_damaged_at<R: Real, D: TensorOps<R>>(
 ) -> R {
     let pr = pressure_of(p, rho, temp);
     let k = R::from_f64(crate::damage::multiplier(damage));
-    let pd = crate::damage::degraded_pressure(k, pr);
     let vol = m / rho;
-    vol * (k * k * D::double_dot(s) / (R::from_f64(4.0) * p.shear) + pd * pd / (R::from_f64(2.0) * p.bulk))
+    vol * crate::damage::elastic_density(k, D::double_dot(s), p.shear, pr, p.bulk)
 }
 
 /// Von Mises equivalent stress √(3/2 S:S).

@@ -6,7 +6,7 @@
 use super::heat::ThermalMaterial;
 use super::params::flags;
 use super::tensor::TensorOps;
-use crate::damage::{DamageParams, DamageState, damage_step, triaxiality};
+use crate::damage::{DamageParams, DamageState, damage_step, released_density, triaxiality};
 use crate::material::eos::reference_density;
 use crate::material::{
     FlowStress, ReturnOptions, ReturnResult, ReturnStatus, c2d_return, heated_temperature, plastic_heating,
@@ -137,13 +137,36 @@ pub struct PlasticArrays<R: Real, S> {
     pub yield_stress: *mut f64,
     /// Accumulated specific plastic work w = Σ σ_y Δε̄ / ρ [J/kg] (null unless the run balances its energy).
     pub work: *mut f64,
-    /// The damage constants (read, with `omega`, `damage` and `mass`, only by the damaged entries: `DMG`).
-    pub damage_params: *const DamageParams,
+    /// The damage's arrays (read only by the damaged entries: `DMG`).
+    pub damage: DamageArrays<R>,
+}
+
+/// The damage's per-particle arrays in the plastic pass, one block in the standalone plastic pass's arguments and
+/// in the fused corrector's ([`PlasticArrays::damage`]); [`DamageArrays::NONE`] without damage.
+#[repr(C)]
+#[derive(Clone, Copy)]
+pub struct DamageArrays<R> {
+    /// The damage constants (one element).
+    pub params: *const DamageParams,
     /// Damage initiation ω and evolution D (`damage::damage_step`).
     pub omega: *mut f64,
     pub damage: *mut f64,
     /// The particles' full masses (the volume m/ρ of L_char).
     pub mass: *const R,
+    /// Accumulated specific elastic energy the degradation has released, Σ `damage::released_density`/ρ [J/kg]
+    /// (null: not tracked).
+    pub work: *mut f64,
+}
+
+impl<R> DamageArrays<R> {
+    /// No damage: every pointer null.
+    pub const NONE: Self = DamageArrays {
+        params: core::ptr::null(),
+        omega: core::ptr::null_mut(),
+        damage: core::ptr::null_mut(),
+        mass: core::ptr::null(),
+        work: core::ptr::null_mut(),
+    };
 }
 
 /// The plastic update of sorted particle i, reading and writing the arrays; with `DMG` the damage after it.
@@ -205,7 +228,7 @@ unsafe fn particle_with<R: Real, D: TensorOps<R>, M: FlowStress, const C2D: bool
         // The fraction of the stress the particle acted with this step: the pre-pass degraded σ with the D it read,
         // the one before this step's damage update (1 without damage; exactly 1.0, so undamaged entries round
         // as before).
-        let carried = if DMG { crate::damage::multiplier(*a.damage.add(i)) } else { 1.0 };
+        let carried = if DMG { crate::damage::multiplier(*a.damage.damage.add(i)) } else { 1.0 };
         let ret =
             update_with::<R, D, M, C2D>(model, c, &mut *a.stress.add(i), &mut e, &mut r, &mut t, rho, fl, cp, carried);
         if !a.work.is_null() && e > e0 {
@@ -214,7 +237,17 @@ unsafe fn particle_with<R: Real, D: TensorOps<R>, M: FlowStress, const C2D: bool
             *a.work.add(i) += carried * ret.flow_stress * (e - e0) / rho.to_f64();
         }
         if DMG && e > e0 {
-            damage_after_return::<R, D::Sym<R>>(a, i, rho.to_f64(), e - e0, ret.flow_stress, r, t0);
+            let dm = &a.damage;
+            let d0 = *dm.damage.add(i);
+            let p = damage_after_return::<R>(dm, i, rho.to_f64(), e - e0, ret.flow_stress, r, t0);
+            let d1 = *dm.damage.add(i);
+            if !dm.work.is_null() && d1 != d0 {
+                // The elastic energy the step's degradation releases at the stress after the return.
+                let ss = D::double_dot(&*a.stress.add(i)).to_f64();
+                let (k0, k1) = (crate::damage::multiplier(d0), crate::damage::multiplier(d1));
+                let bulk = (*dm.params).bulk;
+                *dm.work.add(i) += released_density(k0, k1, ss, c.shear, p, bulk) / rho.to_f64();
+            }
         }
         *a.eps.add(i) = e;
         *a.rate.add(i) = r;
@@ -233,29 +266,31 @@ unsafe fn particle_with<R: Real, D: TensorOps<R>, M: FlowStress, const C2D: bool
 
 /// The damage after the plastic update of particle i (weak coupling, klippel §2.6, §7.4.2), from its Δε̄ `de` and
 /// σ_y, the triaxiality −p/σ_y of the undamaged pressure (the pre-pass's EOS, with ρ0(T) where the run models
-/// thermal expansion), ε̄̇ and T before the heating.
+/// thermal expansion), ε̄̇ and T before the heating. Returns that pressure p.
 /// Only the damaged entries (`DMG`) run it: a run without damage keeps its corrector's code and registers.
 ///
 /// # Safety
-/// `a`'s damage arrays hold i + 1 elements; `a.damage_params` points at the constants.
+/// `a`'s arrays hold i + 1 elements; `a.params` points at the constants.
 #[inline(always)]
-unsafe fn damage_after_return<R: Real, S>(
-    a: &PlasticArrays<R, S>,
+unsafe fn damage_after_return<R: Real>(
+    a: &DamageArrays<R>,
     i: usize,
     rho: f64,
     de: f64,
     flow_stress: f64,
     rate: f64,
     temp: f64,
-) {
+) -> f64 {
     unsafe {
-        let dp = &*a.damage_params;
+        let dp = &*a.params;
         let rho0 = reference_density(dp.rho0, dp.expansion, dp.expansion_t0, temp);
-        let triax = triaxiality(dp.c0sq * (rho - rho0), flow_stress);
+        let pressure = dp.c0sq * (rho - rho0);
+        let triax = triaxiality(pressure, flow_stress);
         let vol = (*a.mass.add(i)).to_f64() / rho;
         let st = DamageState { omega: *a.omega.add(i), d: *a.damage.add(i) };
         let st = damage_step(dp, st, de, flow_stress, triax, rate, temp, vol);
         *a.omega.add(i) = st.omega;
         *a.damage.add(i) = st.d;
+        pressure
     }
 }
