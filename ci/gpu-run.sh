@@ -596,7 +596,8 @@ PY
                 # strain and diameter; to SWARF_SHTB_END, default 0.6 ms, past the fracture at 0.43 ms); frames every
                 # SWARF_SHTB_EVERY (default the scene's 10 µs: the neck is measured at the last frame before the
                 # fracture); SWARF_SHTB_RUNS picks runs among jc, jcgg and jcgg-dt1e8 (JC-GG at Klippel's Δt = 1e-8 s);
-                # SWARF_SHTB_DX the spacing (default the scene's 0.2 mm); shtb25.md (damage_table)
+                # SWARF_SHTB_DX the spacing (default the scene's 0.2 mm), SWARF_SHTB_S bounds each run (SIGINT: it
+                # stops with what it wrote); shtb25.md (damage_table)
             shtb25() {
                 local d=/tmp/shtb25 r set
                 rm -rf $d; mkdir -p $d
@@ -609,7 +610,8 @@ PY
                         jcgg) set+=(--set 'material.name="50SiB8-Klippel-JCGG"') ;;
                         jcgg-dt1e8) set+=(--set 'material.name="50SiB8-Klippel-JCGG"' --set time.dt=1.0e-8) ;;
                     esac
-                    "$here/swarf" --backend gpu run cases/damage/shtb-50sib8.toml --quiet --out $d/shtb-$r "${set[@]}"
+                    timeout -s INT "${SWARF_SHTB_S:-100000}" \
+                        "$here/swarf" --backend gpu run cases/damage/shtb-50sib8.toml --quiet --out $d/shtb-$r "${set[@]}"
                     "$here/swarf" neck "$d/shtb-$r"; tail -n 2 "$d/shtb-$r/run.log"
                     find $d/shtb-$r -name 'frame_*.vtu' -delete  # frames every 2 µs fill the disk: keep the summaries
                 done

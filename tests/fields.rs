@@ -158,6 +158,8 @@ fn checkpoint_names_are_unchanged() {
         "vel_ref",
         // The viscosity's Balsara switch (present only with `switch = "balsara"`).
         "av_switch",
+        // Issue 25: the elastic energy the damage's degradation released (optional: older checkpoints lack it).
+        "damage_work",
     ];
     assert_eq!(names, before);
     let frames: Vec<&str> = FIELDS.iter().filter_map(|f| f.frame).collect();

@@ -470,3 +470,30 @@ fn degenerate_input_is_warned_about() {
     assert!(lone.iter().any(|w| w.contains("1 particle(s)") && w.contains("no neighbour within 2h")), "{lone:?}");
     assert!(warn("cases/cutting/v0060.toml").is_empty());
 }
+
+/// Two bodies that start as one piece but whose lattices do not tile their extents meet across a seam wider than
+/// the spacing, a weak plane (the SHTB at Δx = 0.1414 mm parted at its head–gauge seam at 0.1 ms without any
+/// damage; docs/damage.md): the set-up names both bodies and the seam's width in spacings. Two 2D blocks side by
+/// side: at Δx = 1 mm on widths of 10 mm they tile (closest pair 1 Δx: no warning); at Δx = 0.6 mm the cells
+/// lattice holds 16 cells of each 10 mm and leaves 10 − 16·0.6 = 0.4 mm unfilled, so the closest pair is
+/// 0.6 + 0.4 = 1.0 mm = 1.67 Δx apart (> 1.5 Δx, < 2h). The same blocks in relative motion (a collision scene) are
+/// not one piece: no warning.
+#[test]
+fn a_seam_between_bodies_of_one_piece_is_warned_about() {
+    let scene = |dx: f64, v: f64| {
+        let text = format!(
+            "name = \"seam\"\ndim = 2\n[discretisation]\ndx = {dx:e}\n[material]\nname = \"Ti6Al4V-V0060-DE-mu035\"\n\
+             [[body]]\nname = \"left\"\nshape = \"rectangle\"\nmin = [0.0, 0.0]\nmax = [1.0e-2, 1.0e-2]\n\
+             velocity = [{v:e}, 0.0]\n\
+             [[body]]\nname = \"right\"\nshape = \"rectangle\"\nmin = [1.0e-2, 0.0]\nmax = [2.0e-2, 1.0e-2]\n\
+             [time]\nend = 1.0e-6\n"
+        );
+        let scene = Scene::from_str(&text, "seam.toml", &[]).expect("scene");
+        swarf::run::setup::<f64, swarf::kernels::Dim2>(&scene).expect("setup").warnings
+    };
+    let seam = |w: &[String]| w.iter().find(|w| w.contains("seam")).cloned();
+    assert_eq!(seam(&scene(1.0e-3, 0.0)), None, "tiling lattices");
+    let w = seam(&scene(0.6e-3, 0.0)).expect("a seam warning at dx = 0.6 mm");
+    assert!(w.contains("'left' and 'right'") && w.contains("1.67 Δx") && w.contains("discretisation.dx"), "{w}");
+    assert_eq!(seam(&scene(0.6e-3, -1.0)), None, "bodies in relative motion are not one piece");
+}

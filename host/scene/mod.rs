@@ -1074,8 +1074,12 @@ fn pt(p: &[f64]) -> String {
 }
 
 /// Warnings about input that runs but whose result is not meaningful (issue 8, degenerate input): a body one
-/// particle thick (its stresses have no interior to rest on) and particles with no neighbour within the kernel
-/// support 2h (they move ballistically and carry no stress). `set` is the scene's generated particle set.
+/// particle thick (its stresses have no interior to rest on), particles with no neighbour within the kernel
+/// support 2h (they move ballistically and carry no stress), and two bodies that start as one piece (equal
+/// velocity, spin, material and temperature) whose closest particles lie more than 1.5 Δx but less than 2h apart
+/// (a seam: a lattice that does not tile the bodies' extents leaves a weak plane where they meet; the SHTB at
+/// Δx = 0.1414 mm parted there without damage, docs/damage.md). `set` is the
+/// scene's generated particle set.
 pub fn degenerate_input_warnings(scene: &Scene, set: &ParticleSet) -> Vec<String> {
     let dx = scene.discretisation.dx;
     let support = 2.0 * scene.h();
@@ -1099,40 +1103,32 @@ pub fn degenerate_input_warnings(scene: &Scene, set: &ParticleSet) -> Vec<String
             }
         }
     }
-    // Particles with no neighbour within 2h, by a hash grid of cell 2h.
-    let cell = |p: &[f64; 3]| -> [i64; 3] { std::array::from_fn(|k| (p[k] / support).floor() as i64) };
-    let mut grid: std::collections::HashMap<[i64; 3], Vec<usize>> = std::collections::HashMap::new();
-    for (i, p) in set.pos.iter().enumerate() {
-        grid.entry(cell(p)).or_default().push(i);
-    }
-    let mut lonely = vec![0usize; scene.bodies.len()];
-    let r2 = support * support;
-    for (i, p) in set.pos.iter().enumerate() {
-        let c = cell(p);
-        let dz = if scene.dim == 3 { -1..=1 } else { 0..=0 };
-        let mut found = false;
-        'search: for x in -1..=1 {
-            for y in -1..=1 {
-                for z in dz.clone() {
-                    for &j in grid.get(&[c[0] + x, c[1] + y, c[2] + z]).map_or(&[][..], |v| v.as_slice()) {
-                        let d2: f64 = (0..3).map(|k| (set.pos[j][k] - p[k]).powi(2)).sum();
-                        if j != i && d2 < r2 {
-                            found = true;
-                            break 'search;
-                        }
-                    }
-                }
-            }
-        }
-        if !found {
-            lonely[set.body[i] as usize] += 1;
-        }
-    }
-    for (b, &k) in lonely.iter().enumerate() {
+    let grid = NeighbourGrid::new(set, support);
+    for (b, &k) in grid.lonely(set).iter().enumerate() {
         if k > 0 {
             out.push(format!(
                 "{k} particle(s) of body '{}' have no neighbour within 2h: they move ballistically and carry no stress",
                 scene.bodies[b].name
+            ));
+        }
+    }
+    // Bodies that start as one piece (the same velocity, spin, material and temperature): a seam between them is
+    // the lattice's, not the scene's (bodies meant to collide start apart, or in motion).
+    let one_piece = |a: &Body, b: &Body| {
+        (a.velocity, a.angular_velocity, &a.material, a.temperature)
+            == (b.velocity, b.angular_velocity, &b.material, b.temperature)
+    };
+    for ((a, b), d) in grid.closest_across_bodies(set, scene.bodies.len()) {
+        if d > 1.5 * dx && one_piece(&scene.bodies[a], &scene.bodies[b]) {
+            out.push(format!(
+                "bodies '{}' and '{}' meet across a seam {:.2} Δx wide (their closest particles, {} m apart, interact \
+                 but the seam holds less material than the lattice: a weak plane); make the bodies' extents whole \
+                 multiples of discretisation.dx = {}",
+                scene.bodies[a].name,
+                scene.bodies[b].name,
+                d / dx,
+                num(d),
+                num(dx)
             ));
         }
     }
@@ -1146,4 +1142,79 @@ pub fn degenerate_input_warnings(scene: &Scene, set: &ParticleSet) -> Vec<String
         ));
     }
     out
+}
+
+/// A hash grid of cell 2h over a particle set, for the set-up's checks of neighbours within 2h.
+struct NeighbourGrid {
+    support: f64,
+    cells: std::collections::HashMap<[i64; 3], Vec<usize>>,
+}
+
+impl NeighbourGrid {
+    fn new(set: &ParticleSet, support: f64) -> Self {
+        let mut cells: std::collections::HashMap<[i64; 3], Vec<usize>> = std::collections::HashMap::new();
+        for (i, p) in set.pos.iter().enumerate() {
+            cells.entry(Self::cell(support, p)).or_default().push(i);
+        }
+        NeighbourGrid { support, cells }
+    }
+
+    fn cell(support: f64, p: &[f64; 3]) -> [i64; 3] {
+        std::array::from_fn(|k| (p[k] / support).floor() as i64)
+    }
+
+    /// Calls `f(j, d)` for every other particle j within 2h of particle i, at distance d, until `f` returns false.
+    fn for_neighbours(&self, set: &ParticleSet, i: usize, mut f: impl FnMut(usize, f64) -> bool) {
+        let (p, r2) = (&set.pos[i], self.support * self.support);
+        let c = Self::cell(self.support, p);
+        for x in -1..=1 {
+            for y in -1..=1 {
+                for z in -1..=1 {
+                    for &j in self.cells.get(&[c[0] + x, c[1] + y, c[2] + z]).map_or(&[][..], |v| v.as_slice()) {
+                        let d2: f64 = (0..3).map(|k| (set.pos[j][k] - p[k]).powi(2)).sum();
+                        if j != i && d2 < r2 && !f(j, d2.sqrt()) {
+                            return;
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Per body, its particles with no neighbour within 2h.
+    fn lonely(&self, set: &ParticleSet) -> Vec<usize> {
+        let bodies = set.body.iter().map(|&b| b as usize + 1).max().unwrap_or(0);
+        let mut lonely = vec![0usize; bodies];
+        for i in 0..set.len() {
+            let mut found = false;
+            self.for_neighbours(set, i, |_, _| {
+                found = true;
+                false
+            });
+            if !found {
+                lonely[set.body[i] as usize] += 1;
+            }
+        }
+        lonely
+    }
+
+    /// For every pair of bodies (a < b) with particles within 2h of each other, the closest such distance, in
+    /// body order.
+    fn closest_across_bodies(&self, set: &ParticleSet, bodies: usize) -> Vec<((usize, usize), f64)> {
+        let mut closest = vec![f64::INFINITY; bodies * bodies];
+        for i in 0..set.len() {
+            let a = set.body[i] as usize;
+            self.for_neighbours(set, i, |j, d| {
+                let b = set.body[j] as usize;
+                if a < b {
+                    closest[a * bodies + b] = closest[a * bodies + b].min(d);
+                }
+                true
+            });
+        }
+        (0..bodies * bodies)
+            .filter(|&k| closest[k].is_finite())
+            .map(|k| ((k / bodies, k % bodies), closest[k]))
+            .collect()
+    }
 }
