@@ -1078,8 +1078,7 @@ fn pt(p: &[f64]) -> String {
 /// support 2h (they move ballistically and carry no stress), and two bodies that start as one piece (equal
 /// velocity, spin, material and temperature) whose closest particles lie more than 1.5 Δx but less than 2h apart
 /// (a seam: a lattice that does not tile the bodies' extents leaves a weak plane where they meet; the SHTB at
-/// Δx = 0.1414 mm parted there without damage, docs/damage.md). `set` is the
-/// scene's generated particle set.
+/// Δx = 0.1414 mm parted there without damage, docs/damage.md). `set` is the scene's generated particle set.
 pub fn degenerate_input_warnings(scene: &Scene, set: &ParticleSet) -> Vec<String> {
     let dx = scene.discretisation.dx;
     let support = 2.0 * scene.h();

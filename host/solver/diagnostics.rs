@@ -131,8 +131,8 @@ impl Diagnostics {
     }
 
     /// The energy balance's left side: kinetic + elastic + plastic work + viscous dissipation (+ the damage's
-    /// release, + the cohesive path's work). Constant up to the time-integration error and the work of prescribed motions and the tool
-    /// (docs/stability.md).
+    /// release, + the cohesive path's work). Constant up to the time-integration error and the work of prescribed
+    /// motions and the tool (docs/stability.md).
     pub fn balance(&self) -> f64 {
         let cohesive = if self.cohesive_work.is_nan() { 0.0 } else { self.cohesive_work + self.bond_damping };
         let damage = if self.damage_dissipation.is_nan() { 0.0 } else { self.damage_dissipation };

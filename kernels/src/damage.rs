@@ -243,7 +243,7 @@ pub fn degraded_pressure<R: Real>(m: R, pressure: R) -> R {
 ///   ψ = k S̄:S̄/(4G) + k_p p²/(2K),  k_p = k in tension (p < 0), 1 in compression.
 /// Its rate is the power of the degraded stress on the elastic strain rate plus (dk/dt) times the undamaged
 /// energies, which the degradation releases ([`released_density`]; docs/damage.md, "Energy"). k = 1 gives the
-/// undamaged V-free energy S̄:S̄/(4G) + p²/(2K) bit for bit.
+/// undamaged energy per unit volume S̄:S̄/(4G) + p²/(2K) bit for bit.
 #[inline(always)]
 pub fn elastic_density<R: Real>(k: R, ss: R, shear: R, pressure: R, bulk: R) -> R {
     let kp = if pressure < R::ZERO { k } else { R::ONE };
