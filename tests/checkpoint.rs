@@ -62,7 +62,19 @@ fn resumed_balsara_run_equals_uninterrupted() {
     resume_equals_uninterrupted(&["stabilisation.artificial_viscosity.switch=\"balsara\"".to_string()], "balsara");
 }
 
-fn resume_equals_uninterrupted(extra: &[String], tag: &str) {
+/// The same with ductile damage (Johnson and Cook's 1985 fracture constants of AISI 4340, full damage at
+/// initiation; tests/stability_thermal.rs): ω, D and the energy the degradation released are state, and
+/// energy.csv's `damaged_volume`, `initiated_volume` and `damage_dissipation` (> 0 at the end) must come back bit for
+/// bit.
+#[test]
+fn resumed_damaged_run_equals_uninterrupted() {
+    let damage = "damage={ model = \"jc\", D1 = 0.05, D2 = 3.44, D3 = -2.12, D4 = 0.002, D5 = 0.61 }";
+    let rows = resume_equals_uninterrupted(&[damage.to_string()], "damage");
+    let released = rows.1.last().map_or(f64::NAN, |r| r[rows.0]);
+    assert!(released > 0.0, "the degradation released {released} J/m: the case must damage");
+}
+
+fn resume_equals_uninterrupted(extra: &[String], tag: &str) -> (usize, Vec<Vec<f64>>) {
     let mut ov: Vec<String> =
         vec!["discretisation.dx=2e-3".into(), "physics.conduction=\"brookshaw\"".into(), "time.end=1e-4".into()];
     ov.extend_from_slice(extra);
@@ -94,11 +106,12 @@ fn resume_equals_uninterrupted(extra: &[String], tag: &str) {
         !last_a.is_empty() && last_a == last_b,
         "the resumed run's final state differs from the uninterrupted run's"
     );
-    let (_, ra) = swarf::output::csv::read(&a.join("energy.csv")).unwrap();
+    let (head, ra) = swarf::output::csv::read(&a.join("energy.csv")).unwrap();
     let (_, rb) = swarf::output::csv::read(&b.join("energy.csv")).unwrap();
     let eq = ra.len() == rb.len()
         && ra.iter().zip(&rb).all(|(x, y)| x.iter().zip(y).all(|(p, q)| p.to_bits() == q.to_bits()));
     assert!(eq, "energy.csv differs after resuming ({} against {} rows)", rb.len(), ra.len());
+    (head.iter().position(|c| c == "damage_dissipation").unwrap_or(0), rb)
 }
 
 /// Ctrl-C (SIGINT) writes a checkpoint and exits with 130; `swarf run --resume` finishes the run, and its last
