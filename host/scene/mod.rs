@@ -1113,12 +1113,16 @@ pub fn degenerate_input_warnings(scene: &Scene, set: &ParticleSet) -> Vec<String
     }
     // Bodies that start as one piece (the same velocity, spin, material and temperature): a seam between them is
     // the lattice's, not the scene's (bodies meant to collide start apart, or in motion).
+    // Only their particles are searched: a one-body scene or a collision costs no scan.
     let one_piece = |a: &Body, b: &Body| {
         (a.velocity, a.angular_velocity, &a.material, a.temperature)
             == (b.velocity, b.angular_velocity, &b.material, b.temperature)
     };
-    for ((a, b), d) in grid.closest_across_bodies(set, scene.bodies.len()) {
-        if d > 1.5 * dx && one_piece(&scene.bodies[a], &scene.bodies[b]) {
+    let bodies = &scene.bodies;
+    let paired: Vec<bool> =
+        (0..bodies.len()).map(|a| (0..bodies.len()).any(|b| b != a && one_piece(&bodies[a], &bodies[b]))).collect();
+    for ((a, b), d) in grid.closest_across_bodies(set, &paired) {
+        if d > 1.5 * dx && one_piece(&bodies[a], &bodies[b]) {
             out.push(format!(
                 "bodies '{}' and '{}' meet across a seam {:.2} Δx wide (their closest particles, {} m apart, interact \
                  but the seam holds less material than the lattice: a weak plane); make the bodies' extents whole \
@@ -1197,15 +1201,16 @@ impl NeighbourGrid {
         lonely
     }
 
-    /// For every pair of bodies (a < b) with particles within 2h of each other, the closest such distance, in
-    /// body order.
-    fn closest_across_bodies(&self, set: &ParticleSet, bodies: usize) -> Vec<((usize, usize), f64)> {
+    /// For every pair of bodies (a < b), both marked in `searched`, with particles within 2h of each other, the
+    /// closest such distance, in body order. Particles of unmarked bodies are not searched.
+    fn closest_across_bodies(&self, set: &ParticleSet, searched: &[bool]) -> Vec<((usize, usize), f64)> {
+        let bodies = searched.len();
         let mut closest = vec![f64::INFINITY; bodies * bodies];
-        for i in 0..set.len() {
+        for i in (0..set.len()).filter(|&i| searched[set.body[i] as usize]) {
             let a = set.body[i] as usize;
             self.for_neighbours(set, i, |j, d| {
                 let b = set.body[j] as usize;
-                if a < b {
+                if a < b && searched[b] {
                     closest[a * bodies + b] = closest[a * bodies + b].min(d);
                 }
                 true
