@@ -10,6 +10,8 @@ use crate::method::{Method, MethodFn, Plan};
 use crate::output::{Array, Collection, Frame, TimeSeries, Values, io_err, vtu};
 use crate::scene::{Precision, Scene};
 use crate::solver::diagnostics::Diagnostics;
+/// The header of `energy.csv` (its columns: `solver::diagnostics::ENERGY_COLUMNS`).
+pub use crate::solver::diagnostics::energy_header;
 use crate::solver::fields::FrameField;
 use crate::solver::params::cfl_time_step;
 use crate::state::HostParticles;
@@ -66,41 +68,6 @@ impl RunOptions {
         }
     }
 }
-
-/// The columns of `energy.csv`, in order (read by `plot::plot_run` and by tools that post-process runs).
-pub const ENERGY_COLUMNS: &[&str] = &[
-    "time",
-    "step",
-    "kinetic",
-    "elastic",
-    "total",
-    "momentum_x",
-    "momentum_y",
-    "momentum_z",
-    "angular_x",
-    "angular_y",
-    "angular_z",
-    "vmax",
-    "temperature_max",
-    "plastic_strain_max",
-    "plastic_work",
-    "viscous_dissipation",
-    "balance",
-    "min_pair_distance",
-    "min_contact_distance",
-    "min_contact_x",
-    "min_contact_y",
-    "min_contact_z",
-    "min_contact_id_a",
-    "min_contact_id_b",
-    "damaged_volume",
-    "initiated_volume",
-    "cohesive_work",
-    "bond_damping",
-    "bonds_failed",
-    "mode_i_share",
-    "damage_dissipation",
-];
 
 /// The built-in default scene, `swarf run` without a scene: the V0060 orthogonal cut (cases/cutting/v0060.toml),
 /// embedded at build time so that an installed swarf runs it from any folder.
@@ -354,7 +321,7 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
         let method = M::new(b, &s)?;
         drop(s);
         let files = OutputFiles {
-            csv: TimeSeries::new(opts.out_dir.join("energy.csv"), ENERGY_COLUMNS),
+            csv: TimeSeries::new(opts.out_dir.join("energy.csv"), &energy_header()),
             // Temperatures over time (drawn as temperature.png), when the run models them.
             tcsv: plan
                 .temperature
@@ -956,40 +923,7 @@ impl<R: Real, D: TensorOps<R>> OutputJob<R, D> {
             d.min_contact_ids = Some(c.ids);
         }
         let (csv, tcsv) = (&mut f.csv, &mut f.tcsv);
-        csv.push(&[
-            d.time,
-            d.step as f64,
-            d.kinetic,
-            d.elastic,
-            d.total(),
-            d.momentum[0],
-            d.momentum[1],
-            d.momentum[2],
-            d.angular[0],
-            d.angular[1],
-            d.angular[2],
-            d.vmax,
-            d.temperature_max,
-            d.plastic_strain_max,
-            d.plastic_work,
-            d.viscous_dissipation,
-            d.balance(),
-            d.min_pair_distance,
-            d.min_contact_distance,
-            d.min_contact_midpoint[0],
-            d.min_contact_midpoint[1],
-            d.min_contact_midpoint[2],
-            d.min_contact_ids.map_or(f64::NAN, |p| f64::from(p[0])),
-            d.min_contact_ids.map_or(f64::NAN, |p| f64::from(p[1])),
-            d.damaged_volume,
-            d.initiated_volume,
-            d.cohesive_work,
-            d.bond_damping,
-            d.bonds_failed,
-            d.mode_i_share,
-            d.damage_dissipation,
-        ])
-        .map_err(|e| io_err(csv.path(), e))?;
+        csv.push(&d.energy_row()).map_err(|e| io_err(csv.path(), e))?;
         csv.write().map_err(|e| io_err(csv.path(), e))?;
         if let Some(t) = tcsv.as_mut() {
             t.push(&[d.time, d.step as f64, d.temperature_max]).map_err(|e| io_err(t.path(), e))?;

@@ -120,12 +120,45 @@ fn two_series_make_a_png_of_the_requested_size() {
     assert_eq!(entries(&dir), ["waves.png"]);
 }
 
-/// The columns a run writes (`swarf::run::ENERGY_COLUMNS`), so the test reads the real format.
-const ENERGY_HEADER: &[&str] = swarf::run::ENERGY_COLUMNS;
+/// The columns a run writes (`swarf::run::energy_header`), so the test reads the real format.
+fn energy_header() -> Vec<&'static str> {
+    swarf::run::energy_header()
+}
+
+/// energy.csv's header and every row come from one table (`solver::diagnostics::ENERGY_COLUMNS`): a row has one
+/// value per column, in the header's order, and no column name repeats.
+#[test]
+fn energy_rows_follow_the_header() {
+    use swarf::solver::diagnostics::Diagnostics;
+    let header = energy_header();
+    let mut names = header.clone();
+    names.sort_unstable();
+    names.dedup();
+    assert_eq!(names.len(), header.len(), "a repeated column in {header:?}");
+    let d = Diagnostics {
+        time: 1.5e-6,
+        step: 7,
+        kinetic: 2.0,
+        elastic: 3.0,
+        plastic_work: 0.25,
+        damage_dissipation: 0.5,
+        min_contact_ids: Some([4, 9]),
+        ..Default::default()
+    };
+    let row = d.energy_row();
+    assert_eq!(row.len(), header.len());
+    let at = |name: &str| row[header.iter().position(|n| *n == name).expect(name)];
+    assert_eq!(at("time"), 1.5e-6);
+    assert_eq!(at("step"), 7.0);
+    assert_eq!(at("total"), 5.0);
+    assert_eq!(at("balance"), 5.75);
+    assert_eq!(at("damage_dissipation"), 0.5);
+    assert_eq!((at("min_contact_id_a"), at("min_contact_id_b")), (4.0, 9.0));
+}
 
 /// An energy.csv as a run writes it: energy sloshing between kinetic and elastic, momentum conserved to noise.
 fn write_energy(dir: &Path, rows: usize) {
-    let mut csv = TimeSeries::new(dir.join("energy.csv"), ENERGY_HEADER);
+    let mut csv = TimeSeries::new(dir.join("energy.csv"), &energy_header());
     for i in 0..rows {
         let t = 1e-6 * i as f64;
         let kinetic = 2.0 * (t * 2e5).cos().powi(2);
@@ -148,7 +181,7 @@ fn write_energy(dir: &Path, rows: usize) {
             0.0,
         ];
         // The energy-balance and pair-distance columns after these are not plotted: zeros.
-        let mut row = vec![0.0; ENERGY_HEADER.len()];
+        let mut row = vec![0.0; energy_header().len()];
         row[..first.len()].copy_from_slice(&first);
         csv.push(&row).expect("push");
     }
@@ -206,7 +239,7 @@ fn missing_or_malformed_csv_is_an_error_naming_the_file() {
     assert!(entries(&dir).is_empty(), "{:?}", entries(&dir));
 
     // A header and no rows.
-    TimeSeries::new(dir.join("energy.csv"), ENERGY_HEADER).write().expect("write");
+    TimeSeries::new(dir.join("energy.csv"), &energy_header()).write().expect("write");
     let err = plot::plot_run(&dir).expect_err("no rows");
     assert!(matches!(err, PlotError::NoRows { .. }), "{err:?}");
     assert!(err.to_string().contains("energy.csv"), "{err}");

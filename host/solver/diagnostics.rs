@@ -62,6 +62,58 @@ pub struct Diagnostics {
     pub non_finite_region: NonFiniteRegion,
 }
 
+/// One column of `energy.csv`: its name and its value in a row, read from the diagnostics. [`ENERGY_COLUMNS`] is the
+/// file's only list of columns: the header and every row are written from it.
+pub struct EnergyColumn {
+    pub name: &'static str,
+    pub value: fn(&Diagnostics) -> f64,
+}
+
+/// An id of the nearest contact pair as a CSV value (NaN when there is none).
+fn contact_id(d: &Diagnostics, k: usize) -> f64 {
+    d.min_contact_ids.map_or(f64::NAN, |p| f64::from(p[k]))
+}
+
+/// The columns of `energy.csv`, in order (read by `plot::plot_run` and by tools that post-process runs).
+pub const ENERGY_COLUMNS: &[EnergyColumn] = &[
+    EnergyColumn { name: "time", value: |d| d.time },
+    EnergyColumn { name: "step", value: |d| d.step as f64 },
+    EnergyColumn { name: "kinetic", value: |d| d.kinetic },
+    EnergyColumn { name: "elastic", value: |d| d.elastic },
+    EnergyColumn { name: "total", value: Diagnostics::total },
+    EnergyColumn { name: "momentum_x", value: |d| d.momentum[0] },
+    EnergyColumn { name: "momentum_y", value: |d| d.momentum[1] },
+    EnergyColumn { name: "momentum_z", value: |d| d.momentum[2] },
+    EnergyColumn { name: "angular_x", value: |d| d.angular[0] },
+    EnergyColumn { name: "angular_y", value: |d| d.angular[1] },
+    EnergyColumn { name: "angular_z", value: |d| d.angular[2] },
+    EnergyColumn { name: "vmax", value: |d| d.vmax },
+    EnergyColumn { name: "temperature_max", value: |d| d.temperature_max },
+    EnergyColumn { name: "plastic_strain_max", value: |d| d.plastic_strain_max },
+    EnergyColumn { name: "plastic_work", value: |d| d.plastic_work },
+    EnergyColumn { name: "viscous_dissipation", value: |d| d.viscous_dissipation },
+    EnergyColumn { name: "balance", value: Diagnostics::balance },
+    EnergyColumn { name: "min_pair_distance", value: |d| d.min_pair_distance },
+    EnergyColumn { name: "min_contact_distance", value: |d| d.min_contact_distance },
+    EnergyColumn { name: "min_contact_x", value: |d| d.min_contact_midpoint[0] },
+    EnergyColumn { name: "min_contact_y", value: |d| d.min_contact_midpoint[1] },
+    EnergyColumn { name: "min_contact_z", value: |d| d.min_contact_midpoint[2] },
+    EnergyColumn { name: "min_contact_id_a", value: |d| contact_id(d, 0) },
+    EnergyColumn { name: "min_contact_id_b", value: |d| contact_id(d, 1) },
+    EnergyColumn { name: "damaged_volume", value: |d| d.damaged_volume },
+    EnergyColumn { name: "initiated_volume", value: |d| d.initiated_volume },
+    EnergyColumn { name: "cohesive_work", value: |d| d.cohesive_work },
+    EnergyColumn { name: "bond_damping", value: |d| d.bond_damping },
+    EnergyColumn { name: "bonds_failed", value: |d| d.bonds_failed },
+    EnergyColumn { name: "mode_i_share", value: |d| d.mode_i_share },
+    EnergyColumn { name: "damage_dissipation", value: |d| d.damage_dissipation },
+];
+
+/// The header of `energy.csv`.
+pub fn energy_header() -> Vec<&'static str> {
+    ENERGY_COLUMNS.iter().map(|c| c.name).collect()
+}
+
 /// Where a blow-up is: how many particles have a non-finite value, and the box of those whose position is still
 /// finite. Within a batch of steps a blow-up spreads through the neighbours before the host sees it, so the particle
 /// it names is any of them; the box of their finite positions shows where it happened.
@@ -124,6 +176,11 @@ impl Diagnostics {
         if self.non_finite.is_none_or(|(first, _)| id < first) {
             self.non_finite = Some((id, field));
         }
+    }
+
+    /// This state's row of `energy.csv`, in [`ENERGY_COLUMNS`]' order.
+    pub fn energy_row(&self) -> Vec<f64> {
+        ENERGY_COLUMNS.iter().map(|c| (c.value)(self)).collect()
     }
 
     pub fn total(&self) -> f64 {
