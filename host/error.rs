@@ -72,3 +72,17 @@ fn flagged_steps(flagged: &Option<(u64, u64)>) -> String {
         None => String::new(),
     }
 }
+
+/// The 1-based line of a byte offset in a file's text (for the line a TOML parse error or key is at).
+pub fn line_of(text: &str, offset: usize) -> usize {
+    let offset = offset.min(text.len());
+    text.as_bytes()[..offset].iter().filter(|&&b| b == b'\n').count() + 1
+}
+
+/// A TOML parse error of `file` as a message: the file, the line and the parser's text.
+pub fn toml_parse_message(file: &std::path::Path, text: &str, e: &toml::de::Error) -> String {
+    match e.span() {
+        Some(s) => format!("{}, line {}: {}", file.display(), line_of(text, s.start), e.message().trim()),
+        None => format!("{}: {}", file.display(), e.message().trim()),
+    }
+}

@@ -228,7 +228,10 @@ fn bad_identification_files_are_refused_before_any_run() {
         good.replace("name = \"tiny\"", &format!("name = \"tiny\"\ndata = \"{}\"", data.display()))
             .replace("fc_n_per_mm = 157.5\nff_n_per_mm = 115.5", &format!("test = \"{test}\""))
     };
+    // A file TOML cannot parse is refused naming the line.
+    let budget_line = format!("line {}", good[..good.find("budget = 6").unwrap()].matches('\n').count() + 1);
     let cases: Vec<(&str, String, &str)> = vec![
+        ("malformed TOML", good.replace("budget = 6", "budget = 6 7"), &budget_line),
         ("unknown scene key", good.replace("tool.friction", "tool.frictoin"), "parameter.0.key"),
         ("unknown material key", good.replace("flow_stress.A", "flow_stress.Q"), "parameter.1.key"),
         ("inverted bounds", good.replace("lower = 0.2", "lower = 0.7"), "parameter.0.upper"),

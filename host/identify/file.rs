@@ -94,7 +94,7 @@ pub struct Spec {
 pub fn read(path: &Path) -> Result<Spec> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::Scene(format!("{}: {e}", path.display())))?;
     let root: toml::Table =
-        toml::from_str(&text).map_err(|e| Error::Scene(format!("{}: {}", path.display(), e.message().trim())))?;
+        toml::from_str(&text).map_err(|e| Error::Scene(crate::error::toml_parse_message(path, &text, &e)))?;
     let f = Ctx { file: path.display().to_string(), dir: path.parent().unwrap_or(Path::new("")).to_path_buf() };
     f.keys(
         &root,

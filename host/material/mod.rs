@@ -64,6 +64,7 @@
 pub mod report;
 pub mod search;
 
+use crate::error::line_of;
 use std::collections::{BTreeMap, HashMap};
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -489,11 +490,6 @@ struct Ctx<'a> {
     file: &'a str,
     lines: HashMap<String, usize>,
     text: &'a str,
-}
-
-fn line_of(text: &str, offset: usize) -> usize {
-    let offset = offset.min(text.len());
-    text.as_bytes()[..offset].iter().filter(|&&b| b == b'\n').count() + 1
 }
 
 fn collect_lines(table: &toml::de::DeTable<'_>, prefix: &str, text: &str, out: &mut HashMap<String, usize>) {

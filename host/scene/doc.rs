@@ -1,6 +1,7 @@
 //! The TOML document of a scene before it is typed: a tree whose every node remembers where it came from (a line
 //! of the file, or a `--set` argument), and the `--set key=value` overrides applied to it.
 
+use crate::error::line_of;
 use toml::Spanned;
 use toml::de::{DeTable, DeValue};
 
@@ -48,12 +49,6 @@ pub(crate) struct Doc {
     pub sets: Vec<String>,
     /// Where the scene's material names are looked up (by default the search path of a scene file `file`).
     pub materials: crate::material::search::Search,
-}
-
-/// Byte offset to 1-based line.
-fn line_of(text: &str, offset: usize) -> usize {
-    let offset = offset.min(text.len());
-    text.as_bytes()[..offset].iter().filter(|&&b| b == b'\n').count() + 1
 }
 
 /// Builds the tree from the spanned parse (positions) and the plain parse (values), walked in lockstep.
