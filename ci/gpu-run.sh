@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# mpm26 mpm26b mpm025ck mpmv1frag mpmv8fine mpmv8path mpmv8long mpmv14 mpmv10 mpmv78 mpmv5fine mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout mufit identify ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine shtb25 gf25 ducobugf taylor24 tool3d tools24 cspm24 nonfinite24 mill24 wheel24 wide24 grainres ortho5 orthosw whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
+# mpm26 mpm26b mpm025ck mpmv1frag mpmv8fine mpmv8path mpmv8long mpmv14 mpmv10 mpmv78 mpmv5fine mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout mufit identify v0300noise ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine shtb25 gf25 ducobugf taylor24 tool3d tools24 cspm24 nonfinite24 mill24 wheel24 wide24 grainres ortho5 orthosw whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -334,6 +334,20 @@ for p in $parts; do
                       cat /tmp/swarf-de/report.md; cp /tmp/swarf-de/history.csv "$out/de-history.csv"
                   }
                   run identify identify ;;
+        v0300noise) # issue 23 (docs/identification.md "Ck45 V0300 by DE"): the run-to-run scatter of V0300's forces, the
+                    # floor under any ΔF²: Klippel's DE set (the scene's) and swarf's DE best set
+                    # (cases/materials/Ck45-V0300-swarf-DE.toml) each at five CFL numbers within 0.2 % of 0.5, one
+                    # batched sweep each; v0300noise-klippel.md, v0300noise-swarf.md
+            v0300noise() {
+                local s set
+                for s in klippel swarf; do
+                    set=(); [ $s = swarf ] && set=(--set 'material.name="Ck45-V0300-swarf-DE"')
+                    "$here/swarf" --backend gpu sweep cases/cutting/v0300.toml --grid time.cfl=0.499,0.4995,0.5,0.5005,0.501 \
+                        "${set[@]}" --batch 5 --out /tmp/v0300-$s --quiet
+                    cp /tmp/v0300-$s/sweep.md "$out/v0300noise-$s.md"; cat /tmp/v0300-$s/sweep.md
+                done
+            }
+            run v0300noise v0300noise ;;
         ck45) # issue 22 item 5: the failing Ck45 cut (cases/hard/ck45-slow-fine-cut.toml) whole on the GPU, with
               # checkpoints every 2e-5 s; its logs, force trace and last checkpoint come back as ck45.tgz (resume on
               # the CPU to step through a failure: CPU = GPU bit for bit)
