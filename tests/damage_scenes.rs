@@ -409,3 +409,21 @@ fn the_neck_is_the_thinnest_slab_and_a_deleted_slab_separates() {
     // A deleted slab does not count in the neck: the thinnest live slab is still in the middle section.
     assert!(neck::neck(&pos, &cut, 0.34e-3, dx).unwrap().diameter <= expect + 1e-12);
 }
+
+/// `swarf neck` measures a run at the spacing it ran with: a run folder's `--set discretisation.dx` (recorded in
+/// its summary.json) sets the slab width and connection radius 2h and the particles' extent Δx, not the scene
+/// file's spacing. (A Δx = 0.1 mm SHTB run was measured at the file's 0.2 mm before this: d0 3.197 mm instead of
+/// the 3.097 mm of its lattice.)
+#[test]
+fn the_neck_of_a_run_uses_the_spacing_it_ran_with() {
+    let dir = out_dir("neck-spacing");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::copy("cases/damage/shtb-50sib8.toml", dir.join("scene.toml")).unwrap();
+    let file = Scene::load(dir.join("scene.toml"), &[]).unwrap();
+    assert_eq!(neck::run_spacing(&dir).unwrap(), (2.0 * file.h(), 2.0e-4), "without overrides: the file's");
+    std::fs::write(dir.join("summary.json"), r#"{"overrides": ["discretisation.dx=1.0e-4"]}"#).unwrap();
+    let (support, dx) = neck::run_spacing(&dir).unwrap();
+    assert_eq!(dx, 1.0e-4);
+    assert!((support - 2.0 * 1.7 * 1.0e-4).abs() < 1e-15, "support {support}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

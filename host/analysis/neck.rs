@@ -103,10 +103,19 @@ pub fn fracture(paths: &[impl AsRef<Path>], support: f64, dx: f64) -> Result<Opt
     Ok(None)
 }
 
-/// [`fracture`] of a run folder: its frames (`frame_*.vtu`, in order) with the support 2h and spacing of its
-/// `scene.toml`.
+/// The kernel support 2h and the spacing Δx a run folder ran with: its `scene.toml` with the run's `--set`
+/// overrides (`run_folder::overrides`), so that a run at another spacing is measured at its own.
+pub fn run_spacing(run: &Path) -> Result<(f64, f64)> {
+    let overrides = crate::run_folder::overrides(run);
+    let scene =
+        crate::scene::Scene::load(run.join("scene.toml"), &overrides).map_err(|e| Error::Scene(e.to_string()))?;
+    Ok((2.0 * scene.h(), scene.discretisation.dx))
+}
+
+/// [`fracture`] of a run folder: its frames (`frame_*.vtu`, in order) with the support 2h and spacing it ran with
+/// ([`run_spacing`]).
 pub fn run_fracture(run: &Path) -> Result<Option<Fracture>> {
-    let scene = crate::scene::Scene::load(run.join("scene.toml"), &[]).map_err(|e| Error::Scene(e.to_string()))?;
+    let (support, dx) = run_spacing(run)?;
     let mut paths: Vec<std::path::PathBuf> = std::fs::read_dir(run)
         .map_err(|e| Error::Output(format!("{}: {e}", run.display())))?
         .flatten()
@@ -115,7 +124,7 @@ pub fn run_fracture(run: &Path) -> Result<Option<Fracture>> {
         .filter(|p| p.extension().is_some_and(|x| x == "vtu"))
         .collect();
     paths.sort();
-    fracture(&paths, 2.0 * scene.h(), scene.discretisation.dx)
+    fracture(&paths, support, dx)
 }
 
 /// The JSON line of a fracture (null fields when the specimen never separated).
