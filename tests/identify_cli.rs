@@ -36,7 +36,7 @@ fn cpu() -> AnyBackend {
 /// (§6.5). The chip term adds w_h Δh², Eq. 9.17 sums over experiments, "mean" averages. Exact to 1e-12.
 #[test]
 fn objective_is_klippels_delta_f_squared() {
-    let w = Objective { fc_weight: 1.0, ff_weight: 1.0, mean: false };
+    let w = Objective { fc_weight: 1.0, ff_weight: 1.0, mean: false, replicas: 1 };
     let m = Measured { fc: Some(157.5), ff: Some(115.5), chip: Some(99.7), chip_weight: 0.0 };
     let sim = Simulated { fc: Some(162.8), ff: Some(120.8), chip: Some(116.3) };
     let t = experiment_term(&m, &sim, &w);
@@ -239,6 +239,15 @@ fn bad_identification_files_are_refused_before_any_run() {
         ("no measurement", good.replace("fc_n_per_mm = 157.5\nff_n_per_mm = 115.5", ""), "experiment.0.fc_n_per_mm"),
         ("budget 0", good.replace("budget = 6", "budget = 0"), "optimizer.budget"),
         ("unknown optimiser", good.replace("\"de\"", "\"pso\""), "optimizer.method"),
+        ("no replicas", format!("{good}\n[objective]\nreplicas = 0\n"), "objective.replicas"),
+        (
+            "replicas of a fixed time step",
+            format!("{good}\n[objective]\nreplicas = 2\n").replace(
+                "set = [\"discretisation.dx=5.5e-5\"]",
+                "set = [\"discretisation.dx=5.5e-5\", \"time.dt=1e-9\"]",
+            ),
+            "objective.replicas",
+        ),
         ("unknown test id", with_test("V9999"), "experiment.0.test"),
         ("unusable status", with_test("V0068"), "experiment.0.test"),
         ("a Ck45 test on the Ti6Al4V model", with_test("V0069"), "experiment.0.scene"),
@@ -392,4 +401,47 @@ fn every_identification_case_reads() {
         n += 1;
     }
     assert!(n >= 3, "expected the identification cases, found {n}");
+}
+
+/// `[objective] replicas = 3`: each experiment runs three times, at the scene's CFL number and 1e-3 below and above
+/// it (runs/<evaluation>-<experiment>, -r1, -r2), and the history's forces are the replicas' mean, exactly, which
+/// the objective (Eq. 9.14) then uses.
+#[test]
+fn replicas_run_each_experiment_at_shifted_cfl_and_fit_their_mean() {
+    let dir = tmp("replicas");
+    let file = tiny_file(&dir, "\n[objective]\nreplicas = 3\n");
+    let text = std::fs::read_to_string(&file).unwrap().replace("budget = 6", "budget = 2");
+    std::fs::write(&file, text).unwrap();
+    let out = dir.join("out");
+    let done = identify(&cpu(), &IdentifyOptions { width: Some(3), ..options(&file, &out) }).expect("identify");
+    assert_eq!(done.rows.len(), 2);
+    for row in &done.rows {
+        let summary = |suffix: &str| {
+            let path = out.join(format!("runs/{:05}-coarse-V0060{suffix}/summary.json", row.evaluation));
+            let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            serde_json::from_str::<serde_json::Value>(&text).unwrap()
+        };
+        let runs: Vec<serde_json::Value> = ["", "-r1", "-r2"].iter().map(|s| summary(s)).collect();
+        let value = |v: &serde_json::Value, k: &str| v[k].as_f64().unwrap_or_else(|| panic!("{k} in {v}"));
+        let cfl = |v: &serde_json::Value| {
+            v["overrides"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .rev()
+                .find_map(|o| o.as_str()?.strip_prefix("time.cfl="))
+                .map(|c| c.parse::<f64>().unwrap())
+        };
+        assert_eq!(cfl(&runs[0]), None, "the first replica runs the scene's CFL number");
+        assert!((cfl(&runs[1]).unwrap() / 0.5 - (1.0 - 1e-3)).abs() < 1e-12);
+        assert!((cfl(&runs[2]).unwrap() / 0.5 - (1.0 + 1e-3)).abs() < 1e-12);
+        let fc: Vec<f64> = runs.iter().map(|v| value(v, "fc_n_per_mm")).collect();
+        let ff: Vec<f64> = runs.iter().map(|v| value(v, "ff_n_per_mm")).collect();
+        assert!(fc[0] != fc[1] && fc[1] != fc[2], "the replicas ran the same cut: {fc:?}");
+        let (mc, mf) = (fc.iter().sum::<f64>() / 3.0, ff.iter().sum::<f64>() / 3.0);
+        assert_eq!((row.sims[0].fc, row.sims[0].ff), (Some(mc), Some(mf)));
+        let expect = (mc - 157.5).powi(2) + (mf - 115.5).powi(2);
+        assert!((row.objective - expect).abs() <= 1e-12 * expect, "{} vs {expect}", row.objective);
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }

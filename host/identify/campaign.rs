@@ -18,7 +18,7 @@ use super::history::{self, Row};
 use super::holdout;
 use super::material_key;
 use super::objective::{self, Simulated};
-use super::scenes::{load_with, measured, observables, scene_for, scene_with_material};
+use super::scenes::{load_with, mean_of, measured, observables, replica_scene, scene_with_material};
 use super::{Bayes, Bounds, DifferentialEvolution, NelderMead, Optimizer};
 use crate::backend::AnyBackend;
 use crate::ensemble::Job;
@@ -94,7 +94,7 @@ pub fn identify(backend: &AnyBackend, opts: &IdentifyOptions) -> Result<Identifi
                     );
                 }
             })?;
-        runs += params.len() * spec.experiments.len();
+        runs += params.len() * spec.experiments.len() * spec.objective.replicas;
         opt.tell(&evaluated.iter().map(|r| r.objective).collect::<Vec<_>>());
         rows.extend(evaluated);
         (out.material, out.warnings) = super::report::write_all(&spec, &header, &rows, &opts.out_dir)?;
@@ -166,12 +166,19 @@ fn validate(spec: &Spec) -> Result<()> {
         }
     }
     for (i, exp) in spec.experiments.iter().enumerate() {
-        load_with(spec, exp, &[]).map_err(|e| {
+        let (scene, _) = load_with(spec, exp, &[]).map_err(|e| {
             Error::Scene(format!(
                 "{file}: experiment.{i} ({}): expected a scene its set and the file's set accept: {e}",
                 exp.name
             ))
         })?;
+        if spec.objective.replicas > 1 && scene.time.dt.is_some() {
+            return Err(Error::Scene(format!(
+                "{file}: objective.replicas = {}: expected 1 for experiment.{i} ({}), whose scene fixes time.dt \
+                 (replicas differ by their CFL number)",
+                spec.objective.replicas, exp.name
+            )));
+        }
         for (k, p) in spec.parameters.iter().enumerate() {
             for bound in [p.lower, p.upper] {
                 load_with(spec, exp, &[(&p.key, bound)]).map_err(|e| {
@@ -290,9 +297,10 @@ fn replay(opt: &mut dyn Optimizer, bounds: &Bounds, spec: &Spec, rows: &[Row]) -
     Ok(())
 }
 
-/// Runs one batch: every parameter set of `params` (evaluations `first`, `first + 1`, ...) on every experiment;
-/// returns their history rows. An interruption is returned as the error (the batch is not recorded); the runs
-/// that had finished keep their folders, marked (`scenes::FINISHED`), and a resume takes their results from there.
+/// Runs one batch: every parameter set of `params` (evaluations `first`, `first + 1`, ...) on every experiment,
+/// `objective.replicas` runs each; returns their history rows. An interruption is returned as the error (the batch
+/// is not recorded); the runs that had finished keep their folders, marked (`scenes::FINISHED`), and a resume takes
+/// their results from there.
 fn evaluate(
     backend: &AnyBackend,
     spec: &Spec,
@@ -301,28 +309,32 @@ fn evaluate(
     first: usize,
     batch: usize,
 ) -> Result<Vec<Row>> {
-    let ne = spec.experiments.len();
+    let (ne, nr) = (spec.experiments.len(), spec.objective.replicas);
     let obs = observables();
-    let mut results: Vec<std::result::Result<Simulated, String>> = vec![Err("not run".into()); params.len() * ne];
+    let mut results: Vec<std::result::Result<Simulated, String>> = vec![Err("not run".into()); params.len() * ne * nr];
     let (mut jobs, mut slots) = (Vec::new(), Vec::new());
     for (s, x) in params.iter().enumerate() {
         for (e, exp) in spec.experiments.iter().enumerate() {
-            let dir = out.join(RUNS).join(format!("{:05}-{}", first + s, exp.name));
-            match scene_for(spec, exp, x) {
-                Ok((scene, overrides)) => {
-                    let job = Job { scene, options: RunOptions { overrides, ..RunOptions::quiet(dir.clone()) } };
-                    if super::scenes::finished(&job) {
-                        results[s * ne + e] = super::scenes::measured_in_folder(&job, &obs);
-                        continue;
+            for r in 0..nr {
+                let slot = (s * ne + e) * nr + r;
+                let name = if r == 0 { exp.name.clone() } else { format!("{}-r{r}", exp.name) };
+                let dir = out.join(RUNS).join(format!("{:05}-{name}", first + s));
+                match replica_scene(spec, exp, x, r) {
+                    Ok((scene, overrides)) => {
+                        let job = Job { scene, options: RunOptions { overrides, ..RunOptions::quiet(dir.clone()) } };
+                        if super::scenes::finished(&job) {
+                            results[slot] = super::scenes::measured_in_folder(&job, &obs);
+                            continue;
+                        }
+                        if dir.exists() {
+                            std::fs::remove_dir_all(&dir)
+                                .map_err(|err| Error::Output(format!("{}: {err}", dir.display())))?;
+                        }
+                        jobs.push(job);
+                        slots.push(slot);
                     }
-                    if dir.exists() {
-                        std::fs::remove_dir_all(&dir)
-                            .map_err(|err| Error::Output(format!("{}: {err}", dir.display())))?;
-                    }
-                    jobs.push(job);
-                    slots.push(s * ne + e);
+                    Err(why) => results[slot] = Err(why),
                 }
-                Err(why) => results[s * ne + e] = Err(why),
             }
         }
     }
@@ -336,34 +348,40 @@ fn evaluate(
     Ok(params
         .iter()
         .enumerate()
-        .map(|(s, x)| {
-            let mine = &results[s * ne..(s + 1) * ne];
-            let sims: Vec<Simulated> = mine.iter().map(|r| r.clone().unwrap_or_default()).collect();
-            let terms: Vec<f64> = spec
-                .experiments
-                .iter()
-                .zip(&sims)
-                .map(|(exp, sim)| objective::experiment_term(&exp.measured, sim, &spec.objective))
-                .collect();
-            let failed = spec
-                .experiments
-                .iter()
-                .zip(mine)
-                .find_map(|(exp, r)| r.as_ref().err().map(|m| format!("{}: {m}", exp.name)));
-            let objective = match failed {
-                Some(_) => f64::NAN,
-                None => objective::combine(&terms, &spec.objective),
-            };
-            Row {
-                evaluation: first + s,
-                batch,
-                params: x.clone(),
-                sims,
-                objective,
-                status: failed.unwrap_or_else(|| "ok".into()),
-            }
-        })
+        .map(|(s, x)| row(spec, &results[s * ne * nr..(s + 1) * ne * nr], x, first + s, batch))
         .collect())
+}
+
+/// The history row of evaluation `evaluation` at `x` from its runs' `results` (experiment-major, the replicas of
+/// each together): each experiment's forces and chip are its replicas' mean; a failed run fails the evaluation.
+fn row(
+    spec: &Spec,
+    results: &[std::result::Result<Simulated, String>],
+    x: &[f64],
+    evaluation: usize,
+    batch: usize,
+) -> Row {
+    let nr = spec.objective.replicas;
+    let sims: Vec<Simulated> = results
+        .chunks(nr)
+        .map(|reps| mean_of(&reps.iter().map(|r| r.clone().unwrap_or_default()).collect::<Vec<_>>()))
+        .collect();
+    let terms: Vec<f64> = spec
+        .experiments
+        .iter()
+        .zip(&sims)
+        .map(|(exp, sim)| objective::experiment_term(&exp.measured, sim, &spec.objective))
+        .collect();
+    let failed = spec
+        .experiments
+        .iter()
+        .zip(results.chunks(nr))
+        .find_map(|(exp, reps)| reps.iter().find_map(|r| r.as_ref().err().map(|m| format!("{}: {m}", exp.name))));
+    let objective = match failed {
+        Some(_) => f64::NAN,
+        None => objective::combine(&terms, &spec.objective),
+    };
+    Row { evaluation, batch, params: x.to_vec(), sims, objective, status: failed.unwrap_or_else(|| "ok".into()) }
 }
 
 /// The progress line after a batch: evaluations, best objective, runs per hour, ETA to the budget.
@@ -371,7 +389,9 @@ fn progress(spec: &Spec, rows: &[Row], runs: usize, seconds: f64) -> String {
     let best = super::report::best(rows)
         .map_or("none yet".into(), |r| format!("{:.4} (evaluation {})", r.objective, r.evaluation));
     let rate = runs as f64 / seconds.max(1e-9) * 3600.0;
-    let left = (spec.optimizer.budget - rows.len().min(spec.optimizer.budget)) * spec.experiments.len();
+    let left = (spec.optimizer.budget - rows.len().min(spec.optimizer.budget))
+        * spec.experiments.len()
+        * spec.objective.replicas;
     let eta_h = left as f64 / rate.max(1e-9);
     format!(
         "identify: batch {}: {} of {} evaluations, best objective {best}, {rate:.0} runs/h, ETA {}",

@@ -48,6 +48,11 @@ pub struct Objective {
     pub ff_weight: f64,
     /// `combine = "mean"`: the mean over experiments instead of Eq. 9.17's sum.
     pub mean: bool,
+    /// `replicas` (default 1): runs per experiment and parameter set, at CFL numbers a few 1e-3 apart
+    /// (`scenes::replica_cfl`), whose mean forces and chip enter the objective. A cut is chaotic: one run's forces
+    /// scatter by several per cent (docs/identification.md "Ck45 V0300 by DE"), and an optimiser over single runs
+    /// selects the lucky ones.
+    pub replicas: usize,
 }
 
 /// The optimiser and its settings (the existing settings structs).
@@ -373,11 +378,13 @@ fn parameters(f: &Ctx, root: &toml::Table) -> Result<Vec<Parameter>> {
     Ok(out)
 }
 
-/// `[objective]`: `fc_weight`, `ff_weight` (default 1, Eq. 9.14), `combine` = "sum" (Eq. 9.17, default) or "mean".
+/// `[objective]`: `fc_weight`, `ff_weight` (default 1, Eq. 9.14), `combine` = "sum" (Eq. 9.17, default) or "mean",
+/// `replicas` (default 1).
 fn objective(f: &Ctx, root: &toml::Table) -> Result<Objective> {
     let empty = toml::Table::new();
     let t = f.table(root, "", "objective")?.unwrap_or(&empty);
-    f.keys(t, "objective", &["fc_weight", "ff_weight", "combine"])?;
+    f.keys(t, "objective", &["fc_weight", "ff_weight", "combine", "replicas"])?;
+    let replicas = f.count(t, "objective", "replicas", "a whole number of runs ≥ 1", 1)?.unwrap_or(1);
     let e = "a weight ≥ 0";
     let fc_weight = f.number(t, "objective", "fc_weight", e, non_negative)?.unwrap_or(1.0);
     let ff_weight = f.number(t, "objective", "ff_weight", e, non_negative)?.unwrap_or(1.0);
@@ -386,7 +393,7 @@ fn objective(f: &Ctx, root: &toml::Table) -> Result<Objective> {
         Some("mean") => true,
         Some(s) => return Err(f.bad("objective.combine", format!("\"{s}\""), "\"sum\" or \"mean\"")),
     };
-    Ok(Objective { fc_weight, ff_weight, mean })
+    Ok(Objective { fc_weight, ff_weight, mean, replicas })
 }
 
 /// `[optimizer]`: `method`, `budget`, `batch`, `seed`, and the method's settings in `[optimizer.de]`,
