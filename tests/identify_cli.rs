@@ -443,5 +443,7 @@ fn replicas_run_each_experiment_at_shifted_cfl_and_fit_their_mean() {
         let expect = (mc - 157.5).powi(2) + (mf - 115.5).powi(2);
         assert!((row.objective - expect).abs() <= 1e-12 * expect, "{} vs {expect}", row.objective);
     }
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.contains("the mean of 3 runs"), "{report}");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -68,7 +68,7 @@ pub fn markdown(spec: &Spec, rows: &[Row]) -> String {
     let mut s = format!(
         "# Identification {}\n\nFile `{}`; optimiser {} (seed {}), budget {} evaluations in batches of {}; {} experiments; \
          objective: {} over experiments of w_c ΔF_c² + w_f ΔF_f² (+ w_h Δh²) (klippel-constitutive.md §6.2, Eqs. 9.14–9.17; \
-         w_c = {}, w_f = {}).\n\n{} evaluations done, {} failed.\n\n",
+         w_c = {}, w_f = {}){}.\n\n{} evaluations done, {} failed.\n\n",
         spec.name,
         spec.file.display(),
         super::file::method_name(&o.method),
@@ -79,6 +79,11 @@ pub fn markdown(spec: &Spec, rows: &[Row]) -> String {
         if spec.objective.mean { "the mean" } else { "the sum (Eq. 9.17)" },
         spec.objective.fc_weight,
         spec.objective.ff_weight,
+        match spec.objective.replicas {
+            1 => String::new(),
+            k =>
+                format!("; each experiment's forces and chip the mean of {k} runs at CFL numbers 1e-3 apart (replicas)"),
+        },
         rows.len(),
         rows.iter().filter(|r| !r.objective.is_finite()).count(),
     );
