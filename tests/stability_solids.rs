@@ -284,6 +284,78 @@ fn closest_contact_pair_is_located_by_ids_and_midpoint() {
     assert!(off <= 1e-12 * 1.25, "midpoint {:?}, expected {M_A:?}", c.midpoint);
 }
 
+/// The pair search of both analyses (each pair once, from the stencil walk) against brute force over all pairs, on
+/// 600 random points in clusters of varied density, with an eighth of them ejected far away (the bounded search
+/// box clamps those into its boundary cells): the closest distance over all pairs, the closest pair that started
+/// apart, and the number of components per group are the same, exactly.
+#[test]
+fn the_pair_search_equals_brute_force() {
+    let mut rng = swarf::rng::SplitMix64::new(0x5eed);
+    let (r, n) = (0.35, 600usize);
+    let mut pos: Vec<[f64; 3]> = Vec::with_capacity(n);
+    for k in 0..n {
+        let centre = [(k % 5) as f64 * 2.0, (k % 3) as f64 * 1.5, 0.0];
+        let spread = if k % 8 == 7 { 400.0 } else { 1.0 + (k % 4) as f64 * 0.5 };
+        pos.push(std::array::from_fn(|a| centre[a] + spread * (rng.uniform() - 0.5)));
+    }
+    let initial: Vec<[f64; 3]> = (0..n).map(|k| [k as f64 * 0.1, 0.0, 0.0]).collect();
+    let id: Vec<u32> = (0..n as u32).map(|k| (k * 7919) % 1009).collect();
+    let include: Vec<bool> = (0..n).map(|k| k % 11 != 0).collect();
+    let group: Vec<u32> = (0..n as u32).map(|k| k % 3).collect();
+    let d2 = |a: &[f64; 3], c: &[f64; 3]| (a[0] - c[0]).powi(2) + (a[1] - c[1]).powi(2) + (a[2] - c[2]).powi(2);
+    // Brute force.
+    let mut all = f64::INFINITY;
+    let mut apart: Option<(f64, [u32; 2])> = None;
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn find(p: &mut [usize], mut a: usize) -> usize {
+        while p[a] != a {
+            a = p[a];
+        }
+        a
+    }
+    for i in 0..n {
+        for j in i + 1..n {
+            let r2 = d2(&pos[i], &pos[j]);
+            if r2 >= r * r {
+                continue;
+            }
+            if group[i] == group[j] {
+                let (a, c) = (find(&mut parent, i), find(&mut parent, j));
+                parent[a] = c;
+            }
+            if include[i] && include[j] {
+                all = all.min(r2);
+                if d2(&initial[i], &initial[j]) >= r * r {
+                    let ids = if id[i] <= id[j] { [id[i], id[j]] } else { [id[j], id[i]] };
+                    if apart.is_none_or(|best| (r2, ids) < best) {
+                        apart = Some((r2, ids));
+                    }
+                }
+            }
+        }
+    }
+    let mut roots: Vec<Vec<usize>> = vec![Vec::new(); 3];
+    for i in 0..n {
+        let root = find(&mut parent, i);
+        roots[group[i] as usize].push(root);
+    }
+    let expect: Vec<usize> = roots
+        .into_iter()
+        .map(|mut v| {
+            v.sort_unstable();
+            v.dedup();
+            v.len()
+        })
+        .collect();
+    assert_eq!(components_per_group(&pos, &group, r).unwrap(), expect);
+    assert!(expect.iter().all(|&c| c > 1), "the clusters and ejected points make several pieces: {expect:?}");
+    let (got_all, got) = min_pair_distances(&pos, &include, r, &initial, &id).unwrap();
+    assert_eq!(got_all, Some(all.sqrt()));
+    let (r2, ids) = apart.expect("a pair that started apart");
+    let got = got.expect("the search's pair");
+    assert_eq!((got.distance, got.ids), (r2.sqrt(), ids));
+}
+
 /// No pair that started apart: the contact is None (energy.csv writes NaN) while the pair distance is not; two
 /// contact pairs at the same distance (exact binary values: 0.25 apart) give the smaller ids whatever their order;
 /// arrays of the wrong length are an error, not a panic.
