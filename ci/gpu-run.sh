@@ -612,8 +612,9 @@ PY
                 # fracture); SWARF_SHTB_RUNS picks runs among jc, jcgg and jcgg-dt1e8 (JC-GG at Klippel's Δt = 1e-8 s);
                 # SWARF_SHTB_DX the spacing (default the scene's 0.2 mm), SWARF_SHTB_S bounds each run (SIGINT: it
                 # stops with what it wrote); SWARF_SHTB_NECK_FROM=k: `swarf neck` reads frame 0 (d0) and the frames
-                # from index k on only (at Δx = 0.1 mm it reads a frame in about 7 s on an H200's host), for a
-                # specimen an earlier call measured whole up to frame k (it then gives the same figures);
+                # from index k on only, for a specimen an earlier call measured whole up to frame k (it then gives
+                # the same figures; at Δx = 0.1 mm build 00d68b6 read a frame in about 7 s on the H200's host, the
+                # pair search without a stored list since in about 0.6 s on the 2-core CPU machine);
                 # shtb25.md (damage_table)
             shtb25() {
                 local d=/tmp/shtb25 r set
