@@ -405,12 +405,18 @@ fn every_identification_case_reads() {
 
 /// `[objective] replicas = 3`: each experiment runs three times, at the scene's CFL number and 1e-3 below and above
 /// it (runs/<evaluation>-<experiment>, -r1, -r2), and the history's forces are the replicas' mean, exactly, which
-/// the objective (Eq. 9.14) then uses.
+/// the objective (Eq. 9.14) then uses; the held-out test runs three replicas per set as well (the best set and a
+/// compare material), and holdout.csv gives their mean.
 #[test]
 fn replicas_run_each_experiment_at_shifted_cfl_and_fit_their_mean() {
     let dir = tmp("replicas");
-    let file = tiny_file(&dir, "\n[objective]\nreplicas = 3\n");
-    let text = std::fs::read_to_string(&file).unwrap().replace("budget = 6", "budget = 2");
+    let holdout = HOLDOUT.replace("__SCENE__", &v0060().display().to_string());
+    let file = tiny_file(&dir, &format!("{holdout}\n[objective]\nreplicas = 3\n"));
+    let text = std::fs::read_to_string(&file).unwrap().replace("budget = 6", "budget = 2").replacen(
+        "name = \"tiny\"\n",
+        "name = \"tiny\"\ncompare = [\"Ti6Al4V-V0060-DE-mu035\"]\n",
+        1,
+    );
     std::fs::write(&file, text).unwrap();
     let out = dir.join("out");
     let done = identify(&cpu(), &IdentifyOptions { width: Some(3), ..options(&file, &out) }).expect("identify");
@@ -445,5 +451,19 @@ fn replicas_run_each_experiment_at_shifted_cfl_and_fit_their_mean() {
     }
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(report.contains("the mean of 3 runs"), "{report}");
+    // The held-out test runs three replicas per set too, and holdout.csv gives their mean.
+    let (_, rows) = read_holdout(&out);
+    assert_eq!(rows.len(), 2);
+    for r in &rows {
+        let fc: Vec<f64> = ["", "-r1", "-r2"]
+            .iter()
+            .map(|suffix| {
+                let path = out.join(format!("holdout/runs/{}-slow{suffix}/summary.json", r[0]));
+                let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+                serde_json::from_str::<serde_json::Value>(&text).unwrap()["fc_n_per_mm"].as_f64().unwrap()
+            })
+            .collect();
+        assert_eq!(r[3].parse::<f64>().unwrap(), fc.iter().sum::<f64>() / 3.0, "{r:?}");
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }

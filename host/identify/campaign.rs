@@ -150,12 +150,13 @@ fn optimizer(spec: &Spec) -> Box<dyn Optimizer> {
 fn validate(spec: &Spec) -> Result<()> {
     let file = spec.file.display();
     for (i, exp) in spec.holdout.iter().enumerate() {
-        load_with(spec, exp, &[]).map_err(|e| {
+        let (scene, _) = load_with(spec, exp, &[]).map_err(|e| {
             Error::Scene(format!(
                 "{file}: holdout.{i} ({}): expected a scene its set and the file's set accept: {e}",
                 exp.name
             ))
         })?;
+        fixed_step_without_replicas(spec, &scene, &format!("holdout.{i} ({})", exp.name))?;
         for name in &spec.compare {
             scene_with_material(spec, exp, name).map_err(|e| {
                 Error::Scene(format!(
@@ -172,13 +173,7 @@ fn validate(spec: &Spec) -> Result<()> {
                 exp.name
             ))
         })?;
-        if spec.objective.replicas > 1 && scene.time.dt.is_some() {
-            return Err(Error::Scene(format!(
-                "{file}: objective.replicas = {}: expected 1 for experiment.{i} ({}), whose scene fixes time.dt \
-                 (replicas differ by their CFL number)",
-                spec.objective.replicas, exp.name
-            )));
-        }
+        fixed_step_without_replicas(spec, &scene, &format!("experiment.{i} ({})", exp.name))?;
         for (k, p) in spec.parameters.iter().enumerate() {
             for bound in [p.lower, p.upper] {
                 load_with(spec, exp, &[(&p.key, bound)]).map_err(|e| {
@@ -194,6 +189,19 @@ fn validate(spec: &Spec) -> Result<()> {
                 })?;
             }
         }
+    }
+    Ok(())
+}
+
+/// Refuses replicas of a scene with a fixed `time.dt` (`what` names it): they differ by their CFL number only.
+fn fixed_step_without_replicas(spec: &Spec, scene: &crate::scene::Scene, what: &str) -> Result<()> {
+    if spec.objective.replicas > 1 && scene.time.dt.is_some() {
+        return Err(Error::Scene(format!(
+            "{}: objective.replicas = {}: expected 1 for {what}, whose scene fixes time.dt (replicas differ by their \
+             CFL number)",
+            spec.file.display(),
+            spec.objective.replicas
+        )));
     }
     Ok(())
 }

@@ -53,42 +53,59 @@ pub fn sets(spec: &Spec, best: Option<&Row>) -> Vec<Set> {
     v
 }
 
-/// The scene of holdout experiment `exp` for `set`: the best set's parameters as in the fit, or the model with
-/// its library material replaced by `material.name`.
-fn scene(spec: &Spec, exp: &Experiment, set: &Set) -> std::result::Result<(crate::scene::Scene, Vec<String>), String> {
+/// The scene of replica `r` of holdout experiment `exp` for `set`: the best set's parameters as in the fit, or the
+/// model with its library material replaced by `material.name`.
+fn scene(
+    spec: &Spec,
+    exp: &Experiment,
+    set: &Set,
+    r: usize,
+) -> std::result::Result<(crate::scene::Scene, Vec<String>), String> {
     match set {
-        Set::Best(x) => scenes::scene_for(spec, exp, x),
-        Set::Material(name) => scenes::scene_with_material(spec, exp, name),
+        Set::Best(x) => scenes::replica_scene(spec, exp, x, r),
+        Set::Material(name) => scenes::replica_with_material(spec, exp, name, r),
     }
 }
 
-/// Runs every set on every holdout experiment (`width` at once) into `<out>/holdout/`, writes `holdout.csv` and
-/// `holdout.md`, and returns the outcomes (set-major).
+/// Runs every set on every holdout experiment, `objective.replicas` runs each as in the fit (`width` at once), into
+/// `<out>/holdout/`, writes `holdout.csv` and `holdout.md`, and returns the outcomes (set-major), each the mean of
+/// its replicas.
 pub fn run(backend: &AnyBackend, spec: &Spec, sets: &[Set], out: &Path, width: usize) -> Result<Vec<Outcome>> {
+    let nr = spec.objective.replicas;
     let mut outcomes = Vec::new();
+    let mut replicas: Vec<std::result::Result<Simulated, String>> = Vec::new();
     let (mut jobs, mut slots) = (Vec::new(), Vec::new());
     for set in sets {
         for exp in &spec.holdout {
-            let dir = out.join(FOLDER).join(RUNS).join(format!("{}-{}", set.label(), exp.name));
-            if dir.exists() {
-                std::fs::remove_dir_all(&dir).map_err(|e| Error::Output(format!("{}: {e}", dir.display())))?;
-            }
-            let sim = match scene(spec, exp, set) {
-                Ok((scene, overrides)) => {
-                    jobs.push(Job { scene, options: RunOptions { overrides, ..RunOptions::quiet(dir) } });
-                    slots.push(outcomes.len());
-                    Err("not run".to_string())
+            for r in 0..nr {
+                let name = if r == 0 { exp.name.clone() } else { format!("{}-r{r}", exp.name) };
+                let dir = out.join(FOLDER).join(RUNS).join(format!("{}-{name}", set.label()));
+                if dir.exists() {
+                    std::fs::remove_dir_all(&dir).map_err(|e| Error::Output(format!("{}: {e}", dir.display())))?;
                 }
-                Err(why) => Err(why),
-            };
-            outcomes.push(Outcome { set: set.label(), test: exp.name.clone(), sim });
+                replicas.push(match scene(spec, exp, set, r) {
+                    Ok((scene, overrides)) => {
+                        jobs.push(Job { scene, options: RunOptions { overrides, ..RunOptions::quiet(dir) } });
+                        slots.push(replicas.len());
+                        Err("not run".to_string())
+                    }
+                    Err(why) => Err(why),
+                });
+            }
+            outcomes.push(Outcome { set: set.label(), test: exp.name.clone(), sim: Err("not run".into()) });
         }
     }
     let obs = scenes::observables();
     crate::ensemble::run(backend, &jobs, width, &mut |k, r| {
-        outcomes[slots[k]].sim = scenes::measured(r, &jobs[k], &obs);
+        replicas[slots[k]] = scenes::measured(r, &jobs[k], &obs);
         Ok(())
     })?;
+    for (o, reps) in outcomes.iter_mut().zip(replicas.chunks(nr)) {
+        o.sim = match reps.iter().find_map(|r| r.as_ref().err()) {
+            Some(why) => Err(why.clone()),
+            None => Ok(scenes::mean_of(&reps.iter().filter_map(|r| r.as_ref().ok().copied()).collect::<Vec<_>>())),
+        };
+    }
     write(spec, &outcomes, out)?;
     Ok(outcomes)
 }

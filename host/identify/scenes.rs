@@ -45,6 +45,22 @@ pub fn replica_scene(
     load_with(spec, exp, &pairs)
 }
 
+/// [`scene_with_material`] for replica `r` of the experiment (as [`replica_scene`]).
+pub fn replica_with_material(
+    spec: &Spec,
+    exp: &Experiment,
+    name: &str,
+    r: usize,
+) -> std::result::Result<(Scene, Vec<String>), String> {
+    let (scene, mut sets) = scene_with_material(spec, exp, name)?;
+    if r == 0 {
+        return Ok((scene, sets));
+    }
+    sets.push(format!("time.cfl={:?}", scene.time.cfl * (1.0 + replica_cfl(r))));
+    let scene = Scene::load(&exp.scene, &sets).map_err(|e| e.to_string())?;
+    Ok((scene, sets))
+}
+
 /// The mean of replicas' results: each value the mean over the replicas, None where any replica lacks it.
 pub fn mean_of(replicas: &[Simulated]) -> Simulated {
     let mean = |get: fn(&Simulated) -> Option<f64>| {
