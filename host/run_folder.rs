@@ -52,8 +52,14 @@ pub fn prepare(dir: &Path, force: bool) -> Result<usize> {
     Ok(entries.len())
 }
 
+/// The scene the run in `dir` ran: its `scene.toml` with the run's `--set` [`overrides`] (`swarf render`,
+/// `swarf chip`, `swarf neck`).
+pub fn scene(dir: &Path) -> std::result::Result<crate::scene::Scene, crate::scene::SceneError> {
+    crate::scene::Scene::load(dir.join("scene.toml"), &overrides(dir))
+}
+
 /// The `--set` overrides the run in `dir` was made with: summary.json's, else the checkpoint's, else none (for
-/// reading its `scene.toml` as it ran: `swarf render`, `swarf chip`).
+/// reading its `scene.toml` as it ran: [`scene`]).
 pub fn overrides(dir: &Path) -> Vec<String> {
     let from_summary = std::fs::read_to_string(dir.join("summary.json"))
         .ok()

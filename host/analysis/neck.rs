@@ -103,12 +103,10 @@ pub fn fracture(paths: &[impl AsRef<Path>], support: f64, dx: f64) -> Result<Opt
     Ok(None)
 }
 
-/// The kernel support 2h and the spacing Δx a run folder ran with: its `scene.toml` with the run's `--set`
-/// overrides (`run_folder::overrides`), so that a run at another spacing is measured at its own.
+/// The kernel support 2h and the spacing Δx a run folder ran with (`run_folder::scene`: its `scene.toml` with the
+/// run's `--set` overrides), so that a run at another spacing is measured at its own.
 pub fn run_spacing(run: &Path) -> Result<(f64, f64)> {
-    let overrides = crate::run_folder::overrides(run);
-    let scene =
-        crate::scene::Scene::load(run.join("scene.toml"), &overrides).map_err(|e| Error::Scene(e.to_string()))?;
+    let scene = crate::run_folder::scene(run).map_err(|e| Error::Scene(e.to_string()))?;
     Ok((2.0 * scene.h(), scene.discretisation.dx))
 }
 

@@ -54,7 +54,7 @@ pub struct FrameReport {
 /// frame file (.vtu) in one. The run folder's scene.toml (with its recorded overrides) gives the tool and Δx.
 pub fn analyse_path(path: &Path, index: Option<usize>) -> Result<FrameReport> {
     let (dir, frame) = locate(path, index)?;
-    let scene = Scene::load(dir.join("scene.toml"), &crate::run_folder::overrides(&dir))
+    let scene = crate::run_folder::scene(&dir)
         .map_err(|e| Error::Scene(format!("swarf chip: the run's scene cannot be read: {e}")))?;
     let read = vtu::read(&frame).map_err(|e| Error::Output(e.to_string()))?;
     let time = read.time.ok_or_else(|| Error::Chip(format!("{}: the frame has no TimeValue", frame.display())))?;

@@ -226,7 +226,7 @@ fn open(dir: &Path, warnings: &mut Vec<String>) -> Result<RunFolder> {
         return Err(Error::Output(format!("render: {} lists no frames", pvd_path.display())));
     }
     let frames = entries.into_iter().map(|(t, f)| (t, dir.join(f))).collect();
-    let scene = match Scene::load(dir.join("scene.toml"), &crate::run_folder::overrides(dir)) {
+    let scene = match crate::run_folder::scene(dir) {
         Ok(s) => Some(s),
         Err(e) => {
             warnings.push(format!("{}: the scene is not read ({e}); the tool is not drawn", dir.display()));
