@@ -18,7 +18,9 @@ use super::history::{self, Row};
 use super::holdout;
 use super::material_key;
 use super::objective::{self, Simulated};
-use super::scenes::{load_with, mean_of, measured, observables, replica_scene, scene_with_material};
+use super::scenes::{
+    load_with, mean_of, measured, observables, replica_name, replicas, scene_for, scene_with_material,
+};
 use super::{Bayes, Bounds, DifferentialEvolution, NelderMead, Optimizer};
 use crate::backend::AnyBackend;
 use crate::ensemble::Job;
@@ -158,7 +160,7 @@ fn validate(spec: &Spec) -> Result<()> {
         })?;
         fixed_step_without_replicas(spec, &scene, &format!("holdout.{i} ({})", exp.name))?;
         for name in &spec.compare {
-            scene_with_material(spec, exp, name).map_err(|e| {
+            scene_with_material(spec, exp, name, None).map_err(|e| {
                 Error::Scene(format!(
                     "{file}: compare = \"{name}\": expected a library material scene {} accepts: {e}",
                     exp.scene.display()
@@ -323,11 +325,10 @@ fn evaluate(
     let (mut jobs, mut slots) = (Vec::new(), Vec::new());
     for (s, x) in params.iter().enumerate() {
         for (e, exp) in spec.experiments.iter().enumerate() {
-            for r in 0..nr {
+            for (r, loaded) in replicas(nr, |cfl| scene_for(spec, exp, x, cfl)).into_iter().enumerate() {
                 let slot = (s * ne + e) * nr + r;
-                let name = if r == 0 { exp.name.clone() } else { format!("{}-r{r}", exp.name) };
-                let dir = out.join(RUNS).join(format!("{:05}-{name}", first + s));
-                match replica_scene(spec, exp, x, r) {
+                let dir = out.join(RUNS).join(format!("{:05}-{}", first + s, replica_name(&exp.name, r)));
+                match loaded {
                     Ok((scene, overrides)) => {
                         let job = Job { scene, options: RunOptions { overrides, ..RunOptions::quiet(dir.clone()) } };
                         if super::scenes::finished(&job) {

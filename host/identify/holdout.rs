@@ -53,17 +53,12 @@ pub fn sets(spec: &Spec, best: Option<&Row>) -> Vec<Set> {
     v
 }
 
-/// The scene of replica `r` of holdout experiment `exp` for `set`: the best set's parameters as in the fit, or the
-/// model with its library material replaced by `material.name`.
-fn scene(
-    spec: &Spec,
-    exp: &Experiment,
-    set: &Set,
-    r: usize,
-) -> std::result::Result<(crate::scene::Scene, Vec<String>), String> {
+/// The scene of holdout experiment `exp` for `set` (at `cfl` for a replica): the best set's parameters as in the fit,
+/// or the model with its library material replaced by `material.name`.
+fn scene(spec: &Spec, exp: &Experiment, set: &Set, cfl: Option<f64>) -> scenes::Loaded {
     match set {
-        Set::Best(x) => scenes::replica_scene(spec, exp, x, r),
-        Set::Material(name) => scenes::replica_with_material(spec, exp, name, r),
+        Set::Best(x) => scenes::scene_for(spec, exp, x, cfl),
+        Set::Material(name) => scenes::scene_with_material(spec, exp, name, cfl),
     }
 }
 
@@ -77,13 +72,13 @@ pub fn run(backend: &AnyBackend, spec: &Spec, sets: &[Set], out: &Path, width: u
     let (mut jobs, mut slots) = (Vec::new(), Vec::new());
     for set in sets {
         for exp in &spec.holdout {
-            for r in 0..nr {
-                let name = if r == 0 { exp.name.clone() } else { format!("{}-r{r}", exp.name) };
-                let dir = out.join(FOLDER).join(RUNS).join(format!("{}-{name}", set.label()));
+            for (r, loaded) in scenes::replicas(nr, |cfl| scene(spec, exp, set, cfl)).into_iter().enumerate() {
+                let dir =
+                    out.join(FOLDER).join(RUNS).join(format!("{}-{}", set.label(), scenes::replica_name(&exp.name, r)));
                 if dir.exists() {
                     std::fs::remove_dir_all(&dir).map_err(|e| Error::Output(format!("{}: {e}", dir.display())))?;
                 }
-                replicas.push(match scene(spec, exp, set, r) {
+                replicas.push(match loaded {
                     Ok((scene, overrides)) => {
                         jobs.push(Job { scene, options: RunOptions { overrides, ..RunOptions::quiet(dir) } });
                         slots.push(replicas.len());

@@ -166,7 +166,7 @@ fn forces(spec: &Spec, rows: &[Row], path: &Path) -> std::result::Result<(), Str
 /// material.
 fn material(spec: &Spec, rows: &[Row], dir: &Path) -> std::result::Result<Option<PathBuf>, String> {
     let Some(b) = best(rows) else { return Ok(None) };
-    let (scene, _) = scenes::scene_for(spec, &spec.experiments[0], &b.params)?;
+    let (scene, _) = scenes::scene_for(spec, &spec.experiments[0], &b.params, None)?;
     let Some(m) = scene.material.library.as_ref() else { return Ok(None) };
     let name: String = format!("{}-{}", m.name, spec.name)
         .chars()

@@ -14,10 +14,15 @@ use crate::scene::observe::{self, Observable, Source};
 /// The folder of an identification's run folders.
 pub const RUNS: &str = "runs";
 
+/// A loaded scene and the overrides it was loaded with, or why it cannot be loaded.
+pub type Loaded = std::result::Result<(Scene, Vec<String>), String>;
+
 /// The scene of experiment `exp` at parameter values `x`, and the overrides it was loaded with: the experiment's
-/// overrides, the file's global ones, then the scene parameters; material parameters edit its library material.
-pub fn scene_for(spec: &Spec, exp: &Experiment, x: &[f64]) -> std::result::Result<(Scene, Vec<String>), String> {
-    let pairs: Vec<(&str, f64)> = spec.parameters.iter().map(|p| p.key.as_str()).zip(x.iter().copied()).collect();
+/// overrides, the file's global ones, then the scene parameters, then `cfl` as `time.cfl` where given (a replica,
+/// [`replicas`]); material parameters edit its library material.
+pub fn scene_for(spec: &Spec, exp: &Experiment, x: &[f64], cfl: Option<f64>) -> Loaded {
+    let mut pairs: Vec<(&str, f64)> = spec.parameters.iter().map(|p| p.key.as_str()).zip(x.iter().copied()).collect();
+    pairs.extend(cfl.map(|c| ("time.cfl", c)));
     load_with(spec, exp, &pairs)
 }
 
@@ -29,36 +34,23 @@ pub fn replica_cfl(r: usize) -> f64 {
     if r % 2 == 1 { -k } else { k }
 }
 
-/// [`scene_for`] for replica `r` of the experiment: the scene's CFL number times 1 + [`replica_cfl`]`(r)`.
-pub fn replica_scene(
-    spec: &Spec,
-    exp: &Experiment,
-    x: &[f64],
-    r: usize,
-) -> std::result::Result<(Scene, Vec<String>), String> {
-    let (scene, sets) = scene_for(spec, exp, x)?;
-    if r == 0 {
-        return Ok((scene, sets));
-    }
-    let mut pairs: Vec<(&str, f64)> = spec.parameters.iter().map(|p| p.key.as_str()).zip(x.iter().copied()).collect();
-    pairs.push(("time.cfl", scene.time.cfl * (1.0 + replica_cfl(r))));
-    load_with(spec, exp, &pairs)
+/// The scenes of the `n` replicas of one run: `load(None)` loads the scene as the file gives it (replica 0), once;
+/// `load(Some(c))` each other replica at its CFL number times 1 + [`replica_cfl`]`(r)`. A scene that cannot be
+/// loaded fails every replica with its reason.
+pub fn replicas(n: usize, load: impl Fn(Option<f64>) -> Loaded) -> Vec<Loaded> {
+    let first = load(None);
+    let cfl = match &first {
+        Ok((scene, _)) => scene.time.cfl,
+        Err(why) => return vec![Err(why.clone()); n],
+    };
+    let mut out = vec![first];
+    out.extend((1..n).map(|r| load(Some(cfl * (1.0 + replica_cfl(r))))));
+    out
 }
 
-/// [`scene_with_material`] for replica `r` of the experiment (as [`replica_scene`]).
-pub fn replica_with_material(
-    spec: &Spec,
-    exp: &Experiment,
-    name: &str,
-    r: usize,
-) -> std::result::Result<(Scene, Vec<String>), String> {
-    let (scene, mut sets) = scene_with_material(spec, exp, name)?;
-    if r == 0 {
-        return Ok((scene, sets));
-    }
-    sets.push(format!("time.cfl={:?}", scene.time.cfl * (1.0 + replica_cfl(r))));
-    let scene = Scene::load(&exp.scene, &sets).map_err(|e| e.to_string())?;
-    Ok((scene, sets))
+/// The run folder's name of replica `r` of experiment `name`: the name, then `<name>-r<r>`.
+pub fn replica_name(name: &str, r: usize) -> String {
+    if r == 0 { name.to_string() } else { format!("{name}-r{r}") }
 }
 
 /// The mean of replicas' results: each value the mean over the replicas, None where any replica lacks it.
@@ -71,11 +63,7 @@ pub fn mean_of(replicas: &[Simulated]) -> Simulated {
 }
 
 /// [`scene_for`] with the parameters `pairs` (key, value) only.
-pub(super) fn load_with(
-    spec: &Spec,
-    exp: &Experiment,
-    pairs: &[(&str, f64)],
-) -> std::result::Result<(Scene, Vec<String>), String> {
+pub(super) fn load_with(spec: &Spec, exp: &Experiment, pairs: &[(&str, f64)]) -> Loaded {
     let mut sets = exp.set.clone();
     sets.extend(spec.set.iter().cloned());
     let mut edits = Vec::new();
@@ -91,15 +79,12 @@ pub(super) fn load_with(
 }
 
 /// The scene of experiment `exp` with the library material `name` in place of the model's (`material.name`),
-/// after the experiment's and the file's overrides.
-pub fn scene_with_material(
-    spec: &Spec,
-    exp: &Experiment,
-    name: &str,
-) -> std::result::Result<(Scene, Vec<String>), String> {
+/// after the experiment's and the file's overrides, then `cfl` as `time.cfl` where given (a replica).
+pub fn scene_with_material(spec: &Spec, exp: &Experiment, name: &str, cfl: Option<f64>) -> Loaded {
     let mut sets = exp.set.clone();
     sets.extend(spec.set.iter().cloned());
     sets.push(format!("material.name=\"{name}\""));
+    sets.extend(cfl.map(|c| format!("time.cfl={c:?}")));
     let scene = Scene::load(&exp.scene, &sets).map_err(|e| e.to_string())?;
     Ok((scene, sets))
 }
