@@ -611,11 +611,7 @@ PY
                 # SWARF_SHTB_EVERY (default the scene's 10 µs: the neck is measured at the last frame before the
                 # fracture); SWARF_SHTB_RUNS picks runs among jc, jcgg and jcgg-dt1e8 (JC-GG at Klippel's Δt = 1e-8 s);
                 # SWARF_SHTB_DX the spacing (default the scene's 0.2 mm), SWARF_SHTB_S bounds each run (SIGINT: it
-                # stops with what it wrote); SWARF_SHTB_NECK_FROM=k: `swarf neck` reads frame 0 (d0) and the frames
-                # from index k on only, for a specimen an earlier call measured whole up to frame k (it then gives
-                # the same figures; at Δx = 0.1 mm build 00d68b6 read a frame in about 7 s on the H200's host, the
-                # pair search without a stored list since in about 0.6 s on the 2-core CPU machine);
-                # shtb25.md (damage_table)
+                # stops with what it wrote); shtb25.md (damage_table)
             shtb25() {
                 local d=/tmp/shtb25 r set
                 rm -rf $d; mkdir -p $d
@@ -630,12 +626,6 @@ PY
                     esac
                     timeout -s INT "${SWARF_SHTB_S:-100000}" \
                         "$here/swarf" --backend gpu run cases/damage/shtb-50sib8.toml --quiet --out $d/shtb-$r "${set[@]}"
-                    if [ -n "${SWARF_SHTB_NECK_FROM:-}" ]; then
-                        for f in "$d/shtb-$r"/frame_*.vtu; do
-                            k=${f##*frame_}; k=$((10#${k%.vtu}))
-                            [ $k -ge 1 ] && [ $k -lt "$SWARF_SHTB_NECK_FROM" ] && rm "$f"
-                        done
-                    fi
                     "$here/swarf" neck "$d/shtb-$r"; tail -n 2 "$d/shtb-$r/run.log"
                     find $d/shtb-$r -name 'frame_*.vtu' -delete  # frames every 2 µs fill the disk: keep the summaries
                 done
