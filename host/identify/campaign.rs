@@ -19,7 +19,7 @@ use super::holdout;
 use super::material_key;
 use super::objective::{self, Simulated};
 use super::scenes::{
-    load_with, mean_of, measured, observables, replica_name, replicas, scene_for, scene_with_material,
+    combine_replicas, load_with, measured, observables, replica_name, replicas, scene_for, scene_with_material,
 };
 use super::{Bayes, Bounds, DifferentialEvolution, NelderMead, Optimizer};
 use crate::backend::AnyBackend;
@@ -370,11 +370,9 @@ fn row(
     evaluation: usize,
     batch: usize,
 ) -> Row {
-    let nr = spec.objective.replicas;
-    let sims: Vec<Simulated> = results
-        .chunks(nr)
-        .map(|reps| mean_of(&reps.iter().map(|r| r.clone().unwrap_or_default()).collect::<Vec<_>>()))
-        .collect();
+    let per_experiment: Vec<std::result::Result<Simulated, String>> =
+        results.chunks(spec.objective.replicas).map(combine_replicas).collect();
+    let sims: Vec<Simulated> = per_experiment.iter().map(|r| r.clone().unwrap_or_default()).collect();
     let terms: Vec<f64> = spec
         .experiments
         .iter()
@@ -384,8 +382,8 @@ fn row(
     let failed = spec
         .experiments
         .iter()
-        .zip(results.chunks(nr))
-        .find_map(|(exp, reps)| reps.iter().find_map(|r| r.as_ref().err().map(|m| format!("{}: {m}", exp.name))));
+        .zip(&per_experiment)
+        .find_map(|(exp, r)| r.as_ref().err().map(|m| format!("{}: {m}", exp.name)));
     let objective = match failed {
         Some(_) => f64::NAN,
         None => objective::combine(&terms, &spec.objective),

@@ -96,10 +96,7 @@ pub fn run(backend: &AnyBackend, spec: &Spec, sets: &[Set], out: &Path, width: u
         Ok(())
     })?;
     for (o, reps) in outcomes.iter_mut().zip(replicas.chunks(nr)) {
-        o.sim = match reps.iter().find_map(|r| r.as_ref().err()) {
-            Some(why) => Err(why.clone()),
-            None => Ok(scenes::mean_of(&reps.iter().filter_map(|r| r.as_ref().ok().copied()).collect::<Vec<_>>())),
-        };
+        o.sim = scenes::combine_replicas(reps);
     }
     write(spec, &outcomes, out)?;
     Ok(outcomes)

@@ -53,8 +53,16 @@ pub fn replica_name(name: &str, r: usize) -> String {
     if r == 0 { name.to_string() } else { format!("{name}-r{r}") }
 }
 
+/// One experiment's result from its replicas' runs: the first failure, else [`mean_of`] their results.
+pub fn combine_replicas(runs: &[std::result::Result<Simulated, String>]) -> std::result::Result<Simulated, String> {
+    match runs.iter().find_map(|r| r.as_ref().err()) {
+        Some(why) => Err(why.clone()),
+        None => Ok(mean_of(&runs.iter().filter_map(|r| r.as_ref().ok().copied()).collect::<Vec<_>>())),
+    }
+}
+
 /// The mean of replicas' results: each value the mean over the replicas, None where any replica lacks it.
-pub fn mean_of(replicas: &[Simulated]) -> Simulated {
+fn mean_of(replicas: &[Simulated]) -> Simulated {
     let mean = |get: fn(&Simulated) -> Option<f64>| {
         let v: Option<Vec<f64>> = replicas.iter().map(get).collect();
         v.filter(|v| !v.is_empty()).map(|v| v.iter().sum::<f64>() / v.len() as f64)
