@@ -81,10 +81,12 @@ fn for_each_close_pair(pos: &[[f64; 3]], radius: f64, mut f: impl FnMut(usize, u
         unsafe {
             for_each_neighbour::<f64, V3f64, _>(&cl.grid, cl.starts.as_ptr(), a, |t| {
                 let t = t as usize;
-                if t > s && cl.grid.dist2::<f64, V3f64>(a, &sorted[t]) < support2 {
-                    let c = sorted[t].0;
-                    let r2 = (a.0[0] - c[0]).powi(2) + (a.0[1] - c[1]).powi(2) + (a.0[2] - c[2]).powi(2);
-                    f(cl.perm[s] as usize, cl.perm[t] as usize, r2);
+                if t > s {
+                    // The grid has no period: dist2 is Σ (a_k − c_k)², summed x, y, z.
+                    let r2 = cl.grid.dist2::<f64, V3f64>(a, &sorted[t]);
+                    if r2 < support2 {
+                        f(cl.perm[s] as usize, cl.perm[t] as usize, r2);
+                    }
                 }
             })
         };
