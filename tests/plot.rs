@@ -120,10 +120,8 @@ fn two_series_make_a_png_of_the_requested_size() {
     assert_eq!(entries(&dir), ["waves.png"]);
 }
 
-/// The columns a run writes (`swarf::run::energy_header`), so the test reads the real format.
-fn energy_header() -> Vec<&'static str> {
-    swarf::run::energy_header()
-}
+// The columns a run writes (`swarf::run::energy_header`), so the test reads the real format.
+use swarf::run::energy_header;
 
 /// energy.csv's header and every row come from one table (`solver::diagnostics::ENERGY_COLUMNS`): a row has one
 /// value per column, in the header's order, and no column name repeats.
