@@ -176,9 +176,9 @@ fn a_tiny_identification_writes_everything_and_resumes_bitwise() {
     assert_eq!(std::fs::read_to_string(out.join("history.csv")).unwrap(), full, "resumed history differs");
     assert!(mtime(3) != t3, "evaluation 3 was not run again");
     assert_eq!(mtime(5), t5, "evaluation 5 ran again instead of being taken from its folder");
-    // A new identification into the same folder, or a resume with another file, is refused.
+    // A new identification into the same folder, or a resume with a file that asks for another fit, is refused.
     assert!(identify(&cpu(), &opts).unwrap_err().to_string().contains("--resume"));
-    let changed = tiny_file(&dir, "# changed\n");
+    let changed = tiny_file(&dir, "[objective]\nfc_weight = 2.0\n");
     let e = identify(&cpu(), &IdentifyOptions { file: changed, resume: true, ..opts }).unwrap_err().to_string();
     assert!(e.contains("differs"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
@@ -364,6 +364,42 @@ fn holdout_tests_run_the_best_set_and_the_compare_materials() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("compare") && e.contains("No-Such-Set") && e.contains("expected"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Held-out tests may be added to an identification after its fit: `--resume --holdout-only` accepts a file that
+/// differs from the folder's only in `[[holdout]]` and `compare`, runs the added test at the recorded best set, and a
+/// file that changes the fit (a parameter's bound) is still refused.
+#[test]
+fn held_out_tests_may_be_added_after_the_fit() {
+    let dir = tmp("holdout-added");
+    let scene = v0060().display().to_string();
+    let file = tiny_file(&dir, "");
+    let text = std::fs::read_to_string(&file).unwrap();
+    let out = dir.join("out");
+    let opts = IdentifyOptions {
+        file: file.clone(),
+        out_dir: out.clone(),
+        batch: None,
+        only: None,
+        width: Some(3),
+        resume: false,
+        holdout_only: false,
+        quiet: true,
+    };
+    let fit = identify(&cpu(), &opts).expect("identify without holdout");
+    assert!(!out.join(swarf::identify::holdout::CSV).exists(), "a fit without [[holdout]] wrote holdout.csv");
+    let holdout = HOLDOUT.replace("__SCENE__", &scene);
+    std::fs::write(&file, format!("{text}{holdout}")).unwrap();
+    let added = IdentifyOptions { resume: true, holdout_only: true, ..opts.clone() };
+    let done = identify(&cpu(), &added).expect("holdout added after the fit");
+    assert_eq!(done.rows.len(), fit.rows.len(), "the holdout changed the history");
+    let (_, rows) = read_holdout(&out);
+    assert_eq!(rows.iter().map(|r| (r[0].as_str(), r[1].as_str())).collect::<Vec<_>>(), [("best", "slow")]);
+    assert_eq!(rows[0][8], "ok");
+    std::fs::write(&file, format!("{}{}", text.replace("upper = 0.6", "upper = 0.7"), holdout)).unwrap();
+    let e = identify(&cpu(), &added).unwrap_err().to_string();
+    assert!(e.contains("only [[holdout]] and compare may change"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
