@@ -308,8 +308,9 @@ for p in $parts; do
                 # SWARF_FIT_ONLY / SWARF_FIT_BATCH empty: the file's parameters and batch.
                 [ -n "${SWARF_FIT_ONLY-tool.friction}" ] && extra+=(--only "${SWARF_FIT_ONLY-tool.friction}")
                 [ -n "${SWARF_FIT_BATCH-15}" ] && extra+=(--batch "${SWARF_FIT_BATCH-15}")
-                timeout -s INT "${SWARF_FIT_S:-250}" "$here/swarf" --backend gpu identify $f "${extra[@]}" \
-                    --width "${SWARF_FIT_W:-40}" --out $d $resume
+                # SWARF_FIT_S=0: no fit, only the holdout of the carried folder (e.g. held-out tests added since)
+                [ "${SWARF_FIT_S:-250}" = 0 ] || timeout -s INT "${SWARF_FIT_S:-250}" "$here/swarf" --backend gpu \
+                    identify $f "${extra[@]}" --width "${SWARF_FIT_W:-40}" --out $d $resume
                 cat $d/report.md; cp $d/history.csv "$out/mufit-history.csv"
                 echo "finished runs kept: $(find $d/runs -name identify-finished.txt | wc -l)"
                 if [ "${SWARF_HOLDOUT_S:-320}" != 0 ]; then

@@ -261,16 +261,7 @@ fn bad_identification_files_are_refused_before_any_run() {
         let file = dir.join("bad.toml");
         std::fs::write(&file, &text).unwrap();
         let out = dir.join("out-bad");
-        let opts = IdentifyOptions {
-            file: file.clone(),
-            out_dir: out.clone(),
-            batch: None,
-            only: None,
-            width: Some(3),
-            resume: false,
-            holdout_only: false,
-            quiet: true,
-        };
+        let opts = IdentifyOptions { width: Some(3), ..options(&file, &out) };
         let e = identify(&cpu(), &opts).expect_err(what).to_string();
         assert!(e.contains(&file.display().to_string()) && e.contains(key) && e.contains("expected"), "{what}: {e}");
         assert!(!out.exists(), "{what}: a folder was written");
@@ -317,16 +308,7 @@ fn holdout_tests_run_the_best_set_and_the_compare_materials() {
     let file = dir.join("holdout.toml");
     std::fs::write(&file, &text).unwrap();
     let out = dir.join("out");
-    let opts = IdentifyOptions {
-        file: file.clone(),
-        out_dir: out.clone(),
-        batch: None,
-        only: None,
-        width: Some(3),
-        resume: false,
-        holdout_only: false,
-        quiet: true,
-    };
+    let opts = IdentifyOptions { width: Some(3), ..options(&file, &out) };
     identify(&cpu(), &opts).expect("identify with holdout");
     let (head, rows) = read_holdout(&out);
     assert_eq!(head[..4], ["set", "test", "fc_measured", "fc_simulated"]);
@@ -377,16 +359,7 @@ fn held_out_tests_may_be_added_after_the_fit() {
     let file = tiny_file(&dir, "");
     let text = std::fs::read_to_string(&file).unwrap();
     let out = dir.join("out");
-    let opts = IdentifyOptions {
-        file: file.clone(),
-        out_dir: out.clone(),
-        batch: None,
-        only: None,
-        width: Some(3),
-        resume: false,
-        holdout_only: false,
-        quiet: true,
-    };
+    let opts = IdentifyOptions { width: Some(3), ..options(&file, &out) };
     let fit = identify(&cpu(), &opts).expect("identify without holdout");
     assert!(!out.join(swarf::identify::holdout::CSV).exists(), "a fit without [[holdout]] wrote holdout.csv");
     let holdout = HOLDOUT.replace("__SCENE__", &scene);
