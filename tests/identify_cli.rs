@@ -7,9 +7,9 @@ use std::path::{Path, PathBuf};
 
 use swarf::backend::{AnyBackend, BackendChoice};
 use swarf::identify::data::{Condition, scale_overrides};
-use swarf::identify::file::{Measured, Objective};
+use swarf::identify::file::{Measured, Method, Objective};
 use swarf::identify::objective::{Simulated, combine, experiment_term};
-use swarf::identify::{IdentifyOptions, identify};
+use swarf::identify::{IdentifyOptions, Noise, identify};
 use swarf::scene::Scene;
 
 fn root() -> PathBuf {
@@ -228,6 +228,10 @@ fn bad_identification_files_are_refused_before_any_run() {
         good.replace("name = \"tiny\"", &format!("name = \"tiny\"\ndata = \"{}\"", data.display()))
             .replace("fc_n_per_mm = 157.5\nff_n_per_mm = 115.5", &format!("test = \"{test}\""))
     };
+    let bayes = |noise: &str| {
+        good.replace("method = \"de\"", "method = \"bayes\"")
+            .replace("de = { popsize = 2 }", &format!("bayes = {{ noise = {noise} }}"))
+    };
     // A file TOML cannot parse is refused naming the line.
     let budget_line = format!("line {}", good[..good.find("budget = 6").unwrap()].matches('\n').count() + 1);
     let cases: Vec<(&str, String, &str)> = vec![
@@ -251,6 +255,8 @@ fn bad_identification_files_are_refused_before_any_run() {
         ("unknown test id", with_test("V9999"), "experiment.0.test"),
         ("unusable status", with_test("V0068"), "experiment.0.test"),
         ("a Ck45 test on the Ti6Al4V model", with_test("V0069"), "experiment.0.scene"),
+        ("unknown noise", bayes("\"fast\""), "optimizer.bayes.noise"),
+        ("no noise", bayes("0.0"), "optimizer.bayes.noise"),
     ];
     let rows = std::fs::read_to_string(&data).unwrap();
     assert!(
@@ -265,6 +271,13 @@ fn bad_identification_files_are_refused_before_any_run() {
         let e = identify(&cpu(), &opts).expect_err(what).to_string();
         assert!(e.contains(&file.display().to_string()) && e.contains(key) && e.contains("expected"), "{what}: {e}");
         assert!(!out.exists(), "{what}: a folder was written");
+    }
+    // The noise keyword that is accepted: "fit" (a variance chosen by the likelihood), beside a fixed variance.
+    for (noise, want) in [("\"fit\"", Noise::Fit), ("1e-3", Noise::Fixed(1e-3))] {
+        let file = dir.join("bayes.toml");
+        std::fs::write(&file, bayes(noise)).unwrap();
+        let spec = swarf::identify::file::read(&file).expect("a Bayes file");
+        assert!(matches!(spec.optimizer.method, Method::Bayes(s) if s.noise == want), "{noise}");
     }
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -5,7 +5,7 @@
 //! stalled because his GP overhead grew to 20 min per iteration; here a fit of a few hundred points takes
 //! milliseconds. Non-finite values (failed runs) enter as the worst finite value seen, so the search avoids them.
 
-use super::gp::{Gp, expected_improvement};
+use super::gp::{Gp, NOISES, expected_improvement};
 use super::optimizer::{Optimizer, argmin, key, latin_hypercube};
 use crate::rng::SplitMix64;
 
@@ -17,14 +17,25 @@ pub struct BayesSettings {
     pub candidates: usize,
     /// Exploration margin ξ of the expected improvement, as a fraction of the values' standard deviation.
     pub xi: f64,
-    /// Noise variance on standardised values (Klippel: 1e-5).
-    pub noise: f64,
+    /// The process's noise (Klippel: a fixed 1e-5).
+    pub noise: Noise,
     pub seed: u64,
+}
+
+/// The noise term of the process.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Noise {
+    /// A fixed variance on standardised values; the improvement is measured from the best value seen.
+    Fixed(f64),
+    /// Chosen with the length scale by the marginal likelihood (`gp::NOISES`); the improvement is measured from the
+    /// smallest posterior mean at the points run, so that one lucky run does not set the bar (the "plug-in" expected
+    /// improvement for noisy values).
+    Fit,
 }
 
 impl Default for BayesSettings {
     fn default() -> Self {
-        BayesSettings { initial: 0, candidates: 2000, xi: 1e-3, noise: 1e-5, seed: 1 }
+        BayesSettings { initial: 0, candidates: 2000, xi: 1e-3, noise: Noise::Fixed(1e-5), seed: 1 }
     }
 }
 
@@ -100,8 +111,15 @@ impl Optimizer for Bayes {
         let mut y = self.data();
         let mut out = Vec::with_capacity(max);
         for _ in 0..max {
-            let Some(gp) = Gp::fit(&x, &y, self.s.noise) else { break };
-            let best = y.iter().copied().fold(f64::INFINITY, f64::min);
+            let noises = match &self.s.noise {
+                Noise::Fixed(v) => std::slice::from_ref(v),
+                Noise::Fit => &NOISES[..],
+            };
+            let Some(gp) = Gp::fit(&x, &y, noises) else { break };
+            let best = match self.s.noise {
+                Noise::Fixed(_) => y.iter().copied().fold(f64::INFINITY, f64::min),
+                Noise::Fit => x.iter().map(|p| gp.predict(p).0).fold(f64::INFINITY, f64::min),
+            };
             let mean = y.iter().sum::<f64>() / y.len() as f64;
             let sd = (y.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / y.len() as f64).sqrt();
             let p = self.acquire(&gp, best, sd);

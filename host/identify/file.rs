@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use super::data::{self, Condition};
-use super::{BayesSettings, DeSettings, NelderMeadSettings, Strategy};
+use super::{BayesSettings, DeSettings, NelderMeadSettings, Noise, Strategy};
 use crate::scene::Scene;
 use crate::{Error, Result};
 
@@ -508,6 +508,10 @@ fn bayes_settings(f: &Ctx, o: &toml::Table, seed: u64) -> Result<BayesSettings> 
     s.initial = f.count(t, at, "initial", "an integer ≥ 0 (0: max(2d + 1, 10))", 0)?.unwrap_or(s.initial);
     s.candidates = f.count(t, at, "candidates", "an integer ≥ 1", 1)?.unwrap_or(s.candidates);
     s.xi = f.number(t, at, "xi", "a margin ≥ 0", non_negative)?.unwrap_or(s.xi);
-    s.noise = f.number(t, at, "noise", "a variance > 0", positive)?.unwrap_or(s.noise);
+    s.noise = match t.get("noise") {
+        Some(toml::Value::String(v)) if v == "fit" => Noise::Fit,
+        Some(_) => Noise::Fixed(f.number(t, at, "noise", "a variance > 0 or \"fit\"", positive)?.unwrap_or(0.0)),
+        None => s.noise,
+    };
     Ok(s)
 }

@@ -1,6 +1,8 @@
 //! A Gaussian-process regression for the Bayesian optimiser: Matérn 5/2 kernel with one length scale (chosen from
-//! a grid by the log marginal likelihood) on standardised values, with a small noise term (Klippel set 1e-5: the
-//! SPH is deterministic; klippel-constitutive.md §6.1). Dense Cholesky; n stays in the hundreds.
+//! a grid by the log marginal likelihood) on standardised values, with a noise term: Klippel's fixed 1e-5 (the SPH is
+//! deterministic; klippel-constitutive.md §6.1), or chosen with the length by the same likelihood from a grid, for
+//! objectives whose runs scatter (a chaotic cut: docs/identification.md "Noise"). Dense Cholesky; n stays in the
+//! hundreds.
 
 /// k(r) = (1 + √5 r/ℓ + 5r²/(3ℓ²)) exp(−√5 r/ℓ), unit signal variance.
 pub fn matern52(a: &[f64], b: &[f64], length: f64) -> f64 {
@@ -57,6 +59,7 @@ pub struct Gp {
     l: Vec<f64>,
     alpha: Vec<f64>,
     length: f64,
+    noise: f64,
     mean: f64,
     scale: f64,
 }
@@ -64,33 +67,44 @@ pub struct Gp {
 /// Length scales tried (unit-cube coordinates).
 const LENGTHS: [f64; 8] = [0.05, 0.1, 0.15, 0.2, 0.3, 0.5, 0.8, 1.2];
 
+/// Noise variances tried when the noise is fitted (on standardised values: a fraction of the data's variance).
+pub const NOISES: [f64; 9] = [1e-6, 1e-5, 1e-4, 1e-3, 3e-3, 1e-2, 3e-2, 0.1, 0.3];
+
 impl Gp {
-    /// Fits to (x, y) with `noise` (variance, on standardised values) and the length scale of largest marginal
-    /// likelihood; None if no covariance matrix factorises (duplicate points with no noise).
-    pub fn fit(x: &[Vec<f64>], y: &[f64], noise: f64) -> Option<Gp> {
+    /// Fits to (x, y) with the noise (a variance, on standardised values) and the length scale of largest marginal
+    /// likelihood among `noises` × the length grid; None if no covariance matrix factorises (duplicate points with
+    /// no noise).
+    pub fn fit(x: &[Vec<f64>], y: &[f64], noises: &[f64]) -> Option<Gp> {
         let n = y.len();
         let mean = y.iter().sum::<f64>() / n as f64;
         let var = y.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / n as f64;
         let scale = if var > 0.0 { var.sqrt() } else { 1.0 };
         let z: Vec<f64> = y.iter().map(|v| (v - mean) / scale).collect();
         let mut best: Option<(f64, Gp)> = None;
-        for &length in &LENGTHS {
-            let mut k = vec![0.0; n * n];
-            for i in 0..n {
-                for j in 0..n {
-                    k[i * n + j] = matern52(&x[i], &x[j], length) + if i == j { noise + 1e-10 } else { 0.0 };
+        for &noise in noises {
+            for &length in &LENGTHS {
+                let mut k = vec![0.0; n * n];
+                for i in 0..n {
+                    for j in 0..n {
+                        k[i * n + j] = matern52(&x[i], &x[j], length) + if i == j { noise + 1e-10 } else { 0.0 };
+                    }
                 }
-            }
-            let Some(l) = cholesky(&k, n) else { continue };
-            let alpha = backward(&l, n, &forward(&l, n, &z));
-            // log p(z) = −½ zᵀα − Σ ln L_ii − n/2 ln 2π (the constant is dropped).
-            let fit = -0.5 * z.iter().zip(&alpha).map(|(a, b)| a * b).sum::<f64>()
-                - (0..n).map(|i| l[i * n + i].ln()).sum::<f64>();
-            if best.as_ref().is_none_or(|(b, _)| fit > *b) {
-                best = Some((fit, Gp { x: x.to_vec(), l, alpha, length, mean, scale }));
+                let Some(l) = cholesky(&k, n) else { continue };
+                let alpha = backward(&l, n, &forward(&l, n, &z));
+                // log p(z) = −½ zᵀα − Σ ln L_ii − n/2 ln 2π (the constant is dropped).
+                let fit = -0.5 * z.iter().zip(&alpha).map(|(a, b)| a * b).sum::<f64>()
+                    - (0..n).map(|i| l[i * n + i].ln()).sum::<f64>();
+                if best.as_ref().is_none_or(|(b, _)| fit > *b) {
+                    best = Some((fit, Gp { x: x.to_vec(), l, alpha, length, noise, mean, scale }));
+                }
             }
         }
         best.map(|(_, g)| g)
+    }
+
+    /// The chosen noise variance in the data's units (squared).
+    pub fn noise_variance(&self) -> f64 {
+        self.noise * self.scale * self.scale
     }
 
     /// Posterior mean and standard deviation at `p`.

@@ -21,7 +21,7 @@ pub mod optimizer;
 pub mod report;
 pub mod scenes;
 
-pub use bayes::{Bayes, BayesSettings};
+pub use bayes::{Bayes, BayesSettings, Noise};
 pub use campaign::{Identification, IdentifyOptions, identify};
 pub use de::{DeSettings, DifferentialEvolution, Strategy};
 pub use nelder_mead::{NelderMead, NelderMeadSettings};
