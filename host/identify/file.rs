@@ -510,8 +510,7 @@ fn bayes_settings(f: &Ctx, o: &toml::Table, seed: u64) -> Result<BayesSettings> 
     s.xi = f.number(t, at, "xi", "a margin ≥ 0", non_negative)?.unwrap_or(s.xi);
     s.noise = match t.get("noise") {
         Some(toml::Value::String(v)) if v == "fit" => Noise::Fit,
-        Some(_) => Noise::Fixed(f.number(t, at, "noise", "a variance > 0 or \"fit\"", positive)?.unwrap_or(0.0)),
-        None => s.noise,
+        _ => f.number(t, at, "noise", "a variance > 0 or \"fit\"", positive)?.map_or(s.noise, Noise::Fixed),
     };
     Ok(s)
 }

@@ -81,13 +81,18 @@ impl Gp {
         let scale = if var > 0.0 { var.sqrt() } else { 1.0 };
         let z: Vec<f64> = y.iter().map(|v| (v - mean) / scale).collect();
         let mut best: Option<(f64, Gp)> = None;
-        for &noise in noises {
-            for &length in &LENGTHS {
-                let mut k = vec![0.0; n * n];
+        for &length in &LENGTHS {
+            // The kernel matrix once per length; each noise only adds to its diagonal.
+            let mut kernel = vec![0.0; n * n];
+            for i in 0..n {
+                for j in 0..n {
+                    kernel[i * n + j] = matern52(&x[i], &x[j], length);
+                }
+            }
+            for &noise in noises {
+                let mut k = kernel.clone();
                 for i in 0..n {
-                    for j in 0..n {
-                        k[i * n + j] = matern52(&x[i], &x[j], length) + if i == j { noise + 1e-10 } else { 0.0 };
-                    }
+                    k[i * n + i] += noise + 1e-10;
                 }
                 let Some(l) = cholesky(&k, n) else { continue };
                 let alpha = backward(&l, n, &forward(&l, n, &z));
