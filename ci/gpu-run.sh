@@ -2,7 +2,7 @@
 # Runs on the GPU machine from the repository root (or anywhere with gpu-pack/ beside it): device info, the
 # GPU-against-CPU tests, the PTX test, `swarf bench`, the criterion benches. Logs go to $OUT (or ./gpu-logs).
 # Arguments select parts: info firstrun tests hard regs fast bench step rings ptx plasticity runs criterion cutting ladder sweep fine
-# mpm26 mpm26b mpm025ck mpmv1frag mpmv8fine mpmv8path mpmv8long mpmv14 mpmv10 mpmv78 mpmv5fine mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout mufit identify v0300noise ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine shtb25 gf25 ducobugf taylor24 tool3d tools24 cspm24 nonfinite24 mill24 wheel24 wide24 grainres ortho5 orthosw whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
+# mpm26 mpm26b mpmgrid mpm025ck mpmv1frag mpmv8fine mpmv8path mpmv8long mpmv14 mpmv10 mpmv78 mpmv5fine mpmsweep mpmdamp mpmv mpmedge mpmv5 ensemble bgensemble waitensemble earlystop holdout mufit identify v0300noise ck45 contactlaws contactlong table22 switches22 mu22 damage25 damage25fine shtb25 gf25 ducobugf taylor24 tool3d tools24 cspm24 nonfinite24 mill24 wheel24 wide24 grainres ortho5 orthosw whole150k bg150k wait150k make150k bgmake150k ncu ncufrom cutsteps fromcut refcut f32fail abfrom abstep abdamage abregs abblock abenv ncusrc refvar
 # (default: info tests bench rings plasticity runs criterion). Run from the repository root
 # (the rings benchmark reads cases/rings.toml).
 set -uo pipefail
@@ -1162,6 +1162,18 @@ $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s" \
                   keep_sweeps v1fine v1
               }
               run mpmv1frag mpm_v1frag ;;
+        mpmgrid) # issue 26: one batched sweep of cases/mpm/nairn-cut.toml with the --set/--grid arguments of
+                 # SWARF_MPM_ARGS (split at spaces), named SWARF_MPM_NAME (default grid), --batch SWARF_MPM_BATCH
+                 # (default 8), stopped at SWARF_SWEEP_S s (default 540); $out/mpmsweep-<name>.{md,csv}.
+              mpm_grid() {
+                  local name=${SWARF_MPM_NAME:-grid} t0=$(date +%s.%N)
+                  # shellcheck disable=SC2086 # the arguments are words on purpose
+                  timeout -s INT "${SWARF_SWEEP_S:-540}" "$here/swarf" --backend gpu sweep cases/mpm/nairn-cut.toml \
+                      --quiet --batch "${SWARF_MPM_BATCH:-8}" --out "/tmp/mpmsweep/$name" ${SWARF_MPM_ARGS:-}
+                  echo "$name: $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s wall"
+                  keep_sweeps "$name"
+              }
+              run mpmgrid mpm_grid ;;
         mpmv8fine) # issue 26 (docs/mpm.md "V8 at 31 particles"): V8's bending regime (E_T = 100 MPa, mu = 0) at 31
                    # particles through h, rakes 15/30/45 x h 3, 5, 7 mm, room 20 h, as one batched sweep (is the
                    # fall beyond 3-5 mm at 15 particles the resolution's, as V5's early transition was?). Stops at
