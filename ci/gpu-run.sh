@@ -93,6 +93,15 @@ keep_sweeps() { # names...: each /tmp/mpmsweep/<name>'s sweep.md and sweep.csv i
         cp "/tmp/mpmsweep/$v/sweep.csv" "$out/mpmsweep-$v.csv" 2>/dev/null
     done
 }
+mpm_sweep() { # name, batch, bound [s] (0: none; SIGINT at it), --grid/--set arguments...: one batched sweep of
+               # cases/mpm/nairn-cut.toml into /tmp/mpmsweep/<name>, its wall time, its tables into $out
+    local name=$1 batch=$2 bound=$3; shift 3
+    local t0=$(date +%s.%N)
+    timeout -s INT "$bound" "$here/swarf" --backend gpu sweep cases/mpm/nairn-cut.toml --quiet --batch "$batch" \
+        --out "/tmp/mpmsweep/$name" "$@"
+    echo "$name: batch $batch: $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s wall"
+    keep_sweeps "$name"
+}
 cut() { # a cutting run on the GPU: out-name, scene, extra args; prints its summary and a thinned force trace
     local name=$1 scene=$2; shift 2
     "$here/swarf" --backend gpu run "$scene" --quiet --out "/tmp/swarf-cut/$name" "$@" || return 1
@@ -944,26 +953,18 @@ PY
                   # 16 at once (unless SWARF_MPM_FIGURE_ONLY); (2) unless SWARF_MPM_PROBE_ONLY, a whole h x rake x friction figure (10 x 2 x 5 = 100
                   # points, cut_length SWARF_MPM_LENGTH, default the scene's) at --batch SWARF_MPM_BATCH (default 16),
                   # in the background so that its table survives the call's limit (sweep.md is rewritten per point).
-              mpm_sweep() { # name, batch, --grid/--set arguments...
-                  local name=$1 batch=$2; shift 2
-                  local t0=$(date +%s.%N)
-                  "$here/swarf" --backend gpu sweep cases/mpm/nairn-cut.toml --quiet --batch "$batch" \
-                      --out "/tmp/mpmsweep/$name" "$@"
-                  echo "$name: batch $batch: $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s wall"
-                  keep_sweeps "$name"
-              }
               mpm_probe() {
                   local short=(--set cut.cut_length=3.0)
-                  mpm_sweep probe8-serial 1 "${short[@]}" --grid cut.friction=0,0.05,0.1,0.15,0.2,0.25,0.3,0.35
-                  mpm_sweep probe8-batch8 8 "${short[@]}" --grid cut.friction=0,0.05,0.1,0.15,0.2,0.25,0.3,0.35
-                  mpm_sweep probe16-batch16 16 "${short[@]}" \
+                  mpm_sweep probe8-serial 1 0 "${short[@]}" --grid cut.friction=0,0.05,0.1,0.15,0.2,0.25,0.3,0.35
+                  mpm_sweep probe8-batch8 8 0 "${short[@]}" --grid cut.friction=0,0.05,0.1,0.15,0.2,0.25,0.3,0.35
+                  mpm_sweep probe16-batch16 16 0 "${short[@]}" \
                       --grid cut.friction=0,0.05,0.1,0.15,0.2,0.25,0.3,0.35 --grid cut.rake=30,15
               }
               [ -z "${SWARF_MPM_FIGURE_ONLY:-}" ] && run mpmprobe mpm_probe
               [ -n "${SWARF_MPM_PROBE_ONLY:-}" ] && continue
               (
                   len=${SWARF_MPM_LENGTH:+--set cut.cut_length=$SWARF_MPM_LENGTH}
-                  mpm_sweep figure "${SWARF_MPM_BATCH:-16}" $len \
+                  mpm_sweep figure "${SWARF_MPM_BATCH:-16}" 0 $len \
                       --grid cut.depth=0.25e-3,0.5e-3,0.75e-3,1.0e-3,1.25e-3,1.5e-3,2.0e-3,2.5e-3,3.0e-3,3.5e-3 \
                       --grid cut.rake=30,15 --grid cut.friction=0,0.1,0.2,0.4,0.6
               ) > "$out/mpmfigure.log" 2>&1 &
@@ -1165,15 +1166,9 @@ $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s" \
         mpmgrid) # issue 26: one batched sweep of cases/mpm/nairn-cut.toml with the --set/--grid arguments of
                  # SWARF_MPM_ARGS (split at spaces), named SWARF_MPM_NAME (default grid), --batch SWARF_MPM_BATCH
                  # (default 8), stopped at SWARF_SWEEP_S s (default 540); $out/mpmsweep-<name>.{md,csv}.
-              mpm_grid() {
-                  local name=${SWARF_MPM_NAME:-grid} t0=$(date +%s.%N)
-                  # shellcheck disable=SC2086 # the arguments are words on purpose
-                  timeout -s INT "${SWARF_SWEEP_S:-540}" "$here/swarf" --backend gpu sweep cases/mpm/nairn-cut.toml \
-                      --quiet --batch "${SWARF_MPM_BATCH:-8}" --out "/tmp/mpmsweep/$name" ${SWARF_MPM_ARGS:-}
-                  echo "$name: $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s wall"
-                  keep_sweeps "$name"
-              }
-              run mpmgrid mpm_grid ;;
+              # shellcheck disable=SC2086 # the arguments are words on purpose
+              run mpmgrid mpm_sweep "${SWARF_MPM_NAME:-grid}" "${SWARF_MPM_BATCH:-8}" "${SWARF_SWEEP_S:-540}" \
+                  ${SWARF_MPM_ARGS:-} ;;
         mpmv8fine) # issue 26 (docs/mpm.md "V8 at 31 particles"): V8's bending regime (E_T = 100 MPa, mu = 0) at 31
                    # particles through h, rakes 15/30/45 x h 3, 5, 7 mm, room 20 h, as one batched sweep (is the
                    # fall beyond 3-5 mm at 15 particles the resolution's, as V5's early transition was?). Stops at
