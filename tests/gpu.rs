@@ -698,12 +698,16 @@ fn sph_cohesive_path_equals_cpu() {
         "time.end=2e-3",
         "output.every=2e-4",
     ];
-    let cases: [(&str, &[&str]); 4] = [
+    // The coarse cut with CSPM on the faces (`_cspm_cut`; docs/mpm.md, "CSPM on the faces"), at Nairn's σ_c.
+    let mut coarse_cspm = coarse.to_vec();
+    coarse_cspm.push("stabilisation.cspm={}");
+    let cases: [(&str, &[&str]); 5] = [
         ("cases/mpm/sph-bond-mode1.toml", &[]),
         // With XSPH and the smoothed-velocity damping (docs/mpm.md).
         ("cases/mpm/sph-bond-mode1.toml", &["stabilisation.xsph={epsilon=0.5, pic=0.5}"]),
         ("cases/mpm/sph-bond-mode2.toml", &[]),
         ("cases/mpm/nairn-cut-sph.toml", &coarse),
+        ("cases/mpm/nairn-cut-sph.toml", &coarse_cspm),
     ];
     for (file, ov) in cases {
         let ov: Vec<String> = ov.iter().map(|s| s.to_string()).collect();

@@ -112,8 +112,9 @@ fn default_register_caps_mark_the_2d_neighbour_kernels_and_the_plastic_corrector
             plastic += (has && is_plastic) as usize;
         }
         // 2 precisions × (8 plain + 8 fused stabiliser variants) × (plain, with damage, with CSPM) + Brookshaw and
-        // PSE conduction in 2 precisions + the cohesive path's 8 plain variants (`_cut`) in 2 precisions.
-        assert_eq!(neighbour_2d, 116, "{target}: 2D neighbour entries capped");
+        // PSE conduction in 2 precisions + the cohesive path's 8 variants, plain (`_cut`) and with CSPM
+        // (`_cspm_cut`), in 2 precisions.
+        assert_eq!(neighbour_2d, 132, "{target}: 2D neighbour entries capped");
         assert!(plastic >= 4, "{target}: only {plastic} plastic entries capped");
         assert_eq!(register_caps(ptx, Some(0), Some(0)), *ptx, "{target}: caps 0 must leave the PTX as built");
     }

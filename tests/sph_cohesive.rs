@@ -107,7 +107,7 @@ fn a_traction_free_plane_couples_nothing() {
 }
 
 /// Scenes the path cannot run are refused before any work, naming the key: a plane on a particle row, a starter
-/// outside the extent, an extent the plane does not cut, and the path beside CSPM.
+/// outside the extent and an extent the plane does not cut.
 #[test]
 fn bad_cohesive_paths_are_refused_with_the_key() {
     let file = "cases/mpm/sph-bond-mode1.toml";
@@ -125,7 +125,6 @@ fn bad_cohesive_paths_are_refused_with_the_key() {
     // The lattice's rows lie at odd multiples of Δx/2: y = 2.5e-5 is a row.
     refused(&["cohesive.plane=2.5e-5"], "cohesive.plane", "between two particle rows");
     refused(&["cohesive.traction_free=[-1e-3, 1e-3]"], "cohesive.traction_free", "within extent");
-    refused(&["stabilisation.cspm={}"], "cohesive.extent", "CSPM");
     refused(&["cohesive.extent=[3e-3, 4e-3]"], "cohesive.extent", "no particle pairs");
 }
 

@@ -273,13 +273,17 @@ pub trait Passes: Backend {
         if dmg && cs {
             return Err(Error::Length { op: "sph_rates (CSPM has no damage entries)", expected: 0, got: 1 });
         }
-        if cut && (dmg || cs || fused) {
-            return Err(Error::Length { op: "sph_rates (the cohesive path's entries are plain)", expected: 0, got: 1 });
+        if cut && (dmg || fused) {
+            return Err(Error::Length {
+                op: "sph_rates (the cohesive path has no damage or conduction entries)",
+                expected: 0,
+                got: 1,
+            });
         }
         if cut {
-            return with_bools!(AV = stab.viscosity, AS = stab.stress, XS = stab.xsph; {
+            return with_bools!(AV = stab.viscosity, AS = stab.stress, XS = stab.xsph, CS = cs; {
                 // SAFETY: as below; the flags hold n sorted particles.
-                unsafe { self.launch::<RatesPass<R, D, AV, AS, XS, false, false, false, true>>(&a) }
+                unsafe { self.launch::<RatesPass<R, D, AV, AS, XS, false, false, CS, true>>(&a) }
             });
         }
         with_bools!(AV = stab.viscosity, AS = stab.stress, XS = stab.xsph, HEAT = fused; {

@@ -4,15 +4,10 @@
 use super::mpm::{LAW_KEYS, cohesive_law};
 use super::*;
 
-/// `[cohesive]` (optional). The path's bonds and its pair exclusion have entries of their own without conduction,
-/// damage or CSPM, and its id map does not know the blanking's frozen particles: each is refused beside it.
-pub(super) fn path(
-    root: &Tab<'_>,
-    physics: &Physics,
-    stabilisation: &Stabilisation,
-    damage: bool,
-    blanking: bool,
-) -> Result<Option<CohesivePath>> {
+/// `[cohesive]` (optional). The path's bonds and its pair exclusion have entries of their own without conduction
+/// or damage (with or without CSPM), and its id map does not know the blanking's frozen particles: each is refused
+/// beside it.
+pub(super) fn path(root: &Tab<'_>, physics: &Physics, damage: bool, blanking: bool) -> Result<Option<CohesivePath>> {
     let e = "a table [cohesive] with toughness, peak, plane and extent (docs/mpm.md)";
     let Some(t) = root.table("cohesive", "cohesive", e)? else { return Ok(None) };
     let keys: Vec<&str> = LAW_KEYS.iter().copied().chain(["plane", "extent", "traction_free"]).collect();
@@ -43,9 +38,6 @@ pub(super) fn path(
     }
     if damage {
         return refuse("with [damage]");
-    }
-    if stabilisation.cspm.is_some() {
-        return refuse("with CSPM (stabilisation.cspm)");
     }
     if blanking {
         return refuse("with [blanking]");

@@ -323,7 +323,7 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
     }
 
     let blanking = blanking(&root, dim, tool.as_ref())?;
-    let cohesive = cohesive::path(&root, &physics, &stabilisation, damage.is_some(), blanking.is_some())?;
+    let cohesive = cohesive::path(&root, &physics, damage.is_some(), blanking.is_some())?;
 
     Ok(Scene {
         origin: doc.file.clone(),

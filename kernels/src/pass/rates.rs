@@ -96,8 +96,8 @@ impl<R: Real, D: Dim> RatesArgs<R, D> {
 /// GPU (the CPU sums the lanes' shares in the same order: `sph::lanes`); with `DMG` the damage's interaction mask
 /// (`swarf_sph_rates_*_dmg`, `arrays.mask` set); with `CS` the corrected kernel gradient (`swarf_sph_rates_*_cspm`,
 /// `arrays.correction` set by the correction pass); with `CUT` no continuum pair across the cohesive path
-/// (`swarf_sph_rates_*_cut`, `sph::interact::cut_apart`; without conduction, damage or CSPM, which the scene
-/// refuses with it).
+/// (`swarf_sph_rates_*_cut`, `sph::interact::cut_apart`; with CSPM `_cspm_cut`; without conduction or damage,
+/// which the scene refuses with it).
 pub struct RatesPass<
     R,
     D,

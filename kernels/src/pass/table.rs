@@ -18,7 +18,7 @@
 ///   own (`_dmg` ending the name, so that prefixes such as the register caps' see them as their plain twins) so
 ///   that a run without damage runs the code it ran before; CSPM (`_cspm`): the corrected kernel gradient, without
 ///   damage (the scene refuses both at once); CUT (`_cut`): no continuum pair across the cohesive path (docs/mpm.md
-///   "The cohesive path in SPH"), without conduction, damage or CSPM;
+///   "The cohesive path in SPH"), without conduction or damage, with or without CSPM (`_cspm_cut`);
 /// - `bond`, `bond_index` (R, D): the cohesive path's bonds and the map from a particle's id to its sorted index
 ///   (`sph::bond`);
 /// - `plastic`, `finish_plastic` (R, D, flow model type, its tag, DMG): one per model of [`for_each_flow_model!`],
@@ -102,6 +102,8 @@ macro_rules! for_each_entry {
                 false, true, false);
             $cb!(rates, concat!("swarf_sph_rates_", $v, "_", stringify!($s), "_cut"), $r, $d, $av, $as, $xs, false,
                 false, false, true);
+            $cb!(rates, concat!("swarf_sph_rates_", $v, "_", stringify!($s), "_cspm_cut"), $r, $d, $av, $as, $xs,
+                false, false, true, true);
         )*
     };
     (@model_entries $cb:ident, $r:ident, $d:ident, $v:literal; $(($t:ident, $tag:ident)),* $(,)?) => {

@@ -9,9 +9,12 @@
 //! (AT-63), which the uncorrected scheme reverses (AT-64).
 //!
 //! Only mechanical neighbours enter B (the tool's thermal-only particles have no mechanical mass), as in [C3D].
+//! Across a cohesive path (`interact::cut_apart`) no pair enters B either: each face's rows are corrected over
+//! their own side, as the `_cspm_cut` interaction then uses them (docs/mpm.md, "CSPM on the faces").
 //! Where det B ≤ `min_det` (a particle with too few neighbours, or neighbours on a line), B⁻¹ is the identity:
 //! the uncorrected gradient ([C3D]: det B > 1e-8).
 
+use super::interact::cut_apart;
 use super::lanes::{LaneSum, all_lanes, lane_share, map_real};
 use super::params::flags;
 use super::tensor::TensorOps;
@@ -60,7 +63,7 @@ impl<R: Real, D: Dim> LaneSum for CorrectionSum<R, D> {
 }
 
 /// Adds pair (i, j)'s term −V_j W'(r)/r x_ij ⊗ x_ij to `s` (nothing for j = i, beyond the support, closer than
-/// the skip distance `min_r2`, or a massless j).
+/// the skip distance `min_r2`, a massless j, or j across the cohesive path from i, whose side is `side_i`).
 ///
 /// # Safety
 /// The arrays of `a` hold j + 1 elements.
@@ -72,11 +75,16 @@ unsafe fn add_pair<R: Real, D: TensorOps<R>, const PER: bool>(
     per: &Period<R>,
     a: &CorrectionArrays<R, D>,
     xi: &D::Vec<R>,
+    side_i: u32,
     i: u32,
     j: u32,
     s: &mut CorrectionSum<R, D>,
 ) {
     let ju = j as usize;
+    // A particle off the path (side 0) is never cut apart: only a sided i reads j's flags.
+    if side_i != 0 && cut_apart(side_i, unsafe { read(a.flags.add(ju)) } & flags::SIDE_MASK) {
+        return;
+    }
     let (xj, m, v) = unsafe { (read(a.pos.add(ju)), read(a.mass.add(ju)), read(a.vol.add(ju))) };
     let xij = if PER {
         per.displacement(xi, &xj)
@@ -122,11 +130,11 @@ pub unsafe fn correction_share<R: Real, D: TensorOps<R>>(
         if !corrected(a, i) {
             return CorrectionSum::default();
         }
-        let xi = *a.pos.add(i as usize);
+        let (xi, side) = (*a.pos.add(i as usize), *a.flags.add(i as usize) & flags::SIDE_MASK);
         let per = Period::<R>::of::<D>(nb.grid);
         unswitch_period!(per, PER =>
             lane_share::<R, D::Vec<R>, _, _>(nb, &xi, i, lane, lanes, |j, s| {
-                add_pair::<R, D, PER>(k, min_r2, &per, a, &xi, i, j, s)
+                add_pair::<R, D, PER>(k, min_r2, &per, a, &xi, side, i, j, s)
             })
         )
     }
@@ -158,11 +166,11 @@ pub unsafe fn correction<R: Real, D: TensorOps<R>>(
         let s = if !corrected(a, i) {
             CorrectionSum::default()
         } else {
-            let xi = *a.pos.add(i as usize);
+            let (xi, side) = (*a.pos.add(i as usize), *a.flags.add(i as usize) & flags::SIDE_MASK);
             let per = Period::<R>::of::<D>(nb.grid);
             unswitch_period!(per, PER =>
                 all_lanes::<R, D::Vec<R>, _, _>(nb, &xi, i, lanes, |j, s| {
-                    add_pair::<R, D, PER>(k, min_r2, &per, a, &xi, i, j, s)
+                    add_pair::<R, D, PER>(k, min_r2, &per, a, &xi, side, i, j, s)
                 })
             )
         };
