@@ -1173,16 +1173,9 @@ $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s" \
                    # particles through h, rakes 15/30/45 x h 3, 5, 7 mm, room 20 h, as one batched sweep (is the
                    # fall beyond 3-5 mm at 15 particles the resolution's, as V5's early transition was?). Stops at
                    # SWARF_SWEEP_S s (default 560).
-              mpm_v8fine() {
-                  local t0=$(date +%s.%N)
-                  timeout -s INT "${SWARF_SWEEP_S:-560}" "$here/swarf" --backend gpu sweep cases/mpm/nairn-cut.toml \
-                      --quiet --batch 9 --out /tmp/mpmsweep/v8fine --set cut.particles_across=31 \
-                      --set material.tangent_modulus=100e6 --set cut.room=20 \
-                      --grid cut.rake=15,30,45 --grid cut.depth=3.0e-3,5.0e-3,7.0e-3
-                  echo "all: $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s wall"
-                  keep_sweeps v8fine
-              }
-              run mpmv8fine mpm_v8fine ;;
+              run mpmv8fine mpm_sweep v8fine 9 "${SWARF_SWEEP_S:-560}" --set cut.particles_across=31 \
+                  --set material.tangent_modulus=100e6 --set cut.room=20 \
+                  --grid cut.rake=15,30,45 --grid cut.depth=3.0e-3,5.0e-3,7.0e-3 ;;
         mpmv8path) # issue 26 (docs/mpm.md "V8 and the crack path's end"): V8's bending regime (E_T = 100 MPa, mu = 0,
                    # room 20 h) with the crack path lengthened from 18 to 24 h (specimen 36 h wide, so that 12 h stay
                    # uncut) at 15 particles through h (rakes 15/30/45 x h 3, 5, 7 mm) and at 31 (30 deg, 5 and 7 mm),
