@@ -7,13 +7,17 @@ use swarf::run::{RunOptions, Snapshot, run_observed, setup};
 use swarf::scene::Scene;
 use swarf::solver::Solver;
 
-/// A 16 × 16 lattice on [0, 1]² (Δx = 1/15, h = 1.7 Δx), no stabilisers (AT-04's set-up), with `extra` appended.
+/// AT-04's lattice spacing (16 nodes on [0, 1]) and h/Δx.
+const DX: f64 = 1.0 / 15.0;
+const H_OVER_DX: f64 = 1.7;
+
+/// A 16 × 16 lattice on [0, 1]² (Δx = `DX`, h = `H_OVER_DX` Δx), no stabilisers (AT-04's set-up), with `extra`
+/// appended.
 fn lattice_scene(extra: &str) -> Scene {
     let text = format!(
-        "name = \"at04\"\ndim = 2\n\n[discretisation]\ndx = {dx:e}\nh_over_dx = 1.7\n\n[material]\ndensity = 1.0\n\
+        "name = \"at04\"\ndim = 2\n\n[discretisation]\ndx = {DX:e}\nh_over_dx = {H_OVER_DX}\n\n[material]\ndensity = 1.0\n\
          youngs_modulus = 1.0e7\npoisson_ratio = 0.4\n\n[[body]]\nname = \"square\"\nshape = \"rectangle\"\n\
-         min = [0.0, 0.0]\nmax = [1.0, 1.0]\nlattice = \"nodes\"\n\n[time]\nend = 1.0e-6\ncfl = 0.5\n{extra}",
-        dx = 1.0 / 15.0
+         min = [0.0, 0.0]\nmax = [1.0, 1.0]\nlattice = \"nodes\"\n\n[time]\nend = 1.0e-6\ncfl = 0.5\n{extra}"
     );
     Scene::from_str(&text, "at04.toml", &[]).expect("scene")
 }
@@ -98,7 +102,7 @@ fn corrected_gradient_is_exact_on_each_face_of_a_cohesive_path() {
     let path = "\n[cohesive]\ntoughness = 2000.0\npeak = 40e6\nplane = 0.5\nextent = [-0.1, 1.1]\n";
     let cspm = "\n[stabilisation]\ncspm = {}\n";
     let jump = |x: f64, y: f64| if y > 0.5 { linear(x, y) } else { (-x + 4.0 * y - 2.0, [-1.0, 4.0]) };
-    let support = 2.0 * 1.7 / 15.0;
+    let support = 2.0 * H_OVER_DX * DX;
     let faces = |x: f64, y: f64| (y - 0.5).abs() < support && x > support && x < 1.0 - support;
     let (both, n) = gradient_error::<f64>(&lattice_scene(&format!("{cspm}{path}")), jump, all);
     let (uncorrected, m) = gradient_error::<f64>(&lattice_scene(path), jump, faces);
