@@ -116,6 +116,31 @@ fn corrected_gradient_is_exact_on_each_face_of_a_cohesive_path() {
     assert!(uncut > 0.3, "without the path the faces err by only {uncut}");
 }
 
+/// `scope = "path"` (docs/mpm.md, "CSPM on the path's faces only"): on the cut lattice of the test above, the
+/// particles with a neighbour across the path (the three rows on each side within the support 2h = 3.4 Δx of the
+/// plane, all 96 of them, the lattice's sides included) are corrected, so their gradient is exact (≤ 1e-11 relative
+/// in f64, AT-04's bound); every other particle keeps the plain gradient: over those rows the largest error is the
+/// uncorrected run's to the bit, and above 0.3 (the lattice's corners and sides, a free surface).
+#[test]
+fn path_scope_corrects_the_faces_only() {
+    let path = "\n[cohesive]\ntoughness = 2000.0\npeak = 40e6\nplane = 0.5\nextent = [-0.1, 1.1]\n";
+    let faces_only = format!("\n[stabilisation]\ncspm = {{ scope = \"path\" }}\n{path}");
+    let jump = |x: f64, y: f64| if y > 0.5 { linear(x, y) } else { (-x + 4.0 * y - 2.0, [-1.0, 4.0]) };
+    let support = 2.0 * H_OVER_DX * DX;
+    let band = |_: f64, y: f64| (y - 0.5).abs() < support;
+    let rest = |_: f64, y: f64| (y - 0.5).abs() >= support;
+    let (faces, n) = gradient_error::<f64>(&lattice_scene(&faces_only), jump, band);
+    let (elsewhere, m) = gradient_error::<f64>(&lattice_scene(&faces_only), jump, rest);
+    let (plain, _) = gradient_error::<f64>(&lattice_scene(path), jump, rest);
+    eprintln!(
+        "scope = \"path\": {n} face particles err by {faces:e}; the other {m} by {elsewhere:.4} (plain {plain:.4})"
+    );
+    assert_eq!((n, m), (96, 160));
+    assert!(faces <= 1e-11, "the faces' corrected gradient errs by {faces:e}");
+    assert_eq!(elsewhere.to_bits(), plain.to_bits(), "off the faces the gradient must be the plain one");
+    assert!(plain > 0.3, "the plain gradient off the faces errs by only {plain}");
+}
+
 /// AT-63 (roethlin-solver.md §7.1, Fig 7.3): the rubber disk of cases/disk-rotation.toml (276 particles, ω = 50
 /// rad/s, AV on) with the CSPM correction keeps its angular momentum over one revolution, |H(t)/H(0) − 1| < 2 %
 /// (the digest's proposed bound), where the uncorrected scheme reverses the spin (AT-64,
@@ -148,13 +173,18 @@ fn corrected_disk_keeps_its_spin() {
     assert!(e.iter().all(|&x| x <= e[0] * (1.0 + 1e-12)), "energy rose above its initial value");
 }
 
-/// The correction's scene keys: `min_determinant` must lie in [0, 1), and CSPM is refused with `[damage]` (no
-/// entries combine the corrected gradient with the interaction mask), each naming the key.
+/// The correction's scene keys: `min_determinant` must lie in [0, 1), `scope` is "all" or "path" and "path" needs a
+/// `[cohesive]` table, and CSPM is refused with `[damage]` (no entries combine the corrected gradient with the
+/// interaction mask), each naming the key.
 #[test]
 fn cspm_keys_are_checked() {
     let over = |o: &str| Scene::load("cases/disk-rotation.toml", &[o.into()]).map(|_| ()).unwrap_err().to_string();
     let e = over("stabilisation.cspm={min_determinant=1.5}");
     assert!(e.contains("stabilisation.cspm.min_determinant") && e.contains("[0, 1)"), "{e}");
+    let e = over("stabilisation.cspm={scope=\"faces\"}");
+    assert!(e.contains("stabilisation.cspm.scope") && e.contains("\"path\""), "{e}");
+    let e = over("stabilisation.cspm={scope=\"path\"}");
+    assert!(e.contains("stabilisation.cspm.scope") && e.contains("[cohesive]"), "{e}");
     let e = Scene::load("cases/cutting/v0060-damage.toml", &["stabilisation.cspm={}".into()]).unwrap_err().to_string();
     assert!(e.contains("stabilisation.cspm") && e.contains("damage"), "{e}");
 }

@@ -701,13 +701,17 @@ fn sph_cohesive_path_equals_cpu() {
     // The coarse cut with CSPM on the faces (`_cspm_cut`; docs/mpm.md, "CSPM on the faces"), at Nairn's σ_c.
     let mut coarse_cspm = coarse.to_vec();
     coarse_cspm.push("stabilisation.cspm={}");
-    let cases: [(&str, &[&str]); 5] = [
+    // The same with the correction on the faces' rows only (`scope = "path"`: the pass's count of cut pairs).
+    let mut coarse_faces = coarse.to_vec();
+    coarse_faces.push("stabilisation.cspm={scope=\"path\"}");
+    let cases: [(&str, &[&str]); 6] = [
         ("cases/mpm/sph-bond-mode1.toml", &[]),
         // With XSPH and the smoothed-velocity damping (docs/mpm.md).
         ("cases/mpm/sph-bond-mode1.toml", &["stabilisation.xsph={epsilon=0.5, pic=0.5}"]),
         ("cases/mpm/sph-bond-mode2.toml", &[]),
         ("cases/mpm/nairn-cut-sph.toml", &coarse),
         ("cases/mpm/nairn-cut-sph.toml", &coarse_cspm),
+        ("cases/mpm/nairn-cut-sph.toml", &coarse_faces),
     ];
     for (file, ov) in cases {
         let ov: Vec<String> = ov.iter().map(|s| s.to_string()).collect();

@@ -139,7 +139,7 @@ pub fn correction_args<B: Backend, R: Real, D: Dim>(
     c: super::Count<'_, B>,
     lanes: u32,
     params: &SphParams<R>,
-    min_det: R,
+    (min_det, path_only): (R, bool),
     grid: &B::Buf<GridParams>,
     starts: &B::Buf<u32>,
     list: Option<&B::Buf<u32>>,
@@ -152,7 +152,7 @@ pub fn correction_args<B: Backend, R: Real, D: Dim>(
         lanes,
         // The GPU backend sets the block order at the launch (`Pass::order`).
         reverse: 0,
-        _pad: 0,
+        path_only: path_only as u32,
         kernel: params.kernel,
         min_r2: params.min_r2,
         min_det,

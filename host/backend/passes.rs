@@ -328,7 +328,8 @@ pub trait Passes: Backend {
     }
 
     /// The CSPM kernel-gradient correction (`sph::correction`): B_i⁻¹ of every sorted particle into `out` (the
-    /// identity where det B ≤ `min_det`), from the positions, mechanical masses, pre-pass volumes and flags of
+    /// identity where det B ≤ `min_det`, and with `path_only` where no neighbour lies across the cohesive path), from
+    /// the positions, mechanical masses, pre-pass volumes and flags of
     /// `input`, each summed by `lanes` lanes as the pair interaction's; [`Passes::sph_rates`] with
     /// `input.correction` then applies it.
     #[allow(clippy::too_many_arguments)]
@@ -338,6 +339,7 @@ pub trait Passes: Backend {
         lanes: u32,
         params: &SphParams<R>,
         min_det: R,
+        path_only: bool,
         grid: &Self::Buf<GridParams>,
         starts: &Self::Buf<u32>,
         list: Option<&Self::Buf<u32>>,
@@ -348,7 +350,8 @@ pub trait Passes: Backend {
         let n = count.n;
         check_lanes(lanes)?;
         check_cells(self, "sph_correction cells", n, grid, starts, list)?;
-        let a = args::correction_args(self, count, lanes, params, min_det, grid, starts, list, input, out)?;
+        let a =
+            args::correction_args(self, count, lanes, params, (min_det, path_only), grid, starts, list, input, out)?;
         // SAFETY: the builder checked the lengths, the cells and the list are checked above; each particle's
         // correction is written by its own thread only.
         unsafe { self.launch::<CorrectionPass<R, D>>(&a) }

@@ -13,7 +13,7 @@ use crate::material::FlowModel;
 use crate::scene::{Bc, Conduction, ParticleSet, Precision, Scene, Switch};
 use crate::solver::blanking::Blanking;
 use crate::solver::diagnostics::compute;
-use crate::solver::params::{StabiliserSettings, Viscosity, cfl_time_step, sph_params};
+use crate::solver::params::{CspmSettings, StabiliserSettings, Viscosity, cfl_time_step, sph_params};
 use crate::solver::{CohesiveSetup, ContactSetup, DamageSetup, PlasticSetup, Solver, ThermalSetup, ToolSetup};
 use crate::state::HostParticles;
 use crate::tool::ToolLoad;
@@ -210,7 +210,7 @@ pub fn setup_with<R: Real, D: TensorOps<R>>(scene: &Scene, tuning: &Tuning) -> R
         }),
         stress: st.artificial_stress.as_ref().map(|a| (a.epsilon, a.exponent)),
         xsph: st.xsph.as_ref().map(|x| x.epsilon),
-        cspm: st.cspm.as_ref().map(|c| c.min_determinant),
+        cspm: st.cspm.as_ref().map(|c| CspmSettings { min_det: c.min_determinant, path_only: c.path_only }),
     };
     let elastic = scene.material.elastic();
     let dx = scene.discretisation.dx;

@@ -745,7 +745,7 @@ pub struct Stabilisation {
     pub artificial_stress: Option<ArtificialStress>,
     /// `xsph = { epsilon, enabled }`: XSPH velocity smoothing of the particle motion.
     pub xsph: Option<Xsph>,
-    /// `cspm = { min_determinant, enabled }`: the Randles–Libersky (CSPM) kernel-gradient correction
+    /// `cspm = { min_determinant, scope, enabled }`: the Randles–Libersky (CSPM) kernel-gradient correction
     /// (`kernels::sph::correction`). Absent from `summary.json` when off.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub cspm: Option<Cspm>,
@@ -757,6 +757,10 @@ pub struct Cspm {
     /// `min_determinant` (optional, default 1e-8, as the original 3D code; dimensionless), in [0, 1): where
     /// det B ≤ this, the particle's gradient is left uncorrected (B is the identity on an interior lattice).
     pub min_determinant: f64,
+    /// `scope` (optional, default `"all"`): `"all"` corrects every particle; `"path"` only those with a neighbour
+    /// across the cohesive path (`[cohesive]`, required), the faces' rows the path truncates (docs/mpm.md).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub path_only: bool,
 }
 
 /// `[stabilisation.artificial_viscosity]`.
@@ -1028,7 +1032,8 @@ impl Scene {
             }
         }
         if let Some(c) = &st.cspm {
-            on.push(format!("CSPM (min det {})", num(c.min_determinant)));
+            let scope = if c.path_only { ", the path's faces only" } else { "" };
+            on.push(format!("CSPM (min det {}{scope})", num(c.min_determinant)));
         }
         let _ = writeln!(s, "stabilisation  {}", if on.is_empty() { "none".to_string() } else { on.join(", ") });
         if let Some(b) = &self.blanking {

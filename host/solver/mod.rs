@@ -165,10 +165,12 @@ struct ThermalState<B: Backend> {
     grid_pse: B::Buf<GridParams>,
 }
 
-/// The CSPM correction B⁻¹ per particle (`kernels::sph::correction`) and det B below which it is the identity.
+/// The CSPM correction B⁻¹ per particle (`kernels::sph::correction`), det B below which it is the identity, and
+/// whether only the cohesive path's faces are corrected.
 struct Correction<B: Backend, R: Real, D: Dim> {
     buf: B::Buf<D::Sym<R>>,
     min_det: R,
+    path_only: bool,
 }
 
 struct PlasticState<B: Backend> {
@@ -692,9 +694,11 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                 None
             },
             correction: match setup.stabilisers.cspm {
-                Some(min_det) => {
-                    Some(Correction { buf: b.alloc(n, "CSPM correction")?, min_det: R::from_f64(min_det) })
-                }
+                Some(c) => Some(Correction {
+                    buf: b.alloc(n, "CSPM correction")?,
+                    min_det: R::from_f64(c.min_det),
+                    path_only: c.path_only,
+                }),
                 None => None,
             },
             cells: CellList::with_blanking(b, setup.grid, n, setup.blanking.is_some())?,
@@ -1067,12 +1071,13 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
             correction: None,
             cut: self.cohesive.is_some(),
         };
-        if let Some(Correction { buf: out, min_det }) = self.correction.as_mut() {
+        if let Some(Correction { buf: out, min_det, path_only }) = self.correction.as_mut() {
             b.sph_correction::<R, D>(
                 n,
                 self.lanes,
                 &self.host_params,
                 *min_det,
+                *path_only,
                 &self.cells.grid_buf,
                 &self.cells.starts,
                 self.cells.list.as_ref(),

@@ -21,8 +21,17 @@ pub struct StabiliserSettings {
     pub viscosity: Option<Viscosity>,
     pub stress: Option<(f64, u32)>,
     pub xsph: Option<f64>,
-    /// The CSPM kernel-gradient correction's smallest determinant (`kernels::sph::correction`); None: off.
-    pub cspm: Option<f64>,
+    /// The CSPM kernel-gradient correction (`kernels::sph::correction`); None: off.
+    pub cspm: Option<CspmSettings>,
+}
+
+/// The CSPM correction's settings (`[stabilisation.cspm]`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CspmSettings {
+    /// det B at or below which a particle keeps the plain gradient.
+    pub min_det: f64,
+    /// Only the particles with a neighbour across the cohesive path are corrected (`scope = "path"`).
+    pub path_only: bool,
 }
 
 impl StabiliserSettings {

@@ -324,6 +324,14 @@ pub(super) fn scene(doc: &Doc) -> Result<Scene> {
 
     let blanking = blanking(&root, dim, tool.as_ref())?;
     let cohesive = cohesive::path(&root, &physics, damage.is_some(), blanking.is_some())?;
+    if cohesive.is_none()
+        && stabilisation.cspm.as_ref().is_some_and(|c| c.path_only)
+        && let Some(st) = root.table("stabilisation", "stabilisation", "")?
+        && let Some(c) = st.table("cspm", "stabilisation.cspm", "")?
+    {
+        let e = "\"all\": \"path\" corrects the faces of a cohesive path, and the scene has no [cohesive]";
+        return Err(c.invalid("scope", c.get("scope"), e));
+    }
 
     Ok(Scene {
         origin: doc.file.clone(),
@@ -721,12 +729,20 @@ fn stabilisation(root: &Tab<'_>) -> Result<Stabilisation> {
                 stabilisation.xsph = Some(x);
             }
         }
-        if let Some(t) = st.table("cspm", "stabilisation.cspm", "a table { min_determinant, enabled }")? {
-            t.check_keys(&["min_determinant", "enabled"], &[], "")?;
+        if let Some(t) = st.table("cspm", "stabilisation.cspm", "a table { min_determinant, scope, enabled }")? {
+            t.check_keys(&["min_determinant", "scope", "enabled"], &[], "")?;
+            let scope_expected = "\"all\" (every particle) or \"path\" (the cohesive path's faces only)";
             let c = Cspm {
                 min_determinant: t
                     .number("min_determinant", "a value in [0, 1)", |x| (0.0..1.0).contains(&x))?
                     .unwrap_or(1e-8),
+                path_only: t
+                    .named("scope", scope_expected, |s| match s {
+                        "all" => Some(false),
+                        "path" => Some(true),
+                        _ => None,
+                    })?
+                    .unwrap_or(false),
             };
             if t.boolean("enabled", "true or false")?.unwrap_or(true) {
                 stabilisation.cspm = Some(c);

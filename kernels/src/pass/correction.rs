@@ -20,7 +20,9 @@ pub struct CorrectionArgs<R: Real, D: Dim> {
     pub lanes: u32,
     /// Blocks in reverse order (`ptx::ordered_index`; the GPU's only, no bit depends on it).
     pub reverse: u32,
-    pub _pad: u32,
+    /// 1: correct only the particles with a neighbour across the cohesive path (`[stabilisation.cspm] scope =
+    /// "path"`); 0: every particle.
+    pub path_only: u32,
     pub kernel: CubicSpline<R>,
     /// The pair interaction's skip distance (`SphParams::min_r2`).
     pub min_r2: R,
@@ -68,7 +70,8 @@ impl<R: Real, D: TensorOps<R>> Pass for CorrectionPass<R, D> {
     unsafe fn particle(a: &Self::Args, i: usize) -> u32 {
         unsafe {
             let nb = a.neighbours();
-            *a.out.add(i) = correction::<R, D>(&a.kernel, a.min_r2, a.min_det, &nb, &a.arrays, i as u32, a.lanes);
+            *a.out.add(i) =
+                correction::<R, D>(&a.kernel, a.min_r2, a.min_det, a.path_only != 0, &nb, &a.arrays, i as u32, a.lanes);
         }
         0
     }

@@ -124,7 +124,9 @@ macro_rules! correction_entry {
             };
             let s = butterfly(s, lanes);
             if live && lane == 0 {
-                unsafe { *args.out.add(i as usize) = correction_finish::<$r, $d>(&s, args.min_det) };
+                unsafe {
+                    *args.out.add(i as usize) = correction_finish::<$r, $d>(&s, args.min_det, args.path_only != 0)
+                };
             }
         }
     };

@@ -13,6 +13,12 @@
 //! their own side, as the `_cspm_cut` interaction then uses them (docs/mpm.md, "CSPM on the faces").
 //! Where det B ≤ `min_det` (a particle with too few neighbours, or neighbours on a line), B⁻¹ is the identity:
 //! the uncorrected gradient ([C3D]: det B > 1e-8).
+//!
+//! With `path_only` the correction acts only where the path truncates the kernel: a particle with no neighbour
+//! across the path within its support keeps B⁻¹ = I (the plain gradient), so that the bulk and the free surfaces
+//! run the uncorrected scheme and only the faces' rows within 2h of the path are corrected (docs/mpm.md, "CSPM on
+//! the path's faces only"). The faces are then as stiff as the continuum they were cut from, and the corrected
+//! scheme's loss of pair antisymmetry stays in those rows.
 
 use super::interact::cut_apart;
 use super::lanes::{LaneSum, all_lanes, lane_share, map_real};
@@ -41,6 +47,8 @@ pub struct CorrectionArrays<R: Real, D: Dim> {
 #[derive(Clone, Copy, Default)]
 pub struct CorrectionSum<R: Real, D: Dim> {
     pub b: D::Sym<R>,
+    /// The neighbours across the cohesive path within the support (a small whole number: exact in either real).
+    pub cut: R,
 }
 
 impl<R: Real, D: Dim> LaneSum for CorrectionSum<R, D> {
@@ -50,6 +58,7 @@ impl<R: Real, D: Dim> LaneSum for CorrectionSum<R, D> {
         for (a, b) in out.b.components_mut().iter_mut().zip(o.b.components()) {
             *a += *b;
         }
+        out.cut += o.cut;
         out
     }
     #[inline(always)]
@@ -58,12 +67,14 @@ impl<R: Real, D: Dim> LaneSum for CorrectionSum<R, D> {
         for a in out.b.components_mut() {
             *a = map_real(*a, f);
         }
+        out.cut = map_real(out.cut, f);
         out
     }
 }
 
 /// Adds pair (i, j)'s term −V_j W'(r)/r x_ij ⊗ x_ij to `s` (nothing for j = i, beyond the support, closer than
-/// the skip distance `min_r2`, a massless j, or j across the cohesive path from i, whose side is `side_i`).
+/// the skip distance `min_r2`, or a massless j). A j across the cohesive path from i (whose side is `side_i`)
+/// adds no term but is counted in `s.cut`.
 ///
 /// # Safety
 /// The arrays of `a` hold j + 1 elements.
@@ -82,9 +93,7 @@ unsafe fn add_pair<R: Real, D: TensorOps<R>, const PER: bool>(
 ) {
     let ju = j as usize;
     // A particle off the path (side 0) is never cut apart: only a sided i reads j's flags.
-    if side_i != 0 && cut_apart(side_i, unsafe { read(a.flags.add(ju)) } & flags::SIDE_MASK) {
-        return;
-    }
+    let across = side_i != 0 && cut_apart(side_i, unsafe { read(a.flags.add(ju)) } & flags::SIDE_MASK);
     let (xj, m, v) = unsafe { (read(a.pos.add(ju)), read(a.mass.add(ju)), read(a.vol.add(ju))) };
     let xij = if PER {
         per.displacement(xi, &xj)
@@ -96,6 +105,10 @@ unsafe fn add_pair<R: Real, D: TensorOps<R>, const PER: bool>(
         r2 += xij.get(2) * xij.get(2);
     }
     if j == i || r2 >= k.support2 || r2 < min_r2 || m == R::ZERO {
+        return;
+    }
+    if across {
+        s.cut += R::ONE;
         return;
     }
     D::sym_outer_add(&mut s.b, -(v * k.dw_dr_over_r(r2.sqrt())), &xij);
@@ -141,9 +154,13 @@ pub unsafe fn correction_share<R: Real, D: TensorOps<R>>(
 }
 
 /// B_i⁻¹ from the lanes' combined sum: the identity where det B ≤ `min_det`, which includes a thermal-only
-/// particle (its sum is zero).
+/// particle (its sum is zero), and, with `path_only`, where no neighbour lies across the path.
 #[inline(always)]
-pub fn correction_finish<R: Real, D: TensorOps<R>>(s: &CorrectionSum<R, D>, min_det: R) -> D::Sym<R> {
+pub fn correction_finish<R: Real, D: TensorOps<R>>(s: &CorrectionSum<R, D>, min_det: R, path_only: bool) -> D::Sym<R> {
+    if path_only && s.cut == R::ZERO {
+        // det 0 ≤ min_det (≥ 0): the identity, by the same function as every other uncorrected particle.
+        return D::sym_inverse_or_identity(&CorrectionSum::<R, D>::default().b, min_det);
+    }
     D::sym_inverse_or_identity(&s.b, min_det)
 }
 
@@ -157,6 +174,7 @@ pub unsafe fn correction<R: Real, D: TensorOps<R>>(
     k: &CubicSpline<R>,
     min_r2: R,
     min_det: R,
+    path_only: bool,
     nb: &Neighbours,
     a: &CorrectionArrays<R, D>,
     i: u32,
@@ -174,6 +192,6 @@ pub unsafe fn correction<R: Real, D: TensorOps<R>>(
                 })
             )
         };
-        correction_finish(&s, min_det)
+        correction_finish(&s, min_det, path_only)
     }
 }
