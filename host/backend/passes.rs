@@ -328,10 +328,9 @@ pub trait Passes: Backend {
     }
 
     /// The CSPM kernel-gradient correction (`sph::correction`): B_i⁻¹ of every sorted particle into `out` (the
-    /// identity where det B ≤ `min_det`, and with `path_only` where no neighbour lies across the cohesive path), from
-    /// the positions, mechanical masses, pre-pass volumes and flags of
-    /// `input`, each summed by `lanes` lanes as the pair interaction's; [`Passes::sph_rates`] with
-    /// `input.correction` then applies it.
+    /// identity where det B ≤ `min_det`, and with `path_only` where no neighbour lies across the cohesive path),
+    /// from the positions, mechanical masses, pre-pass volumes and flags of `input`, each summed by `lanes` lanes as
+    /// the pair interaction's; [`Passes::sph_rates`] with `input.correction` then applies it.
     #[allow(clippy::too_many_arguments)]
     fn sph_correction<'c, R: Real, D: TensorOps<R>>(
         &self,
