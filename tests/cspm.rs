@@ -22,6 +22,14 @@ fn lattice_scene(extra: &str) -> Scene {
     Scene::from_str(&text, "at04.toml", &[]).expect("scene")
 }
 
+/// A cohesive path across AT-04's lattice at y = 0.5, between its 8th and 9th rows, over its whole width.
+const CUT_AT_HALF: &str = "\n[cohesive]\ntoughness = 2000.0\npeak = 40e6\nplane = 0.5\nextent = [-0.1, 1.1]\n";
+
+/// A linear field that jumps across y = 0.5: `linear` above, −x + 4y − 2 below, with their gradients.
+fn jump_at_half(x: f64, y: f64) -> (f64, [f64; 2]) {
+    if y > 0.5 { linear(x, y) } else { (-x + 4.0 * y - 2.0, [-1.0, 4.0]) }
+}
+
 /// Every particle.
 fn all(_: f64, _: f64) -> bool {
     true
@@ -99,14 +107,13 @@ fn corrected_gradient_of_a_linear_field_is_exact() {
 /// the cut and the correction.
 #[test]
 fn corrected_gradient_is_exact_on_each_face_of_a_cohesive_path() {
-    let path = "\n[cohesive]\ntoughness = 2000.0\npeak = 40e6\nplane = 0.5\nextent = [-0.1, 1.1]\n";
+    let path = CUT_AT_HALF;
     let cspm = "\n[stabilisation]\ncspm = {}\n";
-    let jump = |x: f64, y: f64| if y > 0.5 { linear(x, y) } else { (-x + 4.0 * y - 2.0, [-1.0, 4.0]) };
     let support = 2.0 * H_OVER_DX * DX;
     let faces = |x: f64, y: f64| (y - 0.5).abs() < support && x > support && x < 1.0 - support;
-    let (both, n) = gradient_error::<f64>(&lattice_scene(&format!("{cspm}{path}")), jump, all);
-    let (uncorrected, m) = gradient_error::<f64>(&lattice_scene(path), jump, faces);
-    let (uncut, _) = gradient_error::<f64>(&lattice_scene(cspm), jump, faces);
+    let (both, n) = gradient_error::<f64>(&lattice_scene(&format!("{cspm}{path}")), jump_at_half, all);
+    let (uncorrected, m) = gradient_error::<f64>(&lattice_scene(path), jump_at_half, faces);
+    let (uncut, _) = gradient_error::<f64>(&lattice_scene(cspm), jump_at_half, faces);
     eprintln!(
         "path + CSPM {both:e} ({n} particles); on the faces' {m}: path alone {uncorrected:.4}, CSPM alone {uncut:.4}"
     );
@@ -123,15 +130,14 @@ fn corrected_gradient_is_exact_on_each_face_of_a_cohesive_path() {
 /// uncorrected run's to the bit, and above 0.3 (the lattice's corners and sides, a free surface).
 #[test]
 fn path_scope_corrects_the_faces_only() {
-    let path = "\n[cohesive]\ntoughness = 2000.0\npeak = 40e6\nplane = 0.5\nextent = [-0.1, 1.1]\n";
+    let path = CUT_AT_HALF;
     let faces_only = format!("\n[stabilisation]\ncspm = {{ scope = \"path\" }}\n{path}");
-    let jump = |x: f64, y: f64| if y > 0.5 { linear(x, y) } else { (-x + 4.0 * y - 2.0, [-1.0, 4.0]) };
     let support = 2.0 * H_OVER_DX * DX;
     let band = |_: f64, y: f64| (y - 0.5).abs() < support;
     let rest = |_: f64, y: f64| (y - 0.5).abs() >= support;
-    let (faces, n) = gradient_error::<f64>(&lattice_scene(&faces_only), jump, band);
-    let (elsewhere, m) = gradient_error::<f64>(&lattice_scene(&faces_only), jump, rest);
-    let (plain, _) = gradient_error::<f64>(&lattice_scene(path), jump, rest);
+    let (faces, n) = gradient_error::<f64>(&lattice_scene(&faces_only), jump_at_half, band);
+    let (elsewhere, m) = gradient_error::<f64>(&lattice_scene(&faces_only), jump_at_half, rest);
+    let (plain, _) = gradient_error::<f64>(&lattice_scene(path), jump_at_half, rest);
     eprintln!(
         "scope = \"path\": {n} face particles err by {faces:e}; the other {m} by {elsewhere:.4} (plain {plain:.4})"
     );

@@ -118,7 +118,18 @@ macro_rules! correction_entry {
             // Every lane takes part in the shuffles, also past the last particle.
             let live = unsafe { args.n.live(i) };
             let s = if live {
-                unsafe { correction_share::<$r, $d>(&args.kernel, args.min_r2, &nb, &args.arrays, i, lane, lanes) }
+                unsafe {
+                    correction_share::<$r, $d>(
+                        &args.kernel,
+                        args.min_r2,
+                        args.path_only != 0,
+                        &nb,
+                        &args.arrays,
+                        i,
+                        lane,
+                        lanes,
+                    )
+                }
             } else {
                 CorrectionSum::default()
             };

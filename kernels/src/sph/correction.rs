@@ -74,7 +74,8 @@ impl<R: Real, D: Dim> LaneSum for CorrectionSum<R, D> {
 
 /// Adds pair (i, j)'s term −V_j W'(r)/r x_ij ⊗ x_ij to `s` (nothing for j = i, beyond the support, closer than
 /// the skip distance `min_r2`, or a massless j). A j across the cohesive path from i (whose side is `side_i`)
-/// adds no term but is counted in `s.cut`.
+/// adds no term; with `count_cut` (`scope = "path"`) it is counted in `s.cut` when within the support, otherwise it
+/// is left before its data are read, as it was before the count existed.
 ///
 /// # Safety
 /// The arrays of `a` hold j + 1 elements.
@@ -87,6 +88,7 @@ unsafe fn add_pair<R: Real, D: TensorOps<R>, const PER: bool>(
     a: &CorrectionArrays<R, D>,
     xi: &D::Vec<R>,
     side_i: u32,
+    count_cut: bool,
     i: u32,
     j: u32,
     s: &mut CorrectionSum<R, D>,
@@ -94,6 +96,9 @@ unsafe fn add_pair<R: Real, D: TensorOps<R>, const PER: bool>(
     let ju = j as usize;
     // A particle off the path (side 0) is never cut apart: only a sided i reads j's flags.
     let across = side_i != 0 && cut_apart(side_i, unsafe { read(a.flags.add(ju)) } & flags::SIDE_MASK);
+    if across && !count_cut {
+        return;
+    }
     let (xj, m, v) = unsafe { (read(a.pos.add(ju)), read(a.mass.add(ju)), read(a.vol.add(ju))) };
     let xij = if PER {
         per.displacement(xi, &xj)
@@ -133,6 +138,7 @@ unsafe fn corrected<R: Real, D: Dim>(a: &CorrectionArrays<R, D>, i: u32) -> bool
 pub unsafe fn correction_share<R: Real, D: TensorOps<R>>(
     k: &CubicSpline<R>,
     min_r2: R,
+    path_only: bool,
     nb: &Neighbours,
     a: &CorrectionArrays<R, D>,
     i: u32,
@@ -147,7 +153,7 @@ pub unsafe fn correction_share<R: Real, D: TensorOps<R>>(
         let per = Period::<R>::of::<D>(nb.grid);
         unswitch_period!(per, PER =>
             lane_share::<R, D::Vec<R>, _, _>(nb, &xi, i, lane, lanes, |j, s| {
-                add_pair::<R, D, PER>(k, min_r2, &per, a, &xi, side, i, j, s)
+                add_pair::<R, D, PER>(k, min_r2, &per, a, &xi, side, path_only, i, j, s)
             })
         )
     }
@@ -188,7 +194,7 @@ pub unsafe fn correction<R: Real, D: TensorOps<R>>(
             let per = Period::<R>::of::<D>(nb.grid);
             unswitch_period!(per, PER =>
                 all_lanes::<R, D::Vec<R>, _, _>(nb, &xi, i, lanes, |j, s| {
-                    add_pair::<R, D, PER>(k, min_r2, &per, a, &xi, side, i, j, s)
+                    add_pair::<R, D, PER>(k, min_r2, &per, a, &xi, side, path_only, i, j, s)
                 })
             )
         };
