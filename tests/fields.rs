@@ -160,6 +160,10 @@ fn checkpoint_names_are_unchanged() {
         "av_switch",
         // Issue 25: the elastic energy the damage's degradation released (optional: older checkpoints lack it).
         "damage_work",
+        // Issue 26: the SPH cohesive path's onsets and columns under `coupling = "continuum"` (optional: older
+        // checkpoints lack them).
+        "bond_onset",
+        "bond_column",
     ];
     assert_eq!(names, before);
     let frames: Vec<&str> = FIELDS.iter().filter_map(|f| f.frame).collect();

@@ -704,8 +704,15 @@ fn sph_cohesive_path_equals_cpu() {
     // The same with the correction on the faces' rows only (`scope = "path"`: the pass's count of cut pairs).
     let mut coarse_faces = coarse.to_vec();
     coarse_faces.push("stabilisation.cspm={scope=\"path\"}");
-    let cases: [(&str, &[&str]); 6] = [
+    // The same with the plane continuum until the onset (`coupling = "continuum"`: the onset and opening passes).
+    let mut coarse_continuum = coarse.to_vec();
+    coarse_continuum.push("cohesive.coupling=\"continuum\"");
+    let continuum: &[&str] = &["cohesive.coupling=\"continuum\""];
+    let cases: [(&str, &[&str]); 9] = [
         ("cases/mpm/sph-bond-mode1.toml", &[]),
+        ("cases/mpm/sph-bond-mode1.toml", continuum),
+        ("cases/mpm/sph-bond-mode2.toml", continuum),
+        ("cases/mpm/nairn-cut-sph.toml", &coarse_continuum),
         // With XSPH and the smoothed-velocity damping (docs/mpm.md).
         ("cases/mpm/sph-bond-mode1.toml", &["stabilisation.xsph={epsilon=0.5, pic=0.5}"]),
         ("cases/mpm/sph-bond-mode2.toml", &[]),

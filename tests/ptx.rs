@@ -154,9 +154,9 @@ fn entry_params(ptx: &str) -> Vec<(String, Vec<(usize, usize)>)> {
 fn argument_structs_match_the_entries_parameter_blocks() {
     use swarf::kernels::material::*;
     use swarf::kernels::pass::{
-        BondArgs, BondIndexArgs, ContactArgs, CorrectionArgs, DensityArgs, FinishArgs, FinishPlasticArgs, GatherArgs,
-        GatherFieldsArgs, HashArgs, HashCountArgs, HeatArgs, NeighbourListArgs, PlasticArgs, PredictArgs, PrepareArgs,
-        RatesArgs, ScanApplyArgs, ScanReduceArgs, ScatterArgs, SortArgs, VerletArgs, ZeroArgs,
+        BondArgs, BondIndexArgs, BondOpenArgs, ContactArgs, CorrectionArgs, DensityArgs, FinishArgs, FinishPlasticArgs,
+        GatherArgs, GatherFieldsArgs, HashArgs, HashCountArgs, HeatArgs, NeighbourListArgs, PlasticArgs, PredictArgs,
+        PrepareArgs, RatesArgs, ScanApplyArgs, ScanReduceArgs, ScatterArgs, SortArgs, VerletArgs, ZeroArgs,
     };
     use swarf::kernels::{Dim2, Dim3};
     fn block<T>() -> Vec<(usize, usize)> {
@@ -235,6 +235,8 @@ fn argument_structs_match_the_entries_parameter_blocks() {
             Some(by_variant!(variant, BondArgs))
         } else if name == format!("swarf_sph_bond_index_{variant}") {
             Some(by_variant!(variant, BondIndexArgs))
+        } else if name == format!("swarf_sph_bond_open_{variant}") {
+            Some(by_variant!(variant, BondOpenArgs))
         } else if name.starts_with("swarf_sph_rates_") {
             Some(by_variant!(variant, RatesArgs))
         } else if name.starts_with("swarf_sph_prepare_") {
@@ -273,14 +275,14 @@ fn argument_structs_match_the_entries_parameter_blocks() {
         }
         assert_eq!(checked, loaded.len(), "{target}: every loaded entry checked");
         // 4 variants × (8 stabiliser combinations × plain and fused × without damage, with damage and with the
-        // CSPM correction + the 8 across a cohesive path, plain and with CSPM, + its bonds and id map + the elastic corrector + one plastic corrector and one plastic pass per flow-stress model
+        // CSPM correction + the 8 across a cohesive path, plain and with CSPM, + its bonds, id map and opening + the elastic corrector + one plastic corrector and one plastic pass per flow-stress model
         // without and with damage + density, 4 pre-passes and the predictor each without and with damage, 2
         // conductions + hash, hash-count, neighbour list, Verlet list, the correction) + the contact with the parametric tool in 2D and 3D and with a mesh tool in 3D,
         // each in 2 precisions + 9
         // neighbour entries without variants (zero, scatter, sort, 3 gathers, gather_fields, 2 scans) + the 6 MPM
         // passes in 2 precisions.
         let models = swarf::kernels::pass::FLOW_MODEL_TAGS.len();
-        assert_eq!(checked, 4 * (48 + 16 + 2 + 1 + 4 * models + 13 + 5) + 6 + 9 + 12, "{target}: entries checked");
+        assert_eq!(checked, 4 * (48 + 16 + 3 + 1 + 4 * models + 13 + 5) + 6 + 9 + 12, "{target}: entries checked");
     }
 }
 
@@ -424,6 +426,10 @@ fn every_pass_names_its_own_entry() {
         };
         (bond_index, $name:expr, $r:ident, $d:ident) => {
             check!(BondIndex<$r, $d>, $name);
+            position += 1;
+        };
+        (bond_open, $name:expr, $r:ident, $d:ident) => {
+            check!(BondOpen<$r, $d>, $name);
             position += 1;
         };
         (mpm_p2g, $name:expr, $r:ident, $d:ident) => {

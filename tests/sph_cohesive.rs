@@ -79,6 +79,67 @@ fn sph_bonds_release_their_toughness_with_the_triangular_law() {
     assert!(gap < 0.01, "energy balance gap {gap}");
 }
 
+/// V15 with `coupling = "continuum"` (docs/mpm.md "Continuum until onset"), pure mode I: the plane is continuum
+/// until the traction on it reaches σ_c, then each bond softens linearly from its onset traction (scaled onto the
+/// strength) to zero over δ_f = 2G_c/σ_c. Every bond fails, the bonds' work per new crack area is 2000 J/m² within
+/// 5 % (½ σ_c δ_f = G_c for a pure mode-I opening), the mode-I share of that work exceeds 0.99, and the balance
+/// closes within 1 %. The continuum's start is violent (the 120 m/s jump across the plane sends a wave of about
+/// ρ c v/2 ≈ 230 MPa, six times σ_c, through the plane before the onsets), and the balance's gap is the time
+/// integration's: 1.6 % at the scene's CFL 0.3, 0.34 % at 0.15, 0.065 % at 0.075 (measured); the test runs at 0.15.
+#[test]
+fn continuum_coupled_bonds_release_their_toughness_in_mode_1() {
+    let ov = ["cohesive.coupling=\"continuum\"", "time.cfl=0.15"];
+    let (g, failed, share, gap) = released("cases/mpm/sph-bond-mode1.toml", &ov, "continuum-mode1");
+    assert_eq!(failed, 40.0, "every bond fails");
+    assert!((g / 2000.0 - 1.0).abs() < 0.05, "mode I, continuum until onset: {g} J/m²");
+    assert!(share > 0.99, "mode-I share {share}");
+    assert!(gap < 0.01, "energy balance gap {gap}");
+}
+
+/// V15 with `coupling = "continuum"`, pure mode II: every bond fails, 2000 J/m² within 5 % (½ τ_c δ_fII), the
+/// mode-I share of the work below 0.05 (V9's ±5 points of pure mode II), and the balance closes within 1 %.
+#[test]
+fn continuum_coupled_bonds_release_their_toughness_in_mode_2() {
+    let ov = ["cohesive.coupling=\"continuum\""];
+    let (g, failed, share, gap) = released("cases/mpm/sph-bond-mode2.toml", &ov, "continuum-mode2");
+    assert_eq!(failed, 40.0, "every bond fails");
+    assert!((g / 2000.0 - 1.0).abs() < 0.05, "mode II, continuum until onset: {g} J/m²");
+    assert!(share < 0.05, "mode-I share {share}");
+    assert!(gap < 0.01, "energy balance gap {gap}");
+}
+
+/// Below its strength a `coupling = "continuum"` path is the continuum itself: the V15 blocks with the upper one
+/// thrown off at 1 m/s (a stress wave of about ρ c v/2 ≈ 2 MPa, against σ_c = 40 MPa) for 1 µs at a fixed step end
+/// with every position and velocity bit for bit those of the same blocks without a `[cohesive]` table, and no bond
+/// has reached its onset.
+#[test]
+fn a_continuum_coupled_path_below_its_strength_is_the_continuum() {
+    let file = "cases/mpm/sph-bond-mode1.toml";
+    let ov = ["cohesive.coupling=\"continuum\"", "body.1.velocity=[0.0, 1.0]", "time.end=1e-6", "time.dt=3e-9"];
+    let with = Scene::load(file, &ov.map(String::from)).expect("scene");
+    let mut without = with.clone();
+    without.cohesive = None;
+    let state = |scene: &Scene, tag: &str| {
+        let dir = std::env::temp_dir().join(format!("swarf-sph-cohesive-below-{tag}-{}", std::process::id()));
+        let mut last: Option<(Vec<[f64; 3]>, Vec<[f64; 3]>)> = None;
+        let mut keep = |s: &swarf::run::Snapshot| {
+            last = Some((s.pos.clone(), s.vel.clone()));
+            true
+        };
+        let report =
+            run_observed(&common::test_backend(), scene, &RunOptions::quiet(dir), Some(&mut keep)).expect("run");
+        (last.expect("a state"), report.history)
+    };
+    let ((pos_a, vel_a), history) = state(&with, "path");
+    let ((pos_b, vel_b), _) = state(&without, "none");
+    let last = history.last().expect("outputs");
+    assert_eq!(last.bonds_failed, 0.0, "no bond fails");
+    assert_eq!(last.cohesive_work, 0.0, "no bond has started: no work");
+    let moved = vel_b.iter().filter(|v| v[1] != 0.0 && v[1] != 1.0).count();
+    assert!(moved > 100, "the wave has crossed the plane ({moved} particles between rest and 1 m/s)");
+    assert!(pos_a == pos_b && vel_a == vel_b, "the path below its strength is not the continuum");
+}
+
 /// A plane that is traction-free over its whole extent couples nothing: the upper block flies off at its initial
 /// speed while the lower block, which only the continuum across the plane could move, stays exactly at rest
 /// (every velocity 0.0 bit for bit), and the upper block's is exactly 120 m/s: no pair across the plane interacts.
@@ -126,6 +187,9 @@ fn bad_cohesive_paths_are_refused_with_the_key() {
     refused(&["cohesive.plane=2.5e-5"], "cohesive.plane", "between two particle rows");
     refused(&["cohesive.traction_free=[-1e-3, 1e-3]"], "cohesive.traction_free", "within extent");
     refused(&["cohesive.extent=[3e-3, 4e-3]"], "cohesive.extent", "no particle pairs");
+    refused(&["cohesive.coupling=\"glue\""], "cohesive.coupling", "\"bonds\" or \"continuum\"");
+    let law = ["cohesive.coupling=\"continuum\"", "cohesive.law=\"cubic\""];
+    refused(&law, "cohesive.law", "no law with coupling = \"continuum\"");
 }
 
 /// Nairn's cut in SPH at a coarse 5 particles through h with σ_c = 10 MPa (below σ_y0, where the SPH path opens:

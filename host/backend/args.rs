@@ -12,15 +12,16 @@ use crate::kernels::contact::penalty::ToolSet;
 use crate::kernels::contact::{ToolArg, ToolState};
 use crate::kernels::neighbour::{BlankBox, GridParams};
 use crate::kernels::pass::{
-    BondArgs, BondIndexArgs, ContactArgs, CorrectionArgs, DensityArgs, FinishArgs, FinishPlasticArgs, HashArgs,
-    HeatArgs, NeighbourListArgs, PlasticArgs, PredictArgs, PrepareArgs, RatesArgs, Span, StepPtrs, VerletArgs,
+    BondArgs, BondIndexArgs, BondOpenArgs, ContactArgs, CorrectionArgs, DensityArgs, FinishArgs, FinishPlasticArgs,
+    HashArgs, HeatArgs, NeighbourListArgs, PlasticArgs, PredictArgs, PrepareArgs, RatesArgs, Span, StepPtrs,
+    VerletArgs,
 };
 use crate::kernels::sph::correction::CorrectionArrays;
 use crate::kernels::sph::heat::HeatParams;
 use crate::kernels::sph::interact::{Arrays, PrepassArrays, PrepassDamage};
 use crate::kernels::sph::plastic::{DamageArrays, PlasticConsts};
 use crate::kernels::sph::step::StepScalars;
-use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers};
+use crate::kernels::sph::{CubicSpline, SphParams, Stabilisers, TensorOps};
 use crate::kernels::{Dim, Real};
 use crate::{Error, Result};
 
@@ -385,13 +386,14 @@ pub fn density_args<B: Backend, R: Real, D: Dim>(
     })
 }
 
-/// The bond pass's and the id map's arguments ([`super::Passes::bonds`]) for `n` sorted particles.
-pub fn bond_args<B: Backend, R: Real, D: Dim>(
+/// The bond pass's, the id map's and the opening pass's arguments ([`super::Passes::bonds`]) for `n` sorted
+/// particles.
+pub fn bond_args<B: Backend, R: Real, D: TensorOps<R>>(
     b: &B,
     n: usize,
     k: BondBufs<'_, B, R, D>,
     vel_t: &mut B::Buf<D::Vec<R>>,
-) -> Result<(BondIndexArgs<R, D>, BondArgs<R, D>)> {
+) -> Result<(BondIndexArgs<R, D>, BondArgs<R, D>, BondOpenArgs<R, D>)> {
     let count =
         u32::try_from(n).map_err(|_| Error::Length { op: "bonds count", expected: u32::MAX as usize, got: n })?;
     let index = output(b, "bond index", n, k.index)?;
@@ -402,20 +404,33 @@ pub fn bond_args<B: Backend, R: Real, D: Dim>(
         index,
         _marker: std::marker::PhantomData,
     };
+    let onset = output(b, "bond onsets", n, k.onset)?;
     let arrays = crate::kernels::sph::bond::BondArrays {
         index: index as *const u32,
         partner: input(b, "bond partners", n, k.partner)?,
         reference: input(b, "bond reference offsets", n, k.reference)?,
         state: output(b, "bond states", n, k.state)?,
+        onset,
         work: output(b, "bond work", n, k.work)?,
         damping: output(b, "bond damping", n, k.damping)?,
         pos: input(b, "bond pos", n, k.pos)?,
         vel: input(b, "bond vel", n, k.vel)?,
         mass: input(b, "bond mass", n, k.mass)?,
         flags: input(b, "bond flags", n, k.flags)?,
+        sig: input(b, "bond stress over density squared", n, k.sig)?,
+        rho: input(b, "bond density", n, k.rho)?,
         vel_t: output(b, "bond accelerations", n, vel_t)?,
     };
-    Ok((map, BondArgs { n: count, _pad: 0, params: k.params, arrays }))
+    let open = BondOpenArgs {
+        n: count,
+        _pad: 0,
+        index: index as *const u32,
+        column: input(b, "bond columns", n, k.column)?,
+        onset: onset as *const _,
+        flags: output(b, "bond flags", n, k.flags)?,
+        _marker: std::marker::PhantomData,
+    };
+    Ok((map, BondArgs { n: count, _pad: 0, params: k.params, arrays }, open))
 }
 
 /// The pre-pass's buffers ([`super::Passes::sph_prepare`]).

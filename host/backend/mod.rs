@@ -208,12 +208,18 @@ pub struct BondBufs<'a, B: Backend, R: Real, D: Dim> {
     pub partner: &'a B::Buf<u32>,
     pub reference: &'a B::Buf<D::Vec<R>>,
     pub state: &'a mut B::Buf<crate::kernels::sph::bond::BondState<R>>,
+    pub onset: &'a mut B::Buf<crate::kernels::sph::bond::OnsetState<R>>,
+    pub column: &'a B::Buf<u32>,
     pub work: &'a mut B::Buf<f64>,
     pub damping: &'a mut B::Buf<f64>,
     pub pos: &'a B::Buf<D::Vec<R>>,
     pub vel: &'a B::Buf<D::Vec<R>>,
     pub mass: &'a B::Buf<R>,
-    pub flags: &'a B::Buf<u32>,
+    /// σ/ρ² and ρ of the pair interaction (the onset's traction under `coupling = "continuum"`).
+    pub sig: &'a B::Buf<D::Sym<R>>,
+    pub rho: &'a B::Buf<R>,
+    /// Written by the opening pass under `coupling = "continuum"` only.
+    pub flags: &'a mut B::Buf<u32>,
 }
 
 /// The normal and friction force buffers of the contact pass.

@@ -15,8 +15,8 @@ use super::{
 use crate::kernels::contact::{MeshTool, Tool2d};
 use crate::kernels::neighbour::GridParams;
 use crate::kernels::pass::{
-    Bond, BondIndex, Contact, CorrectionPass, Density, Finish, FinishPlastic, Hash, Heat, NeighbourList, Plastic,
-    Predict, Prepare, RatesPass, Verlet,
+    Bond, BondIndex, BondOpen, Contact, CorrectionPass, Density, Finish, FinishPlastic, Hash, Heat, NeighbourList,
+    Plastic, Predict, Prepare, RatesPass, Verlet,
 };
 use crate::kernels::sph::heat::HeatParams;
 use crate::kernels::sph::params::flags::BODY_SHIFT;
@@ -303,8 +303,9 @@ pub trait Passes: Backend {
     }
 
     /// The cohesive path's bonds (`sph::bond`) of `n` sorted particles after the pair interaction: the map from
-    /// id to sorted index, then each bond's traction added to its two particles' accelerations `vel_t`.
-    fn bonds<R: Real, D: Dim>(
+    /// id to sorted index, then each bond's traction added to its two particles' accelerations `vel_t`, then under
+    /// `coupling = "continuum"` the columns of the bonds past their onset opened.
+    fn bonds<R: Real, D: TensorOps<R>>(
         &self,
         n: usize,
         k: BondBufs<'_, Self, R, D>,
@@ -317,13 +318,28 @@ pub trait Passes: Backend {
         {
             return Err(Error::Length { op: "bond ids (below the index's length)", expected: k.index.len(), got: ids });
         }
-        let (map, a) = args::bond_args(self, n, k, vel_t)?;
-        // SAFETY: the builder checked the lengths and (on the CPU) that every id indexes the map; each id is one
-        // particle's, so each map entry is written once; a bond's owner is the only writer of its own and its
-        // partner's acceleration (the set-up pairs each particle at most once).
+        if let Some(column) = self.host_slice(k.column)
+            && column[..n].iter().any(|&c| c != crate::kernels::sph::bond::NONE && c as usize >= k.index.len())
+        {
+            return Err(Error::Length {
+                op: "bond columns (below the index's length)",
+                expected: k.index.len(),
+                got: n,
+            });
+        }
+        let continuum = k.params.coupling == crate::kernels::sph::bond::CONTINUUM;
+        let (map, a, open) = args::bond_args(self, n, k, vel_t)?;
+        // SAFETY: the builder checked the lengths and (on the CPU) that every id and column indexes the map; each id
+        // is one particle's, so each map entry is written once; a bond's owner is the only writer of its own and its
+        // partner's acceleration (the set-up pairs each particle at most once); the opening pass writes each
+        // particle's own flags, after the bond pass has written the onsets it reads.
         unsafe {
             self.launch::<BondIndex<R, D>>(&map)?;
-            self.launch::<Bond<R, D>>(&a)
+            self.launch::<Bond<R, D>>(&a)?;
+            if continuum {
+                self.launch::<BondOpen<R, D>>(&open)?;
+            }
+            Ok(())
         }
     }
 

@@ -358,13 +358,59 @@ fn cohesive_setup(scene: &Scene, fl: &mut [u32], pos: &[[f64; 3]]) -> Result<Opt
         let e = "no particle pairs face each other across the plane; expected an extent over a body the plane cuts";
         return Err(bad("extent", e.to_string()));
     }
+    let column = open_sides(scene, c, fl, pos, &partner, &on_path);
     let l = &c.law;
     let law = Cohesive {
         mode1: TractionLaw::of_toughness(l.law.kernel(), l.toughness, l.peak),
         mode2: TractionLaw::of_toughness(l.law.kernel(), l.toughness_shear, l.peak_shear),
     };
     // The damper's time step is the run's, set once it is known.
-    Ok(Some(CohesiveSetup { params: BondParams { law, area: scene.bond_area(), dt: 0.0 }, partner, reference }))
+    let params = BondParams { law, area: scene.bond_area(), dt: 0.0, coupling: c.coupling as u32, _pad: 0 };
+    Ok(Some(CohesiveSetup { params, partner, reference, column }))
+}
+
+/// The open flags (`flags::OPEN`) of the path's sided particles `on_path`, and the column of each under
+/// `coupling = "continuum"` (docs/mpm.md "Continuum until onset"). Under `"bonds"` every sided particle is open
+/// from the start (no column). Under `"continuum"` a particle within the kernel's support 2h of the plane and
+/// outside the starter belongs to the column of the bond owner nearest it in x (and z in 3D) within a spacing, and
+/// opens with that bond's onset; the starter's particles, those farther from the plane (which no particle across
+/// reaches unless the cut brings them together) and those of no column are open from the start.
+fn open_sides(
+    scene: &Scene,
+    c: &crate::scene::CohesivePath,
+    fl: &mut [u32],
+    pos: &[[f64; 3]],
+    partner: &[u32],
+    on_path: &[usize],
+) -> Vec<u32> {
+    use crate::kernels::sph::bond::NONE;
+    use crate::scene::Coupling;
+    let mut column = vec![NONE; pos.len()];
+    if c.coupling == Coupling::Bonds {
+        on_path.iter().for_each(|&i| fl[i] |= flags::OPEN);
+        return column;
+    }
+    let dx = scene.discretisation.dx;
+    let mut owners: Vec<usize> = (0..partner.len()).filter(|&i| partner[i] != NONE).collect();
+    owners.sort_by(|&a, &b| pos[a][0].total_cmp(&pos[b][0]));
+    let free = |x: f64| c.traction_free.is_some_and(|[a, b]| (a..=b).contains(&x));
+    for &i in on_path {
+        let near = (pos[i][1] - c.plane).abs() < 2.0 * scene.h() && !free(pos[i][0]);
+        let start = owners.partition_point(|&o| pos[o][0] < pos[i][0] - 0.5 * dx);
+        let owner = owners[start..]
+            .iter()
+            .take_while(|&&o| pos[o][0] <= pos[i][0] + 0.5 * dx)
+            .filter(|&&o| (pos[o][2] - pos[i][2]).abs() <= 0.5 * dx)
+            .min_by(|&&a, &&b| {
+                let d = |o: usize| (pos[o][0] - pos[i][0]).hypot(pos[o][2] - pos[i][2]);
+                d(a).total_cmp(&d(b))
+            });
+        match owner {
+            Some(&o) if near => column[i] = o as u32,
+            _ => fl[i] |= flags::OPEN,
+        }
+    }
+    column
 }
 
 /// The run's step `dt` shortened where the cohesive path's bonds need it ([`bond_step`], with a warning), and given

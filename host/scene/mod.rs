@@ -154,6 +154,30 @@ pub struct CohesivePath {
     /// `traction_free` (optional) [m]: [x_min, x_max] within the extent, the starter crack whose faces carry no
     /// bond.
     pub traction_free: Option<[f64; 2]>,
+    /// `coupling` (default "bonds"): what joins the faces before a bond fails.
+    pub coupling: Coupling,
+}
+
+/// `cohesive.coupling`; its discriminant is the kernels' constant (`kernels::sph::bond::BondParams::coupling`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+#[repr(u32)]
+pub enum Coupling {
+    /// The bonds alone, from t = 0, with the law of `law` (Nairn's intrinsic law; no continuum pair across).
+    Bonds = crate::kernels::sph::bond::BONDS,
+    /// The continuum until the traction on the plane reaches the strength, then a bond softening linearly from it
+    /// (an extrinsic law; docs/mpm.md "Continuum until onset").
+    Continuum = crate::kernels::sph::bond::CONTINUUM,
+}
+
+impl Coupling {
+    /// Each coupling and its key value, once.
+    pub const ALL: [(Coupling, &'static str); 2] = [(Coupling::Bonds, "bonds"), (Coupling::Continuum, "continuum")];
+
+    /// The coupling a key value names.
+    pub fn from_name(name: &str) -> Option<Coupling> {
+        Self::ALL.iter().find(|(_, n)| *n == name).map(|(c, _)| *c)
+    }
 }
 
 /// `[blanking]`: the active box [min, max] at t = 0, moving at `velocity` (roethlin-solver.md §7.6.3; the original

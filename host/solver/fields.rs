@@ -396,6 +396,11 @@ registry! {
     /// The specific elastic energy the damage's degradation has released [J/kg] (energy.csv's `damage_dissipation`);
     /// a checkpoint written before it resumes with zeros.
     "damage_work": f64 = field [.damage?.work] if Damage, optional;
+    /// The bond's onset and the column each particle belongs to under `cohesive.coupling = "continuum"`; a
+    /// checkpoint written before them (`coupling = "bonds"`, whose columns are all `bond::NONE` and onsets nil)
+    /// resumes with the set-up's.
+    "bond_onset": crate::kernels::sph::bond::OnsetState<R> = field [.cohesive?.onset] if Cohesive, optional;
+    "bond_column": u32 = field [.cohesive?.column] if Cohesive, optional;
     /// The pre-pass outputs: σ/ρ², artificial stress, sound speed, volume.
     "sig": D::Sym<R> = buf [.sig] if Always, scratch;
     "art": D::Sym<R> = buf [.art?] if ArtificialStress, scratch;

@@ -83,6 +83,9 @@ pub struct CohesiveSetup {
     pub partner: Vec<u32>,
     /// X_owner − X_partner of each owner's bond [m] (zero elsewhere).
     pub reference: Vec<[f64; 3]>,
+    /// The id of the bond owner whose column each particle belongs to under `coupling = "continuum"` (`bond::NONE`
+    /// for a particle of none, and for every particle under `"bonds"`).
+    pub column: Vec<u32>,
 }
 
 /// One rigid tool of a run: its contact law, shape and motion.
@@ -202,6 +205,8 @@ struct CohesiveState<B: Backend, R: Real, D: Dim> {
     partner: Field<B, u32>,
     reference: Field<B, D::Vec<R>>,
     state: Field<B, crate::kernels::sph::bond::BondState<R>>,
+    onset: Field<B, crate::kernels::sph::bond::OnsetState<R>>,
+    column: Field<B, u32>,
     work: Field<B, f64>,
     damping: Field<B, f64>,
     index: B::Buf<u32>,
@@ -575,6 +580,8 @@ fn cohesive_state<B: Backend, R: Real, D: TensorOps<R>>(
         partner: Field::upload(b, &c.partner, "bond partners")?,
         reference: Field::upload(b, &reference, "bond reference offsets")?,
         state: Field::upload(b, &vec![[R::ZERO; 8]; n], "bond states")?,
+        onset: Field::upload(b, &vec![[R::ZERO; 6]; n], "bond onsets")?,
+        column: Field::upload(b, &c.column, "bond columns")?,
         work: Field::upload(b, &vec![0.0f64; n], "bond work")?,
         damping: Field::upload(b, &vec![0.0f64; n], "bond damping")?,
         index: b.alloc(n, "bond index")?,
@@ -1117,12 +1124,16 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
                 partner: &c.partner.cur,
                 reference: &c.reference.cur,
                 state: &mut c.state.cur,
+                onset: &mut c.onset.cur,
+                column: &c.column.cur,
                 work: &mut c.work.cur,
                 damping: &mut c.damping.cur,
                 pos: &p.pos.cur,
                 vel: &p.vel.cur,
                 mass: self.mech_mass.as_ref().map_or(&p.mass.cur, |m| &m.cur),
-                flags: &p.flags.cur,
+                sig: &self.sig,
+                rho: &p.rho.cur,
+                flags: &mut p.flags.cur,
             };
             b.bonds::<R, D>(self.n, bonds, &mut r.vel)?;
         }
@@ -1464,11 +1475,20 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
     /// Restores the buffers saved by [`Solver::save_state`] (the solver must have been built from the same scene).
     pub fn load_state(&mut self, b: &B, s: &StateBlobs) -> Result<()> {
         self.load_fields(b, s)?;
+        let saved = |f: &str| s.iter().any(|(name, _)| name == f);
+        if self.cohesive.as_ref().is_some_and(|c| c.params.coupling == crate::kernels::sph::bond::BONDS)
+            && !saved("bond_column")
+        {
+            // A checkpoint written before `flags::OPEN` existed: under "bonds" every sided particle is open.
+            let p = &mut self.particles;
+            let mut fl = b.read(&p.flags.cur)?;
+            fl.iter_mut().filter(|f| **f & flags::SIDE_MASK != 0).for_each(|f| *f |= flags::OPEN);
+            b.write(&mut p.flags.cur, &fl)?;
+        }
         // The cell list of the saved state: the particles are in the order of its last build, so building it
         // again on the binned positions gives the same cells and the identity permutation, and the run goes on
         // bit for bit. A state saved without them (with blanking: and the velocities its hash read) rebuilds at
         // the next step.
-        let saved = |f: &str| s.iter().any(|(name, _)| name == f);
         if saved("pos_ref") && (self.vel_ref.is_none() || saved("vel_ref")) {
             match (self.blanking.as_mut(), self.vel_ref.as_ref()) {
                 // The box of the last rebuild is the box now: every jump rebuilt.

@@ -2,7 +2,9 @@
 //! (Eq. 3), or the triangular law the paper also tried, Yang and Thouless's decoupled failure criterion (Eq. 4), unloading along the secant to the origin, and
 //! the law's initial stiffness against closing. Each crack point joins the two particles that faced each other
 //! across the plane at t = 0: the MPM's crack points (`mpm::step::crack_point`; docs/mpm.md "Crack points are
-//! particle pairs") and the SPH's bonds (`sph::bond`; docs/mpm.md "The cohesive path in SPH") share the law.
+//! particle pairs") and the SPH's bonds (`sph::bond`; docs/mpm.md "The cohesive path in SPH") share the law. The
+//! SPH bonds that take over from the continuum at an onset (`coupling = "continuum"`) use [`strength_ratio`] and
+//! the extrinsic [`softening`] law instead (docs/mpm.md "Continuum until onset").
 
 use crate::real::Real;
 use bytemuck::{Pod, Zeroable};
@@ -147,6 +149,44 @@ pub fn traction<R: Real>(c: &Cohesive, st: &mut CrackState<R>, dt_open: R, dn_op
     let tn = if dn_open > R::ZERO { secant(&c.mode1, st[0], dn_open) } else { closing };
     let tt_abs = if at > R::ZERO { secant(&c.mode2, st[1], at) } else { R::ZERO };
     (if dt_open < R::ZERO { -tt_abs } else { tt_abs }, tn)
+}
+
+/// The strength ratio λ = √(⟨t_n⟩²/σ_c² + t_t²/τ_c²) of a traction (t_t, t_n) on the plane, σ_c and τ_c the two
+/// modes' peaks: a [`softening`] bond's onset at λ ≥ 1 (the quadratic criterion of Camacho and Ortiz 1996, which
+/// reduces to each mode's peak alone; docs/mpm.md "Continuum until onset").
+#[inline(always)]
+pub fn strength_ratio<R: Real>(c: &Cohesive, tt: R, tn: R) -> R {
+    let n = tn.max(R::ZERO) / R::from_f64(c.mode1.sigma_c);
+    let t = tt / R::from_f64(c.mode2.sigma_c);
+    (n * n + t * t).sqrt()
+}
+
+/// A bond's tractions (t_t, t_n) past its onset, an extrinsic law (Camacho and Ortiz 1996): from the onset traction
+/// t0 linearly to zero at the normalised opening x = √(⟨u_n⟩²/δ_fI² + u_t²/δ_fII²) = 1, δ_f = 2 J_c/σ_c of each
+/// mode and u the opening since the onset. The largest x (st[0]) is kept; below it the traction follows the secant
+/// to the onset opening, t = t0 (1 − x_max) x/x_max. A proportional opening along t0 at the angle θ of the strength
+/// ellipse (t0 = (τ_c sin θ, σ_c cos θ)) dissipates J_Ic cos²θ + J_IIc sin²θ: pure mode I J_Ic, pure mode II J_IIc.
+/// A closing u_n < 0 adds the mode-I law's initial stiffness, failed or not (crack-face contact). x_max ≥ 1 fails
+/// the bond (st[FAILED]; the mode-I share is the caller's, from the work).
+#[inline(always)]
+pub fn softening<R: Real>(c: &Cohesive, st: &mut CrackState<R>, t0: (R, R), ut: R, un: R) -> (R, R) {
+    let closing = if un < R::ZERO { c.mode1.stiffness::<R>() * un } else { R::ZERO };
+    if st[FAILED] != R::ZERO {
+        return (R::ZERO, closing);
+    }
+    let fi = R::from_f64(2.0 * c.mode1.toughness() / c.mode1.sigma_c);
+    let fii = R::from_f64(2.0 * c.mode2.toughness() / c.mode2.sigma_c);
+    let (xn, xt) = (un.max(R::ZERO) / fi, ut / fii);
+    let x = (xn * xn + xt * xt).sqrt();
+    if x > st[0] {
+        st[0] = x;
+    }
+    if st[0] >= R::ONE {
+        st[FAILED] = R::ONE;
+        return (R::ZERO, closing);
+    }
+    let scale = (R::ONE - st[0]) * if st[0] > R::ZERO { x / st[0] } else { R::ONE };
+    (t0.0 * scale, t0.1 * scale + closing)
 }
 
 /// The law at 0 < d ≤ dmax: the envelope at d = dmax, the secant σ(dmax) d/dmax below it.

@@ -10,7 +10,7 @@ use super::*;
 pub(super) fn path(root: &Tab<'_>, physics: &Physics, damage: bool, blanking: bool) -> Result<Option<CohesivePath>> {
     let e = "a table [cohesive] with toughness, peak, plane and extent (docs/mpm.md)";
     let Some(t) = root.table("cohesive", "cohesive", e)? else { return Ok(None) };
-    let keys: Vec<&str> = LAW_KEYS.iter().copied().chain(["plane", "extent", "traction_free"]).collect();
+    let keys: Vec<&str> = LAW_KEYS.iter().copied().chain(["plane", "extent", "traction_free", "coupling"]).collect();
     t.check_keys(&keys, &[], "")?;
     let law = cohesive_law(&t)?;
     let pe = "the y of the cut plane in m, between two particle rows";
@@ -32,6 +32,12 @@ pub(super) fn path(root: &Tab<'_>, physics: &Physics, damage: bool, blanking: bo
         let e = format!("[x_min, x_max] within extent [{}, {}] m", extent[0], extent[1]);
         return Err(t.invalid("traction_free", t.get("traction_free"), e));
     }
+    let ce = "\"bonds\" or \"continuum\"";
+    let coupling = t.named("coupling", ce, Coupling::from_name)?.unwrap_or(Coupling::Bonds);
+    if coupling == Coupling::Continuum && t.get("law").is_some() {
+        let e = "no law with coupling = \"continuum\" (its bonds soften linearly from the onset; docs/mpm.md)";
+        return Err(t.invalid("law", t.get("law"), e));
+    }
     let refuse = |what: &str| Err(t.invalid("extent", t.get("extent"), format!("no cohesive path {what}")));
     if physics.conduction != Conduction::Off {
         return refuse("with heat conduction (physics.conduction = \"off\")");
@@ -42,5 +48,5 @@ pub(super) fn path(root: &Tab<'_>, physics: &Physics, damage: bool, blanking: bo
     if blanking {
         return refuse("with [blanking]");
     }
-    Ok(Some(CohesivePath { law, plane, extent, traction_free }))
+    Ok(Some(CohesivePath { law, plane, extent, traction_free, coupling }))
 }

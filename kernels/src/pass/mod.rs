@@ -28,7 +28,7 @@ pub use neighbour::{
 pub use predict::{Predict, PredictArgs};
 pub use rates::{RatesArgs, RatesPass};
 pub use sph::{
-    Bond, BondArgs, BondIndex, BondIndexArgs, Contact, ContactArgs, Density, DensityArgs, Heat, HeatArgs, Plastic,
-    PlasticArgs, Prepare, PrepareArgs,
+    Bond, BondArgs, BondIndex, BondIndexArgs, BondOpen, BondOpenArgs, Contact, ContactArgs, Density, DensityArgs, Heat,
+    HeatArgs, Plastic, PlasticArgs, Prepare, PrepareArgs,
 };
 pub use table::{ENTRY_COUNT, ENTRY_KEYS, ENTRY_NAMES, EntryKey, entry_index, single_index};

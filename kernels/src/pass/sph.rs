@@ -12,7 +12,7 @@ use crate::neighbour::{GridParams, Neighbours};
 use crate::real::Real;
 use crate::sph::CubicSpline;
 use crate::sph::TensorOps;
-use crate::sph::bond::{BondArrays, BondParams, bond_particle, index_particle};
+use crate::sph::bond::{BondArrays, BondParams, OnsetState, bond_particle, index_particle, open_particle};
 use crate::sph::density::density_sum;
 use crate::sph::heat::heat_rate;
 use crate::sph::heat::{HeatArrays, HeatParams, ThermalMaterial};
@@ -310,14 +310,14 @@ crate::simple_pass!(Contact<R, D, T>, ContactArgs<R, D, T>, entry_index("contact
 /// The cohesive path's bonds (`sph::bond::bond_particle`): one thread per sorted particle, the bonds' owners act.
 #[repr(C)]
 #[derive(Clone, Copy)]
-pub struct BondArgs<R: Real, D: Dim> {
+pub struct BondArgs<R: Real, D: TensorOps<R>> {
     pub n: u32,
     pub _pad: u32,
     pub params: BondParams,
-    pub arrays: BondArrays<R, D::Vec<R>>,
+    pub arrays: BondArrays<R, D>,
 }
 
-impl<R: Real, D: Dim> BondArgs<R, D> {
+impl<R: Real, D: TensorOps<R>> BondArgs<R, D> {
     /// # Safety
     /// As `sph::bond::bond_particle`.
     #[inline(always)]
@@ -329,7 +329,7 @@ impl<R: Real, D: Dim> BondArgs<R, D> {
 /// The bond pass (`swarf_sph_bond_*`).
 pub struct Bond<R, D>(PhantomData<(R, D)>);
 crate::simple_pass!(Bond<R, D>, BondArgs<R, D>, entry_index("bond", D::D, size_of::<R>(), 0), Grid::Particles,
-    [R: Real, D: Dim]);
+    [R: Real, D: TensorOps<R>]);
 
 /// The map from particle id to sorted index (`sph::bond::index_particle`), rebuilt before the bonds each step.
 #[repr(C)]
@@ -354,4 +354,32 @@ impl<R: Real, D: Dim> BondIndexArgs<R, D> {
 /// The id-to-index pass (`swarf_sph_bond_index_*`).
 pub struct BondIndex<R, D>(PhantomData<(R, D)>);
 crate::simple_pass!(BondIndex<R, D>, BondIndexArgs<R, D>, entry_index("bond_index", D::D, size_of::<R>(), 0),
+    Grid::Particles, [R: Real, D: Dim]);
+
+/// The columns' opening after the bonds under `coupling = "continuum"` (`sph::bond::open_particle`).
+#[repr(C)]
+#[derive(Clone, Copy)]
+pub struct BondOpenArgs<R: Real, D: Dim> {
+    pub n: u32,
+    pub _pad: u32,
+    /// The bond pass's id-to-index map.
+    pub index: *const u32,
+    pub column: *const u32,
+    pub onset: *const OnsetState<R>,
+    pub flags: *mut u32,
+    pub _marker: PhantomData<D>,
+}
+
+impl<R: Real, D: Dim> BondOpenArgs<R, D> {
+    /// # Safety
+    /// As `sph::bond::open_particle`.
+    #[inline(always)]
+    pub unsafe fn particle(&self, i: usize) {
+        unsafe { open_particle(self.index, self.column, self.onset, self.flags, i) }
+    }
+}
+
+/// The opening pass (`swarf_sph_bond_open_*`).
+pub struct BondOpen<R, D>(PhantomData<(R, D)>);
+crate::simple_pass!(BondOpen<R, D>, BondOpenArgs<R, D>, entry_index("bond_open", D::D, size_of::<R>(), 0),
     Grid::Particles, [R: Real, D: Dim]);

@@ -19,8 +19,8 @@
 ///   that a run without damage runs the code it ran before; CSPM (`_cspm`): the corrected kernel gradient, without
 ///   damage (the scene refuses both at once); CUT (`_cut`): no continuum pair across the cohesive path (docs/mpm.md
 ///   "The cohesive path in SPH"), without conduction or damage, with or without CSPM (`_cspm_cut`);
-/// - `bond`, `bond_index` (R, D): the cohesive path's bonds and the map from a particle's id to its sorted index
-///   (`sph::bond`);
+/// - `bond`, `bond_index`, `bond_open` (R, D): the cohesive path's bonds, the map from a particle's id to its sorted
+///   index, and the columns' opening under `coupling = "continuum"` (`sph::bond`);
 /// - `plastic`, `finish_plastic` (R, D, flow model type, its tag, DMG): one per model of [`for_each_flow_model!`],
 ///   without and with the damage's update after the return.
 ///
@@ -64,6 +64,7 @@ macro_rules! for_each_entry {
         $cb!(heat, concat!("swarf_heat_pse_", $v), $r, $d, true);
         $cb!(bond, concat!("swarf_sph_bond_", $v), $r, $d);
         $cb!(bond_index, concat!("swarf_sph_bond_index_", $v), $r, $d);
+        $cb!(bond_open, concat!("swarf_sph_bond_open_", $v), $r, $d);
         $crate::for_each_entry!(@prepare $cb, $r, $d, $v, (v0s0, false, false), (v0s1, false, true),
             (v1s0, true, false), (v1s1, true, true));
         $crate::for_each_entry!(@rates $cb, $r, $d, $v, (v0s0x0, false, false, false), (v0s0x1, false, false, true),

@@ -17,8 +17,8 @@ macro_rules! density_entry {
 
 use super::intrinsics::{graph_set_conditional, shfl_xor};
 use crate::pass::{
-    BondArgs, BondIndexArgs, ContactArgs, CorrectionArgs, DensityArgs, FinishArgs, FinishPlasticArgs, HeatArgs,
-    PlasticArgs, PredictArgs, PrepareArgs, RatesArgs,
+    BondArgs, BondIndexArgs, BondOpenArgs, ContactArgs, CorrectionArgs, DensityArgs, FinishArgs, FinishPlasticArgs,
+    HeatArgs, PlasticArgs, PredictArgs, PrepareArgs, RatesArgs,
 };
 use crate::sph::correction::{CorrectionSum, correction_finish, correction_share};
 use crate::sph::heat::{heat_finish, heat_sum};
@@ -299,6 +299,11 @@ macro_rules! sph_entry {
     (bond_index, $sym:expr, $r:ident, $d:ident) => {
         const _: () = {
     item_entry!($sym, BondIndexArgs<$r, $d>);
+        };
+    };
+    (bond_open, $sym:expr, $r:ident, $d:ident) => {
+        const _: () = {
+    item_entry!($sym, BondOpenArgs<$r, $d>);
         };
     };
     (correction, $sym:expr, $r:ident, $d:ident) => {

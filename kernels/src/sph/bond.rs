@@ -1,9 +1,14 @@
 //! The cohesive path in SPH (nairn-mpm.md §7.2; docs/mpm.md "The cohesive path in SPH"): a predefined horizontal
 //! cut plane whose two faces are joined by bonds, one per pair of particles that faced each other across the plane
-//! at t = 0, each carrying Nairn's cubic law (Eq. 3) with the decoupled failure criterion (Eq. 4) over its
-//! tributary area (`crate::cohesive`, the law the MPM's crack points use). Across the plane there is no continuum
-//! interaction (`interact::cut_apart`): until a bond fails its traction is the only coupling, and after it fails
-//! only the law's closing stiffness (crack-face contact) remains.
+//! at t = 0. Two couplings (`BondParams::coupling`):
+//! - [`BONDS`]: each bond carries Nairn's cubic law (Eq. 3) with the decoupled failure criterion (Eq. 4) over its
+//!   tributary area (`crate::cohesive`, the law the MPM's crack points use) from the start. Across the plane there is
+//!   no continuum interaction (`interact::cut_apart`): until a bond fails its traction is the only coupling, and
+//!   after it fails only the law's closing stiffness (crack-face contact) remains.
+//! - [`CONTINUUM`]: the plane is continuum until the traction it carries at a bond, t = ½(σ_i + σ_j)·ŷ, reaches the
+//!   strength (`onset`); the bond's column then opens (`open_particle`: no continuum pair across it any more) and
+//!   the bond takes over from the traction it had, softening linearly to zero over the opening that dissipates
+//!   G_c ([`softening`]; an extrinsic cohesive law, Camacho and Ortiz 1996; docs/mpm.md "Continuum until onset").
 //!
 //! A bond belongs to its particle above the plane (the owner), which holds its partner's id, the reference offset
 //! X_owner − X_partner and the history; the owner's thread adds the bond's force to both particles' accelerations
@@ -11,13 +16,19 @@
 //! sorted indices through [`index_particle`], rerun each step before the bonds (the reorder moves the particles).
 
 use super::params::flags;
-use crate::cohesive::{Cohesive, CrackState, traction};
+use super::tensor::TensorOps;
+use crate::cohesive::{Cohesive, CrackState, FAILED, MODE_I, softening, strength_ratio, traction};
 use crate::real::Real;
 use crate::vector::Vector;
 use bytemuck::{Pod, Zeroable};
 
 /// No bond (a particle that owns none).
 pub const NONE: u32 = u32::MAX;
+
+/// [`BondParams::coupling`]: the faces are joined by their bonds from t = 0 (Nairn's intrinsic law).
+pub const BONDS: u32 = 0;
+/// [`BondParams::coupling`]: the plane is continuum until the onset, then the bond softens linearly ([`softening`]).
+pub const CONTINUUM: u32 = 1;
 
 /// The cohesive path's constants.
 #[repr(C)]
@@ -29,34 +40,49 @@ pub struct BondParams {
     pub area: f64,
     /// The run's nominal time step Δt [s], which sets the bond's damper ([`damper`]).
     pub dt: f64,
+    /// [`BONDS`] or [`CONTINUUM`].
+    pub coupling: u32,
+    pub _pad: u32,
 }
 
-/// A bond's history: the cohesive state (`cohesive::CrackState`: the largest openings, failed, mode-I share)
-/// followed by the opening (δ_t, δ_n) and tractions (t_t, t_n) of its last evaluation, for the work's trapezoid.
+/// A bond's history: the cohesive state (`cohesive::CrackState`: the largest openings, failed, mode-I share; under
+/// [`CONTINUUM`] the largest normalised opening of [`softening`] in place of the openings) followed by the opening
+/// (δ_t, δ_n) and tractions (t_t, t_n) of its last evaluation, for the work's trapezoid.
 pub type BondState<R> = [R; 8];
+
+/// A bond's onset under [`CONTINUUM`]: [`ONSET`] (0/1), the opening (δ_t, δ_n) and the traction (t_t, t_n) it
+/// started from, and the work of its normal traction since, per unit depth in 2D [J/m] (the mode-I share at failure).
+pub type OnsetState<R> = [R; 6];
+
+/// Index of the onset flag in an [`OnsetState`].
+pub const ONSET: usize = 0;
 
 /// The bond pass's arrays, in sorted order except `index` (by id).
 #[repr(C)]
 #[derive(Clone, Copy)]
-pub struct BondArrays<R: Real, V> {
+pub struct BondArrays<R: Real, D: TensorOps<R>> {
     /// Sorted index of each particle id ([`index_particle`]).
     pub index: *const u32,
     /// The partner's id of each bond's owner ([`NONE`] elsewhere).
     pub partner: *const u32,
     /// X_owner − X_partner at t = 0.
-    pub reference: *const V,
+    pub reference: *const D::Vec<R>,
     pub state: *mut BondState<R>,
+    pub onset: *mut OnsetState<R>,
     /// The work the bond's tractions have taken from the particles so far, per unit depth in 2D [J/m]: the energy
     /// the path has absorbed (released, once the bond has failed).
     pub work: *mut f64,
     /// The energy the bond's damper ([`damper`]) has dissipated so far [J/m in 2D].
     pub damping: *mut f64,
-    pub pos: *const V,
-    pub vel: *const V,
+    pub pos: *const D::Vec<R>,
+    pub vel: *const D::Vec<R>,
     pub mass: *const R,
     pub flags: *const u32,
+    /// σ/ρ² and ρ of the pair interaction (the continuum's traction at the onset).
+    pub sig: *const D::Sym<R>,
+    pub rho: *const R,
     /// The accelerations of the pair interaction, to which the bonds' forces are added.
-    pub vel_t: *mut V,
+    pub vel_t: *mut D::Vec<R>,
 }
 
 /// Whether a particle of flags `fl` takes forces into its acceleration (free, or held in plane; not fixed, not
@@ -83,17 +109,18 @@ pub fn damper<R: Real>(k: R, dt: R) -> R {
 }
 
 /// The bond owned by sorted particle i, if any: its opening δ = (x_i − x_j) − (X_i − X_j) split into sliding
-/// δ_t (x) and opening δ_n (y), the law's tractions (`cohesive::traction`, history updated), the force
-/// F = −(t_t, t_n) A on the owner (above) and −F on the partner added to their accelerations, and the work
-/// Δw = A ½ (t_old + t_new)·(δ_new − δ_old) added to the bond's tally. While the bond holds, its damper ([`damper`])
-/// resists the relative velocity in both directions; once failed, in the normal direction while the faces close
-/// (the law's closing stiffness); the damper's power c |Δv|² Δt is tallied apart.
+/// δ_t (x) and opening δ_n (y), the law's tractions (history updated), the force F = −(t_t, t_n) A on the owner
+/// (above) and −F on the partner added to their accelerations, and the work Δw = A ½ (t_old + t_new)·(δ_new − δ_old)
+/// added to the bond's tally. While the bond holds, its damper ([`damper`]) resists the relative velocity in both
+/// directions; once failed, in the normal direction while the faces close (the law's closing stiffness); the
+/// damper's power c |Δv|² Δt is tallied apart. The law: `cohesive::traction` under [`BONDS`]; under [`CONTINUUM`]
+/// nothing until the onset ([`onset_traction`]: the continuum carried the step), `cohesive::softening` after it.
 ///
 /// # Safety
 /// i < the sorted particle count; every array holds the sorted particles (`index` every id), and the partner of
 /// a bond owns none.
 #[inline(always)]
-pub unsafe fn bond_particle<R: Real, V: Vector<R>>(p: &BondParams, a: &BondArrays<R, V>, i: usize) {
+pub unsafe fn bond_particle<R: Real, D: TensorOps<R>>(p: &BondParams, a: &BondArrays<R, D>, i: usize) {
     unsafe {
         let pid = *a.partner.add(i);
         if pid == NONE {
@@ -101,33 +128,114 @@ pub unsafe fn bond_particle<R: Real, V: Vector<R>>(p: &BondParams, a: &BondArray
         }
         let j = *a.index.add(pid as usize) as usize;
         let (xi, xj, x0) = (*a.pos.add(i), *a.pos.add(j), *a.reference.add(i));
-        let (vi, vj) = (*a.vel.add(i), *a.vel.add(j));
         let st = &mut *a.state.add(i);
         let slide = xi.get(0) - xj.get(0) - x0.get(0);
         let open = xi.get(1) - xj.get(1) - x0.get(1);
-        let mut crack: CrackState<R> = [st[0], st[1], st[2], st[3]];
-        let (tt, tn) = traction(&p.law, &mut crack, slide, open);
         let area = R::from_f64(p.area);
         let half = R::from_f64(0.5);
+        let was_failed = st[FAILED] != R::ZERO;
+        let (tt, tn) = if p.coupling == CONTINUUM {
+            let on = &mut *a.onset.add(i);
+            if on[ONSET] == R::ZERO {
+                if let Some((t0t, t0n)) = onset_traction(&p.law, a, i, j) {
+                    // The bond's force this step is nil (the continuum carried it): its work's trapezoid starts
+                    // from zero traction at the onset opening.
+                    *on = [R::ONE, slide, open, t0t, t0n, R::ZERO];
+                    *st = [R::ZERO, R::ZERO, R::ZERO, R::ZERO, slide, open, R::ZERO, R::ZERO];
+                }
+                return;
+            }
+            let mut crack: CrackState<R> = [st[0], st[1], st[2], st[3]];
+            let t = softening(&p.law, &mut crack, (on[3], on[4]), slide - on[1], open - on[2]);
+            on[5] += half * (st[7] + t.1) * (open - st[5]) * area;
+            st[..4].copy_from_slice(&crack);
+            t
+        } else {
+            let mut crack: CrackState<R> = [st[0], st[1], st[2], st[3]];
+            let t = traction(&p.law, &mut crack, slide, open);
+            st[..4].copy_from_slice(&crack);
+            t
+        };
         let dw = half * ((st[6] + tt) * (slide - st[4]) + (st[7] + tn) * (open - st[5])) * area;
-        *a.work.add(i) += dw.to_f64();
-        *st = [crack[0], crack[1], crack[2], crack[3], slide, open, tt, tn];
-        let held = crack[crate::cohesive::FAILED] == R::ZERO;
+        let work = &mut *a.work.add(i);
+        *work += dw.to_f64();
+        if p.coupling == CONTINUUM && !was_failed && st[FAILED] != R::ZERO {
+            // The mode-I share of the work since the onset (`cohesive::traction` takes it from the law's energies).
+            let share = if *work > 0.0 { (*a.onset.add(i))[5].to_f64() / *work } else { 0.0 };
+            st[MODE_I] = R::from_f64(share);
+        }
+        st[4] = slide;
+        st[5] = open;
+        st[6] = tt;
+        st[7] = tn;
+        let held = st[FAILED] == R::ZERO;
         let dt_step = R::from_f64(p.dt);
         let cn = if held || open < R::ZERO { damper(p.law.mode1.stiffness::<R>() * area, dt_step) } else { R::ZERO };
         let ct = if held { damper(p.law.mode2.stiffness::<R>() * area, dt_step) } else { R::ZERO };
+        let (vi, vj) = (*a.vel.add(i), *a.vel.add(j));
         let (ut, un) = (vi.get(0) - vj.get(0), vi.get(1) - vj.get(1));
         *a.damping.add(i) += ((ct * ut * ut + cn * un * un) * dt_step).to_f64();
-        let f = V::new([-tt * area - ct * ut, -tn * area - cn * un, R::ZERO]);
+        let f = D::Vec::<R>::new([-tt * area - ct * ut, -tn * area - cn * un, R::ZERO]);
         if moves(*a.flags.add(i)) {
             let acc = &mut *a.vel_t.add(i);
             let inv = R::ONE / *a.mass.add(i);
-            *acc = V::new([acc.get(0) + f.get(0) * inv, acc.get(1) + f.get(1) * inv, acc.get(2)]);
+            *acc = D::Vec::<R>::new([acc.get(0) + f.get(0) * inv, acc.get(1) + f.get(1) * inv, acc.get(2)]);
         }
         if moves(*a.flags.add(j)) {
             let acc = &mut *a.vel_t.add(j);
             let inv = R::ONE / *a.mass.add(j);
-            *acc = V::new([acc.get(0) - f.get(0) * inv, acc.get(1) - f.get(1) * inv, acc.get(2)]);
+            *acc = D::Vec::<R>::new([acc.get(0) - f.get(0) * inv, acc.get(1) - f.get(1) * inv, acc.get(2)]);
+        }
+    }
+}
+
+/// The onset of the [`CONTINUUM`] bond of owner i and partner j: the traction the continuum carries across the
+/// plane there, t = ½(σ_i + σ_j)·ŷ = (t_t, t_n) (σ = ρ² (σ/ρ²) of the pair interaction), and its strength ratio
+/// λ (`cohesive::strength_ratio`). At λ ≥ 1 the bond starts from (t_t, ⟨t_n⟩)/λ, the traction scaled onto the
+/// strength ellipse (a step's overshoot is not carried over; a compressive normal is left to the closing
+/// stiffness); None below it.
+///
+/// # Safety
+/// i, j < the sorted particle count.
+#[inline(always)]
+unsafe fn onset_traction<R: Real, D: TensorOps<R>>(
+    law: &Cohesive,
+    a: &BondArrays<R, D>,
+    i: usize,
+    j: usize,
+) -> Option<(R, R)> {
+    let (ri, rj) = unsafe { (*a.rho.add(i), *a.rho.add(j)) };
+    let y = D::Vec::<R>::new([R::ZERO, R::ONE, R::ZERO]);
+    let (ti, tj) = unsafe { (D::sym_apply(&*a.sig.add(i), &y), D::sym_apply(&*a.sig.add(j), &y)) };
+    let half = R::from_f64(0.5);
+    let tt = half * (ti.get(0) * ri * ri + tj.get(0) * rj * rj);
+    let tn = half * (ti.get(1) * ri * ri + tj.get(1) * rj * rj);
+    let lambda = strength_ratio(law, tt, tn);
+    if lambda >= R::ONE { Some((tt / lambda, tn.max(R::ZERO) / lambda)) } else { None }
+}
+
+/// Opens sorted particle i (`flags::OPEN`: no continuum pair across the path any more) once the bond of its column
+/// (`column`: the owner's id; [`NONE`] for a particle that belongs to none) has passed its onset. Run after the bond
+/// pass: only i's flags are written, from the owner's onset state.
+///
+/// # Safety
+/// i < the sorted particle count; `index` holds every id.
+#[inline(always)]
+pub unsafe fn open_particle<R: Real>(
+    index: *const u32,
+    column: *const u32,
+    onset: *const OnsetState<R>,
+    fl: *mut u32,
+    i: usize,
+) {
+    unsafe {
+        let c = *column.add(i);
+        if c == NONE {
+            return;
+        }
+        let owner = *index.add(c as usize) as usize;
+        if (*onset.add(owner))[ONSET] != R::ZERO {
+            *fl.add(i) |= flags::OPEN;
         }
     }
 }

@@ -95,7 +95,7 @@ unsafe fn add_pair<R: Real, D: TensorOps<R>, const PER: bool>(
 ) {
     let ju = j as usize;
     // A particle off the path (side 0) is never cut apart: only a sided i reads j's flags.
-    let across = side_i != 0 && cut_apart(side_i, unsafe { read(a.flags.add(ju)) } & flags::SIDE_MASK);
+    let across = side_i != 0 && cut_apart(side_i, unsafe { read(a.flags.add(ju)) } & flags::CUT_MASK);
     if across && !count_cut {
         return;
     }
@@ -149,7 +149,7 @@ pub unsafe fn correction_share<R: Real, D: TensorOps<R>>(
         if !corrected(a, i) {
             return CorrectionSum::default();
         }
-        let (xi, side) = (*a.pos.add(i as usize), *a.flags.add(i as usize) & flags::SIDE_MASK);
+        let (xi, side) = (*a.pos.add(i as usize), *a.flags.add(i as usize) & flags::CUT_MASK);
         let per = Period::<R>::of::<D>(nb.grid);
         unswitch_period!(per, PER =>
             lane_share::<R, D::Vec<R>, _, _>(nb, &xi, i, lane, lanes, |j, s| {
@@ -190,7 +190,7 @@ pub unsafe fn correction<R: Real, D: TensorOps<R>>(
         let s = if !corrected(a, i) {
             CorrectionSum::default()
         } else {
-            let (xi, side) = (*a.pos.add(i as usize), *a.flags.add(i as usize) & flags::SIDE_MASK);
+            let (xi, side) = (*a.pos.add(i as usize), *a.flags.add(i as usize) & flags::CUT_MASK);
             let per = Period::<R>::of::<D>(nb.grid);
             unswitch_period!(per, PER =>
                 all_lanes::<R, D::Vec<R>, _, _>(nb, &xi, i, lanes, |j, s| {

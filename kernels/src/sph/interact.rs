@@ -365,7 +365,7 @@ struct Own<R: Real, D: TensorOps<R>> {
     c: R,
     /// B_i⁻¹ (with CSPM only).
     corr: D::Sym<R>,
-    /// The side of the cohesive path i lies on (`flags::SIDE_MASK` bits; read by the `CUT` entries only).
+    /// The side of the cohesive path i lies on and whether it is open (`flags::CUT_MASK` bits; `CUT` entries only).
     side: u32,
 }
 
@@ -386,7 +386,7 @@ unsafe fn own<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, const CS
             art: if AS { *a.art.add(iu) } else { Default::default() },
             c: if AV { *a.sound.add(iu) } else { R::ZERO },
             corr: if CS { *a.correction.add(iu) } else { Default::default() },
-            side: fl & flags::SIDE_MASK,
+            side: fl & flags::CUT_MASK,
         }
     }
 }
@@ -409,7 +409,7 @@ struct Partner<R: Real, D: TensorOps<R>> {
     sig: D::Sym<R>,
     /// Artificial stress (zero without it).
     art: D::Sym<R>,
-    /// The side of the cohesive path j lies on (0 unless `CUT`).
+    /// The side of the cohesive path j lies on and whether it is open (0 unless `CUT`).
     side: u32,
 }
 
@@ -430,7 +430,7 @@ unsafe fn partner<R: Real, D: TensorOps<R>, const AV: bool, const AS: bool, cons
             c: if AV { read(a.sound.add(ju)) } else { R::ZERO },
             sig: read(a.sig.add(ju)),
             art: if AS { read(a.art.add(ju)) } else { Default::default() },
-            side: if CUT { read(a.flags.add(ju)) & flags::SIDE_MASK } else { 0 },
+            side: if CUT { read(a.flags.add(ju)) & flags::CUT_MASK } else { 0 },
         }
     }
 }
@@ -522,12 +522,13 @@ unsafe fn add_pair<
     }
 }
 
-/// Whether particles on sides `a` and `b` (`flags::SIDE_MASK` bits) lie on opposite sides of the cohesive path:
-/// across it there is no continuum interaction, only the bond's traction (nairn-mpm.md §7.2, "no ordinary SPH
-/// stress interaction across the plane").
+/// Whether particles of flags `a` and `b` (`flags::CUT_MASK` bits) lie on opposite sides of the cohesive path and
+/// one of them is open (`flags::OPEN`): across it there is then no continuum interaction, only the bond's traction
+/// (nairn-mpm.md §7.2, "no ordinary SPH stress interaction across the plane").
 #[inline(always)]
 pub fn cut_apart(a: u32, b: u32) -> bool {
-    a | b == flags::SIDE_MASK
+    let c = a | b;
+    c & flags::SIDE_MASK == flags::SIDE_MASK && c & flags::OPEN != 0
 }
 
 /// [`pair_term`] of a damaged run with the interaction mask F (klippel §2.6, Eqs. 7.30–7.34; docs/damage.md,

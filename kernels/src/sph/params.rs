@@ -66,8 +66,8 @@ pub struct Stabilisers {
     pub xsph: bool,
 }
 
-/// Particle flags: bits 0..4 the mechanical boundary-condition kind, bits 4..6 the side of a cohesive cut plane,
-/// bit 6 thermal-only, bit 7 a fixed temperature, 8..16 the index
+/// Particle flags: bits 0..3 the mechanical boundary-condition kind, bit 3 open across a cohesive cut plane, bits
+/// 4..6 the side of the plane, bit 6 thermal-only, bit 7 a fixed temperature, 8..16 the index
 /// into the prescribed-velocity table, 16..32 the body index (materials, output, per-body diagnostics).
 pub mod flags {
     pub const BODY_SHIFT: u32 = 16;
@@ -82,13 +82,21 @@ pub mod flags {
     /// Held in its x–y plane (3D): the z components of its velocity and position rates are zero, so that its
     /// initial v_z = 0 stays (plane strain, `kind = "plane_strain"`).
     pub const PLANE: u32 = 3;
-    pub const KIND_MASK: u32 = 0x0f;
+    pub const KIND_MASK: u32 = 0x07;
+    /// Cut from the particles across the cohesive path (`sph::bond`): a pair on opposite sides of it interacts
+    /// through the continuum only while neither is open. With `coupling = "bonds"` every sided particle is open
+    /// from the start; with `"continuum"` those near the plane open when their column's bond initiates
+    /// (`sph::bond::open_particle`).
+    pub const OPEN: u32 = 0x08;
     /// The side of the cohesive path (`sph::bond`; docs/mpm.md "The cohesive path in SPH") a particle lies on in
     /// the reference configuration: above or below the plane, within the crack's extent (0: neither). Two
-    /// particles on opposite sides do not interact through the continuum; only their bond couples them.
+    /// particles on opposite sides, one of them [`OPEN`], do not interact through the continuum; only their bond
+    /// couples them.
     pub const SIDE_ABOVE: u32 = 0x10;
     pub const SIDE_BELOW: u32 = 0x20;
     pub const SIDE_MASK: u32 = 0x30;
+    /// The bits [`crate::sph::interact::cut_apart`] reads.
+    pub const CUT_MASK: u32 = SIDE_MASK | OPEN;
     pub const VEL_INDEX_SHIFT: u32 = 8;
     pub const VEL_INDEX_MASK: u32 = 0xff;
 }
