@@ -580,7 +580,7 @@ fn cohesive_state<B: Backend, R: Real, D: TensorOps<R>>(
         partner: Field::upload(b, &c.partner, "bond partners")?,
         reference: Field::upload(b, &reference, "bond reference offsets")?,
         state: Field::upload(b, &vec![[R::ZERO; 8]; n], "bond states")?,
-        onset: Field::upload(b, &vec![[R::ZERO; 6]; n], "bond onsets")?,
+        onset: Field::upload(b, &vec![[R::ZERO; 4]; n], "bond onsets")?,
         column: Field::upload(b, &c.column, "bond columns")?,
         work: Field::upload(b, &vec![0.0f64; n], "bond work")?,
         damping: Field::upload(b, &vec![0.0f64; n], "bond damping")?,

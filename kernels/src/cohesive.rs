@@ -161,15 +161,16 @@ pub fn strength_ratio<R: Real>(c: &Cohesive, tt: R, tn: R) -> R {
     (n * n + t * t).sqrt()
 }
 
-/// A bond's tractions (t_t, t_n) past its onset, an extrinsic law (Camacho and Ortiz 1996): from the onset traction
-/// t0 linearly to zero at the normalised opening x = √(⟨u_n⟩²/δ_fI² + u_t²/δ_fII²) = 1, δ_f = 2 J_c/σ_c of each
-/// mode and u the opening since the onset. The largest x (st[0]) is kept; below it the traction follows the secant
-/// to the onset opening, t = t0 (1 − x_max) x/x_max. A proportional opening along t0 at the angle θ of the strength
-/// ellipse (t0 = (τ_c sin θ, σ_c cos θ)) dissipates J_Ic cos²θ + J_IIc sin²θ: pure mode I J_Ic, pure mode II J_IIc.
-/// A closing u_n < 0 adds the mode-I law's initial stiffness, failed or not (crack-face contact). x_max ≥ 1 fails
-/// the bond (st[FAILED]; the mode-I share is the caller's, from the work).
+/// A bond's tractions (t_t, t_n) past its onset, an extrinsic law of linear softening (Camacho and Ortiz 1996):
+/// with the normalised opening x = √(ξ_n² + ξ_t²), ξ_n = ⟨u_n⟩/δ_fI, ξ_t = u_t/δ_fII, δ_f = 2 J_c/σ_c of each mode and
+/// u the opening since the onset, the traction is t = (τ_c ξ_t, σ_c ξ_n)(1 − x_max)/x_max: on the strength ellipse
+/// at the onset, along the opening, falling linearly to zero at x = 1, and along the secant to the onset opening
+/// below the largest x reached (st[0]). Each mode's traction does positive work on an opening; a proportional one
+/// dissipates J_Ic cos²φ + J_IIc sin²φ (ξ = x (sin φ, cos φ)): pure mode I J_Ic, pure mode II J_IIc. A closing
+/// u_n < 0 adds the mode-I law's initial stiffness, failed or not (crack-face contact). x_max ≥ 1 fails the bond
+/// (st[FAILED]; the mode-I share is the caller's, from the work).
 #[inline(always)]
-pub fn softening<R: Real>(c: &Cohesive, st: &mut CrackState<R>, t0: (R, R), ut: R, un: R) -> (R, R) {
+pub fn softening<R: Real>(c: &Cohesive, st: &mut CrackState<R>, ut: R, un: R) -> (R, R) {
     let closing = if un < R::ZERO { c.mode1.stiffness::<R>() * un } else { R::ZERO };
     if st[FAILED] != R::ZERO {
         return (R::ZERO, closing);
@@ -185,8 +186,12 @@ pub fn softening<R: Real>(c: &Cohesive, st: &mut CrackState<R>, t0: (R, R), ut: 
         st[FAILED] = R::ONE;
         return (R::ZERO, closing);
     }
-    let scale = (R::ONE - st[0]) * if st[0] > R::ZERO { x / st[0] } else { R::ONE };
-    (t0.0 * scale, t0.1 * scale + closing)
+    if st[0] == R::ZERO {
+        // No opening yet: no direction to carry a traction along.
+        return (R::ZERO, closing);
+    }
+    let k = (R::ONE - st[0]) / st[0];
+    (R::from_f64(c.mode2.sigma_c) * xt * k, R::from_f64(c.mode1.sigma_c) * xn * k + closing)
 }
 
 /// The law at 0 < d ≤ dmax: the envelope at d = dmax, the secant σ(dmax) d/dmax below it.

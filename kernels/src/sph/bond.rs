@@ -6,9 +6,10 @@
 //!   no continuum interaction (`interact::cut_apart`): until a bond fails its traction is the only coupling, and
 //!   after it fails only the law's closing stiffness (crack-face contact) remains.
 //! - [`CONTINUUM`]: the plane is continuum until the traction it carries at a bond, t = ½(σ_i + σ_j)·ŷ, reaches the
-//!   strength (`onset`); the bond's column then opens (`open_particle`: no continuum pair across it any more) and
-//!   the bond takes over from the traction it had, softening linearly to zero over the opening that dissipates
-//!   G_c ([`softening`]; an extrinsic cohesive law, Camacho and Ortiz 1996; docs/mpm.md "Continuum until onset").
+//!   strength ([`onset_reached`]); the bond's column then opens (`open_particle`: no continuum pair across it any
+//!   more) and the bond takes over at the strength, softening linearly to zero over the opening that dissipates
+//!   G_c (`cohesive::softening`; an extrinsic cohesive law, Camacho and Ortiz 1996; docs/mpm.md "Continuum until
+//!   onset").
 //!
 //! A bond belongs to its particle above the plane (the owner), which holds its partner's id, the reference offset
 //! X_owner − X_partner and the history; the owner's thread adds the bond's force to both particles' accelerations
@@ -50,9 +51,9 @@ pub struct BondParams {
 /// (δ_t, δ_n) and tractions (t_t, t_n) of its last evaluation, for the work's trapezoid.
 pub type BondState<R> = [R; 8];
 
-/// A bond's onset under [`CONTINUUM`]: [`ONSET`] (0/1), the opening (δ_t, δ_n) and the traction (t_t, t_n) it
-/// started from, and the work of its normal traction since, per unit depth in 2D [J/m] (the mode-I share at failure).
-pub type OnsetState<R> = [R; 6];
+/// A bond's onset under [`CONTINUUM`]: [`ONSET`] (0/1), the opening (δ_t, δ_n) it started from, and the work of its
+/// normal traction since, per unit depth in 2D [J/m] (the mode-I share at failure).
+pub type OnsetState<R> = [R; 4];
 
 /// Index of the onset flag in an [`OnsetState`].
 pub const ONSET: usize = 0;
@@ -114,7 +115,7 @@ pub fn damper<R: Real>(k: R, dt: R) -> R {
 /// added to the bond's tally. While the bond holds, its damper ([`damper`]) resists the relative velocity in both
 /// directions; once failed, in the normal direction while the faces close (the law's closing stiffness); the
 /// damper's power c |Δv|² Δt is tallied apart. The law: `cohesive::traction` under [`BONDS`]; under [`CONTINUUM`]
-/// nothing until the onset ([`onset_traction`]: the continuum carried the step), `cohesive::softening` after it.
+/// nothing until the onset ([`onset_reached`]: the continuum carried the step), `cohesive::softening` after it.
 ///
 /// # Safety
 /// i < the sorted particle count; every array holds the sorted particles (`index` every id), and the partner of
@@ -137,17 +138,17 @@ pub unsafe fn bond_particle<R: Real, D: TensorOps<R>>(p: &BondParams, a: &BondAr
         let (tt, tn) = if p.coupling == CONTINUUM {
             let on = &mut *a.onset.add(i);
             if on[ONSET] == R::ZERO {
-                if let Some((t0t, t0n)) = onset_traction(&p.law, a, i, j) {
+                if onset_reached(&p.law, a, i, j) {
                     // The bond's force this step is nil (the continuum carried it): its work's trapezoid starts
                     // from zero traction at the onset opening.
-                    *on = [R::ONE, slide, open, t0t, t0n, R::ZERO];
+                    *on = [R::ONE, slide, open, R::ZERO];
                     *st = [R::ZERO, R::ZERO, R::ZERO, R::ZERO, slide, open, R::ZERO, R::ZERO];
                 }
                 return;
             }
             let mut crack: CrackState<R> = [st[0], st[1], st[2], st[3]];
-            let t = softening(&p.law, &mut crack, (on[3], on[4]), slide - on[1], open - on[2]);
-            on[5] += half * (st[7] + t.1) * (open - st[5]) * area;
+            let t = softening(&p.law, &mut crack, slide - on[1], open - on[2]);
+            on[3] += half * (st[7] + t.1) * (open - st[5]) * area;
             st[..4].copy_from_slice(&crack);
             t
         } else {
@@ -161,7 +162,7 @@ pub unsafe fn bond_particle<R: Real, D: TensorOps<R>>(p: &BondParams, a: &BondAr
         *work += dw.to_f64();
         if p.coupling == CONTINUUM && !was_failed && st[FAILED] != R::ZERO {
             // The mode-I share of the work since the onset (`cohesive::traction` takes it from the law's energies).
-            let share = if *work > 0.0 { (*a.onset.add(i))[5].to_f64() / *work } else { 0.0 };
+            let share = if *work > 0.0 { (*a.onset.add(i))[3].to_f64() / *work } else { 0.0 };
             st[MODE_I] = R::from_f64(share);
         }
         st[4] = slide;
@@ -189,29 +190,21 @@ pub unsafe fn bond_particle<R: Real, D: TensorOps<R>>(p: &BondParams, a: &BondAr
     }
 }
 
-/// The onset of the [`CONTINUUM`] bond of owner i and partner j: the traction the continuum carries across the
-/// plane there, t = ½(σ_i + σ_j)·ŷ = (t_t, t_n) (σ = ρ² (σ/ρ²) of the pair interaction), and its strength ratio
-/// λ (`cohesive::strength_ratio`). At λ ≥ 1 the bond starts from (t_t, ⟨t_n⟩)/λ, the traction scaled onto the
-/// strength ellipse (a step's overshoot is not carried over; a compressive normal is left to the closing
-/// stiffness); None below it.
+/// Whether the [`CONTINUUM`] bond of owner i and partner j has reached its onset: the traction the continuum carries
+/// across the plane there, t = ½(σ_i + σ_j)·ŷ = (t_t, t_n) (σ = ρ² (σ/ρ²) of the pair interaction), has a strength
+/// ratio λ ≥ 1 (`cohesive::strength_ratio`).
 ///
 /// # Safety
 /// i, j < the sorted particle count.
 #[inline(always)]
-unsafe fn onset_traction<R: Real, D: TensorOps<R>>(
-    law: &Cohesive,
-    a: &BondArrays<R, D>,
-    i: usize,
-    j: usize,
-) -> Option<(R, R)> {
+unsafe fn onset_reached<R: Real, D: TensorOps<R>>(law: &Cohesive, a: &BondArrays<R, D>, i: usize, j: usize) -> bool {
     let (ri, rj) = unsafe { (*a.rho.add(i), *a.rho.add(j)) };
     let y = D::Vec::<R>::new([R::ZERO, R::ONE, R::ZERO]);
     let (ti, tj) = unsafe { (D::sym_apply(&*a.sig.add(i), &y), D::sym_apply(&*a.sig.add(j), &y)) };
     let half = R::from_f64(0.5);
     let tt = half * (ti.get(0) * ri * ri + tj.get(0) * rj * rj);
     let tn = half * (ti.get(1) * ri * ri + tj.get(1) * rj * rj);
-    let lambda = strength_ratio(law, tt, tn);
-    if lambda >= R::ONE { Some((tt / lambda, tn.max(R::ZERO) / lambda)) } else { None }
+    strength_ratio(law, tt, tn) >= R::ONE
 }
 
 /// Opens sorted particle i (`flags::OPEN`: no continuum pair across the path any more) once the bond of its column
