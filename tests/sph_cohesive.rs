@@ -108,6 +108,34 @@ fn continuum_coupled_bonds_release_their_toughness_in_mode_2() {
     assert!(gap < 0.01, "energy balance gap {gap}");
 }
 
+/// The continuum coupling's softening law (`kernels::cohesive::softening`), opened proportionally at the angle φ
+/// (normalised opening ξ = x (sin φ, cos φ), to x = 1.0001 in 10⁵ steps, the work by the trapezoid): the bond fails
+/// at x = 1 and has dissipated G_Ic cos²φ + G_IIc sin²φ, with G_Ic = 2000 J/m², σ_c = 40 MPa and G_IIc = 3000 J/m²,
+/// τ_c = 30 MPa, within 1e-4 (the first interval's half trapezoid from zero traction, ½ σ Δ, is 1e-5 of it).
+#[test]
+fn the_softening_law_dissipates_the_mixed_toughness() {
+    use swarf::kernels::cohesive::{CUBIC, Cohesive, FAILED, TractionLaw, softening};
+    let law = Cohesive {
+        mode1: TractionLaw::of_toughness(CUBIC, 2000.0, 40e6),
+        mode2: TractionLaw::of_toughness(CUBIC, 3000.0, 30e6),
+    };
+    let (fi, fii) = (2.0 * 2000.0 / 40e6, 2.0 * 3000.0 / 30e6);
+    for phi in [0.0, 0.3, 0.7, 1.2, std::f64::consts::FRAC_PI_2] {
+        let (mut st, n) = ([0.0f64; 4], 100_000);
+        let (mut w, mut last, mut u0) = (0.0, (0.0, 0.0), (0.0, 0.0));
+        for k in 1..=n + 10 {
+            let x = k as f64 / n as f64;
+            let u = (x * phi.sin() * fii, x * phi.cos() * fi);
+            let t = softening(&law, &mut st, u.0, u.1);
+            w += 0.5 * ((last.0 + t.0) * (u.0 - u0.0) + (last.1 + t.1) * (u.1 - u0.1));
+            (last, u0) = (t, u);
+        }
+        let expected = 2000.0 * phi.cos().powi(2) + 3000.0 * phi.sin().powi(2);
+        assert_eq!(st[FAILED], 1.0, "φ = {phi}: the bond fails");
+        assert!((w / expected - 1.0).abs() < 1e-4, "φ = {phi}: {w} J/m² against {expected}");
+    }
+}
+
 /// Below its strength a `coupling = "continuum"` path is the continuum itself: the V15 blocks with the upper one
 /// thrown off at 1 m/s (a stress wave of about ρ c v/2 ≈ 2 MPa, against σ_c = 40 MPa) for 1 µs at a fixed step end
 /// with every position and velocity bit for bit those of the same blocks without a `[cohesive]` table, and no bond
@@ -121,7 +149,8 @@ fn a_continuum_coupled_path_below_its_strength_is_the_continuum() {
     without.cohesive = None;
     let state = |scene: &Scene, tag: &str| {
         let dir = std::env::temp_dir().join(format!("swarf-sph-cohesive-below-{tag}-{}", std::process::id()));
-        let mut last: Option<(Vec<[f64; 3]>, Vec<[f64; 3]>)> = None;
+        type Points = Vec<[f64; 3]>;
+        let mut last: Option<(Points, Points)> = None;
         let mut keep = |s: &swarf::run::Snapshot| {
             last = Some((s.pos.clone(), s.vel.clone()));
             true

@@ -386,6 +386,9 @@ pub fn density_args<B: Backend, R: Real, D: Dim>(
     })
 }
 
+/// The arguments of the cohesive path's three passes: the id map, the bonds, the opening.
+pub type BondPassArgs<R, D> = (BondIndexArgs<R, D>, BondArgs<R, D>, BondOpenArgs<R, D>);
+
 /// The bond pass's, the id map's and the opening pass's arguments ([`super::Passes::bonds`]) for `n` sorted
 /// particles.
 pub fn bond_args<B: Backend, R: Real, D: TensorOps<R>>(
@@ -393,7 +396,7 @@ pub fn bond_args<B: Backend, R: Real, D: TensorOps<R>>(
     n: usize,
     k: BondBufs<'_, B, R, D>,
     vel_t: &mut B::Buf<D::Vec<R>>,
-) -> Result<(BondIndexArgs<R, D>, BondArgs<R, D>, BondOpenArgs<R, D>)> {
+) -> Result<BondPassArgs<R, D>> {
     let count =
         u32::try_from(n).map_err(|_| Error::Length { op: "bonds count", expected: u32::MAX as usize, got: n })?;
     let index = output(b, "bond index", n, k.index)?;

@@ -203,6 +203,8 @@ pub const fn model_variant(index: usize, dmg: bool) -> u32 {
 }
 
 /// Every entry's key, in table order (with [`ENTRY_NAMES`]).
+// A const, not a static: `entry_index`, a const fn, reads it at compile time (a run never copies it).
+#[allow(clippy::large_const_arrays)]
 pub const ENTRY_KEYS: [EntryKey; ENTRY_COUNT] = {
     use crate::pass::ModelEntry;
     use crate::vector::{Dim, Dim2, Dim3};
