@@ -17,6 +17,21 @@ fn history(file: &str, overrides: &[&str], tag: &str) -> Vec<Diagnostics> {
     run(&common::test_backend(), &scene, &opts).expect("the run ends").history
 }
 
+/// Positions and velocities of a run's particles.
+type Points = Vec<[f64; 3]>;
+
+/// The last state (positions, velocities) and the energy history of `scene` run to its end on the test backend.
+fn final_state(scene: &Scene, tag: &str) -> ((Points, Points), Vec<Diagnostics>) {
+    let dir = std::env::temp_dir().join(format!("swarf-sph-cohesive-{tag}-{}", std::process::id()));
+    let mut last: Option<(Points, Points)> = None;
+    let mut keep = |s: &swarf::run::Snapshot| {
+        last = Some((s.pos.clone(), s.vel.clone()));
+        true
+    };
+    let report = run_observed(&common::test_backend(), scene, &RunOptions::quiet(dir), Some(&mut keep)).expect("run");
+    (last.expect("a state"), report.history)
+}
+
 /// The released energy per crack area of the failed bonds, their count, the mode-I share and the largest gap of
 /// the energy balance (kinetic + elastic + viscous + cohesive, no work from outside) relative to its start.
 fn released(file: &str, overrides: &[&str], tag: &str) -> (f64, f64, f64, f64) {
@@ -142,20 +157,8 @@ fn a_continuum_coupled_path_below_its_strength_is_the_continuum() {
     let with = Scene::load(file, &ov.map(String::from)).expect("scene");
     let mut without = with.clone();
     without.cohesive = None;
-    let state = |scene: &Scene, tag: &str| {
-        let dir = std::env::temp_dir().join(format!("swarf-sph-cohesive-below-{tag}-{}", std::process::id()));
-        type Points = Vec<[f64; 3]>;
-        let mut last: Option<(Points, Points)> = None;
-        let mut keep = |s: &swarf::run::Snapshot| {
-            last = Some((s.pos.clone(), s.vel.clone()));
-            true
-        };
-        let report =
-            run_observed(&common::test_backend(), scene, &RunOptions::quiet(dir), Some(&mut keep)).expect("run");
-        (last.expect("a state"), report.history)
-    };
-    let ((pos_a, vel_a), history) = state(&with, "path");
-    let ((pos_b, vel_b), _) = state(&without, "none");
+    let ((pos_a, vel_a), history) = final_state(&with, "below-path");
+    let ((pos_b, vel_b), _) = final_state(&without, "below-none");
     let last = history.last().expect("outputs");
     assert_eq!(last.bonds_failed, 0.0, "no bond fails");
     assert_eq!(last.cohesive_work, 0.0, "no bond has started: no work");
@@ -172,18 +175,10 @@ fn a_traction_free_plane_couples_nothing() {
     let file = "cases/mpm/sph-bond-mode1.toml";
     let free = ["cohesive.traction_free=[0.0, 2e-3]", "time.end=1e-6"];
     let scene = Scene::load(file, &free.map(String::from)).expect("scene");
-    let dir = std::env::temp_dir().join(format!("swarf-sph-cohesive-free-{}", std::process::id()));
-    type Points = Vec<[f64; 3]>;
-    let mut last_state: Option<(Points, Points)> = None;
-    let mut keep = |s: &swarf::run::Snapshot| {
-        last_state = Some((s.pos.clone(), s.vel.clone()));
-        true
-    };
-    let report = run_observed(&common::test_backend(), &scene, &RunOptions::quiet(dir), Some(&mut keep)).expect("run");
-    let last = report.history.last().expect("outputs");
+    let ((pos, vel), history) = final_state(&scene, "free");
+    let last = history.last().expect("outputs");
     assert_eq!(last.bonds_failed, 0.0, "no bond outside the starter");
     assert_eq!(last.cohesive_work, 0.0, "no bond, no work");
-    let (pos, vel) = last_state.expect("the state at 1 µs");
     let lower: Vec<usize> = (0..pos.len()).filter(|&i| pos[i][1] < 0.0).collect();
     assert_eq!(lower.len(), 400, "the lower block's particles (40 × 10)");
     assert!(lower.iter().all(|&i| vel[i] == [0.0; 3]), "the lower block moved");

@@ -318,7 +318,10 @@ pub trait Passes: Backend {
         {
             return Err(Error::Length { op: "bond ids (below the index's length)", expected: k.index.len(), got: ids });
         }
-        if let Some(column) = self.host_slice(k.column)
+        // Only the opening pass reads the columns.
+        let continuum = k.params.coupling == crate::kernels::sph::bond::CONTINUUM;
+        if continuum
+            && let Some(column) = self.host_slice(k.column)
             && column[..n].iter().any(|&c| c != crate::kernels::sph::bond::NONE && c as usize >= k.index.len())
         {
             return Err(Error::Length {
@@ -327,7 +330,6 @@ pub trait Passes: Backend {
                 got: n,
             });
         }
-        let continuum = k.params.coupling == crate::kernels::sph::bond::CONTINUUM;
         let (map, a, open) = args::bond_args(self, n, k, vel_t)?;
         // SAFETY: the builder checked the lengths and (on the CPU) that every id and column indexes the map; each id
         // is one particle's, so each map entry is written once; a bond's owner is the only writer of its own and its

@@ -396,18 +396,20 @@ fn open_sides(
     let free = |x: f64| c.traction_free.is_some_and(|[a, b]| (a..=b).contains(&x));
     for &i in on_path {
         let near = (pos[i][1] - c.plane).abs() < 2.0 * scene.h() && !free(pos[i][0]);
-        let start = owners.partition_point(|&o| pos[o][0] < pos[i][0] - 0.5 * dx);
-        let owner = owners[start..]
-            .iter()
-            .take_while(|&&o| pos[o][0] <= pos[i][0] + 0.5 * dx)
-            .filter(|&&o| (pos[o][2] - pos[i][2]).abs() <= 0.5 * dx)
-            .min_by(|&&a, &&b| {
-                let d = |o: usize| (pos[o][0] - pos[i][0]).hypot(pos[o][2] - pos[i][2]);
-                d(a).total_cmp(&d(b))
-            });
-        match owner {
-            Some(&o) if near => column[i] = o as u32,
-            _ => fl[i] |= flags::OPEN,
+        let owner = near.then(|| {
+            let start = owners.partition_point(|&o| pos[o][0] < pos[i][0] - 0.5 * dx);
+            owners[start..]
+                .iter()
+                .take_while(|&&o| pos[o][0] <= pos[i][0] + 0.5 * dx)
+                .filter(|&&o| (pos[o][2] - pos[i][2]).abs() <= 0.5 * dx)
+                .min_by(|&&a, &&b| {
+                    let d = |o: usize| (pos[o][0] - pos[i][0]).hypot(pos[o][2] - pos[i][2]);
+                    d(a).total_cmp(&d(b))
+                })
+        });
+        match owner.flatten() {
+            Some(&o) => column[i] = o as u32,
+            None => fl[i] |= flags::OPEN,
         }
     }
     column

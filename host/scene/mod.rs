@@ -176,7 +176,7 @@ impl Coupling {
 
     /// The coupling a key value names.
     pub fn from_name(name: &str) -> Option<Coupling> {
-        Self::ALL.iter().find(|(_, n)| *n == name).map(|(c, _)| *c)
+        mpm::by_name(&Self::ALL, name)
     }
 }
 

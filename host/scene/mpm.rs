@@ -57,7 +57,7 @@ pub struct CohesiveSpec {
 }
 
 /// The variant of a (variant, key value) table that `name` names.
-fn by_name<T: Copy>(all: &[(T, &str)], name: &str) -> Option<T> {
+pub(crate) fn by_name<T: Copy>(all: &[(T, &str)], name: &str) -> Option<T> {
     all.iter().find(|(_, n)| *n == name).map(|(v, _)| *v)
 }
 
