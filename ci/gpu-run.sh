@@ -133,8 +133,9 @@ PY
 # under extrusion"): as0, xsph0, mu0 switch a term off in both; hproj, the 2D run at h/dx 1.46 (the width of the
 # 3D kernel summed over its layers at 1.5); as059 / as03, the 3D run's artificial stress at ε 0.59 / 0.3; as015,
 # the 2D run's at 0.15 (the 3D strength at 0.3); matched, the 3D run's viscosity and XSPH at their 2D strengths;
-# base2d, the 2D run alone. SWARF_ORTHO_LONG=1: 2 mm of cut on a workpiece 1 mm longer. Each run's summary line
-# and force means over 0.5 mm to the end of the cut go to $out/orthosw.log, its forces.csv beside it.
+# base2d / base3d, the 2D / 3D run alone. SWARF_ORTHO_LONG=1: 2 mm of cut on a workpiece 1 mm longer. Each run's summary line
+# and force means over 0.5 mm to the end of the cut go to $out/orthosw-<dx>.log, its forces.csv beside it (folders
+# and names carry the spacing, so that two spacings can run side by side in one call).
 ortho_variants() {
     local dxo=$1 v k s2 s3 sides per zmax asx l2 l3 tend xmax
     shift
@@ -152,6 +153,7 @@ ortho_variants() {
         case $v in
             base) ;;
             base2d) sides=2d ;;
+            base3d) sides=3d ;;
             as0) s2=(--set $asx=0); s3=("${s2[@]}") ;;
             xsph0) s2=(--set stabilisation.xsph.epsilon=0); s3=("${s2[@]}") ;;
             mu0) s2=(--set tool.friction=0); s3=("${s2[@]}") ;;
@@ -165,18 +167,18 @@ ortho_variants() {
             *) echo "orthosw: unknown variant $v" >&2; continue ;;
         esac
         case " $sides " in *" 2d "*)
-            run orthosw-$v-2d "$here/swarf" --backend gpu run cases/cutting/v0060.toml --quiet --force \
-                --out /tmp/orthosw/$v/2d --set "discretisation.dx=$dxo" "${l2[@]}" "${s2[@]}" ;; esac
+            run orthosw-$dxo-$v-2d "$here/swarf" --backend gpu run cases/cutting/v0060.toml --quiet --force \
+                --out /tmp/orthosw/$dxo/$v/2d --set "discretisation.dx=$dxo" "${l2[@]}" "${s2[@]}" ;; esac
         case " $sides " in *" 3d "*)
-            run orthosw-$v-3d "$here/swarf" --backend gpu run cases/3d/orthogonal-v0060.toml --quiet \
-                --force --out /tmp/orthosw/$v/3d --set "discretisation.dx=$dxo" \
+            run orthosw-$dxo-$v-3d "$here/swarf" --backend gpu run cases/3d/orthogonal-v0060.toml --quiet \
+                --force --out /tmp/orthosw/$dxo/$v/3d --set "discretisation.dx=$dxo" \
                 --set "discretisation.period_z=$per" --set "body.0.max=[$xmax,2.9e-4,$zmax]" "${l3[@]}" "${s3[@]}" ;;
         esac
         for k in 2d 3d; do
-            [ -f "/tmp/orthosw/$v/$k/forces.csv" ] || continue
-            { echo "## $v $k, dx = $dxo"; tail -n 2 "/tmp/orthosw/$v/$k/run.log"
-              force_means "/tmp/orthosw/$v/$k/forces.csv" 7.868e-5 $tend; } >> "$out/orthosw.log"
-            cp "/tmp/orthosw/$v/$k/forces.csv" "$out/orthosw-$v-$k-forces.csv"
+            [ -f "/tmp/orthosw/$dxo/$v/$k/forces.csv" ] || continue
+            { echo "## $v $k, dx = $dxo"; tail -n 2 "/tmp/orthosw/$dxo/$v/$k/run.log"
+              force_means "/tmp/orthosw/$dxo/$v/$k/forces.csv" 7.868e-5 $tend; } >> "$out/orthosw-$dxo.log"
+            cp "/tmp/orthosw/$dxo/$v/$k/forces.csv" "$out/orthosw-$dxo-$v-$k-forces.csv"
         done
     done
 }
