@@ -135,6 +135,7 @@ pub unsafe fn bond_particle<R: Real, D: TensorOps<R>>(p: &BondParams, a: &BondAr
         let area = R::from_f64(p.area);
         let half = R::from_f64(0.5);
         let was_failed = st[FAILED] != R::ZERO;
+        let mut crack: CrackState<R> = [st[0], st[1], st[2], st[3]];
         let (tt, tn) = if p.coupling == CONTINUUM {
             let on = &mut *a.onset.add(i);
             if on[ONSET] == R::ZERO {
@@ -146,17 +147,13 @@ pub unsafe fn bond_particle<R: Real, D: TensorOps<R>>(p: &BondParams, a: &BondAr
                 }
                 return;
             }
-            let mut crack: CrackState<R> = [st[0], st[1], st[2], st[3]];
             let t = softening(&p.law, &mut crack, slide - on[1], open - on[2]);
             on[3] += half * (st[7] + t.1) * (open - st[5]) * area;
-            st[..4].copy_from_slice(&crack);
             t
         } else {
-            let mut crack: CrackState<R> = [st[0], st[1], st[2], st[3]];
-            let t = traction(&p.law, &mut crack, slide, open);
-            st[..4].copy_from_slice(&crack);
-            t
+            traction(&p.law, &mut crack, slide, open)
         };
+        st[..4].copy_from_slice(&crack);
         let dw = half * ((st[6] + tt) * (slide - st[4]) + (st[7] + tn) * (open - st[5])) * area;
         let work = &mut *a.work.add(i);
         *work += dw.to_f64();
