@@ -740,8 +740,9 @@ pub enum BoundaryKind {
     /// `kind = "velocity"`: `velocity` (required; unit m/s), `dim` components, prescribed for ever and used as the
     /// initial velocity too.
     Velocity { velocity: [f64; 3] },
-    /// `kind = "plane_strain"` (3D only): the particles keep v_z = 0 and move in their x–y planes; an extruded 2D
-    /// model whose every particle is so held deforms in plane strain (ε_zz = 0).
+    /// `kind = "plane_strain"` (3D only): the particles keep v_z = 0 and move in their x–y planes, and their
+    /// velocity gradient drops ∂/∂z of the in-plane velocity and the in-plane derivatives of v_z (S_xz = S_yz = 0);
+    /// an extruded 2D model whose every particle is so held deforms in plane strain (ε_zz = 0).
     PlaneStrain,
     /// `kind = "temperature"`: the particles are held at `temperature` (optional, default the initial temperature)
     /// [K]; no conduction into them and no heating. Independent of the mechanical conditions.
