@@ -870,19 +870,12 @@ pub unsafe fn rates_heat<
     }
 }
 
-/// The rates of sorted particle i from its pair sums. The tool's contact forces of the previous step's contact
-/// pass add v̇ += (f_c + f_t)/m_i (roethlin-solver.md §5.2 step 9). Boundary conditions are imposed here: a fixed
-/// particle gets ẋ = v̇ = 0, a prescribed-velocity particle ẋ = v_bc and v̇ = 0 (its velocity was set to v_bc at
-/// the start); a thermal-only particle moves likewise and keeps its density and stress (ρ̇ = 0, Ṡ = 0).
-///
-/// # Safety
-/// As [`rates`].
 /// Plane strain's velocity gradient (docs/3d.md, "Extruded 2D models"): ∂/∂z of the in-plane velocity and the
 /// in-plane derivatives of v_z are zero, L_xz = L_yz = L_zx = L_zy = 0 (row-major 3×3), so D_xz = D_yz = W_xz =
 /// W_yz = 0 and S_xz, S_yz stay 0, as in the 2D solver. L_zz is kept: it is 0 where every neighbour is held too
 /// (v_z = 0), and the through-thickness rate at a symmetry face. Without it the layers of an extruded model, once
 /// they part by rounding, shear across one another and carry out-of-plane shear stress that the 2D model cannot
-/// (10–12 % of S:S in the shear zone of the coarse extruded V0060 after 0.3 mm of cut).
+/// (10–12 % of S:S in the most stressed tenth of the coarse extruded V0060 after 0.3 mm of cut).
 #[inline(always)]
 pub fn plane_strain_gradient<R: Real>(l: &mut [R]) {
     for k in [2, 5, 6, 7] {
@@ -892,6 +885,14 @@ pub fn plane_strain_gradient<R: Real>(l: &mut [R]) {
     }
 }
 
+/// The rates of sorted particle i from its pair sums. The tool's contact forces of the previous step's contact
+/// pass add v̇ += (f_c + f_t)/m_i (roethlin-solver.md §5.2 step 9). Boundary conditions are imposed here: a fixed
+/// particle gets ẋ = v̇ = 0, a prescribed-velocity particle ẋ = v_bc and v̇ = 0 (its velocity was set to v_bc at
+/// the start); a thermal-only particle moves likewise and keeps its density and stress (ρ̇ = 0, Ṡ = 0); a particle
+/// held in plane strain (3D) gets ẋ_z = v̇_z = 0 and [`plane_strain_gradient`].
+///
+/// # Safety
+/// As [`rates`].
 #[inline(always)]
 pub unsafe fn finish_rates<R: Real, D: TensorOps<R>, const XSPH: bool, const DMG: bool>(
     p: &SphParams<R>,
