@@ -238,8 +238,9 @@ fn out_of_plane_shear(scene: &Scene) -> (f64, f64) {
 /// held in plane strain has ∂v/∂z = 0 and ∂v_z/∂x = ∂v_z/∂y = 0, so its S_xz and S_yz stay exactly 0, the 2D
 /// solver's state, even where its layers move differently in x. Asserted: exactly 0 over the held slab, while the
 /// in-plane shear stress is built (|S_xy| > 1 MPa); the same slab not held (the control) carries out-of-plane shear
-/// of the same order (> 10 % of its |S_xy|), so the test sees the constraint. Without it the extruded V0060's
-/// shear zone carried 10–12 % of S:S out of plane after 0.3 mm of cut, once its layers had parted (docs/3d.md).
+/// of the same order (> 10 % of its |S_xy|), so the test sees the constraint. Without it the most stressed tenth of
+/// the extruded V0060 carried 10–12 % of S:S out of plane after 0.3 mm of cut, once its layers had parted
+/// (docs/3d.md).
 #[test]
 fn plane_strain_carries_no_out_of_plane_shear() {
     let (held_out, held_in) = out_of_plane_shear(&sheared_slab(true));
