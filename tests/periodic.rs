@@ -234,7 +234,7 @@ fn out_of_plane_shear(scene: &Scene) -> (f64, f64) {
     })
 }
 
-/// Plane strain's velocity gradient (kernels/src/sph/interact.rs `plane_strain_gradient`; docs/3d.md): a particle
+/// Plane strain's velocity gradient (kernels/src/sph/tensor.rs `TensorOps::plane_strain`; docs/3d.md): a particle
 /// held in plane strain has ∂v/∂z = 0 and ∂v_z/∂x = ∂v_z/∂y = 0, so its S_xz and S_yz stay exactly 0, the 2D
 /// solver's state, even where its layers move differently in x. Asserted: exactly 0 over the held slab, while the
 /// in-plane shear stress is built (|S_xy| > 1 MPa); the same slab not held (the control) carries out-of-plane shear

@@ -870,26 +870,11 @@ pub unsafe fn rates_heat<
     }
 }
 
-/// Plane strain's velocity gradient (docs/3d.md, "Extruded 2D models"): ∂/∂z of the in-plane velocity and the
-/// in-plane derivatives of v_z are zero, L_xz = L_yz = L_zx = L_zy = 0 (row-major 3×3), so D_xz = D_yz = W_xz =
-/// W_yz = 0 and S_xz, S_yz stay 0, as in the 2D solver. L_zz is kept: it is 0 where every neighbour is held too
-/// (v_z = 0), and the through-thickness rate at a symmetry face. Without it the layers of an extruded model, once
-/// they part by rounding, shear across one another and carry out-of-plane shear stress that the 2D model cannot
-/// (10–12 % of S:S in the most stressed tenth of the coarse extruded V0060 after 0.3 mm of cut).
-#[inline(always)]
-pub fn plane_strain_gradient<R: Real>(l: &mut [R]) {
-    for k in [2, 5, 6, 7] {
-        if let Some(x) = l.get_mut(k) {
-            *x = R::ZERO;
-        }
-    }
-}
-
 /// The rates of sorted particle i from its pair sums. The tool's contact forces of the previous step's contact
 /// pass add v̇ += (f_c + f_t)/m_i (roethlin-solver.md §5.2 step 9). Boundary conditions are imposed here: a fixed
 /// particle gets ẋ = v̇ = 0, a prescribed-velocity particle ẋ = v_bc and v̇ = 0 (its velocity was set to v_bc at
 /// the start); a thermal-only particle moves likewise and keeps its density and stress (ρ̇ = 0, Ṡ = 0); a particle
-/// held in plane strain (3D) gets ẋ_z = v̇_z = 0 and [`plane_strain_gradient`].
+/// held in plane strain (3D) gets ẋ_z = v̇_z = 0 and [`TensorOps::plane_strain`].
 ///
 /// # Safety
 /// As [`rates`].
@@ -909,8 +894,9 @@ pub unsafe fn finish_rates<R: Real, D: TensorOps<R>, const XSPH: bool, const DMG
     let (mut l, mut acc, xsph) = (sums.l, sums.acc, sums.xsph);
     let fl = unsafe { *a.flags.add(iu) };
     let kind = fl & flags::KIND_MASK;
-    if kind == flags::PLANE && D::D == 3 {
-        plane_strain_gradient::<R>(l.as_mut());
+    let plane = kind == flags::PLANE && D::D == 3;
+    if plane {
+        D::plane_strain(&mut l);
     }
     if !a.normal.is_null() && fl & flags::THERMAL_ONLY == 0 {
         let (f_n, f_t, m) = unsafe { (*a.normal.add(iu), *a.friction.add(iu), *a.mass.add(iu)) };
@@ -944,7 +930,7 @@ pub unsafe fn finish_rates<R: Real, D: TensorOps<R>, const XSPH: bool, const DMG
         let idx = ((fl >> flags::VEL_INDEX_SHIFT) & flags::VEL_INDEX_MASK) as usize;
         out.pos_t = unsafe { *a.bc_vel.add(idx) };
         out.vel_t = Default::default();
-    } else if kind == flags::PLANE && D::D == 3 {
+    } else if plane {
         out.pos_t = D::Vec::<R>::new([out.pos_t.get(0), out.pos_t.get(1), R::ZERO]);
         out.vel_t = D::Vec::<R>::new([out.vel_t.get(0), out.vel_t.get(1), R::ZERO]);
     }
