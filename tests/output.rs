@@ -5,26 +5,14 @@ use std::fs;
 use std::io;
 use std::path::{Path, PathBuf};
 
+use crate::common::files::entries;
+
 use swarf::output::vtu::{self, Array, Frame, OwnedValues, Values};
 use swarf::output::{Collection, TimeSeries, csv, pvd, write_atomic, write_atomic_with};
 
 /// A fresh, empty directory for one test.
 fn test_dir(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("output").join(name);
-    match fs::remove_dir_all(&dir) {
-        Err(e) if e.kind() != io::ErrorKind::NotFound => panic!("{}: {e}", dir.display()),
-        _ => {}
-    }
-    fs::create_dir_all(&dir).expect("create test directory");
-    dir
-}
-
-/// Names of the entries of `dir`, sorted.
-fn entries(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> =
-        fs::read_dir(dir).expect("read_dir").map(|e| e.expect("entry").file_name().to_string_lossy().into()).collect();
-    names.sort();
-    names
+    crate::common::files::fresh_dir("output", name)
 }
 
 fn temporaries(dir: &Path) -> Vec<String> {

@@ -3,8 +3,9 @@
 //! constant data still plot.
 
 use std::fs;
-use std::io;
 use std::path::{Path, PathBuf};
+
+use crate::common::files::entries;
 
 use plotters::prelude::*;
 use swarf::output::TimeSeries;
@@ -12,21 +13,7 @@ use swarf::plot::{self, Chart, PlotError, Series};
 
 /// A fresh, empty directory for one test.
 fn test_dir(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("plot").join(name);
-    match fs::remove_dir_all(&dir) {
-        Err(e) if e.kind() != io::ErrorKind::NotFound => panic!("{}: {e}", dir.display()),
-        _ => {}
-    }
-    fs::create_dir_all(&dir).expect("create test directory");
-    dir
-}
-
-/// Names of the entries of `dir`, sorted.
-fn entries(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> =
-        fs::read_dir(dir).expect("read_dir").map(|e| e.expect("entry").file_name().to_string_lossy().into()).collect();
-    names.sort();
-    names
+    crate::common::files::fresh_dir("plot", name)
 }
 
 /// CRC-32 (ISO-HDLC, as PNG uses), bitwise.

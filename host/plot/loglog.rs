@@ -9,24 +9,13 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::{
-    Chart, Drawn, FAMILY, MAX_SIDE, MIN_SIZE, Metrics, PALETTE, PlotError, Prepared, Series, draw_atomic, legend_place,
-    pad,
+    Chart, Drawn, FAMILY, Metrics, PALETTE, PlotError, Prepared, Series, check_panels, draw_atomic, legend_place, pad,
 };
 
 /// Draws `charts` stacked top to bottom on log–log axes in one PNG of `size` pixels at `path`, atomically. Returns
 /// the path and the number of points skipped (non-finite or ≤ 0).
 pub fn draw_log_log(path: &Path, charts: &[Chart], size: (u32, u32)) -> Result<Drawn, PlotError> {
-    let (width, height) = size;
-    let panels = u32::try_from(charts.len()).unwrap_or(u32::MAX).max(1);
-    let size_ok = (MIN_SIZE.0..=MAX_SIDE).contains(&width)
-        && (MIN_SIZE.1..=MAX_SIDE).contains(&height)
-        && height / panels >= MIN_SIZE.1;
-    if !size_ok {
-        return Err(PlotError::Size { path: path.to_path_buf(), width, height });
-    }
-    if charts.is_empty() {
-        return Err(PlotError::NoSeries { path: path.to_path_buf(), title: String::new() });
-    }
+    check_panels(path, charts, size)?;
     // The charts in log10 space: ranges, skipping, segments and the legend's place all work there unchanged.
     let log = |v: &[f64]| -> Vec<f64> { v.iter().map(|&x| if x > 0.0 { x.log10() } else { f64::NAN }).collect() };
     let logs: Vec<Vec<(Vec<f64>, Vec<f64>)>> =

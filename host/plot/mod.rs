@@ -150,10 +150,9 @@ pub fn draw(path: &Path, chart: &Chart, size: (u32, u32)) -> Result<Drawn, PlotE
     draw_panels(path, std::slice::from_ref(chart), size)
 }
 
-/// Draws `charts` stacked top to bottom in one PNG of `size` pixels (each chart gets an equal share of the
-/// height, which must leave each at least [`MIN_SIZE`]`.1` pixels), atomically. For quantities of different units
-/// that share an x axis, such as linear and angular momentum.
-pub fn draw_panels(path: &Path, charts: &[Chart], size: (u32, u32)) -> Result<Drawn, PlotError> {
+/// Refuses a stack of `charts` that `size` cannot hold (each panel at least [`MIN_SIZE`], no side above
+/// [`MAX_SIDE`]) or an empty one.
+pub(super) fn check_panels(path: &Path, charts: &[Chart], size: (u32, u32)) -> Result<(), PlotError> {
     let (width, height) = size;
     let panels = u32::try_from(charts.len()).unwrap_or(u32::MAX).max(1);
     let size_ok = (MIN_SIZE.0..=MAX_SIDE).contains(&width)
@@ -165,6 +164,14 @@ pub fn draw_panels(path: &Path, charts: &[Chart], size: (u32, u32)) -> Result<Dr
     if charts.is_empty() {
         return Err(PlotError::NoSeries { path: path.to_path_buf(), title: String::new() });
     }
+    Ok(())
+}
+
+/// Draws `charts` stacked top to bottom in one PNG of `size` pixels (each chart gets an equal share of the
+/// height, which must leave each at least [`MIN_SIZE`]`.1` pixels), atomically. For quantities of different units
+/// that share an x axis, such as linear and angular momentum.
+pub fn draw_panels(path: &Path, charts: &[Chart], size: (u32, u32)) -> Result<Drawn, PlotError> {
+    check_panels(path, charts, size)?;
     let prepared = charts.iter().map(|c| Prepared::new(path, c)).collect::<Result<Vec<_>, _>>()?;
     let skipped = prepared.iter().map(|p| p.skipped).sum();
     draw_atomic(path, skipped, |target| render(target, &prepared, size))

@@ -1,6 +1,7 @@
 //! Particle sets and the grid-free brute-force reference shared by the neighbour-search tests (CPU and GPU).
 #![allow(dead_code)]
 
+pub mod files;
 pub mod mpm_fragment;
 pub mod scenes;
 
