@@ -110,29 +110,7 @@ fn window_mean_and_quantiles() {
 // ---------------------------------------------------------------------------------------------------------------
 // Chip thickness
 
-const DX: f64 = 10e-6;
-/// Cutting edge (the rake point) away from the origin, so that the frame's offset is exercised.
-const EDGE: [f64; 2] = [2.0e-3, 1.0e-3];
-/// Uncut chip thickness: the top surface lies 8Δx above the edge.
-const SURFACE: f64 = EDGE[1] + 8.0 * DX;
-const STATION: f64 = 30.0 * DX;
-
-fn station(rake_deg: f64) -> Station {
-    Station {
-        rake_point: EDGE,
-        rake_angle: rake_deg.to_radians(),
-        surface_y: SURFACE,
-        station: STATION,
-        half_width: DX,
-        spacing: DX,
-    }
-}
-
-/// The point with face coordinates (u, w): rake_point + u d + w n.
-fn at(s: &Station, u: f64, w: f64) -> [f64; 2] {
-    let (sin, cos) = s.rake_angle.sin_cos();
-    [s.rake_point[0] - u * sin + w * cos, s.rake_point[1] + u * cos + w * sin]
-}
+use crate::common::station::{DX, STATION, at, station};
 
 /// A lattice strip on the face: u = iΔx up to station + 10Δx, w = (j + ½)Δx for j in `layers`, kept above the
 /// surface. Its extent along n is (layers − 1)Δx between centres, i.e. `layers`·Δx of material.

@@ -194,29 +194,10 @@ fn early_stop_needs_both_forces_steady_and_precise() {
 // ---------------------------------------------------------------------------------------------------------------
 // Chip thickness normal to the chip's axis
 
-const DX: f64 = 10e-6;
-const EDGE: [f64; 2] = [2.0e-3, 1.0e-3];
-const SURFACE: f64 = EDGE[1] + 8.0 * DX;
-const STATION: f64 = 30.0 * DX;
+use crate::common::station::{DX, EDGE, STATION, SURFACE, at, station};
+
 /// Chip thickness of the synthetic strips: 12 layers of particles, i.e. 12 Δx of material.
 const H: f64 = 12.0 * DX;
-
-fn station(rake_deg: f64) -> Station {
-    Station {
-        rake_point: EDGE,
-        rake_angle: rake_deg.to_radians(),
-        surface_y: SURFACE,
-        station: STATION,
-        half_width: DX,
-        spacing: DX,
-    }
-}
-
-/// The point rake_point + u d + w n in the face frame (d up the face, n out of it).
-fn at(s: &Station, u: f64, w: f64) -> [f64; 2] {
-    let (sin, cos) = s.rake_angle.sin_cos();
-    [s.rake_point[0] - u * sin + w * cos, s.rake_point[1] + u * cos + w * sin]
-}
 
 /// A straight strip of 12 layers on its own square lattice, leaving the face at angle `theta` (towards n) with its
 /// inner surface through the face point at `lift` above the station: particles p = o + iΔx a + (j + ½)Δx m, with

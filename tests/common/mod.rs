@@ -4,6 +4,7 @@
 pub mod files;
 pub mod mpm_fragment;
 pub mod scenes;
+pub mod station;
 
 use rayon::prelude::*;
 use swarf::backend::Backend;
