@@ -1,4 +1,5 @@
-//! Particle sets and the grid-free brute-force reference shared by the neighbour-search tests (CPU and GPU).
+//! Helpers shared by the tests: particle sets and the grid-free brute-force reference of the neighbour-search
+//! tests (CPU and GPU) here; test folders, scenes, MPM fragments and the synthetic chip station in submodules.
 #![allow(dead_code)]
 
 pub mod files;
