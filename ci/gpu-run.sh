@@ -1285,7 +1285,9 @@ $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s" \
               done
               "$here/swarf" render "$d" --field eps --frame last --along z --slab=4.5e-5,5.5e-5 \
                   --out "$out/millpics/side" >> "$out/millpics.log" 2>&1 ;;
-        tests) run test-gpu "$here/test-gpu" --test-threads=1 --nocapture
+        tests) # three tests at a time (SWARF_GPU_TEST_THREADS): 29 tests in about 210 s on an H100, against about
+               # 420 s one at a time (docs/measurements/notebook.md, 2026-12-07); each still compares bit for bit
+               run test-gpu "$here/test-gpu" --test-threads="${SWARF_GPU_TEST_THREADS:-3}" --nocapture
                run test-ptx "$here/test-ptx" ;;
         regs) # issue 7: the register cap of the neighbour kernels (SWARF_MAXNREG) against the compiler's choice
               sc=cases/cutting/reference-cut.toml,cases/cutting/reference-cut-150k.toml
