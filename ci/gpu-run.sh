@@ -1305,8 +1305,8 @@ $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}') s" \
         rings) run rings-gpu "$here/swarf" --backend gpu bench rings --precision both
                run rings-cpu "$here/swarf" --backend cpu bench rings --precision both --steps 20 ;;
         ptx) # a bench, not test-ptx (that runs in `tests`): the embedded PTX targets side by side, same workloads:
-             # SWARF_PTX_TARGETS (default sm_80, the one
-             # target build.rs embeds; "sm_80 sm_90" with a build that adds sm_90 to its TARGETS)
+             # SWARF_PTX_TARGETS (default sm_80, the one target build.rs embeds; "sm_80 sm_90" with a build that
+             # adds sm_90 to its TARGETS)
              for t in ${SWARF_PTX_TARGETS:-sm_80}; do
                  SWARF_PTX_TARGET=$t run "neighbours-$t" "$here/swarf" --backend gpu bench neighbours --sizes 16e6 --dims 2,3
                  SWARF_PTX_TARGET=$t run "rings-$t" "$here/swarf" --backend gpu bench rings --nbox 400,800 --steps 2000
