@@ -655,7 +655,9 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
         }
         let cutting = cutting.map(|a| with_chip_frame(a.json(), chip.as_ref(), j.time));
         let cohesive = cohesive_entry(scene, &j.d);
-        if let Some((line, _)) = &cohesive {
+        let booked = booked_energy(&self.files, &j.d);
+        let audit = self.cut.as_ref().map(|c| (c.energy.line(booked), c.energy.json(booked)));
+        for (line, _) in cohesive.iter().chain(&audit) {
             if !opts.quiet {
                 eprintln!("{line}");
             }
@@ -674,6 +676,7 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
             wall,
             tuning: self.tuning,
             cohesive: cohesive.map(|(_, v)| v),
+            energy_audit: audit.map(|(_, v)| v),
         };
         summary.write(&j.now, &body, &set_centres(scene), cutting)?;
         if opts.frames {
@@ -1169,6 +1172,16 @@ struct Summary<'a> {
     tuning: &'a Tuning,
     /// The cohesive path's tally at the end ([`cohesive_entry`]), where the scene has one.
     cohesive: Option<serde_json::Value>,
+    /// The energy audit ([`crate::cutting::energy_audit`]), where the scene has a tool.
+    energy_audit: Option<serde_json::Value>,
+}
+
+/// The energy the run booked: the change of energy.csv's `balance` from its first row (t = 0, or the first of a
+/// resumed run's restored rows) to the end state `d`.
+fn booked_energy(files: &OutputFiles, d: &Diagnostics) -> f64 {
+    let column = energy_header().iter().position(|c| *c == "balance");
+    let first = column.and_then(|k| files.csv.rows().first().and_then(|r| r.get(k).copied()));
+    d.balance() - first.unwrap_or(0.0)
 }
 
 /// The cohesive path's line for the log and its `cohesive` entry of summary.json at the end state `d` (None without
@@ -1249,8 +1262,10 @@ impl Summary<'_> {
         if let (Some(serde_json::Value::Object(extra)), Some(obj)) = (cutting, v.as_object_mut()) {
             obj.extend(extra);
         }
-        if let (Some(c), Some(obj)) = (&self.cohesive, v.as_object_mut()) {
-            obj.insert("cohesive".into(), c.clone());
+        for (key, entry) in [("cohesive", &self.cohesive), ("energy_audit", &self.energy_audit)] {
+            if let (Some(c), Some(obj)) = (entry, v.as_object_mut()) {
+                obj.insert(key.into(), c.clone());
+            }
         }
         // The model only where it is not swarf's, so the default's summary is what it was.
         if !scene.model.is_swarf()

@@ -18,6 +18,7 @@ mod damage;
 mod damage_scenes;
 mod early_stop;
 mod elastic_benchmarks;
+mod energy_audit;
 mod ensemble;
 mod fields;
 mod flow_stress;

@@ -37,8 +37,8 @@ fn run_rows(text: &str, dir: &Path, frames: bool) -> Vec<Vec<f64>> {
 }
 
 /// Columns of forces.csv in 3D: F = (F_x, F_y, F_z) [N] and M [N·m].
-const FX: usize = 9;
-const MX: usize = 12;
+const FX: usize = swarf::cutting::record::FORCE_COLUMNS.len();
+const MX: usize = FX + 3;
 
 /// The prism of the parametric tool and the same prism as a triangle mesh are one tool: a Ti6Al4V block dropped at
 /// 10 m/s (sliding at 2 m/s) onto its top face gets the same contact forces from both, to 1e-9 of the largest

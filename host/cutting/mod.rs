@@ -12,6 +12,7 @@ pub mod chip_report;
 pub mod chip_run;
 pub mod curl;
 pub mod early_stop;
+pub mod energy_audit;
 pub mod record;
 pub mod segments;
 pub mod shear_band;

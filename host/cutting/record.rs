@@ -11,6 +11,7 @@
 use super::chip::{ChipGeometry, Station, chip_geometry};
 use super::chip_axis::chip_thickness_normal;
 use super::early_stop::{EarlyStop, MIN_WINDOW_UNCUT};
+use super::energy_audit::EnergyAudit;
 use super::segments::{Segments, crests_valleys};
 use super::steady::{Steady, mean_from};
 use super::tool_wear::ToolWear;
@@ -18,10 +19,12 @@ use super::window::{MIN_TRANSIENT_UNCUT, Window, find, time_to_travel};
 use crate::kernels::contact::Tool2d;
 use crate::output::TimeSeries;
 use crate::scene::Scene;
+use crate::tool::ContactPower;
 use crate::{Error, Result};
 use std::path::Path;
 
-/// Columns of `forces.csv` (3D runs add [`FORCE_COLUMNS_3D`]).
+/// Columns of `forces.csv` (3D runs add [`FORCE_COLUMNS_3D`]). The powers are every tool's together
+/// ([`crate::tool::ContactPower`]; W, per m of depth in 2D).
 pub const FORCE_COLUMNS: &[&str] = &[
     "time",
     "step",
@@ -32,6 +35,9 @@ pub const FORCE_COLUMNS: &[&str] = &[
     "wear_rate_m_per_s",
     "tool_x",
     "friction_ratio",
+    "tool_power_w",
+    "friction_power_w",
+    "normal_power_w",
 ];
 
 /// The columns a 3D run adds to `forces.csv`: the tool's total force on the workpiece [N] and its moment [N·m]
@@ -100,6 +106,9 @@ pub struct CutRecorder {
     /// row of forces.csv.
     wear: ToolWear,
     wear_columns: Vec<(usize, usize)>,
+    /// Where the contact's powers lie in a row, and their works so far.
+    power_columns: [usize; 3],
+    pub energy: EnergyAudit,
 }
 
 impl CutRecorder {
@@ -166,6 +175,8 @@ impl CutRecorder {
             thickness: Vec::new(),
             wear: ToolWear::new(tools),
             wear_columns: wear_columns.collect(),
+            power_columns: ["tool_power_w", "friction_power_w", "normal_power_w"].map(|c| at(c.to_string())),
+            energy: EnergyAudit::default(),
         })
     }
 
@@ -205,6 +216,9 @@ impl CutRecorder {
             c.wear_rate,
             offset[0],
             c.friction_ratio,
+            c.power.tool,
+            c.power.friction,
+            c.power.normal,
         ];
         if self.three_d {
             row.extend(c.force);
@@ -228,6 +242,8 @@ impl CutRecorder {
         self.thickness.push(row[5].is_finite().then_some(row[5] * 1e-6));
         let cell = |k: usize| row.get(k).copied().unwrap_or(f64::NAN);
         self.wear.push(row[0], self.wear_columns.iter().map(|&(n, w)| (cell(n), cell(w))));
+        let [tool, friction, normal] = self.power_columns.map(cell);
+        self.energy.push(row[0], ContactPower { tool, friction, normal });
         while self.next <= row[0] {
             self.next += self.every;
         }

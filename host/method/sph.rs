@@ -16,7 +16,7 @@ use crate::solver::diagnostics::compute;
 use crate::solver::params::{CspmSettings, StabiliserSettings, Viscosity, cfl_time_step, sph_params};
 use crate::solver::{CohesiveSetup, ContactSetup, DamageSetup, PlasticSetup, Solver, ThermalSetup, ToolSetup};
 use crate::state::HostParticles;
-use crate::tool::ToolLoad;
+use crate::tool::{ContactPower, ToolLoad};
 use crate::tuning::Tuning;
 use crate::{Error, Result};
 
@@ -804,6 +804,7 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Method<B> for Solver<B, R, D> {
             contacts: c.contacts,
             wear_rate: c.wear_rate,
             friction_ratio: c.friction_ratio,
+            power: samples.iter().fold(ContactPower::default(), |a, s| a.plus(s.power)),
             offset: self.tool_offset().unwrap_or([0.0; 3]),
             more: samples[1..]
                 .iter()

@@ -254,6 +254,23 @@ pub struct ContactSample {
     /// Σ|f_t| / Σ|f_c| over the contacting particles: the friction the contact carries against its normal force,
     /// μ where every contact slides (NaN when nothing touches).
     pub friction_ratio: f64,
+    /// The power of its contact forces (the energy audit's integrand).
+    pub power: crate::tool::ContactPower,
+}
+
+/// One particle's share of its tool's [`crate::tool::ContactPower`]: with v_T = `st.velocity_at(x)`, the tool's
+/// power (f_c + f_t)·v_T, the friction's f_t·(v_T − v) and the penalty's f_c·(v_T − v) (f64, as the sample's sums).
+fn contact_power<R: Real, V: Vector<R>>(st: &ToolState, x: &V, v: &V, fc: &V, ft: &V) -> crate::tool::ContactPower {
+    let wide = |u: &V| -> [f64; 3] { std::array::from_fn(|k| u.get(k).to_f64()) };
+    let (fc, ft, v) = (wide(fc), wide(ft), wide(v));
+    let vt = st.velocity_at(wide(x));
+    let dot = |a: &[f64; 3], b: &[f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let slip: [f64; 3] = std::array::from_fn(|k| vt[k] - v[k]);
+    crate::tool::ContactPower {
+        tool: dot(&fc, &vt) + dot(&ft, &vt),
+        friction: dot(&ft, &slip),
+        normal: dot(&fc, &slip),
+    }
 }
 
 /// Start-of-step copies y0 (reordered with the state each step).
@@ -1303,10 +1320,11 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         let (fc, ft) = (c.normal.read(b)?, c.friction.read(b)?);
         let owner = c.owner.as_ref().map(|o| o.read(b)).transpose()?;
         let wear = c.wear.as_ref().map(|w| b.read(w)).transpose()?;
+        let vel = self.particles.vel.read(b)?;
         let mut samples = vec![ContactSample::default(); c.motions.len()];
         let mut sums = vec![(0.0, 0.0, 0.0); c.motions.len()];
-        let refs: Vec<[f64; 3]> = self
-            .tool_states()
+        let states = self.tool_states();
+        let refs: Vec<[f64; 3]> = states
             .iter()
             .map(|st| {
                 let o = st.offset;
@@ -1317,9 +1335,14 @@ impl<B: Backend, R: Real, D: TensorOps<R>> Solver<B, R, D> {
         // Blanked particles (sorted last) keep the contact forces of their last active step: not summed.
         for i in 0..self.cells.active_count(b)? {
             let k = owner.as_ref().map_or(0, |o| o[i] as usize);
-            let (Some(s), Some(sum), Some(p)) = (samples.get_mut(k), sums.get_mut(k), refs.get(k)) else { continue };
+            let (Some(s), Some(sum), Some(p), Some(st)) =
+                (samples.get_mut(k), sums.get_mut(k), refs.get(k), states.get(k))
+            else {
+                continue;
+            };
             // Components past the dimension read as zero (`Vector::get`).
             let f: [f64; 3] = std::array::from_fn(|k| fc[i].get(k).to_f64() + ft[i].get(k).to_f64());
+            s.power = s.power.plus(contact_power(st, &pos[i], &vel[i], &fc[i], &ft[i]));
             for (acc, fk) in s.force.iter_mut().zip(f) {
                 *acc += fk;
             }
