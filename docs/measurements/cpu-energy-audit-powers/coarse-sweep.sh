@@ -12,3 +12,5 @@ run kappa005 --set tool.contact_stiffness=0.05
 run mu0 --set tool.friction=0.0
 run cfl025xi0 --set time.cfl=0.25 --set tool.contact_damping=0.0
 run with-as --set stabilisation.artificial_stress.enabled=true   # the last row (run separately in the session: 1.047)
+run noxsph --set stabilisation.xsph.enabled=false
+run noxsph-mu0 --set stabilisation.xsph.enabled=false --set tool.friction=0.0
