@@ -489,3 +489,75 @@ fn replicas_run_each_experiment_at_shifted_cfl_and_fit_their_mean() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `extends` (host/identify/extends.rs): a variant is its base with its own keys laid over it. The V0060 variants fit
+/// the base's experiment, parameters, objective and optimiser and differ in their name and `set`; V0300's replicas
+/// change `objective.replicas` alone (a table merges key by key); the multi-experiment variants keep the base's 24
+/// held-out tests and replace its `[[parameter]]` or `[[experiment]]` lists whole. A variant's folder copy
+/// (`Spec::text`) is the resolved table, whole, without `extends`.
+#[test]
+fn a_variant_file_is_its_base_with_its_own_keys_laid_over() {
+    let read = |name: &str| swarf::identify::file::read(&root().join("cases/identify").join(name)).expect(name);
+    let base = read("v0060-de.toml");
+    assert!(base.set.is_empty());
+    for (variant, set) in [
+        ("v0060-de-noas.toml", "stabilisation.artificial_stress.enabled=false"),
+        ("v0060-de-mfree.toml", "model=\"mfree_iwf\""),
+    ] {
+        let v = read(variant);
+        assert_eq!(v.experiments, base.experiments, "{variant}");
+        assert_eq!((&v.parameters, &v.objective, &v.optimizer), (&base.parameters, &base.objective, &base.optimizer));
+        assert_eq!(v.set, vec![set.to_string()], "{variant}");
+        assert_ne!(v.name, base.name);
+        let copy: toml::Table = toml::from_str(&v.text).expect("the folder copy parses");
+        assert!(copy.contains_key("experiment") && copy.contains_key("parameter"), "{variant}: {}", v.text);
+        assert!(!copy.contains_key("extends"), "{variant}: {}", v.text);
+    }
+    let (b300, r300) = (read("v0300-de.toml"), read("v0300-de-replicas.toml"));
+    assert_eq!((b300.objective.replicas, r300.objective.replicas), (1, 3));
+    assert_eq!(Objective { replicas: 1, ..r300.objective }, b300.objective);
+    assert_eq!(
+        (&r300.experiments, &r300.parameters, &r300.optimizer),
+        (&b300.experiments, &b300.parameters, &b300.optimizer)
+    );
+    let multi = read("ti6al4v-multi.toml");
+    assert_eq!(multi.holdout.len(), 24);
+    let (mu, fast6) = (read("ti6al4v-multi-mu.toml"), read("ti6al4v-fast6.toml"));
+    for v in [&mu, &fast6] {
+        assert_eq!(v.holdout, multi.holdout, "{}", v.name);
+        assert!(v.compare.is_empty() && !multi.compare.is_empty(), "{}", v.name);
+        assert_eq!(v.optimizer.seed, multi.optimizer.seed, "{}: the seed is the base's", v.name);
+    }
+    assert_eq!((mu.experiments.len(), mu.parameters.len(), multi.parameters.len()), (8, 1, 6));
+    assert_eq!((fast6.experiments.len(), fast6.parameters), (6, multi.parameters.clone()));
+}
+
+/// A bad `extends` is refused with the file, the key and what was expected: not a string, a base that does not
+/// exist, and a cycle (two files extending each other); a base's own error names the base.
+#[test]
+fn bad_extends_are_refused() {
+    let dir = tmp("extends");
+    let good = std::fs::read_to_string(tiny_file(&dir, "")).unwrap();
+    std::fs::write(dir.join("base.toml"), &good).unwrap();
+    let cases = [
+        ("extends = 3\n", "a.toml", "extends = 3: expected the base identification file's path"),
+        ("extends = \"nowhere.toml\"\n", "a.toml", "extends = \"nowhere.toml\": expected a readable file"),
+        ("extends = \"b.toml\"\n", "b.toml", "extends = \"a.toml\": expected a file that does not extend this one"),
+    ];
+    std::fs::write(dir.join("b.toml"), "extends = \"a.toml\"\n").unwrap();
+    for (text, names, expected) in cases {
+        let file = dir.join("a.toml");
+        std::fs::write(&file, text).unwrap();
+        let e = swarf::identify::file::read(&file).expect_err(text).to_string();
+        assert!(e.contains(&dir.join(names).display().to_string()) && e.contains(expected), "{text}: {e}");
+    }
+    // A variant of a good base reads; its own bad key is refused as the base's would be.
+    let file = dir.join("a.toml");
+    std::fs::write(&file, "extends = \"base.toml\"\nname = \"variant\"\n").unwrap();
+    let spec = swarf::identify::file::read(&file).expect("a variant of the tiny file");
+    assert_eq!(spec.name, "variant");
+    std::fs::write(&file, "extends = \"base.toml\"\n[optimizer]\nbudget = 0\n").unwrap();
+    let e = swarf::identify::file::read(&file).expect_err("budget 0").to_string();
+    assert!(e.contains("a.toml") && e.contains("optimizer.budget") && e.contains("expected"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -95,11 +95,13 @@ pub struct Spec {
     pub compare: Vec<String>,
 }
 
-/// Reads and checks the identification file `path` (the data file's rows and the model scenes are read too).
+/// Reads and checks the identification file `path` (the data file's rows and the model scenes are read too), its
+/// `extends` chain resolved (host/identify/extends.rs).
 pub fn read(path: &Path) -> Result<Spec> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::Scene(format!("{}: {e}", path.display())))?;
-    let root: toml::Table =
-        toml::from_str(&text).map_err(|e| Error::Scene(crate::error::toml_parse_message(path, &text, &e)))?;
+    let (root, extended) = super::extends::resolve(path, &text)?;
+    // A variant's folder copy is the resolved table, whole: the folder alone says what it fitted.
+    let text = if extended { toml::to_string(&root).map_err(|e| Error::Scene(e.to_string()))? } else { text };
     let f = Ctx { file: path.display().to_string(), dir: path.parent().unwrap_or(Path::new("")).to_path_buf() };
     f.keys(
         &root,

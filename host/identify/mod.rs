@@ -9,6 +9,7 @@ pub mod bayes;
 pub mod campaign;
 pub mod data;
 pub mod de;
+pub mod extends;
 pub mod file;
 pub mod flow_curve;
 pub mod gp;
