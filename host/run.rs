@@ -655,8 +655,10 @@ impl<'a, B: Backend, M: Method<B>> Run<'a, B, M> {
         }
         let cutting = cutting.map(|a| with_chip_frame(a.json(), chip.as_ref(), j.time));
         let cohesive = cohesive_entry(scene, &j.d);
-        let booked = booked_energy(&self.files, &j.d);
-        let audit = self.cut.as_ref().map(|c| (c.energy.line(booked), c.energy.json(booked)));
+        let audit = self.cut.as_ref().map(|c| {
+            let booked = booked_energy(&self.files, &j.d);
+            (c.energy.line(booked), c.energy.json(booked))
+        });
         for (line, _) in cohesive.iter().chain(&audit) {
             if !opts.quiet {
                 eprintln!("{line}");

@@ -36,8 +36,9 @@ fn resolve_chain(text: &str, chain: &mut Vec<PathBuf>) -> Result<toml::Table> {
         return Err(bad(&base, "the base identification file's path, a string"));
     };
     let base_path = path.parent().unwrap_or(Path::new("")).join(name);
-    let same = |p: &PathBuf| p.canonicalize().ok().is_some_and(|c| base_path.canonicalize().ok() == Some(c));
-    if chain.iter().any(same) {
+    // Compared canonically (`a/../a.toml` is `a.toml`); a base that does not exist fails its read below.
+    let canonical = base_path.canonicalize().ok();
+    if canonical.is_some() && chain.iter().any(|p| p.canonicalize().ok() == canonical) {
         return Err(bad(&base, "a file that does not extend this one (a cycle)"));
     }
     if chain.len() >= MAX_DEPTH {

@@ -42,6 +42,7 @@ use crate::kernels::{Dim, Real, Vector};
 use crate::material::FlowModel;
 use crate::neighbour::CellList;
 use crate::state::{Field, HostParticles, Particles, ReorderBatch};
+use crate::tool::ContactPower;
 use fields::When;
 
 /// Heat physics of a run.
@@ -255,22 +256,18 @@ pub struct ContactSample {
     /// μ where every contact slides (NaN when nothing touches).
     pub friction_ratio: f64,
     /// The power of its contact forces (the energy audit's integrand).
-    pub power: crate::tool::ContactPower,
+    pub power: ContactPower,
 }
 
-/// One particle's share of its tool's [`crate::tool::ContactPower`]: with v_T = `st.velocity_at(x)`, the tool's
+/// One particle's share of its tool's [`ContactPower`]: with v_T = `st.velocity_at(x)`, the tool's
 /// power (f_c + f_t)·v_T, the friction's f_t·(v_T − v) and the penalty's f_c·(v_T − v) (f64, as the sample's sums).
-fn contact_power<R: Real, V: Vector<R>>(st: &ToolState, x: &V, v: &V, fc: &V, ft: &V) -> crate::tool::ContactPower {
+fn contact_power<R: Real, V: Vector<R>>(st: &ToolState, x: &V, v: &V, fc: &V, ft: &V) -> ContactPower {
     let wide = |u: &V| -> [f64; 3] { std::array::from_fn(|k| u.get(k).to_f64()) };
     let (fc, ft, v) = (wide(fc), wide(ft), wide(v));
     let vt = st.velocity_at(wide(x));
     let dot = |a: &[f64; 3], b: &[f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
     let slip: [f64; 3] = std::array::from_fn(|k| vt[k] - v[k]);
-    crate::tool::ContactPower {
-        tool: dot(&fc, &vt) + dot(&ft, &vt),
-        friction: dot(&ft, &slip),
-        normal: dot(&fc, &slip),
-    }
+    ContactPower { tool: dot(&fc, &vt) + dot(&ft, &vt), friction: dot(&ft, &slip), normal: dot(&fc, &slip) }
 }
 
 /// Start-of-step copies y0 (reordered with the state each step).
